@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include "dvi/complementarity_problem.hpp"
+#include "dvi/solve_result.hpp"
+#include "dvi/solver_options.hpp"
+
+namespace dvi {
+
+/// Lemke's complementary pivoting method for LCP(q, M) with covering vector
+/// d = 1 and lexicographic minimum-ratio tests, so it terminates on degenerate
+/// and cycling-prone instances [Cottle–Pang–Stone 1992, §4.4, §4.9].
+/// Ends in a solution, or in a secondary ray: for M copositive-plus (e.g.
+/// positive semidefinite) the ray proves infeasibility and the status is
+/// kInfeasible with a Farkas certificate; otherwise kFailed ("ray termination").
+/// The result is polished by one solve on the final basis; its residual is
+/// checked against options.tolerance.
+/// @throws InvalidInputError from lcp.Validate() or options.Validate().
+SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options = {});
+
+}  // namespace dvi

@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <string_view>
+
+namespace dvi {
+
+enum class SolverMethod {
+  kAuto,           ///< Chosen from the problem's structure (see solve.hpp).
+  kLemke,          ///< Complementary pivoting, lexicographic (LCP only).
+  kPgs,            ///< Projected Gauss–Seidel (LCP with positive diagonal).
+  kNewton,         ///< Semismooth Newton on Fischer–Burmeister (box MCP).
+  kExtragradient,  ///< Projection method with adaptive step (VI on any K).
+  kKkt,            ///< Polyhedral VI through its KKT mixed complementarity system.
+};
+
+/// "auto", "lemke", "pgs", "newton", "extragradient", "kkt".
+std::string_view ToString(SolverMethod method);
+/// Inverse of ToString. @throws InvalidInputError naming the unknown word.
+SolverMethod ParseSolverMethod(std::string_view name);
+
+/// Settings for the VI / complementarity solvers. Each field documents which
+/// methods read it.
+struct SolverOptions {
+  SolverMethod method = SolverMethod::kAuto;
+  /// Success when the natural-map residual ‖z − Π_K(z − F(z))‖∞ ≤ tolerance.
+  /// Range (0, 1).
+  double tolerance = 1e-10;
+  /// Iteration limit; 0 picks the method's default (Lemke: 50·(m+1) pivots;
+  /// PGS: 10 000 sweeps; Newton: 100; extragradient: 100 000).
+  int max_iterations = 0;
+  /// PGS over-relaxation ω in (0, 2).
+  double pgs_relaxation = 1.0;
+  /// Newton: use KLU when the problem supplies a sparse Jacobian (or a sparse
+  /// M). Off forces the dense path.
+  bool allow_sparse = true;
+
+  /// @throws InvalidInputError naming the field out of range.
+  void Validate() const;
+};
+
+}  // namespace dvi

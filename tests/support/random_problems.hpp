@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <random>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+namespace dvi::test {
+
+/// Uniform entries in [lo, hi].
+Eigen::VectorXd RandomVector(int m, std::mt19937& rng, double lo = -1.0, double hi = 1.0);
+
+/// A nonsymmetric P-matrix: S Sᵀ + K + δI with S random, K skew-symmetric
+/// random and δ > 0, so its symmetric part is positive definite (P, not
+/// necessarily symmetric, with a condition number of a few hundred at most).
+Eigen::MatrixXd RandomPMatrix(int m, std::mt19937& rng);
+
+/// A P-matrix whose symmetric part is usually indefinite: D₁ (I + N) D₂ with
+/// D₁, D₂ positive diagonal and N strictly lower triangular with large
+/// entries. Every principal submatrix is lower triangular with a positive
+/// diagonal, so every principal minor is positive.
+Eigen::MatrixXd RandomTriangularPMatrix(int m, std::mt19937& rng);
+
+/// A positive semidefinite matrix of the given rank plus, when add_skew, a
+/// random skew-symmetric part (still PSD in the xᵀMx sense, not symmetric).
+Eigen::MatrixXd RandomPsdMatrix(int m, int rank, std::mt19937& rng, bool add_skew);
+
+/// Sparse symmetric positive definite tridiagonal-plus-random matrix of size m
+/// with about nnz_per_row nonzeros per row, strictly diagonally dominant.
+Eigen::SparseMatrix<double> RandomSparseSpd(int m, int nnz_per_row, std::mt19937& rng);
+
+}  // namespace dvi::test
