@@ -1,1 +1,440 @@
 // SPDX-License-Identifier: Apache-2.0
+#include "dvi/lemke.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/LU>
+
+#include "dvi/convex_set.hpp"
+#include "dvi/solution_diagnostics.hpp"
+
+namespace dvi {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A column entry counts as a pivot candidate only above this fraction of the
+// column's largest entry: smaller ones are rounding noise from the rank-one
+// updates of B⁻¹ and would make the next basis numerically singular.
+constexpr double kPivotTolerance = 1e-11;
+// Two ratios (of the problem scaled to ‖q‖∞ ≈ 1) closer than this, relative to
+// their size, are treated as tied and passed on to the lexicographic test.
+constexpr double kTieTolerance = 1e-11;
+// Every kDriftCheckPeriod pivots the updated B⁻¹ is checked against B; a
+// relative defect above kDriftTolerance (and kDriftGrowth times the defect
+// left by the last refactorization) triggers a refactorization. The check
+// costs about one pivot, the refactorization O(m³).
+constexpr int kDriftCheckPeriod = 50;
+constexpr double kDriftTolerance = 1e-9;
+constexpr double kDriftGrowth = 100.0;
+// Relative tolerance of the Farkas certificate check (y ≥ 0, Mᵀy ≤ 0,
+// qᵀy < 0): the ray is computed from B⁻¹, whose relative accuracy after
+// drift control is about 1e-9 at worst.
+constexpr double kCertificateTolerance = 1e-8;
+// Default pivot limit per dimension (documented in solver_options.hpp).
+constexpr int kPivotsPerDimension = 50;
+
+using Clock = std::chrono::steady_clock;
+
+// Complementary pivoting on the tableau  w − M z − d z0 = q  [Cottle–Pang–
+// Stone 1992, §4.4] with d = 1. Variables are numbered w_0..w_{m−1},
+// z_0..z_{m−1} (m..2m−1), then z0 (2m). The basis inverse B⁻¹ is kept
+// explicitly and updated by one rank-one (eta) update per pivot, so a pivot
+// costs O(m²) at most (O(m·k) with k non-w basic variables, see Pivot) and
+// the rows of B⁻¹ needed by the lexicographic ratio test [CPS §4.9] are at
+// hand. The problem is solved with q scaled by a power of
+// two to ‖q‖∞ ≈ 1 so that the absolute tie tolerance is meaningful.
+class LemkePivoting {
+ public:
+  enum class Outcome { kSolution, kRay, kIterationLimit };
+
+  LemkePivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q_scaled)
+      : m_(static_cast<int>(q_scaled.size())),
+        M_(M),
+        q_(q_scaled),
+        binv_(Eigen::MatrixXd::Identity(m_, m_)),
+        x_(q_scaled),
+        column_(m_),
+        eta_(m_),
+        work_(m_),
+        basis_(m_),
+        row_of_(2 * m_ + 1, -1),
+        dense_position_(m_, -1) {
+    for (int i = 0; i < m_; ++i) {
+      basis_[i] = i;
+      row_of_[i] = i;
+    }
+    candidates_.reserve(m_);
+    ties_.reserve(m_);
+    dense_columns_.reserve(m_);
+  }
+
+  // Runs until z0 leaves, a secondary ray, or max_pivots pivots.
+  Outcome Run(int max_pivots) {
+    // First pivot: z0 enters at the level that makes q + z0 d ≥ 0; the
+    // leaving row is the lexicographic minimum of (q_i, e_iᵀ)/d_i, which
+    // makes the tableau lexicographically positive [CPS §4.9]. With d = 1
+    // and B = I that is the most negative q_i, ties going to the largest
+    // index r (every other tied row becomes (0, e_iᵀ − e_rᵀ), positive).
+    column_.setConstant(-1.0);
+    const double most_negative = x_.minCoeff();
+    const double first_tie = kTieTolerance * (1.0 + std::abs(most_negative));
+    int leaving_row = 0;
+    for (int i = 0; i < m_; ++i) {
+      if (x_(i) <= most_negative + first_tie) leaving_row = i;
+    }
+    int entering = 2 * m_;
+    for (;;) {
+      if (pivots_ >= max_pivots) return Outcome::kIterationLimit;
+      const int leaving = basis_[leaving_row];
+      Pivot(leaving_row, entering);
+      ++pivots_;
+      if (leaving == 2 * m_) return Outcome::kSolution;
+      if (pivots_ % kDriftCheckPeriod == 0) ControlDrift();
+      entering = leaving < m_ ? leaving + m_ : leaving - m_;
+      ComputeColumn(entering);
+      leaving_row = RatioTest();
+      if (leaving_row < 0) {
+        ray_entering_ = entering;
+        return Outcome::kRay;
+      }
+    }
+  }
+
+  int pivots() const { return pivots_; }
+
+  // z of the current basic solution (scaled problem), clipped at 0.
+  Eigen::VectorXd BasicZ() const {
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(m_);
+    for (int i = 0; i < m_; ++i) {
+      const int v = basis_[i];
+      if (v >= m_ && v < 2 * m_) z(v - m_) = std::max(0.0, x_(i));
+    }
+    return z;
+  }
+
+  // Indices whose z is basic (the support candidate α of the final basis).
+  std::vector<int> BasicZIndices() const {
+    std::vector<int> alpha;
+    for (int i = 0; i < m_; ++i) {
+      if (basis_[i] >= m_ && basis_[i] < 2 * m_) alpha.push_back(basis_[i] - m_);
+    }
+    std::sort(alpha.begin(), alpha.end());
+    return alpha;
+  }
+
+  // z-part of the secondary ray's direction: the entering variable moves by
+  // 1 and the basic ones by −B⁻¹A_e [CPS §4.4]; column_ still holds B⁻¹A_e.
+  Eigen::VectorXd RayZ() const {
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(m_);
+    if (ray_entering_ >= m_ && ray_entering_ < 2 * m_) y(ray_entering_ - m_) = 1.0;
+    for (int i = 0; i < m_; ++i) {
+      const int v = basis_[i];
+      if (v >= m_ && v < 2 * m_) y(v - m_) = -column_(i);
+    }
+    return y;
+  }
+
+ private:
+  // column_ = B⁻¹ A_e for the column A_e of variable v in [I, −M, −d]. Only
+  // the dense columns of B⁻¹ take part in the product; a unit column i
+  // (w_i basic in row p) contributes a_i at p.
+  void ComputeColumn(int v) {
+    if (v < m_) {
+      column_ = binv_.col(v);
+      return;
+    }
+    const auto a = M_.col(v - m_);
+    column_.setZero();
+    for (int i : dense_columns_) {
+      if (a(i) != 0.0) column_.noalias() -= a(i) * binv_.col(i);
+    }
+    for (int i = 0; i < m_; ++i) {
+      if (row_of_[i] >= 0) column_(row_of_[i]) -= a(i);
+    }
+  }
+
+  // Lexicographic minimum-ratio test over the rows with column_(i) > 0; −1 if
+  // none blocks (secondary ray). z0 leaves whenever its ratio ties the
+  // minimum: that ends the method at a feasible complementary basis.
+  int RatioTest() {
+    const double scale = column_.cwiseAbs().maxCoeff();
+    const double threshold = kPivotTolerance * std::max(scale, 1.0);
+    candidates_.clear();
+    double min_ratio = kInf;
+    for (int i = 0; i < m_; ++i) {
+      if (column_(i) > threshold) {
+        candidates_.push_back(i);
+        min_ratio = std::min(min_ratio, std::max(x_(i), 0.0) / column_(i));
+      }
+    }
+    if (candidates_.empty()) return -1;
+    const double tie = kTieTolerance * (1.0 + min_ratio);
+    ties_.clear();
+    for (int i : candidates_) {
+      if (std::max(x_(i), 0.0) / column_(i) <= min_ratio + tie) ties_.push_back(i);
+    }
+    const int z0_row = row_of_[2 * m_];
+    if (z0_row >= 0 && std::find(ties_.begin(), ties_.end(), z0_row) != ties_.end()) {
+      return z0_row;
+    }
+    // Break the remaining ties column by column of B⁻¹ [CPS §4.9]: its rows
+    // are linearly independent, so one row remains at the end.
+    for (int k = 0; k < m_ && ties_.size() > 1; ++k) {
+      double min_value = kInf;
+      for (int i : ties_) min_value = std::min(min_value, binv_(i, k) / column_(i));
+      const double lex_tie = kTieTolerance * (1.0 + std::abs(min_value));
+      std::size_t kept = 0;
+      for (int i : ties_) {
+        if (binv_(i, k) / column_(i) <= min_value + lex_tie) ties_[kept++] = i;
+      }
+      ties_.resize(kept);
+    }
+    return ties_.front();
+  }
+
+  // Basis change: `entering` replaces the variable of row r. With c = B⁻¹A_e,
+  // the new inverse is B⁻¹ − (c − e_r) (e_rᵀB⁻¹)/c_r, and the same eta
+  // transformation updates x = B⁻¹q. Row r of B⁻¹ vanishes on the unit
+  // columns (except a leaving w's own), so only the dense columns change:
+  // the pivot costs O(m·(number of basic z + 1)), not O(m²).
+  void Pivot(int r, int entering) {
+    const double pivot = column_(r);
+    const int leaving = basis_[r];
+    if (leaving < m_) AddDenseColumn(leaving);
+    eta_ = column_;
+    eta_(r) -= 1.0;
+    for (int i : dense_columns_) {
+      const double factor = binv_(r, i) / pivot;
+      if (i != entering && factor != 0.0) binv_.col(i).noalias() -= factor * eta_;
+    }
+    x_.noalias() -= (x_(r) / pivot) * eta_;
+    row_of_[leaving] = -1;
+    basis_[r] = entering;
+    row_of_[entering] = r;
+    if (entering < m_) {
+      RemoveDenseColumn(entering);
+      SetUnitColumn(entering);
+    }
+  }
+
+  void AddDenseColumn(int i) {
+    dense_position_[i] = static_cast<int>(dense_columns_.size());
+    dense_columns_.push_back(i);
+  }
+
+  void RemoveDenseColumn(int i) {
+    const int position = dense_position_[i];
+    dense_columns_[position] = dense_columns_.back();
+    dense_position_[dense_columns_[position]] = position;
+    dense_columns_.pop_back();
+    dense_position_[i] = -1;
+  }
+
+  // Column i of B⁻¹ while w_i is basic in row p: B e_p = e_i, so it is e_p.
+  void SetUnitColumn(int i) {
+    binv_.col(i).setZero();
+    binv_(row_of_[i], i) = 1.0;
+  }
+
+  // B v for the current basis, v indexed by rows.
+  void MultiplyBasis(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
+    out.setZero();
+    for (int i = 0; i < m_; ++i) {
+      const int var = basis_[i];
+      if (var < m_) {
+        out(var) += v(i);
+      } else if (var < 2 * m_) {
+        out.noalias() -= v(i) * M_.col(var - m_);
+      } else {
+        out.array() -= v(i);
+      }
+    }
+  }
+
+  // max(‖B (B⁻¹ 1) − 1‖∞, ‖B x − q‖∞ / (1 + ‖x‖∞)): how far the updated
+  // B⁻¹ and x have drifted from the basis they represent.
+  double Defect() {
+    eta_ = binv_.rowwise().sum();
+    MultiplyBasis(eta_, work_);
+    const double inverse_defect = (work_.array() - 1.0).abs().maxCoeff();
+    MultiplyBasis(x_, work_);
+    const double solution_defect =
+        (work_ - q_).cwiseAbs().maxCoeff() / (1.0 + x_.cwiseAbs().maxCoeff());
+    return std::max(inverse_defect, solution_defect);
+  }
+
+  // Refactors B⁻¹ and x from scratch when the defect exceeds kDriftTolerance
+  // and has grown kDriftGrowth-fold since the last refactorization: on an
+  // ill-conditioned basis even a fresh inverse has a defect of about κ·ε,
+  // and refactoring again would not reduce it.
+  void ControlDrift() {
+    if (Defect() <= std::max(kDriftTolerance, kDriftGrowth * defect_floor_)) return;
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m_, m_);
+    for (int i = 0; i < m_; ++i) {
+      const int var = basis_[i];
+      if (var < m_) {
+        B(var, i) = 1.0;
+      } else if (var < 2 * m_) {
+        B.col(i) = -M_.col(var - m_);
+      } else {
+        B.col(i).setConstant(-1.0);
+      }
+    }
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(B);
+    binv_ = lu.inverse();
+    x_ = lu.solve(q_);
+    for (int i = 0; i < m_; ++i) {
+      if (row_of_[i] >= 0) SetUnitColumn(i);
+    }
+    defect_floor_ = Defect();
+  }
+
+  int m_;
+  const Eigen::MatrixXd& M_;
+  const Eigen::VectorXd& q_;
+  Eigen::MatrixXd binv_;
+  Eigen::VectorXd x_;          // basic values, x = B⁻¹ q
+  Eigen::VectorXd column_;     // B⁻¹ A_e of the entering variable
+  Eigen::VectorXd eta_;        // c − e_r of the current pivot; scratch
+  Eigen::VectorXd work_;
+  std::vector<int> basis_;   // variable basic in each row
+  std::vector<int> row_of_;  // row of each basic variable, −1 if nonbasic
+  // Columns i of B⁻¹ that are not unit vectors (w_i nonbasic), with each
+  // one's position in that list (−1 for unit columns).
+  std::vector<int> dense_columns_;
+  std::vector<int> dense_position_;
+  std::vector<int> candidates_;
+  std::vector<int> ties_;
+  int pivots_ = 0;
+  int ray_entering_ = -1;
+  double defect_floor_ = 0.0;  // Defect() right after the last refactorization
+};
+
+// Solves M_αα z_α = −q_α on the final complementary basis (z = 0 off α) and
+// clips the rounding-level negative entries of degenerate basic z's.
+Eigen::VectorXd PolishOnBasis(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
+                              const std::vector<int>& alpha) {
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(q.size());
+  const int k = static_cast<int>(alpha.size());
+  if (k == 0) return z;
+  Eigen::MatrixXd M_aa(k, k);
+  Eigen::VectorXd rhs(k);
+  for (int a = 0; a < k; ++a) {
+    rhs(a) = -q(alpha[a]);
+    for (int b = 0; b < k; ++b) M_aa(a, b) = M(alpha[a], alpha[b]);
+  }
+  const Eigen::VectorXd z_alpha = Eigen::PartialPivLU<Eigen::MatrixXd>(M_aa).solve(rhs);
+  for (int a = 0; a < k; ++a) z(alpha[a]) = std::max(0.0, z_alpha(a));
+  return z;
+}
+
+// Accepts y as a Farkas certificate of {z ≥ 0 : Mz + q ≥ 0} = ∅ only when
+// y ≥ 0, Mᵀy ≤ 0 and qᵀy < 0 hold to kCertificateTolerance relative to the
+// data's size; the result is y clipped at 0 and scaled to ‖y‖∞ = 1.
+bool VerifyCertificate(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, Eigen::VectorXd& y) {
+  const double y_norm = y.size() == 0 ? 0.0 : y.cwiseAbs().maxCoeff();
+  if (!(y_norm > 0.0) || !std::isfinite(y_norm)) return false;
+  y /= y_norm;
+  if (y.minCoeff() < -kCertificateTolerance) return false;
+  y = y.cwiseMax(0.0);
+  const double M_norm = M.cwiseAbs().rowwise().sum().maxCoeff();
+  const double y_sum = y.sum();
+  const Eigen::VectorXd Mty = M.transpose() * y;
+  if (Mty.maxCoeff() > kCertificateTolerance * M_norm * y_sum) return false;
+  return q.dot(y) < -kCertificateTolerance * q.cwiseAbs().maxCoeff() * y_sum;
+}
+
+void Finish(const Lcp& lcp, const Eigen::VectorXd& z, double tolerance, SolveResult& result) {
+  const int m = lcp.dim();
+  result.z = z;
+  result.w.noalias() = lcp.M * z;
+  result.w += lcp.q;
+  result.residual = NaturalResidual(ConvexSet::Orthant(m), result.z, result.w);
+  result.has_index_sets = true;
+  result.index_sets = BoxIndexSets(Eigen::VectorXd::Zero(m), Eigen::VectorXd::Constant(m, kInf),
+                                   result.z, result.w, tolerance);
+}
+
+}  // namespace
+
+SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options) {
+  const auto start = Clock::now();
+  lcp.Validate();
+  options.Validate();
+  const int m = lcp.dim();
+  SolveResult result;
+  result.method = "lemke";
+  const int max_pivots =
+      options.max_iterations > 0 ? options.max_iterations : kPivotsPerDimension * (m + 1);
+
+  if (m == 0 || lcp.q.minCoeff() >= 0.0) {
+    Finish(lcp, Eigen::VectorXd::Zero(m), options.tolerance, result);
+    result.status = SolveStatus::kSolved;
+    result.message = "q ≥ 0: z = 0 solves the LCP";
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return result;
+  }
+
+  // A power of two keeps the scaling exact.
+  const double scale = std::exp2(std::round(std::log2(lcp.q.cwiseAbs().maxCoeff())));
+  const Eigen::VectorXd q_scaled = lcp.q / scale;
+  LemkePivoting lemke(lcp.M, q_scaled);
+  const LemkePivoting::Outcome outcome = lemke.Run(max_pivots);
+  result.iterations = lemke.pivots();
+
+  switch (outcome) {
+    case LemkePivoting::Outcome::kSolution: {
+      Finish(lcp, lemke.BasicZ() * scale, options.tolerance, result);
+      SolveResult polished = result;
+      Finish(lcp, PolishOnBasis(lcp.M, lcp.q, lemke.BasicZIndices()), options.tolerance, polished);
+      // The basis solve is normally the more accurate; keep the pivoted z if
+      // M_αα is so ill-conditioned that it is not.
+      if (polished.residual <= result.residual || !std::isfinite(result.residual)) {
+        result = std::move(polished);
+      }
+      if (result.residual <= options.tolerance) {
+        result.status = SolveStatus::kSolved;
+        result.message = "z0 left the basis after " + std::to_string(result.iterations) + " pivots";
+      } else {
+        std::ostringstream message;
+        message << "complementary basis reached, but the residual " << result.residual
+                << " exceeds the tolerance " << options.tolerance
+                << " (ill-conditioned basis)";
+        result.status = SolveStatus::kFailed;
+        result.message = message.str();
+      }
+      break;
+    }
+    case LemkePivoting::Outcome::kRay: {
+      Finish(lcp, lemke.BasicZ() * scale, options.tolerance, result);
+      Eigen::VectorXd y = lemke.RayZ();
+      if (VerifyCertificate(lcp.M, lcp.q, y)) {
+        result.status = SolveStatus::kInfeasible;
+        result.message =
+            "secondary ray: y ≥ 0 with Mᵀy ≤ 0 and qᵀy < 0 proves {z ≥ 0 : Mz + q ≥ 0} empty";
+        result.certificate = std::move(y);
+      } else {
+        result.status = SolveStatus::kFailed;
+        result.message = "ray termination (M is not copositive-plus, no certificate)";
+      }
+      break;
+    }
+    case LemkePivoting::Outcome::kIterationLimit:
+      Finish(lcp, lemke.BasicZ() * scale, options.tolerance, result);
+      result.status = SolveStatus::kMaxIterations;
+      result.message = "no complementary basis within " + std::to_string(max_pivots) + " pivots";
+      break;
+  }
+  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+}  // namespace dvi

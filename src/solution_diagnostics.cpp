@@ -1,1 +1,86 @@
 // SPDX-License-Identifier: Apache-2.0
+#include "dvi/solution_diagnostics.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "check.hpp"
+
+namespace dvi {
+namespace {
+
+// The residual of a non-finite iterate: NaN, so that no `residual <= tol`
+// test can pass.
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+void CheckSizes(Eigen::Index m, const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
+  DVI_THROW_UNLESS(z.size() == m, "z has " << z.size() << " entries, expected " << m);
+  DVI_THROW_UNLESS(w.size() == m, "w has " << w.size() << " entries, expected " << m);
+}
+
+// Callers have excluded non-finite z and w, so d is finite.
+template <typename Expression>
+double MaxAbs(const Expression& d) {
+  return d.size() == 0 ? 0.0 : d.cwiseAbs().maxCoeff();
+}
+
+}  // namespace
+
+double BoxNaturalResidual(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                          const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
+  DVI_THROW_UNLESS(lower.size() == upper.size(),
+                   "lower has " << lower.size() << " entries but upper has " << upper.size());
+  CheckSizes(lower.size(), z, w);
+  // cwiseMin/cwiseMax may drop a NaN; so may Project.
+  if (!z.allFinite() || !w.allFinite()) return kNaN;
+  return MaxAbs(z - (z - w).cwiseMax(lower).cwiseMin(upper));
+}
+
+double NaturalResidual(const ConvexSet& K, const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
+  CheckSizes(K.dim(), z, w);
+  if (!z.allFinite() || !w.allFinite()) return kNaN;
+  switch (K.kind()) {
+    case ConvexSet::Kind::kOrthant:
+      // z − max(0, z − w) = min(z, w).
+      return MaxAbs(z.cwiseMin(w));
+    case ConvexSet::Kind::kBox: {
+      const auto [lower, upper] = K.BoxBounds();
+      return BoxNaturalResidual(lower, upper, z, w);
+    }
+    default:
+      break;
+  }
+  return MaxAbs(z - K.Project(z - w));
+}
+
+IndexSets BoxIndexSets(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                       const Eigen::VectorXd& z, const Eigen::VectorXd& w, double tol) {
+  DVI_THROW_UNLESS(lower.size() == upper.size(),
+                   "lower has " << lower.size() << " entries but upper has " << upper.size());
+  CheckSizes(lower.size(), z, w);
+  DVI_THROW_UNLESS(tol >= 0.0, "tol = " << tol << " must be nonnegative");
+  const double w_zero = tol * (1.0 + w.lpNorm<Eigen::Infinity>());
+  IndexSets sets;
+  for (int i = 0; i < static_cast<int>(z.size()); ++i) {
+    // An infinite bound is never reached (inf ≤ tol·inf would say it is).
+    const bool at_lower =
+        std::isfinite(lower(i)) && std::abs(z(i) - lower(i)) <= tol * (1.0 + std::abs(lower(i)));
+    const bool at_upper =
+        std::isfinite(upper(i)) && std::abs(z(i) - upper(i)) <= tol * (1.0 + std::abs(upper(i)));
+    const bool w_is_zero = std::abs(w(i)) <= w_zero;
+    if (!at_lower && !at_upper) {
+      sets.alpha.push_back(i);
+    } else if (w_is_zero) {
+      sets.beta.push_back(i);
+    } else if ((at_lower && w(i) > 0.0) || (at_upper && w(i) < 0.0)) {
+      sets.gamma.push_back(i);
+    } else {
+      // At a bound but pushed away from it: not a solution component; it is
+      // reported with the free ones, where F_i = 0 is the missing condition.
+      sets.alpha.push_back(i);
+    }
+  }
+  return sets;
+}
+
+}  // namespace dvi

@@ -1,1 +1,439 @@
 // SPDX-License-Identifier: Apache-2.0
+#include "dvi/solve.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "check.hpp"
+#include "dvi/lemke.hpp"
+#include "dvi/polyhedral_vi.hpp"
+#include "dvi/projected_gauss_seidel.hpp"
+#include "dvi/projection_method.hpp"
+#include "dvi/semismooth_newton.hpp"
+#include "dvi/solution_diagnostics.hpp"
+
+namespace dvi {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Densifying a sparse LCP for Lemke costs m² memory and O(m³) pivoting work;
+// beyond this size the last resort is not worth it.
+constexpr int kDenseLemkeLimit = 2000;
+
+// M counts as symmetric for PGS when ‖M − Mᵀ‖max ≤ this · ‖M‖max: a few
+// round-offs of assembling the same entry twice in a different order.
+constexpr double kSymmetryTolerance = 1e-14;
+
+// Relative tolerance of the Farkas check (y ≥ 0, Mᵀy ≤ 0, qᵀy < 0), the same
+// as Lemke's: the ray comes from a basis inverse accurate to about 1e-9.
+constexpr double kCertificateTolerance = 1e-8;
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Makes the guarantees of solve.hpp hold whatever the solver filled in: the
+// method name, and for box problems the natural-map residual over [l, u] and
+// the index sets of [Seed] Sect. 5.3 (at the solve's tolerance, the accuracy
+// the residual certifies z and w to).
+void FinishBoxResult(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                     double tolerance, SolveResult& result) {
+  const Eigen::Index m = lower.size();
+  if (result.z.size() != m || result.w.size() != m) return;
+  result.residual = BoxNaturalResidual(lower, upper, result.z, result.w);
+  if (!result.has_index_sets) {
+    result.index_sets = BoxIndexSets(lower, upper, result.z, result.w, tolerance);
+    result.has_index_sets = true;
+  }
+}
+
+void Rename(SolverMethod method, SolveResult& result) {
+  result.method = std::string(ToString(method));
+}
+
+// The attempts of an automatic choice, in order. A decisive attempt (solved,
+// or infeasible with proof) is returned with the earlier ones noted in its
+// message; when none is decisive, the one with the smallest residual is
+// returned and its message tells what every attempt did.
+class AttemptLog {
+ public:
+  void Add(SolveResult attempt) {
+    text_ += (text_.empty() ? "" : "; ") + attempt.method + ": " + attempt.message;
+    if (!has_best_ || Badness(attempt) < Badness(best_)) best_ = std::move(attempt);
+    has_best_ = true;
+  }
+  SolveResult Decisive(SolveResult attempt) const {
+    if (!text_.empty()) attempt.message += " (after " + text_ + ")";
+    return attempt;
+  }
+  SolveResult Best() && {
+    best_.message = text_;
+    return std::move(best_);
+  }
+
+ private:
+  static double Badness(const SolveResult& r) {
+    const bool has_point = r.z.size() > 0 && r.z.size() == r.w.size();
+    return has_point && !std::isnan(r.residual) ? r.residual : kInf;
+  }
+  std::string text_;
+  SolveResult best_;
+  bool has_best_ = false;
+};
+
+bool IsDecisive(const SolveResult& r) {
+  return r.solved() || r.status == SolveStatus::kInfeasible;
+}
+
+std::string Describe(const ConvexSet& K) { return "VI on " + K.Describe(); }
+
+[[noreturn]] void ThrowNotApplicable(SolverMethod method, const std::string& problem,
+                                     const std::string& why) {
+  throw InvalidInputError("solver method '" + std::string(ToString(method)) +
+                          "' does not apply to " + problem + ": " + why);
+}
+
+bool IsOrthant(const ConvexSet& K) { return K.kind() == ConvexSet::Kind::kOrthant; }
+
+bool IsSymmetricWithPositiveDiagonal(const SparseMatrix& M) {
+  double largest = 0.0;
+  for (int k = 0; k < M.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(M, k); it; ++it)
+      largest = std::max(largest, std::abs(it.value()));
+  for (int i = 0; i < M.rows(); ++i)
+    if (!(M.coeff(i, i) > 0.0)) return false;
+  const SparseMatrix transpose = M.transpose();
+  const SparseMatrix difference = M - transpose;
+  for (int k = 0; k < difference.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(difference, k); it; ++it)
+      if (std::abs(it.value()) > kSymmetryTolerance * largest) return false;
+  return true;
+}
+
+Vi OrthantVi(const SparseMatrix& M, const Eigen::VectorXd& q) {
+  Vi vi;
+  vi.K = ConvexSet::Orthant(static_cast<int>(q.size()));
+  vi.F = [M, q](const Eigen::VectorXd& z, Eigen::VectorXd& w) { w.noalias() = M * z; w += q; };
+  return vi;
+}
+
+// The box MCP of a VI on a box-like K: the same problem ([Facchinei–Pang
+// 2003, §1.2]), with the exact Jacobian kept when F is affine.
+BoxMcp BoxMcpOfVi(const Vi& vi) {
+  auto [lower, upper] = vi.K.BoxBounds();
+  if (vi.is_affine) return BoxMcp::Affine(vi.M, vi.q, std::move(lower), std::move(upper));
+  BoxMcp mcp;
+  mcp.lower = std::move(lower);
+  mcp.upper = std::move(upper);
+  mcp.F = vi.F;
+  mcp.jacobian = vi.jacobian;
+  return mcp;
+}
+
+Eigen::VectorXd Zeros(Eigen::Index m) { return Eigen::VectorXd::Zero(m); }
+Eigen::VectorXd Infinities(Eigen::Index m) { return Eigen::VectorXd::Constant(m, kInf); }
+
+// Accepts y as a Farkas certificate of {z ≥ 0 : Mz + q ≥ 0} = ∅ when y ≥ 0,
+// Mᵀy ≤ 0 and qᵀy < 0 hold to kCertificateTolerance relative to the data;
+// y is clipped at 0 and scaled to ‖y‖∞ = 1.
+bool IsFarkasCertificate(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, Eigen::VectorXd& y) {
+  const double y_norm = y.size() == 0 ? 0.0 : y.cwiseAbs().maxCoeff();
+  if (!(y_norm > 0.0) || !std::isfinite(y_norm)) return false;
+  y /= y_norm;
+  if (y.minCoeff() < -kCertificateTolerance) return false;
+  y = y.cwiseMax(0.0);
+  const double M_norm = M.cwiseAbs().rowwise().sum().maxCoeff();
+  const double q_norm = q.cwiseAbs().maxCoeff();
+  const double y_sum = y.sum();
+  const Eigen::VectorXd Mty = M.transpose() * y;
+  return Mty.maxCoeff() <= kCertificateTolerance * M_norm * y_sum &&
+         q.dot(y) < -kCertificateTolerance * q_norm * y_sum;
+}
+
+// Lemke's ray proves infeasibility only for copositive-plus M [Cottle–Pang–
+// Stone 1992, Thm 4.4.13]. Otherwise the LP question "is {z ≥ 0 : Mz + q ≥ 0}
+// empty?" is asked as LCP(q', M') with q' = (0, q) and the skew-symmetric,
+// hence copositive-plus, M' = [[0, −Mᵀ], [M, 0]]: the KKT system of
+// min 0 s.t. Mz + q ≥ 0, z ≥ 0, solvable iff the LP is feasible. Lemke then
+// either solves it or ends on a ray (a, b) with M'ᵀ(a, b) ≤ 0 and
+// q'ᵀ(a, b) = qᵀb < 0, so b is a Farkas certificate for the original LCP.
+void DecideFeasibility(const Lcp& lcp, const SolverOptions& options, SolveResult& lemke) {
+  const int m = lcp.dim();
+  Lcp feasibility;
+  feasibility.M = Eigen::MatrixXd::Zero(2 * m, 2 * m);
+  feasibility.M.topRightCorner(m, m) = -lcp.M.transpose();
+  feasibility.M.bottomLeftCorner(m, m) = lcp.M;
+  feasibility.q = Eigen::VectorXd::Zero(2 * m);
+  feasibility.q.tail(m) = lcp.q;
+  SolverOptions feasibility_options = options;
+  feasibility_options.max_iterations = 0;
+  const SolveResult answer = SolveLemke(feasibility, feasibility_options);
+  if (answer.status == SolveStatus::kInfeasible && answer.certificate.size() == 2 * m) {
+    Eigen::VectorXd y = answer.certificate.tail(m);
+    if (IsFarkasCertificate(lcp.M, lcp.q, y)) {
+      lemke.status = SolveStatus::kInfeasible;
+      lemke.certificate = std::move(y);
+      lemke.message += "; the feasibility LP is infeasible: y ≥ 0 with Mᵀy ≤ 0 and qᵀy < 0 "
+                       "proves {z ≥ 0 : Mz + q ≥ 0} empty";
+      return;
+    }
+  }
+  if (answer.solved())
+    lemke.message += "; {z ≥ 0 : Mz + q ≥ 0} is not empty, so the ray proves nothing";
+}
+
+SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
+                          const Eigen::VectorXd& warm_start) {
+  const int m = lcp.dim();
+  switch (options.method) {
+    case SolverMethod::kLemke: {
+      SolveResult result = SolveLemke(lcp, options);
+      Rename(SolverMethod::kLemke, result);
+      return result;
+    }
+    case SolverMethod::kPgs: {
+      SolveResult result = SolvePgs(lcp, options, warm_start);
+      Rename(SolverMethod::kPgs, result);
+      return result;
+    }
+    case SolverMethod::kNewton: {
+      SolveResult result =
+          SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start);
+      Rename(SolverMethod::kNewton, result);
+      return result;
+    }
+    case SolverMethod::kExtragradient: {
+      SolveResult result =
+          SolveExtragradient(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start);
+      Rename(SolverMethod::kExtragradient, result);
+      return result;
+    }
+    case SolverMethod::kKkt: {
+      SolveResult result =
+          SolvePolyhedralVi(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start);
+      Rename(SolverMethod::kKkt, result);
+      return result;
+    }
+    case SolverMethod::kAuto:
+      break;
+  }
+  // Newton converges locally quadratically and exploits a warm start (the
+  // previous step's solution inside an integrator); Lemke is finite and is
+  // the one that can prove infeasibility, so it decides when Newton stalls.
+  AttemptLog log;
+  SolveResult newton =
+      SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start);
+  Rename(SolverMethod::kNewton, newton);
+  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, newton);
+  if (newton.solved()) return newton;
+  log.Add(std::move(newton));
+  SolveResult lemke = SolveLemke(lcp, options);
+  Rename(SolverMethod::kLemke, lemke);
+  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
+  if (lemke.status == SolveStatus::kFailed) DecideFeasibility(lcp, options, lemke);
+  if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
+  log.Add(std::move(lemke));
+  return std::move(log).Best();
+}
+
+SolveResult SolveSparseLcp(const SparseLcp& lcp, const SolverOptions& options,
+                           const Eigen::VectorXd& warm_start) {
+  const int m = lcp.dim();
+  const auto densified = [&lcp]() { return Lcp{Eigen::MatrixXd(lcp.M), lcp.q}; };
+  switch (options.method) {
+    case SolverMethod::kLemke: {
+      SolveResult result = SolveLemke(densified(), options);
+      Rename(SolverMethod::kLemke, result);
+      return result;
+    }
+    case SolverMethod::kPgs: {
+      SolveResult result = SolvePgs(lcp, options, warm_start);
+      Rename(SolverMethod::kPgs, result);
+      return result;
+    }
+    case SolverMethod::kNewton: {
+      SolveResult result =
+          SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start);
+      Rename(SolverMethod::kNewton, result);
+      return result;
+    }
+    case SolverMethod::kExtragradient: {
+      SolveResult result = SolveExtragradient(OrthantVi(lcp.M, lcp.q), options, warm_start);
+      Rename(SolverMethod::kExtragradient, result);
+      return result;
+    }
+    case SolverMethod::kKkt: {
+      SolveResult result = SolvePolyhedralVi(
+          Vi::Affine(Eigen::MatrixXd(lcp.M), lcp.q, ConvexSet::Orthant(m)), options, warm_start);
+      Rename(SolverMethod::kKkt, result);
+      return result;
+    }
+    case SolverMethod::kAuto:
+      break;
+  }
+  // PGS sweeps cost O(nnz) and converge for symmetric positive semidefinite M
+  // with a positive diagonal [Cottle–Pang–Stone 1992, §5.2]; otherwise the
+  // sparse (KLU) Newton path. Newton starts from PGS's last iterate.
+  AttemptLog log;
+  Eigen::VectorXd start = warm_start;
+  if (IsSymmetricWithPositiveDiagonal(lcp.M)) {
+    SolveResult pgs = SolvePgs(lcp, options, warm_start);
+    Rename(SolverMethod::kPgs, pgs);
+    FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, pgs);
+    if (pgs.solved()) return pgs;
+    if (pgs.z.size() == m && pgs.z.allFinite()) start = pgs.z;
+    log.Add(std::move(pgs));
+  }
+  SolveResult newton =
+      SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, start);
+  Rename(SolverMethod::kNewton, newton);
+  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, newton);
+  if (newton.solved()) return log.Decisive(std::move(newton));
+  log.Add(std::move(newton));
+  if (m > kDenseLemkeLimit) return std::move(log).Best();
+  const Lcp dense = densified();
+  SolveResult lemke = SolveLemke(dense, options);
+  Rename(SolverMethod::kLemke, lemke);
+  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
+  if (lemke.status == SolveStatus::kFailed) DecideFeasibility(dense, options, lemke);
+  if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
+  log.Add(std::move(lemke));
+  return std::move(log).Best();
+}
+
+SolveResult SolveMcp(const BoxMcp& mcp, const SolverOptions& options,
+                     const Eigen::VectorXd& warm_start) {
+  switch (options.method) {
+    case SolverMethod::kLemke:
+    case SolverMethod::kPgs:
+      ThrowNotApplicable(options.method, "a box MCP", "it needs an LCP with its matrix M");
+    case SolverMethod::kExtragradient:
+    case SolverMethod::kKkt: {
+      Vi vi;
+      vi.K = ConvexSet::Box(mcp.lower, mcp.upper);
+      vi.F = mcp.F;
+      vi.jacobian = mcp.jacobian;
+      SolveResult result = options.method == SolverMethod::kKkt
+                               ? SolvePolyhedralVi(vi, options, warm_start)
+                               : SolveExtragradient(vi, options, warm_start);
+      Rename(options.method, result);
+      return result;
+    }
+    case SolverMethod::kNewton:
+    case SolverMethod::kAuto:
+      break;
+  }
+  SolveResult result = SolveNewton(mcp, options, warm_start);
+  Rename(SolverMethod::kNewton, result);
+  return result;
+}
+
+SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
+                    const Eigen::VectorXd& warm_start) {
+  const ConvexSet& K = vi.K;
+  // An affine VI on the orthant is literally LCP(q, M).
+  const bool is_lcp = vi.is_affine && IsOrthant(K);
+  switch (options.method) {
+    case SolverMethod::kLemke:
+    case SolverMethod::kPgs: {
+      if (!is_lcp)
+        ThrowNotApplicable(options.method, Describe(K),
+                           "it needs an affine VI on the nonnegative orthant (an LCP)");
+      return SolveDenseLcp(Lcp{vi.M, vi.q}, options, warm_start);
+    }
+    case SolverMethod::kNewton: {
+      if (!K.IsBox())
+        ThrowNotApplicable(options.method, Describe(K),
+                           "semismooth Newton needs a box-like K (use kkt for a polyhedron)");
+      SolveResult result = SolveNewton(BoxMcpOfVi(vi), options, warm_start);
+      Rename(SolverMethod::kNewton, result);
+      return result;
+    }
+    case SolverMethod::kKkt: {
+      if (!K.IsPolyhedral())
+        ThrowNotApplicable(options.method, Describe(K), "the KKT form needs a polyhedral K");
+      SolveResult result = SolvePolyhedralVi(vi, options, warm_start);
+      Rename(SolverMethod::kKkt, result);
+      return result;
+    }
+    case SolverMethod::kExtragradient: {
+      SolveResult result = SolveExtragradient(vi, options, warm_start);
+      Rename(SolverMethod::kExtragradient, result);
+      return result;
+    }
+    case SolverMethod::kAuto:
+      break;
+  }
+  if (K.IsBox()) {
+    SolveResult result = SolveNewton(BoxMcpOfVi(vi), options, warm_start);
+    Rename(SolverMethod::kNewton, result);
+    return result;
+  }
+  if (K.IsPolyhedral()) {
+    SolveResult result = SolvePolyhedralVi(vi, options, warm_start);
+    Rename(SolverMethod::kKkt, result);
+    return result;
+  }
+  SolveResult result = SolveExtragradient(vi, options, warm_start);
+  Rename(SolverMethod::kExtragradient, result);
+  return result;
+}
+
+}  // namespace
+
+SolveResult Solve(const Lcp& lcp, const SolverOptions& options,
+                  const Eigen::VectorXd& warm_start) {
+  const Clock::time_point start = Clock::now();
+  options.Validate();
+  lcp.Validate();
+  SolveResult result = SolveDenseLcp(lcp, options, warm_start);
+  const int m = lcp.dim();
+  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, result);
+  result.seconds = SecondsSince(start);
+  return result;
+}
+
+SolveResult Solve(const SparseLcp& lcp, const SolverOptions& options,
+                  const Eigen::VectorXd& warm_start) {
+  const Clock::time_point start = Clock::now();
+  options.Validate();
+  lcp.Validate();
+  SolveResult result = SolveSparseLcp(lcp, options, warm_start);
+  const int m = lcp.dim();
+  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, result);
+  result.seconds = SecondsSince(start);
+  return result;
+}
+
+SolveResult Solve(const BoxMcp& mcp, const SolverOptions& options,
+                  const Eigen::VectorXd& warm_start) {
+  const Clock::time_point start = Clock::now();
+  options.Validate();
+  mcp.Validate();
+  SolveResult result = SolveMcp(mcp, options, warm_start);
+  FinishBoxResult(mcp.lower, mcp.upper, options.tolerance, result);
+  result.seconds = SecondsSince(start);
+  return result;
+}
+
+SolveResult Solve(const Vi& vi, const SolverOptions& options, const Eigen::VectorXd& warm_start) {
+  const Clock::time_point start = Clock::now();
+  options.Validate();
+  vi.Validate();
+  SolveResult result = SolveVi(vi, options, warm_start);
+  if (vi.K.IsBox()) {
+    const auto [lower, upper] = vi.K.BoxBounds();
+    FinishBoxResult(lower, upper, options.tolerance, result);
+  }
+  result.seconds = SecondsSince(start);
+  return result;
+}
+
+}  // namespace dvi

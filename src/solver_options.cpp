@@ -1,1 +1,52 @@
 // SPDX-License-Identifier: Apache-2.0
+#include "dvi/solver_options.hpp"
+
+#include <array>
+#include <string>
+#include <utility>
+
+#include "check.hpp"
+
+namespace dvi {
+namespace {
+
+constexpr std::array<std::pair<SolverMethod, std::string_view>, 6> kMethodNames = {{
+    {SolverMethod::kAuto, "auto"},
+    {SolverMethod::kLemke, "lemke"},
+    {SolverMethod::kPgs, "pgs"},
+    {SolverMethod::kNewton, "newton"},
+    {SolverMethod::kExtragradient, "extragradient"},
+    {SolverMethod::kKkt, "kkt"},
+}};
+
+}  // namespace
+
+std::string_view ToString(SolverMethod method) {
+  for (const auto& [value, name] : kMethodNames) {
+    if (value == method) return name;
+  }
+  return "auto";
+}
+
+SolverMethod ParseSolverMethod(std::string_view name) {
+  for (const auto& [value, word] : kMethodNames) {
+    if (word == name) return value;
+  }
+  DVI_THROW_UNLESS(false,
+                   "unknown solver method \""
+                       << std::string(name)
+                       << "\"; expected one of auto, lemke, pgs, newton, extragradient, kkt");
+  return SolverMethod::kAuto;
+}
+
+void SolverOptions::Validate() const {
+  // Written as positive conditions so that NaN fails them.
+  DVI_THROW_UNLESS(tolerance > 0.0 && tolerance < 1.0,
+                   "SolverOptions::tolerance = " << tolerance << " is outside (0, 1)");
+  DVI_THROW_UNLESS(max_iterations >= 0,
+                   "SolverOptions::max_iterations = " << max_iterations << " is negative");
+  DVI_THROW_UNLESS(pgs_relaxation > 0.0 && pgs_relaxation < 2.0,
+                   "SolverOptions::pgs_relaxation = " << pgs_relaxation << " is outside (0, 2)");
+}
+
+}  // namespace dvi

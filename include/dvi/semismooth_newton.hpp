@@ -13,8 +13,8 @@ namespace dvi {
 /// not a descent direction [Facchinei–Pang 2003, §9.1; Kanzow–Petra 2004 for
 /// the box]. Free variables (both bounds infinite) keep Φ_i = F_i.
 /// Linear algebra: dense Eigen LU, or KLU when the problem has a sparse
-/// Jacobian and options.allow_sparse (symbolic analysis reused across
-/// iterations and calls with the same pattern). Without any Jacobian, dense
+/// Jacobian and options.allow_sparse (symbolic analysis done once per
+/// solve and reused by every iteration). Without any Jacobian, dense
 /// forward differences are used.
 /// warm_start (empty: the projection of 0 onto [l, u]) is the first iterate.
 /// @throws InvalidInputError from Validate(), or a wrong-size warm_start.

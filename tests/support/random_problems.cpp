@@ -31,7 +31,7 @@ Eigen::MatrixXd RandomTriangularPMatrix(int m, std::mt19937& rng) {
   std::uniform_real_distribution<double> positive(0.5, 2.0);
   Eigen::MatrixXd N = RandomMatrix(m, m, rng);
   Eigen::MatrixXd T = Eigen::MatrixXd::Identity(m, m);
-  T.triangularView<Eigen::StrictlyLower>() = 2.0 * N.triangularView<Eigen::StrictlyLower>();
+  T.triangularView<Eigen::StrictlyLower>() = (2.0 * N).triangularView<Eigen::StrictlyLower>();
   Eigen::VectorXd d1(m), d2(m);
   for (int i = 0; i < m; ++i) {
     d1(i) = positive(rng);
@@ -70,6 +70,22 @@ Eigen::SparseMatrix<double> RandomSparseSpd(int m, int nnz_per_row, std::mt19937
   Eigen::SparseMatrix<double> M(m, m);
   M.setFromTriplets(triplets.begin(), triplets.end());
   return M;
+}
+
+ComplementaryPair RandomComplementaryPair(int m, std::mt19937& rng, double degenerate_fraction) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_real_distribution<double> value(0.5, 2.0);
+  ComplementaryPair pair{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m)};
+  for (int i = 0; i < m; ++i) {
+    const double kind = unit(rng);
+    if (kind < degenerate_fraction) continue;
+    if (kind < degenerate_fraction + (1.0 - degenerate_fraction) / 2) {
+      pair.z(i) = value(rng);
+    } else {
+      pair.w(i) = value(rng);
+    }
+  }
+  return pair;
 }
 
 }  // namespace dvi::test

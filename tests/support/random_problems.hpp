@@ -30,4 +30,16 @@ Eigen::MatrixXd RandomPsdMatrix(int m, int rank, std::mt19937& rng, bool add_ske
 /// with about nnz_per_row nonzeros per row, strictly diagonally dominant.
 Eigen::SparseMatrix<double> RandomSparseSpd(int m, int nnz_per_row, std::mt19937& rng);
 
+/// Complementary z* ≥ 0 and w* ≥ 0 of size m with a known pattern: each index
+/// is in the support (z*_i ∈ [0.5, 2], w*_i = 0), inactive (z*_i = 0,
+/// w*_i ∈ [0.5, 2]) or, with probability degenerate_fraction, degenerate
+/// (both zero). For any M, q = w* − M z* makes z* a solution of LCP(q, M),
+/// the unique one when M is a P-matrix.
+struct ComplementaryPair {
+  Eigen::VectorXd z;
+  Eigen::VectorXd w;
+};
+ComplementaryPair RandomComplementaryPair(int m, std::mt19937& rng,
+                                          double degenerate_fraction = 0.2);
+
 }  // namespace dvi::test

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Installs the Debian packages dvi needs that are not yet on the machine.
+# Usage: install-deps.sh [extra-package ...]
+set -euo pipefail
+
+packages=(
+  cmake g++ make pkg-config
+  libeigen3-dev          # dense linear algebra everywhere
+  libsundials-dev        # CVODE / IDA (integrators), SUNLinSol_KLU
+  libsuitesparse-dev     # KLU sparse LU for large sparse Jacobians
+  libboost-dev           # Boost.Odeint adapter (header-only)
+  nlohmann-json3-dev     # scene and problem files, JSON answers
+  libcli11-dev           # dvisim's command line
+  libgtest-dev libgmock-dev  # the test suites
+  libbenchmark-dev       # bench/
+  "$@"
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "Installing missing Debian packages: ${missing[*]}" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

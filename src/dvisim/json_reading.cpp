@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "json_reading.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace dvi::dvisim {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Messages quote at most this many characters of an offending value.
+constexpr std::size_t kMaxQuoted = 40;
+// Matrices and vectors larger than this are a corrupt or mistaken file, not a
+// problem dvisim should try to allocate.
+constexpr std::int64_t kMaxEntries = std::int64_t{1} << 28;
+
+std::string Indexed(const std::string& path, std::size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
+[[noreturn]] void Fail(const std::string& path, const std::string& message) {
+  throw InputError(path + ": " + message);
+}
+
+}  // namespace
+
+nlohmann::json ParseJson(const std::string& text) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& error) {
+    // error.byte is the 1-based offset of the character that broke parsing.
+    std::size_t line = 1;
+    std::size_t column = 1;
+    const std::size_t end = std::min<std::size_t>(error.byte == 0 ? 0 : error.byte - 1, text.size());
+    for (std::size_t k = 0; k < end; ++k) {
+      if (text[k] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    // nlohmann's what() is "[json.exception.parse_error.101] parse error at
+    // line L, column C: DETAIL"; keep DETAIL.
+    std::string detail = error.what();
+    const std::size_t column_word = detail.find("column ");
+    const std::size_t colon = detail.find(": ", column_word == std::string::npos ? 0 : column_word);
+    if (colon != std::string::npos) detail = detail.substr(colon + 2);
+    throw InputError("malformed JSON at line " + std::to_string(line) + ", column " +
+                     std::to_string(column) + ": " + detail);
+  }
+}
+
+std::string Describe(const nlohmann::json& value) {
+  std::string text = value.dump();
+  if (text.size() > kMaxQuoted) text = text.substr(0, kMaxQuoted) + "...";
+  return text;
+}
+
+const nlohmann::json& RequireField(const nlohmann::json& object, const std::string& key,
+                                   const std::string& path) {
+  if (!object.is_object()) Fail(path, "expected an object, got " + Describe(object));
+  const auto it = object.find(key);
+  if (it == object.end()) Fail(path, "missing field \"" + key + "\"");
+  return *it;
+}
+
+double ReadNumber(const nlohmann::json& value, const std::string& path, bool allow_infinite) {
+  if (value.is_number()) return value.get<double>();
+  if (value.is_string() && allow_infinite) {
+    const std::string& word = value.get_ref<const std::string&>();
+    if (word == "inf" || word == "+inf") return kInf;
+    if (word == "-inf") return -kInf;
+  }
+  if (value.is_string() && (value == "inf" || value == "+inf" || value == "-inf"))
+    Fail(path, "expected a finite number, got " + Describe(value));
+  Fail(path, std::string(allow_infinite ? "expected a number or \"inf\"/\"-inf\"" : "expected a number") +
+                 ", got " + Describe(value));
+}
+
+int ReadIndex(const nlohmann::json& value, const std::string& path, int bound) {
+  if (value.is_number_integer()) {
+    const std::int64_t index = value.get<std::int64_t>();
+    if (index >= 0 && index < bound) return static_cast<int>(index);
+  }
+  Fail(path, "expected an integer in [0, " + std::to_string(bound) + "), got " + Describe(value));
+}
+
+Eigen::VectorXd ReadVector(const nlohmann::json& value, const std::string& path,
+                           bool allow_infinite, int expected_size) {
+  if (!value.is_array()) Fail(path, "expected an array of numbers, got " + Describe(value));
+  if (static_cast<std::int64_t>(value.size()) > kMaxEntries)
+    Fail(path, "has " + std::to_string(value.size()) + " entries, more than dvisim accepts");
+  if (expected_size >= 0 && value.size() != static_cast<std::size_t>(expected_size))
+    Fail(path, "has " + std::to_string(value.size()) + " entries, expected " +
+                   std::to_string(expected_size));
+  Eigen::VectorXd v(static_cast<Eigen::Index>(value.size()));
+  for (std::size_t i = 0; i < value.size(); ++i)
+    v(static_cast<Eigen::Index>(i)) = ReadNumber(value[i], Indexed(path, i), allow_infinite);
+  return v;
+}
+
+MatrixField ReadMatrix(const nlohmann::json& value, const std::string& path) {
+  MatrixField matrix;
+  if (value.is_object()) {
+    const std::string sparse_path = path + ".sparse";
+    const nlohmann::json& sparse = RequireField(value, "sparse", path);
+    if (value.size() != 1) Fail(path, "a sparse matrix is {\"sparse\": {...}} and nothing else");
+    for (const auto& item : sparse.items())
+      if (item.key() != "rows" && item.key() != "cols" && item.key() != "i" && item.key() != "j" &&
+          item.key() != "v")
+        Fail(sparse_path, "unknown field \"" + item.key() + "\" (expected rows, cols, i, j, v)");
+    const int rows = ReadIndex(RequireField(sparse, "rows", sparse_path), sparse_path + ".rows",
+                               std::numeric_limits<int>::max());
+    const int cols = ReadIndex(RequireField(sparse, "cols", sparse_path), sparse_path + ".cols",
+                               std::numeric_limits<int>::max());
+    const nlohmann::json& i = RequireField(sparse, "i", sparse_path);
+    const nlohmann::json& j = RequireField(sparse, "j", sparse_path);
+    const Eigen::VectorXd v = ReadVector(RequireField(sparse, "v", sparse_path), sparse_path + ".v",
+                                         /*allow_infinite=*/false);
+    for (const auto& [name, indices] : {std::pair{"i", &i}, std::pair{"j", &j}})
+      if (!indices->is_array() || indices->size() != static_cast<std::size_t>(v.size()))
+        Fail(sparse_path + "." + name, "expected an array of " + std::to_string(v.size()) +
+                                           " indices (as many as v), got " + Describe(*indices));
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(v.size()));
+    for (std::size_t k = 0; k < static_cast<std::size_t>(v.size()); ++k)
+      triplets.emplace_back(ReadIndex(i[k], Indexed(sparse_path + ".i", k), rows),
+                            ReadIndex(j[k], Indexed(sparse_path + ".j", k), cols),
+                            v(static_cast<Eigen::Index>(k)));
+    matrix.is_sparse = true;
+    matrix.sparse.resize(rows, cols);
+    matrix.sparse.setFromTriplets(triplets.begin(), triplets.end());  // Sums duplicates.
+    return matrix;
+  }
+  if (!value.is_array())
+    Fail(path, "expected an array of rows or {\"sparse\": {...}}, got " + Describe(value));
+  const std::size_t rows = value.size();
+  std::size_t cols = 0;
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (!value[r].is_array()) Fail(Indexed(path, r), "expected an array (a row), got " + Describe(value[r]));
+    if (r == 0) cols = value[0].size();
+    if (value[r].size() != cols)
+      Fail(path, "row " + std::to_string(r) + " has " + std::to_string(value[r].size()) +
+                     " entries, expected " + std::to_string(cols));
+  }
+  if (static_cast<std::int64_t>(rows) * static_cast<std::int64_t>(cols) > kMaxEntries)
+    Fail(path, "is too large");
+  matrix.dense.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c)
+      matrix.dense(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) =
+          ReadNumber(value[r][c], Indexed(Indexed(path, r), c), /*allow_infinite=*/false);
+  return matrix;
+}
+
+nlohmann::ordered_json NumberToJson(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  return value;
+}
+
+nlohmann::ordered_json VectorToJson(const Eigen::VectorXd& v) {
+  nlohmann::ordered_json array = nlohmann::ordered_json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) array.push_back(NumberToJson(v(i)));
+  return array;
+}
+
+}  // namespace dvi::dvisim

@@ -1,0 +1,498 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/semismooth_newton.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dvi/error.hpp"
+#include "support/random_problems.hpp"
+
+namespace dvi {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// The solver's default tolerance on the natural residual ‖z − mid(l, u, z − F)‖∞.
+constexpr double kResidualTolerance = 1e-10;
+// ‖z − z*‖∞ ≤ (Lipschitz constant of the inverse natural map)·residual; for
+// the generators' P-matrices that constant stays below ~1e2 here, and the
+// final natural-map polish step usually leaves 1e-14 anyway.
+constexpr double kSolutionTolerance = 1e-8;
+
+// A known solution of the LCP / box MCP: component i of (z*, w*) with w* = F(z*).
+struct KnownSolution {
+  Eigen::VectorXd z;
+  Eigen::VectorXd w;
+};
+
+// z* ≥ 0 and w* ≥ 0 complementary: about 40% z*_i > 0 = w*_i, 40%
+// z*_i = 0 < w*_i, and 20% degenerate z*_i = w*_i = 0.
+KnownSolution ComplementaryPair(int m, std::mt19937& rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  KnownSolution s{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m)};
+  for (int i = 0; i < m; ++i) {
+    const double kind = uniform(rng);
+    if (kind < 0.4) {
+      s.z(i) = 0.1 + uniform(rng);
+    } else if (kind < 0.8) {
+      s.w(i) = 0.1 + uniform(rng);
+    }
+  }
+  return s;
+}
+
+BoxMcp OrthantAffine(Eigen::MatrixXd M, Eigen::VectorXd q) {
+  const int m = static_cast<int>(q.size());
+  return BoxMcp::Affine(std::move(M), std::move(q), Eigen::VectorXd::Zero(m),
+                        Eigen::VectorXd::Constant(m, kInf));
+}
+
+TEST(SemismoothNewton, RandomPMatrixLcpsRecoverTheConstructedSolution) {
+  for (int m : {5, 20, 100}) {
+    const int seeds = m == 100 ? 10 : 30;
+    for (int seed = 0; seed < seeds; ++seed) {
+      for (bool triangular : {false, true}) {
+        // The triangular family's condition number grows like 10^(m/6)
+        // (1e4 at m = 20, 1e16 at m = 100: numerically singular), so it is
+        // used up to m = 20 only.
+        if (triangular && m > 20) continue;
+        std::mt19937 rng(seed);
+        const Eigen::MatrixXd M =
+            triangular ? test::RandomTriangularPMatrix(m, rng) : test::RandomPMatrix(m, rng);
+        const KnownSolution star = ComplementaryPair(m, rng);
+        const SolveResult r = SolveNewton(OrthantAffine(M, star.w - M * star.z));
+        SCOPED_TRACE(testing::Message() << "m=" << m << " seed=" << seed
+                                        << " triangular=" << triangular << ": " << r.message);
+        ASSERT_EQ(r.status, SolveStatus::kSolved);
+        EXPECT_EQ(r.method, "newton");
+        EXPECT_LE(r.residual, kResidualTolerance);
+        EXPECT_LE((r.z - star.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
+        EXPECT_LE((r.w - (M * r.z + star.w - M * star.z)).lpNorm<Eigen::Infinity>(), 1e-12);
+        // Quadratic local convergence: a few dozen steps at most even for
+        // the triangular family, whose symmetric part is indefinite.
+        EXPECT_LE(r.iterations, 40);
+        EXPECT_TRUE(r.has_index_sets);
+        const std::size_t counted =
+            r.index_sets.alpha.size() + r.index_sets.beta.size() + r.index_sets.gamma.size();
+        EXPECT_EQ(counted, static_cast<std::size_t>(m));
+      }
+    }
+  }
+}
+
+TEST(SemismoothNewton, IndexSetsMatchTheConstructedSolution) {
+  std::mt19937 rng(7);
+  const int m = 20;
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  const KnownSolution star = ComplementaryPair(m, rng);
+  const SolveResult r = SolveNewton(OrthantAffine(M, star.w - M * star.z));
+  ASSERT_TRUE(r.solved()) << r.message;
+  std::vector<int> alpha, beta, gamma;
+  for (int i = 0; i < m; ++i) {
+    if (star.z(i) > 0) {
+      alpha.push_back(i);
+    } else if (star.w(i) > 0) {
+      gamma.push_back(i);
+    } else {
+      beta.push_back(i);
+    }
+  }
+  EXPECT_EQ(r.index_sets.alpha, alpha);
+  EXPECT_EQ(r.index_sets.beta, beta);
+  EXPECT_EQ(r.index_sets.gamma, gamma);
+}
+
+// Box MCP with every kind of bound: free, lower only, upper only, two-sided
+// and fixed (l = u). The solution is built per kind so that it is known.
+struct BoxInstance {
+  BoxMcp mcp;
+  Eigen::VectorXd z_star;
+};
+
+BoxInstance RandomBoxMcp(int m, std::mt19937& rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::uniform_real_distribution<double> centred(-2.0, 2.0);
+  Eigen::VectorXd lower(m), upper(m), z(m), w(m);
+  for (int i = 0; i < m; ++i) {
+    const int kind = i % 5;
+    const double choice = uniform(rng);
+    const double width = 0.5 + uniform(rng);
+    lower(i) = -kInf;
+    upper(i) = kInf;
+    w(i) = 0;
+    switch (kind) {
+      case 0:  // free: F_i = 0 anywhere
+        z(i) = centred(rng);
+        break;
+      case 1:  // lower bound only
+        lower(i) = centred(rng);
+        if (choice < 0.4) {
+          z(i) = lower(i);
+          w(i) = 0.1 + uniform(rng);
+        } else if (choice < 0.6) {
+          z(i) = lower(i);  // degenerate
+        } else {
+          z(i) = lower(i) + width;
+        }
+        break;
+      case 2:  // upper bound only
+        upper(i) = centred(rng);
+        if (choice < 0.5) {
+          z(i) = upper(i);
+          w(i) = -0.1 - uniform(rng);
+        } else {
+          z(i) = upper(i) - width;
+        }
+        break;
+      case 3:  // two-sided
+        lower(i) = centred(rng);
+        upper(i) = lower(i) + width;
+        if (choice < 0.3) {
+          z(i) = lower(i);
+          w(i) = 0.1 + uniform(rng);
+        } else if (choice < 0.6) {
+          z(i) = upper(i);
+          w(i) = -0.1 - uniform(rng);
+        } else if (choice < 0.7) {
+          z(i) = upper(i);  // degenerate
+        } else {
+          z(i) = lower(i) + width * uniform(rng);
+        }
+        break;
+      default:  // fixed: F_i takes any value
+        lower(i) = upper(i) = centred(rng);
+        z(i) = lower(i);
+        w(i) = centred(rng);
+        break;
+    }
+  }
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  return {BoxMcp::Affine(M, w - M * z, lower, upper), z};
+}
+
+TEST(SemismoothNewton, BoxMcpWithFreeOneSidedAndFixedBoundsRecoversTheSolution) {
+  for (int m : {10, 50}) {
+    for (int seed = 0; seed < 20; ++seed) {
+      std::mt19937 rng(100 + seed);
+      const BoxInstance instance = RandomBoxMcp(m, rng);
+      const SolveResult r = SolveNewton(instance.mcp);
+      SCOPED_TRACE(testing::Message() << "m=" << m << " seed=" << seed << ": " << r.message);
+      ASSERT_EQ(r.status, SolveStatus::kSolved);
+      EXPECT_LE(r.residual, kResidualTolerance);
+      EXPECT_LE((r.z - instance.z_star).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
+      EXPECT_TRUE(((r.z - instance.mcp.lower).array() >= 0).all());
+      EXPECT_TRUE(((instance.mcp.upper - r.z).array() >= 0).all());
+    }
+  }
+}
+
+// Kojima–Shindo NCP [Kojima–Shindo 1986; MCPLIB "kojshin"], with the two
+// solutions (√6/2, 0, 0, 1/2) (degenerate: z_2 = 0 = F_2) and (1, 0, 3, 0).
+void KojimaShindo(const Eigen::VectorXd& x, Eigen::VectorXd& f) {
+  f(0) = 3 * x(0) * x(0) + 2 * x(0) * x(1) + 2 * x(1) * x(1) + x(2) + 3 * x(3) - 6;
+  f(1) = 2 * x(0) * x(0) + x(0) + x(1) * x(1) + 3 * x(2) + 2 * x(3) - 2;
+  f(2) = 3 * x(0) * x(0) + x(0) * x(1) + 2 * x(1) * x(1) + 2 * x(2) + 3 * x(3) - 1;
+  f(3) = x(0) * x(0) + 3 * x(1) * x(1) + 2 * x(2) + 3 * x(3) - 3;
+}
+
+void KojimaShindoJacobian(const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
+  J << 6 * x(0) + 2 * x(1), 2 * x(0) + 4 * x(1), 1, 3,  //
+      4 * x(0) + 1, 2 * x(1), 3, 2,                     //
+      6 * x(0) + x(1), x(0) + 4 * x(1), 2, 3,           //
+      2 * x(0), 6 * x(1), 2, 3;
+}
+
+BoxMcp KojimaShindoNcp(bool with_jacobian) {
+  BoxMcp mcp;
+  mcp.lower = Eigen::VectorXd::Zero(4);
+  mcp.upper = Eigen::VectorXd::Constant(4, kInf);
+  mcp.F = KojimaShindo;
+  if (with_jacobian) mcp.jacobian = KojimaShindoJacobian;
+  return mcp;
+}
+
+// Distance to the nearer of the two known solutions.
+double DistanceToKojimaShindoSolution(const Eigen::VectorXd& z) {
+  Eigen::Vector4d a(std::sqrt(6.0) / 2, 0, 0, 0.5);
+  Eigen::Vector4d b(1, 0, 3, 0);
+  return std::min((z - a).lpNorm<Eigen::Infinity>(), (z - b).lpNorm<Eigen::Infinity>());
+}
+
+std::vector<Eigen::VectorXd> KojimaShindoStarts() {
+  return {Eigen::Vector4d(0, 0, 0, 0), Eigen::Vector4d(1, 1, 1, 1), Eigen::Vector4d(2, 0, 1, 0),
+          Eigen::Vector4d(0.5, 0.5, 3, 0.5), Eigen::Vector4d(5, 5, 5, 5)};
+}
+
+TEST(SemismoothNewton, KojimaShindoLandsOnAKnownSolutionFromSeveralStarts) {
+  int landed_on_first = 0;
+  for (const Eigen::VectorXd& start : KojimaShindoStarts()) {
+    const SolveResult r = SolveNewton(KojimaShindoNcp(true), {}, start);
+    SCOPED_TRACE(testing::Message() << "start " << start.transpose() << ": " << r.message);
+    ASSERT_TRUE(r.solved());
+    EXPECT_LE(r.residual, kResidualTolerance);
+    EXPECT_LE(DistanceToKojimaShindoSolution(r.z), kSolutionTolerance);
+    EXPECT_LE(r.iterations, 30);
+    if (std::abs(r.z(3) - 0.5) < kSolutionTolerance) ++landed_on_first;
+  }
+  // The starts are spread enough to reach (√6/2, 0, 0, 1/2) at least once.
+  EXPECT_GE(landed_on_first, 1);
+}
+
+TEST(SemismoothNewton, FiniteDifferencesAgreeWithTheExactJacobian) {
+  // Forward differences carry O(√eps) Jacobian errors: Newton turns
+  // superlinear instead of quadratic but reaches the same solution.
+  for (const Eigen::VectorXd& start : KojimaShindoStarts()) {
+    const SolveResult exact = SolveNewton(KojimaShindoNcp(true), {}, start);
+    const SolveResult differences = SolveNewton(KojimaShindoNcp(false), {}, start);
+    ASSERT_TRUE(exact.solved()) << exact.message;
+    ASSERT_TRUE(differences.solved()) << differences.message;
+    EXPECT_LE((exact.z - differences.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance)
+        << "start " << start.transpose();
+  }
+  std::mt19937 rng(3);
+  const int m = 30;
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  const KnownSolution star = ComplementaryPair(m, rng);
+  BoxMcp mcp = OrthantAffine(M, star.w - M * star.z);
+  mcp.jacobian = nullptr;
+  const SolveResult r = SolveNewton(mcp);
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_LE((r.z - star.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
+}
+
+// Five-point stencil on a k×k grid with random symmetric weights and a
+// diagonal one above the row's absolute sum: SPD, and (unlike the expander
+// pattern of RandomSparseSpd, which fills in to nearly dense) the pattern of
+// a 2-D PDE, for which sparse LU is the right tool.
+SparseMatrix GridSpd(int k, std::mt19937& rng) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const int m = k * k;
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::VectorXd row_sum = Eigen::VectorXd::Zero(m);
+  auto couple = [&](int a, int b) {
+    const double v = uniform(rng);
+    triplets.emplace_back(a, b, v);
+    triplets.emplace_back(b, a, v);
+    row_sum(a) += std::abs(v);
+    row_sum(b) += std::abs(v);
+  };
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) {
+      if (i + 1 < k) couple(i * k + j, (i + 1) * k + j);
+      if (j + 1 < k) couple(i * k + j, i * k + j + 1);
+    }
+  }
+  for (int a = 0; a < m; ++a) triplets.emplace_back(a, a, row_sum(a) + 1.0);
+  SparseMatrix M(m, m);
+  M.setFromTriplets(triplets.begin(), triplets.end());
+  return M;
+}
+
+TEST(SemismoothNewton, KluPathSolvesALargeSparseLcp) {
+  std::mt19937 rng(11);
+  const SparseMatrix M = GridSpd(142, rng);  // m = 20164
+  const int m = static_cast<int>(M.rows());
+  const KnownSolution star = ComplementaryPair(m, rng);
+  const Eigen::VectorXd q = star.w - M * star.z;
+  const BoxMcp mcp = BoxMcp::Affine(M, q, Eigen::VectorXd::Zero(m), Eigen::VectorXd::Constant(m, kInf));
+  const SolveResult r = SolveNewton(mcp);
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_LE(r.residual, kResidualTolerance);
+  EXPECT_LE((r.z - star.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
+  EXPECT_LE(r.iterations, 20);
+}
+
+TEST(SemismoothNewton, KluPathAgreesWithTheDensePath) {
+  const int m = 300;
+  std::mt19937 rng(12);
+  const SparseMatrix M = test::RandomSparseSpd(m, 6, rng);
+  const KnownSolution star = ComplementaryPair(m, rng);
+  const Eigen::VectorXd q = star.w - M * star.z;
+  const BoxMcp mcp = BoxMcp::Affine(M, q, Eigen::VectorXd::Zero(m), Eigen::VectorXd::Constant(m, kInf));
+  SolverOptions dense_only;
+  dense_only.allow_sparse = false;
+  const SolveResult sparse = SolveNewton(mcp);
+  const SolveResult dense = SolveNewton(mcp, dense_only);
+  ASSERT_TRUE(sparse.solved()) << sparse.message;
+  ASSERT_TRUE(dense.solved()) << dense.message;
+  // Both end within the tolerance of the unique solution of this SPD LCP.
+  constexpr double kPathAgreement = 1e-10;
+  EXPECT_LE((sparse.z - dense.z).lpNorm<Eigen::Infinity>(), kPathAgreement);
+  EXPECT_EQ(sparse.iterations, dense.iterations);
+}
+
+// KKT system of an equality-constrained QP with bounds, min ½zᵀQz + cᵀz s.t.
+// A z = b, 0 ≤ z ≤ 2, as a box MCP in (z, μ): its Jacobian [Q Aᵀ; −A 0] has
+// no diagonal in the multiplier block, so the sparse path must add it.
+TEST(SemismoothNewton, KluPathHandlesAJacobianWithoutDiagonalEntries) {
+  const int n = 150;
+  const int p = 40;
+  std::mt19937 rng(13);
+  const SparseMatrix Q = test::RandomSparseSpd(n, 4, rng);
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (int i = 0; i < p; ++i) {
+    // Row i couples z_{3i}, z_{3i+1}, z_{3i+2}: independent rows.
+    for (int k = 0; k < 3; ++k) triplets.emplace_back(n + i, 3 * i + k, -1.0);
+    for (int k = 0; k < 3; ++k) triplets.emplace_back(3 * i + k, n + i, 1.0);
+  }
+  for (int j = 0; j < n; ++j) {
+    for (SparseMatrix::InnerIterator it(Q, j); it; ++it) triplets.emplace_back(it.row(), j, it.value());
+  }
+  SparseMatrix J(n + p, n + p);
+  J.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::VectorXd q(n + p);
+  q.head(n) = test::RandomVector(n, rng);
+  q.tail(p).setConstant(1.0);  // A z = 1 on each triple
+  Eigen::VectorXd lower(n + p), upper(n + p);
+  lower << Eigen::VectorXd::Zero(n), Eigen::VectorXd::Constant(p, -kInf);
+  upper << Eigen::VectorXd::Constant(n, 2.0), Eigen::VectorXd::Constant(p, kInf);
+  const BoxMcp mcp = BoxMcp::Affine(J, q, lower, upper);
+  SolverOptions dense_only;
+  dense_only.allow_sparse = false;
+  const SolveResult sparse = SolveNewton(mcp);
+  const SolveResult dense = SolveNewton(mcp, dense_only);
+  ASSERT_TRUE(sparse.solved()) << sparse.message;
+  ASSERT_TRUE(dense.solved()) << dense.message;
+  // Q is positive definite, so z (not necessarily μ) is unique.
+  constexpr double kPathAgreement = 1e-10;
+  EXPECT_LE((sparse.z.head(n) - dense.z.head(n)).lpNorm<Eigen::Infinity>(), kPathAgreement);
+  for (int i = 0; i < p; ++i) {
+    EXPECT_NEAR(sparse.z.segment(3 * i, 3).sum(), 1.0, kResidualTolerance);
+  }
+}
+
+TEST(SemismoothNewton, WarmStartFromANearbySolutionNeedsFewerIterations) {
+  const int m = 100;
+  std::mt19937 rng(21);
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  const KnownSolution star = ComplementaryPair(m, rng);
+  const Eigen::VectorXd q = star.w - M * star.z;
+  const SolveResult first = SolveNewton(OrthantAffine(M, q));
+  ASSERT_TRUE(first.solved()) << first.message;
+  // A small change of q, as between two time steps.
+  const Eigen::VectorXd q_nearby = q + 1e-3 * test::RandomVector(m, rng);
+  const SolveResult cold = SolveNewton(OrthantAffine(M, q_nearby));
+  const SolveResult warm = SolveNewton(OrthantAffine(M, q_nearby), {}, first.z);
+  ASSERT_TRUE(cold.solved()) << cold.message;
+  ASSERT_TRUE(warm.solved()) << warm.message;
+  EXPECT_LE((cold.z - warm.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
+  EXPECT_LT(warm.iterations, cold.iterations);
+}
+
+TEST(SemismoothNewton, WarmStartOutsideTheBoxIsProjected) {
+  const Eigen::MatrixXd M = Eigen::MatrixXd::Identity(2, 2);
+  const Eigen::VectorXd q = Eigen::Vector2d(-1, 1);  // solution (1, 0)
+  const SolveResult r = SolveNewton(OrthantAffine(M, q), {}, Eigen::Vector2d(-5, -5));
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_NEAR(r.z(0), 1.0, kSolutionTolerance);
+  EXPECT_EQ(r.z(1), 0.0);
+}
+
+TEST(SemismoothNewton, IterationLimitIsReported) {
+  std::mt19937 rng(31);
+  const int m = 100;
+  const Eigen::MatrixXd M = test::RandomTriangularPMatrix(m, rng);
+  const KnownSolution star = ComplementaryPair(m, rng);
+  SolverOptions options;
+  options.max_iterations = 1;
+  const SolveResult r = SolveNewton(OrthantAffine(M, star.w - M * star.z), options);
+  EXPECT_EQ(r.status, SolveStatus::kMaxIterations);
+  EXPECT_EQ(r.iterations, 1);
+  EXPECT_GT(r.residual, kResidualTolerance);
+  EXPECT_EQ(r.z.size(), m);
+  EXPECT_EQ(r.w.size(), m);
+}
+
+TEST(SemismoothNewton, NanFromFIsAFailureNotACrash) {
+  BoxMcp mcp = KojimaShindoNcp(true);
+  mcp.F = [](const Eigen::VectorXd&, Eigen::VectorXd& f) {
+    f.setConstant(std::numeric_limits<double>::quiet_NaN());
+  };
+  const SolveResult r = SolveNewton(mcp);
+  EXPECT_EQ(r.status, SolveStatus::kFailed);
+  EXPECT_NE(r.message.find("not finite"), std::string::npos) << r.message;
+}
+
+TEST(SemismoothNewton, NanInTheJacobianIsAFailure) {
+  BoxMcp mcp = KojimaShindoNcp(true);
+  mcp.jacobian = [](const Eigen::VectorXd&, Eigen::MatrixXd& J) {
+    J.setConstant(std::numeric_limits<double>::quiet_NaN());
+  };
+  const SolveResult r = SolveNewton(mcp);
+  EXPECT_EQ(r.status, SolveStatus::kFailed);
+  EXPECT_NE(r.message.find("Jacobian"), std::string::npos) << r.message;
+}
+
+// 0 ≤ z ⊥ F(z) ≥ 0 with F(z) = (z − 1)² + 1 > 0 has the solution z = 0; with
+// F(z) = −1/(1 + z) < 0 it has none and the merit function decreases forever
+// toward z → ∞ without a stationary point: the solver must stop, unsolved.
+TEST(SemismoothNewton, NcpWithoutSolutionIsNotReportedSolved) {
+  BoxMcp mcp;
+  mcp.lower = Eigen::VectorXd::Zero(1);
+  mcp.upper = Eigen::VectorXd::Constant(1, kInf);
+  mcp.F = [](const Eigen::VectorXd& z, Eigen::VectorXd& f) { f(0) = -1.0 / (1.0 + z(0)); };
+  mcp.jacobian = [](const Eigen::VectorXd& z, Eigen::MatrixXd& J) {
+    J(0, 0) = 1.0 / ((1.0 + z(0)) * (1.0 + z(0)));
+  };
+  const SolveResult r = SolveNewton(mcp);
+  EXPECT_NE(r.status, SolveStatus::kSolved);
+  EXPECT_GT(r.residual, kResidualTolerance);
+}
+
+TEST(SemismoothNewton, SingularNewtonMatrixFallsBackToLevenbergMarquardt) {
+  // F(z) = M z + q with M singular and z free: a consistent singular linear
+  // system. H = M at every iterate, so only the regularized step moves.
+  BoxMcp mcp;
+  mcp.lower = Eigen::VectorXd::Constant(2, -kInf);
+  mcp.upper = Eigen::VectorXd::Constant(2, kInf);
+  Eigen::Matrix2d M;
+  M << 1, 1, 1, 1;
+  mcp = BoxMcp::Affine(M, Eigen::Vector2d(-2, -2), mcp.lower, mcp.upper);
+  const SolveResult r = SolveNewton(mcp);
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_NEAR(r.z.sum(), 2.0, kResidualTolerance);
+}
+
+TEST(SemismoothNewton, EmptyProblemIsSolvedTrivially) {
+  const SolveResult r = SolveNewton(OrthantAffine(Eigen::MatrixXd(0, 0), Eigen::VectorXd(0)));
+  EXPECT_TRUE(r.solved());
+  EXPECT_EQ(r.iterations, 0);
+}
+
+TEST(SemismoothNewton, RejectsBadInput) {
+  const BoxMcp good = OrthantAffine(Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(-1, 1));
+  EXPECT_THROW(SolveNewton(good, {}, Eigen::VectorXd::Zero(3)), InvalidInputError);
+  EXPECT_THROW(SolveNewton(good, {}, Eigen::Vector2d(0, std::nan(""))), InvalidInputError);
+
+  BoxMcp sizes = good;
+  sizes.upper = Eigen::VectorXd::Constant(3, kInf);
+  EXPECT_THROW(SolveNewton(sizes), InvalidInputError);
+
+  BoxMcp nan_bound = good;
+  nan_bound.lower(1) = std::nan("");
+  EXPECT_THROW(SolveNewton(nan_bound), InvalidInputError);
+
+  BoxMcp crossed = good;
+  crossed.lower(0) = 2.0;
+  crossed.upper(0) = 1.0;
+  EXPECT_THROW(SolveNewton(crossed), InvalidInputError);
+
+  BoxMcp no_map = good;
+  no_map.F = nullptr;
+  EXPECT_THROW(SolveNewton(no_map), InvalidInputError);
+
+  BoxMcp wrong_output = good;
+  wrong_output.F = [](const Eigen::VectorXd&, Eigen::VectorXd& f) { f.setZero(5); };
+  EXPECT_THROW(SolveNewton(wrong_output), InvalidInputError);
+
+  SolverOptions bad_options;
+  bad_options.tolerance = -1.0;
+  EXPECT_THROW(SolveNewton(good, bad_options), InvalidInputError);
+}
+
+}  // namespace
+}  // namespace dvi

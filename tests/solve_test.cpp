@@ -1,0 +1,308 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/solve.hpp"
+
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dvi/error.hpp"
+#include "support/random_problems.hpp"
+#include "support/siconos_data.hpp"
+
+namespace dvi {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Every solve below runs at the default tolerance 1e-10; a result flagged
+// solved must have its natural residual below it.
+constexpr double kResidualTolerance = 1e-10;
+// The test matrices have condition numbers below 10, so z is within about
+// 10 × the residual of the exact solution.
+constexpr double kSolutionTolerance = 1e-9;
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Tridiagonal [−1, 4, −1]: symmetric, strictly diagonally dominant, so a
+// P-matrix with condition number below 3.
+Eigen::MatrixXd Tridiagonal(int m) {
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(m, m);
+  for (int i = 0; i < m; ++i) {
+    M(i, i) = 4.0;
+    if (i > 0) M(i, i - 1) = -1.0;
+    if (i + 1 < m) M(i, i + 1) = -1.0;
+  }
+  return M;
+}
+
+// LCP(q, M) built around z* = (0.5, 0, 1) with w* = (0, 2, 0): q = w* − M z*.
+struct KnownLcp {
+  Lcp lcp;
+  Eigen::VectorXd z;
+};
+KnownLcp ThreeByThree() {
+  KnownLcp known;
+  known.z = Eigen::Vector3d(0.5, 0.0, 1.0);
+  known.lcp.M = Tridiagonal(3);
+  known.lcp.q = Eigen::Vector3d(0.0, 2.0, 0.0) - known.lcp.M * known.z;
+  return known;
+}
+
+void ExpectSolvedNear(const SolveResult& result, const Eigen::VectorXd& z) {
+  ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
+  EXPECT_LE(result.residual, kResidualTolerance);
+  ASSERT_EQ(result.z.size(), z.size());
+  EXPECT_LE((result.z - z).cwiseAbs().maxCoeff(), kSolutionTolerance) << result.z.transpose();
+}
+
+TEST(Solve, DenseLcpAutoUsesNewtonAndFillsIndexSets) {
+  const KnownLcp known = ThreeByThree();
+  const SolveResult result = Solve(known.lcp);
+  EXPECT_EQ(result.method, "newton");
+  ExpectSolvedNear(result, known.z);
+  EXPECT_LE((result.w - (known.lcp.M * result.z + known.lcp.q)).cwiseAbs().maxCoeff(),
+            kSolutionTolerance);
+  ASSERT_TRUE(result.has_index_sets);
+  EXPECT_EQ(result.index_sets.alpha, (std::vector<int>{0, 2}));
+  EXPECT_TRUE(result.index_sets.beta.empty());
+  EXPECT_EQ(result.index_sets.gamma, (std::vector<int>{1}));
+  EXPECT_GT(result.seconds, 0.0);
+}
+
+TEST(Solve, DenseLcpAutoTakesTheWarmStart) {
+  const KnownLcp known = ThreeByThree();
+  const SolveResult result = Solve(known.lcp, {}, known.z);
+  EXPECT_EQ(result.method, "newton");
+  ExpectSolvedNear(result, known.z);
+  EXPECT_EQ(result.iterations, 0);
+}
+
+TEST(Solve, DenseLcpAutoFallsBackToLemkeWhereNewtonStalls) {
+  // Siconos' lcp_tobenna (n = 40): the Fischer–Burmeister Newton method does
+  // not converge from 0 (as Siconos' own Newton solvers do not), Lemke does.
+  const auto instance = test::ReadSiconosLcp(test::SiconosDataDirectory() + "/lcp/lcp_tobenna.dat");
+  const SolveResult result = Solve(instance.lcp);
+  EXPECT_EQ(result.method, "lemke");
+  ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
+  EXPECT_LE(result.residual, kResidualTolerance);
+  EXPECT_TRUE(Contains(result.message, "after newton")) << result.message;
+  EXPECT_TRUE(result.has_index_sets);
+}
+
+TEST(Solve, DenseLcpAutoReportsInfeasibleWithCertificate) {
+  // M positive semidefinite; rows 1 and 2 sum to −2 ≥ 0: no feasible z.
+  Lcp lcp;
+  lcp.M = (Eigen::Matrix2d() << 1, -1, -1, 1).finished();
+  lcp.q = Eigen::Vector2d(-1, -1);
+  const SolveResult result = Solve(lcp);
+  EXPECT_EQ(result.method, "lemke");
+  ASSERT_EQ(result.status, SolveStatus::kInfeasible) << result.message;
+  const Eigen::VectorXd& y = result.certificate;
+  ASSERT_EQ(y.size(), 2);
+  // Farkas: y ≥ 0, Mᵀy ≤ 0, qᵀy < 0, exact here up to round-off.
+  constexpr double kRoundOff = 1e-12;
+  EXPECT_GE(y.minCoeff(), 0.0);
+  EXPECT_LE((lcp.M.transpose() * y).maxCoeff(), kRoundOff);
+  EXPECT_LT(lcp.q.dot(y), -0.5);
+}
+
+TEST(Solve, DenseLcpAutoReportsInfeasibleForNonCopositiveMatrix) {
+  // M = −1 is not copositive-plus, so Lemke's ray alone proves nothing; the
+  // feasibility LP decides: w = −z − 1 < 0 for every z ≥ 0.
+  Lcp lcp;
+  lcp.M = Eigen::MatrixXd::Constant(1, 1, -1.0);
+  lcp.q = Eigen::VectorXd::Constant(1, -1.0);
+  const SolveResult result = Solve(lcp);
+  ASSERT_EQ(result.status, SolveStatus::kInfeasible) << result.message;
+  ASSERT_EQ(result.certificate.size(), 1);
+  EXPECT_GT(result.certificate(0), 0.0);
+}
+
+TEST(Solve, DenseLcpAutoReturnsTheBetterAttemptWhenBothFail) {
+  SolverOptions options;
+  options.max_iterations = 1;  // One Newton step and one pivot cannot solve it.
+  std::mt19937 rng(7);
+  Lcp lcp{test::RandomPMatrix(8, rng), test::RandomVector(8, rng, -1.0, -0.5)};
+  const SolveResult result = Solve(lcp, options);
+  EXPECT_EQ(result.status, SolveStatus::kMaxIterations) << result.message;
+  EXPECT_TRUE(Contains(result.message, "newton:")) << result.message;
+  EXPECT_TRUE(Contains(result.message, "lemke:")) << result.message;
+  EXPECT_GT(result.residual, kResidualTolerance);
+  EXPECT_TRUE(result.has_index_sets);
+}
+
+TEST(Solve, DenseLcpExplicitMethodsAreDispatched) {
+  const KnownLcp known = ThreeByThree();
+  for (const SolverMethod method : {SolverMethod::kLemke, SolverMethod::kPgs, SolverMethod::kNewton,
+                                    SolverMethod::kExtragradient, SolverMethod::kKkt}) {
+    SolverOptions options;
+    options.method = method;
+    const SolveResult result = Solve(known.lcp, options);
+    EXPECT_EQ(result.method, ToString(method));
+    ExpectSolvedNear(result, known.z);
+    EXPECT_TRUE(result.has_index_sets) << ToString(method);
+  }
+}
+
+TEST(Solve, ExplicitPgsOnZeroDiagonalFails) {
+  Lcp lcp;
+  lcp.M = (Eigen::Matrix2d() << 0, 1, -1, 0).finished();
+  lcp.q = Eigen::Vector2d(-1, 1);
+  SolverOptions options;
+  options.method = SolverMethod::kPgs;
+  const SolveResult result = Solve(lcp, options);
+  EXPECT_EQ(result.method, "pgs");
+  EXPECT_EQ(result.status, SolveStatus::kFailed);
+}
+
+TEST(Solve, SparseSymmetricLcpAutoUsesPgs) {
+  const KnownLcp known = ThreeByThree();
+  const SparseLcp lcp{known.lcp.M.sparseView(), known.lcp.q};
+  const SolveResult result = Solve(lcp);
+  EXPECT_EQ(result.method, "pgs");
+  ExpectSolvedNear(result, known.z);
+  EXPECT_TRUE(result.has_index_sets);
+}
+
+TEST(Solve, SparseNonsymmetricLcpAutoUsesNewton) {
+  KnownLcp known = ThreeByThree();
+  known.lcp.M(0, 1) = -2.0;  // Still diagonally dominant, no longer symmetric.
+  known.lcp.q = Eigen::Vector3d(0.0, 2.0, 0.0) - known.lcp.M * known.z;
+  const SparseLcp lcp{known.lcp.M.sparseView(), known.lcp.q};
+  const SolveResult result = Solve(lcp);
+  EXPECT_EQ(result.method, "newton");
+  ExpectSolvedNear(result, known.z);
+}
+
+TEST(Solve, SparseLcpExplicitLemkeDensifies) {
+  const KnownLcp known = ThreeByThree();
+  SolverOptions options;
+  options.method = SolverMethod::kLemke;
+  const SolveResult result = Solve(SparseLcp{known.lcp.M.sparseView(), known.lcp.q}, options);
+  EXPECT_EQ(result.method, "lemke");
+  ExpectSolvedNear(result, known.z);
+}
+
+// The box MCP / box VI with F(z) = z − c: the solution is c clipped to the box.
+TEST(Solve, BoxMcpAutoUsesNewton) {
+  const Eigen::Vector3d c(2.0, -0.5, -3.0);
+  const Eigen::Vector3d lower(-1.0, -1.0, -1.0);
+  const Eigen::Vector3d upper(1.0, kInf, 1.0);
+  const BoxMcp mcp = BoxMcp::Affine(Eigen::MatrixXd::Identity(3, 3), -c, lower, upper);
+  const SolveResult result = Solve(mcp);
+  EXPECT_EQ(result.method, "newton");
+  ExpectSolvedNear(result, Eigen::Vector3d(1.0, -0.5, -1.0));
+  ASSERT_TRUE(result.has_index_sets);
+  EXPECT_EQ(result.index_sets.alpha, (std::vector<int>{1}));
+  EXPECT_EQ(result.index_sets.gamma, (std::vector<int>{0, 2}));
+}
+
+TEST(Solve, BoxMcpExplicitExtragradient) {
+  const Eigen::Vector2d c(2.0, 0.25);
+  const BoxMcp mcp = BoxMcp::Affine(Eigen::MatrixXd::Identity(2, 2), -c, Eigen::Vector2d(0, 0),
+                                    Eigen::Vector2d(1, 1));
+  SolverOptions options;
+  options.method = SolverMethod::kExtragradient;
+  const SolveResult result = Solve(mcp, options);
+  EXPECT_EQ(result.method, "extragradient");
+  ExpectSolvedNear(result, Eigen::Vector2d(1.0, 0.25));
+  EXPECT_TRUE(result.has_index_sets);
+}
+
+TEST(Solve, BoxLikeViAutoBecomesBoxMcp) {
+  const Eigen::Vector2d c(-2.0, 0.5);
+  const Vi vi = Vi::Affine(Eigen::MatrixXd::Identity(2, 2), -c,
+                           ConvexSet::Box(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)));
+  const SolveResult result = Solve(vi);
+  EXPECT_EQ(result.method, "newton");
+  ExpectSolvedNear(result, Eigen::Vector2d(-1.0, 0.5));
+  ASSERT_TRUE(result.has_index_sets);
+  EXPECT_EQ(result.index_sets.alpha, (std::vector<int>{1}));
+  EXPECT_EQ(result.index_sets.gamma, (std::vector<int>{0}));
+}
+
+TEST(Solve, AffineViOnOrthantAcceptsLemke) {
+  const KnownLcp known = ThreeByThree();
+  SolverOptions options;
+  options.method = SolverMethod::kLemke;
+  const SolveResult result =
+      Solve(Vi::Affine(known.lcp.M, known.lcp.q, ConvexSet::Orthant(3)), options);
+  EXPECT_EQ(result.method, "lemke");
+  ExpectSolvedNear(result, known.z);
+}
+
+TEST(Solve, PolyhedralViAutoUsesKkt) {
+  // Projection of c = (1, 1) onto the half-plane z₁ + z₂ ≤ 1: (0.5, 0.5).
+  const ConvexSet K = ConvexSet::Polyhedron((Eigen::MatrixXd(1, 2) << 1, 1).finished(),
+                                            Eigen::VectorXd::Ones(1), Eigen::MatrixXd(0, 2),
+                                            Eigen::VectorXd(0));
+  const SolveResult result =
+      Solve(Vi::Affine(Eigen::MatrixXd::Identity(2, 2), -Eigen::Vector2d(1, 1), K));
+  EXPECT_EQ(result.method, "kkt");
+  ExpectSolvedNear(result, Eigen::Vector2d(0.5, 0.5));
+  EXPECT_FALSE(result.has_index_sets);
+}
+
+TEST(Solve, BallViAutoUsesExtragradient) {
+  // Projection of c = (3, 4) onto the unit ball: (0.6, 0.8).
+  const SolveResult result = Solve(Vi::Affine(Eigen::MatrixXd::Identity(2, 2),
+                                              -Eigen::Vector2d(3, 4),
+                                              ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0)));
+  EXPECT_EQ(result.method, "extragradient");
+  ExpectSolvedNear(result, Eigen::Vector2d(0.6, 0.8));
+  EXPECT_FALSE(result.has_index_sets);
+}
+
+TEST(Solve, MethodsThatDoNotApplyThrowNamingMethodAndProblem) {
+  const BoxMcp mcp = BoxMcp::Affine(Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(1, 1),
+                                    Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1));
+  const Vi ball = Vi::Affine(Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(1, 1),
+                             ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0));
+  const auto expect_throw = [](auto&& solve, const std::string& method, const std::string& kind) {
+    try {
+      solve();
+      ADD_FAILURE() << method << " on " << kind << " did not throw";
+    } catch (const InvalidInputError& error) {
+      EXPECT_TRUE(Contains(error.what(), "'" + method + "'")) << error.what();
+      EXPECT_TRUE(Contains(error.what(), kind)) << error.what();
+    }
+  };
+  SolverOptions options;
+  options.method = SolverMethod::kLemke;
+  expect_throw([&] { Solve(mcp, options); }, "lemke", "box MCP");
+  expect_throw([&] { Solve(ball, options); }, "lemke", "ball");
+  options.method = SolverMethod::kPgs;
+  expect_throw([&] { Solve(mcp, options); }, "pgs", "box MCP");
+  expect_throw([&] { Solve(ball, options); }, "pgs", "ball");
+  options.method = SolverMethod::kNewton;
+  expect_throw([&] { Solve(ball, options); }, "newton", "ball");
+  options.method = SolverMethod::kKkt;
+  expect_throw([&] { Solve(ball, options); }, "kkt", "ball");
+}
+
+TEST(Solve, InvalidInputThrows) {
+  const KnownLcp known = ThreeByThree();
+  SolverOptions bad_tolerance;
+  bad_tolerance.tolerance = 2.0;
+  EXPECT_THROW(Solve(known.lcp, bad_tolerance), InvalidInputError);
+  EXPECT_THROW(Solve(known.lcp, {}, Eigen::VectorXd::Zero(2)), InvalidInputError);
+  Lcp mismatched = known.lcp;
+  mismatched.q = Eigen::VectorXd::Zero(2);
+  EXPECT_THROW(Solve(mismatched), InvalidInputError);
+  EXPECT_THROW(Solve(SparseLcp{known.lcp.M.sparseView(), Eigen::VectorXd::Zero(2)}),
+               InvalidInputError);
+  BoxMcp inverted = BoxMcp::Affine(Eigen::MatrixXd::Identity(1, 1), Eigen::VectorXd::Zero(1),
+                                   Eigen::VectorXd::Zero(1), Eigen::VectorXd::Ones(1));
+  inverted.lower(0) = 2.0;
+  EXPECT_THROW(Solve(inverted), InvalidInputError);
+  Vi no_map;
+  no_map.K = ConvexSet::Orthant(2);
+  EXPECT_THROW(Solve(no_map), InvalidInputError);
+}
+
+}  // namespace
+}  // namespace dvi
