@@ -6,4 +6,4 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install-deps.sh"
 "$root/scripts/build.sh" "$root/build" -DDVI_BUILD_TESTS=OFF -DDVI_BUILD_BENCHMARKS=OFF
-"$root/build/src/dvisim/dvisim" solve "$root/examples/problems/contact_lcp.json"
+"$root/build/src/dvisim/dvisim" solve "$root/examples/problems/lcp_p_matrix.json"

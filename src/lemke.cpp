@@ -12,8 +12,7 @@
 
 #include <Eigen/LU>
 
-#include "dvi/convex_set.hpp"
-#include "dvi/solution_diagnostics.hpp"
+#include "orthant_diagnostics.hpp"
 
 namespace dvi {
 namespace {
@@ -40,6 +39,10 @@ constexpr double kDriftGrowth = 100.0;
 constexpr double kCertificateTolerance = 1e-8;
 // Default pivot limit per dimension (documented in solver_options.hpp).
 constexpr int kPivotsPerDimension = 50;
+// The final basis solve is skipped when the pivoted z's residual is already
+// below this fraction of the tolerance: then the LU of M_αα (most of the cost
+// of a small solve) could improve the answer only where nobody asked for it.
+constexpr double kPolishMargin = 1e-3;
 
 using Clock = std::chrono::steady_clock;
 
@@ -63,7 +66,6 @@ class LemkePivoting {
         x_(q_scaled),
         column_(m_),
         eta_(m_),
-        work_(m_),
         basis_(m_),
         row_of_(2 * m_ + 1, -1),
         dense_position_(m_, -1) {
@@ -71,7 +73,6 @@ class LemkePivoting {
       basis_[i] = i;
       row_of_[i] = i;
     }
-    candidates_.reserve(m_);
     ties_.reserve(m_);
     dense_columns_.reserve(m_);
   }
@@ -110,14 +111,14 @@ class LemkePivoting {
 
   int pivots() const { return pivots_; }
 
-  // z of the current basic solution (scaled problem), clipped at 0.
-  Eigen::VectorXd BasicZ() const {
-    Eigen::VectorXd z = Eigen::VectorXd::Zero(m_);
+  // z of the current basic solution, clipped at 0 and multiplied by `scale`
+  // (back to the unscaled problem), into z.
+  void BasicZ(double scale, Eigen::VectorXd& z) const {
+    z.setZero(m_);
     for (int i = 0; i < m_; ++i) {
       const int v = basis_[i];
-      if (v >= m_ && v < 2 * m_) z(v - m_) = std::max(0.0, x_(i));
+      if (v >= m_ && v < 2 * m_) z(v - m_) = std::max(0.0, x_(i)) * scale;
     }
-    return z;
   }
 
   // Indices whose z is basic (the support candidate α of the final basis).
@@ -167,19 +168,17 @@ class LemkePivoting {
   int RatioTest() {
     const double scale = column_.cwiseAbs().maxCoeff();
     const double threshold = kPivotTolerance * std::max(scale, 1.0);
-    candidates_.clear();
     double min_ratio = kInf;
     for (int i = 0; i < m_; ++i) {
-      if (column_(i) > threshold) {
-        candidates_.push_back(i);
-        min_ratio = std::min(min_ratio, std::max(x_(i), 0.0) / column_(i));
-      }
+      if (column_(i) > threshold) min_ratio = std::min(min_ratio, std::max(x_(i), 0.0) / column_(i));
     }
-    if (candidates_.empty()) return -1;
+    if (min_ratio == kInf) return -1;
     const double tie = kTieTolerance * (1.0 + min_ratio);
     ties_.clear();
-    for (int i : candidates_) {
-      if (std::max(x_(i), 0.0) / column_(i) <= min_ratio + tie) ties_.push_back(i);
+    for (int i = 0; i < m_; ++i) {
+      if (column_(i) > threshold && std::max(x_(i), 0.0) / column_(i) <= min_ratio + tie) {
+        ties_.push_back(i);
+      }
     }
     const int z0_row = row_of_[2 * m_];
     if (z0_row >= 0 && std::find(ties_.begin(), ties_.end(), z0_row) != ties_.end()) {
@@ -246,7 +245,7 @@ class LemkePivoting {
 
   // B v for the current basis, v indexed by rows.
   void MultiplyBasis(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
-    out.setZero();
+    out.setZero(m_);
     for (int i = 0; i < m_; ++i) {
       const int var = basis_[i];
       if (var < m_) {
@@ -304,14 +303,13 @@ class LemkePivoting {
   Eigen::VectorXd x_;          // basic values, x = B⁻¹ q
   Eigen::VectorXd column_;     // B⁻¹ A_e of the entering variable
   Eigen::VectorXd eta_;        // c − e_r of the current pivot; scratch
-  Eigen::VectorXd work_;
+  Eigen::VectorXd work_;       // scratch of the drift check, sized on first use
   std::vector<int> basis_;   // variable basic in each row
   std::vector<int> row_of_;  // row of each basic variable, −1 if nonbasic
   // Columns i of B⁻¹ that are not unit vectors (w_i nonbasic), with each
   // one's position in that list (−1 for unit columns).
   std::vector<int> dense_columns_;
   std::vector<int> dense_position_;
-  std::vector<int> candidates_;
   std::vector<int> ties_;
   int pivots_ = 0;
   int ray_entering_ = -1;
@@ -352,23 +350,64 @@ bool VerifyCertificate(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, Eigen
   return q.dot(y) < -kCertificateTolerance * q.cwiseAbs().maxCoeff() * y_sum;
 }
 
-void Finish(const Lcp& lcp, const Eigen::VectorXd& z, double tolerance, SolveResult& result) {
-  const int m = lcp.dim();
-  result.z = z;
-  result.w.noalias() = lcp.M * z;
+// w = Mz + q and the natural residual ‖min(z, w)‖∞ of result.z.
+void Evaluate(const Lcp& lcp, SolveResult& result) {
+  result.w.noalias() = lcp.M * result.z;
   result.w += lcp.q;
-  result.residual = NaturalResidual(ConvexSet::Orthant(m), result.z, result.w);
-  result.has_index_sets = true;
-  result.index_sets = BoxIndexSets(Eigen::VectorXd::Zero(m), Eigen::VectorXd::Constant(m, kInf),
-                                   result.z, result.w, tolerance);
+  result.residual = internal::OrthantNaturalResidual(result.z, result.w);
 }
 
-}  // namespace
+SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibility);
 
-SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options) {
+// After a ray that certifies nothing (M not copositive-plus): Lemke's ray
+// proves infeasibility only for copositive-plus M [Cottle–Pang–Stone 1992,
+// Thm 4.4.13], so the LP question "is {z ≥ 0 : Mz + q ≥ 0} empty?" is asked
+// as LCP(q', M') with q' = (0, q) and the skew-symmetric, hence
+// copositive-plus, M' = [[0, −Mᵀ], [M, 0]]: the KKT system of min 0 s.t.
+// Mz + q ≥ 0, z ≥ 0, solvable iff the LP is feasible. Lemke either solves it
+// or ends on a ray (a, b) with M'ᵀ(a, b) = (Mᵀb, −Ma) ≤ 0 and
+// q'ᵀ(a, b) = qᵀb < 0, so b is a Farkas certificate for LCP(q, M).
+void DecideFeasibility(const Lcp& lcp, const SolverOptions& options, SolveResult& result) {
+  const int m = lcp.dim();
+  Lcp feasibility;
+  feasibility.M = Eigen::MatrixXd::Zero(2 * m, 2 * m);
+  feasibility.M.topRightCorner(m, m) = -lcp.M.transpose();
+  feasibility.M.bottomLeftCorner(m, m) = lcp.M;
+  feasibility.q = Eigen::VectorXd::Zero(2 * m);
+  feasibility.q.tail(m) = lcp.q;
+  SolverOptions feasibility_options = options;
+  feasibility_options.max_iterations = 0;
+  const SolveResult answer = RunLemke(feasibility, feasibility_options, false);
+  const std::string pivots = std::to_string(answer.iterations) + " pivots";
+  if (answer.status == SolveStatus::kInfeasible && answer.certificate.size() == 2 * m) {
+    Eigen::VectorXd y = answer.certificate.tail(m);
+    if (VerifyCertificate(lcp.M, lcp.q, y)) {
+      result.status = SolveStatus::kInfeasible;
+      result.message = "ray termination without a certificate (M is not copositive-plus); "
+                       "the feasibility LP, decided by Lemke on its 2m KKT system in " +
+                       pivots + ", is infeasible: y ≥ 0 with Mᵀy ≤ 0 and qᵀy < 0 proves "
+                       "{z ≥ 0 : Mz + q ≥ 0} empty";
+      result.certificate = std::move(y);
+      return;
+    }
+  }
+  result.status = SolveStatus::kFailed;
+  if (answer.solved()) {
+    result.message = "ray termination (M is not copositive-plus): {z ≥ 0 : Mz + q ≥ 0} is "
+                     "not empty (feasibility LP solved in " + pivots +
+                     "), so the LCP is feasible but may have no solution";
+  } else {
+    result.message = "ray termination (M is not copositive-plus, no certificate); the "
+                     "feasibility LP was not decided: " + answer.message;
+  }
+}
+
+// SolveLemke; decide_feasibility is off for the feasibility LCP itself,
+// whose skew-symmetric M makes every ray a certificate. The pivots of the
+// feasibility LCP are reported in the message, not in result.iterations
+// (which count the pivots on LCP(q, M) itself).
+SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibility) {
   const auto start = Clock::now();
-  lcp.Validate();
-  options.Validate();
   const int m = lcp.dim();
   SolveResult result;
   result.method = "lemke";
@@ -376,65 +415,82 @@ SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options) {
       options.max_iterations > 0 ? options.max_iterations : kPivotsPerDimension * (m + 1);
 
   if (m == 0 || lcp.q.minCoeff() >= 0.0) {
-    Finish(lcp, Eigen::VectorXd::Zero(m), options.tolerance, result);
+    result.z.setZero(m);
+    Evaluate(lcp, result);
     result.status = SolveStatus::kSolved;
     result.message = "q ≥ 0: z = 0 solves the LCP";
-    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    return result;
-  }
+  } else {
+    // A power of two keeps the scaling exact.
+    const double scale = std::exp2(std::round(std::log2(lcp.q.cwiseAbs().maxCoeff())));
+    const Eigen::VectorXd q_scaled = lcp.q / scale;
+    LemkePivoting lemke(lcp.M, q_scaled);
+    const LemkePivoting::Outcome outcome = lemke.Run(max_pivots);
+    result.iterations = lemke.pivots();
+    lemke.BasicZ(scale, result.z);
+    Evaluate(lcp, result);
 
-  // A power of two keeps the scaling exact.
-  const double scale = std::exp2(std::round(std::log2(lcp.q.cwiseAbs().maxCoeff())));
-  const Eigen::VectorXd q_scaled = lcp.q / scale;
-  LemkePivoting lemke(lcp.M, q_scaled);
-  const LemkePivoting::Outcome outcome = lemke.Run(max_pivots);
-  result.iterations = lemke.pivots();
-
-  switch (outcome) {
-    case LemkePivoting::Outcome::kSolution: {
-      Finish(lcp, lemke.BasicZ() * scale, options.tolerance, result);
-      SolveResult polished = result;
-      Finish(lcp, PolishOnBasis(lcp.M, lcp.q, lemke.BasicZIndices()), options.tolerance, polished);
-      // The basis solve is normally the more accurate; keep the pivoted z if
-      // M_αα is so ill-conditioned that it is not.
-      if (polished.residual <= result.residual || !std::isfinite(result.residual)) {
-        result = std::move(polished);
+    switch (outcome) {
+      case LemkePivoting::Outcome::kSolution: {
+        // The solve on the final basis is normally the more accurate, but
+        // costs an LU of M_αα; a pivoted z that beats the tolerance by
+        // kPolishMargin is kept as it is. Otherwise the pivoted z stays only
+        // if M_αα is so ill-conditioned that the basis solve is worse.
+        if (!(result.residual <= kPolishMargin * options.tolerance)) {
+          Eigen::VectorXd z = PolishOnBasis(lcp.M, lcp.q, lemke.BasicZIndices());
+          Eigen::VectorXd w = lcp.M * z + lcp.q;
+          const double residual = internal::OrthantNaturalResidual(z, w);
+          if (residual <= result.residual || !std::isfinite(result.residual)) {
+            result.z.swap(z);
+            result.w.swap(w);
+            result.residual = residual;
+          }
+        }
+        if (result.residual <= options.tolerance) {
+          result.status = SolveStatus::kSolved;
+          result.message = "z0 left the basis after " + std::to_string(result.iterations) + " pivots";
+        } else {
+          std::ostringstream message;
+          message << "complementary basis reached, but the residual " << result.residual
+                  << " exceeds the tolerance " << options.tolerance
+                  << " (ill-conditioned basis)";
+          result.status = SolveStatus::kFailed;
+          result.message = message.str();
+        }
+        break;
       }
-      if (result.residual <= options.tolerance) {
-        result.status = SolveStatus::kSolved;
-        result.message = "z0 left the basis after " + std::to_string(result.iterations) + " pivots";
-      } else {
-        std::ostringstream message;
-        message << "complementary basis reached, but the residual " << result.residual
-                << " exceeds the tolerance " << options.tolerance
-                << " (ill-conditioned basis)";
-        result.status = SolveStatus::kFailed;
-        result.message = message.str();
+      case LemkePivoting::Outcome::kRay: {
+        Eigen::VectorXd y = lemke.RayZ();
+        if (VerifyCertificate(lcp.M, lcp.q, y)) {
+          result.status = SolveStatus::kInfeasible;
+          result.message =
+              "secondary ray: y ≥ 0 with Mᵀy ≤ 0 and qᵀy < 0 proves {z ≥ 0 : Mz + q ≥ 0} empty";
+          result.certificate = std::move(y);
+        } else if (decide_feasibility) {
+          DecideFeasibility(lcp, options, result);
+        } else {
+          result.status = SolveStatus::kFailed;
+          result.message = "ray termination without a verifiable certificate";
+        }
+        break;
       }
-      break;
+      case LemkePivoting::Outcome::kIterationLimit:
+        result.status = SolveStatus::kMaxIterations;
+        result.message = "no complementary basis within " + std::to_string(max_pivots) + " pivots";
+        break;
     }
-    case LemkePivoting::Outcome::kRay: {
-      Finish(lcp, lemke.BasicZ() * scale, options.tolerance, result);
-      Eigen::VectorXd y = lemke.RayZ();
-      if (VerifyCertificate(lcp.M, lcp.q, y)) {
-        result.status = SolveStatus::kInfeasible;
-        result.message =
-            "secondary ray: y ≥ 0 with Mᵀy ≤ 0 and qᵀy < 0 proves {z ≥ 0 : Mz + q ≥ 0} empty";
-        result.certificate = std::move(y);
-      } else {
-        result.status = SolveStatus::kFailed;
-        result.message = "ray termination (M is not copositive-plus, no certificate)";
-      }
-      break;
-    }
-    case LemkePivoting::Outcome::kIterationLimit:
-      Finish(lcp, lemke.BasicZ() * scale, options.tolerance, result);
-      result.status = SolveStatus::kMaxIterations;
-      result.message = "no complementary basis within " + std::to_string(max_pivots) + " pivots";
-      break;
   }
+  result.has_index_sets = true;
+  result.index_sets = internal::OrthantIndexSets(result.z, result.w, options.tolerance);
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
+}
+
+}  // namespace
+
+SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options) {
+  lcp.Validate();
+  options.Validate();
+  return RunLemke(lcp, options, true);
 }
 
 }  // namespace dvi

@@ -4,19 +4,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <sstream>
+#include <cstdio>
 #include <string>
 #include <utility>
 
 #include "check.hpp"
-#include "dvi/convex_set.hpp"
-#include "dvi/solution_diagnostics.hpp"
+#include "orthant_diagnostics.hpp"
 
 namespace dvi {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Default sweep limit (documented in solver_options.hpp).
 constexpr int kDefaultSweeps = 10000;
 // w = Mz + q is carried along by one column update per changed z_i; it is
@@ -60,7 +57,6 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
   }
   const int max_sweeps = options.max_iterations > 0 ? options.max_iterations : kDefaultSweeps;
   const double omega = options.pgs_relaxation;
-  const ConvexSet orthant = ConvexSet::Orthant(m);
 
   SolveResult result;
   result.method = "pgs";
@@ -68,24 +64,26 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
   result.w.resize(m);
   const Eigen::VectorXd diagonal = M.diagonal();
 
+  // Moves the result out: finish ends every path.
   const auto finish = [&](SolveStatus status, std::string message) {
     ComputeW(M, q, result.z, result.w);
-    result.residual = NaturalResidual(orthant, result.z, result.w);
+    result.residual = internal::OrthantNaturalResidual(result.z, result.w);
     result.status = status;
     result.message = std::move(message);
     result.has_index_sets = true;
-    result.index_sets = BoxIndexSets(Eigen::VectorXd::Zero(m), Eigen::VectorXd::Constant(m, kInf),
-                                     result.z, result.w, options.tolerance);
+    result.index_sets = internal::OrthantIndexSets(result.z, result.w, options.tolerance);
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    return result;
+    return std::move(result);
   };
 
   for (int i = 0; i < m; ++i) {
     if (!(diagonal(i) > 0.0)) {
-      std::ostringstream message;
-      message << "M(" << i << ", " << i << ") = " << diagonal(i)
-              << " ≤ 0: projected Gauss–Seidel needs a positive diagonal";
-      return finish(SolveStatus::kFailed, message.str());
+      // snprintf's %g is the stream's default format, without the cost of
+      // constructing a stream (most of a tiny failed solve).
+      char entry[64];
+      std::snprintf(entry, sizeof entry, "M(%d, %d) = %g", i, i, diagonal(i));
+      return finish(SolveStatus::kFailed,
+                    std::string(entry) + " ≤ 0: projected Gauss–Seidel needs a positive diagonal");
     }
   }
 
@@ -104,7 +102,7 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
     result.iterations = sweep;
     const bool refresh = sweep % kRefreshPeriod == 0;
     if (refresh) ComputeW(M, q, z, w);
-    const double residual = NaturalResidual(orthant, z, w);
+    const double residual = internal::OrthantNaturalResidual(z, w);
     if (!std::isfinite(residual)) {
       return finish(SolveStatus::kFailed,
                     "the iterates diverged at sweep " + std::to_string(sweep) +
@@ -113,7 +111,7 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
     if (residual <= options.tolerance) {
       if (!refresh) {
         ComputeW(M, q, z, w);
-        if (NaturalResidual(orthant, z, w) > options.tolerance) continue;
+        if (internal::OrthantNaturalResidual(z, w) > options.tolerance) continue;
       }
       return finish(SolveStatus::kSolved,
                     "converged after " + std::to_string(sweep) + " sweeps");

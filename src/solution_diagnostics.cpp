@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dvi/solution_diagnostics.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "check.hpp"
+#include "orthant_diagnostics.hpp"
 
 namespace dvi {
 namespace {
@@ -41,8 +44,7 @@ double NaturalResidual(const ConvexSet& K, const Eigen::VectorXd& z, const Eigen
   if (!z.allFinite() || !w.allFinite()) return kNaN;
   switch (K.kind()) {
     case ConvexSet::Kind::kOrthant:
-      // z − max(0, z − w) = min(z, w).
-      return MaxAbs(z.cwiseMin(w));
+      return internal::OrthantNaturalResidual(z, w);
     case ConvexSet::Kind::kBox: {
       const auto [lower, upper] = K.BoxBounds();
       return BoxNaturalResidual(lower, upper, z, w);
@@ -82,5 +84,44 @@ IndexSets BoxIndexSets(const Eigen::VectorXd& lower, const Eigen::VectorXd& uppe
   }
   return sets;
 }
+
+namespace internal {
+
+double OrthantNaturalResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
+  DVI_THROW_UNLESS(w.size() == z.size(), "w has " << w.size() << " entries, expected " << z.size());
+  // z − max(0, z − w) = min(z, w); one pass, since PGS calls this per sweep.
+  double residual = 0.0;
+  for (Eigen::Index i = 0; i < z.size(); ++i) {
+    if (!std::isfinite(z(i)) || !std::isfinite(w(i))) return kNaN;
+    residual = std::max(residual, std::abs(std::min(z(i), w(i))));
+  }
+  return residual;
+}
+
+IndexSets OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, double tol) {
+  CheckSizes(z.size(), z, w);
+  DVI_THROW_UNLESS(tol >= 0.0, "tol = " << tol << " must be nonnegative");
+  // BoxIndexSets' tests with l = 0 and u = +inf: z_i is at its bound when
+  // |z_i| ≤ tol·(1 + 0); the upper bound is never reached.
+  const double w_zero = tol * (1.0 + MaxAbs(w));
+  const int m = static_cast<int>(z.size());
+  const auto kind = [&](int i) {
+    if (!(std::abs(z(i)) <= tol)) return 0;   // α
+    if (std::abs(w(i)) <= w_zero) return 1;   // β
+    return w(i) > 0.0 ? 2 : 0;                // γ, or pushed off the bound: α
+  };
+  // Counting first sizes each set with one allocation.
+  int counts[3] = {0, 0, 0};
+  for (int i = 0; i < m; ++i) ++counts[kind(i)];
+  IndexSets sets;
+  sets.alpha.reserve(counts[0]);
+  sets.beta.reserve(counts[1]);
+  sets.gamma.reserve(counts[2]);
+  std::vector<int>* const targets[3] = {&sets.alpha, &sets.beta, &sets.gamma};
+  for (int i = 0; i < m; ++i) targets[kind(i)]->push_back(i);
+  return sets;
+}
+
+}  // namespace internal
 
 }  // namespace dvi

@@ -29,10 +29,6 @@ constexpr int kDenseLemkeLimit = 2000;
 // round-offs of assembling the same entry twice in a different order.
 constexpr double kSymmetryTolerance = 1e-14;
 
-// Relative tolerance of the Farkas check (y ≥ 0, Mᵀy ≤ 0, qᵀy < 0), the same
-// as Lemke's: the ray comes from a basis inverse accurate to about 1e-9.
-constexpr double kCertificateTolerance = 1e-8;
-
 using Clock = std::chrono::steady_clock;
 
 double SecondsSince(Clock::time_point start) {
@@ -140,55 +136,6 @@ BoxMcp BoxMcpOfVi(const Vi& vi) {
 Eigen::VectorXd Zeros(Eigen::Index m) { return Eigen::VectorXd::Zero(m); }
 Eigen::VectorXd Infinities(Eigen::Index m) { return Eigen::VectorXd::Constant(m, kInf); }
 
-// Accepts y as a Farkas certificate of {z ≥ 0 : Mz + q ≥ 0} = ∅ when y ≥ 0,
-// Mᵀy ≤ 0 and qᵀy < 0 hold to kCertificateTolerance relative to the data;
-// y is clipped at 0 and scaled to ‖y‖∞ = 1.
-bool IsFarkasCertificate(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, Eigen::VectorXd& y) {
-  const double y_norm = y.size() == 0 ? 0.0 : y.cwiseAbs().maxCoeff();
-  if (!(y_norm > 0.0) || !std::isfinite(y_norm)) return false;
-  y /= y_norm;
-  if (y.minCoeff() < -kCertificateTolerance) return false;
-  y = y.cwiseMax(0.0);
-  const double M_norm = M.cwiseAbs().rowwise().sum().maxCoeff();
-  const double q_norm = q.cwiseAbs().maxCoeff();
-  const double y_sum = y.sum();
-  const Eigen::VectorXd Mty = M.transpose() * y;
-  return Mty.maxCoeff() <= kCertificateTolerance * M_norm * y_sum &&
-         q.dot(y) < -kCertificateTolerance * q_norm * y_sum;
-}
-
-// Lemke's ray proves infeasibility only for copositive-plus M [Cottle–Pang–
-// Stone 1992, Thm 4.4.13]. Otherwise the LP question "is {z ≥ 0 : Mz + q ≥ 0}
-// empty?" is asked as LCP(q', M') with q' = (0, q) and the skew-symmetric,
-// hence copositive-plus, M' = [[0, −Mᵀ], [M, 0]]: the KKT system of
-// min 0 s.t. Mz + q ≥ 0, z ≥ 0, solvable iff the LP is feasible. Lemke then
-// either solves it or ends on a ray (a, b) with M'ᵀ(a, b) ≤ 0 and
-// q'ᵀ(a, b) = qᵀb < 0, so b is a Farkas certificate for the original LCP.
-void DecideFeasibility(const Lcp& lcp, const SolverOptions& options, SolveResult& lemke) {
-  const int m = lcp.dim();
-  Lcp feasibility;
-  feasibility.M = Eigen::MatrixXd::Zero(2 * m, 2 * m);
-  feasibility.M.topRightCorner(m, m) = -lcp.M.transpose();
-  feasibility.M.bottomLeftCorner(m, m) = lcp.M;
-  feasibility.q = Eigen::VectorXd::Zero(2 * m);
-  feasibility.q.tail(m) = lcp.q;
-  SolverOptions feasibility_options = options;
-  feasibility_options.max_iterations = 0;
-  const SolveResult answer = SolveLemke(feasibility, feasibility_options);
-  if (answer.status == SolveStatus::kInfeasible && answer.certificate.size() == 2 * m) {
-    Eigen::VectorXd y = answer.certificate.tail(m);
-    if (IsFarkasCertificate(lcp.M, lcp.q, y)) {
-      lemke.status = SolveStatus::kInfeasible;
-      lemke.certificate = std::move(y);
-      lemke.message += "; the feasibility LP is infeasible: y ≥ 0 with Mᵀy ≤ 0 and qᵀy < 0 "
-                       "proves {z ≥ 0 : Mz + q ≥ 0} empty";
-      return;
-    }
-  }
-  if (answer.solved())
-    lemke.message += "; {z ≥ 0 : Mz + q ≥ 0} is not empty, so the ray proves nothing";
-}
-
 SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
                           const Eigen::VectorXd& warm_start) {
   const int m = lcp.dim();
@@ -226,7 +173,8 @@ SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
   }
   // Newton converges locally quadratically and exploits a warm start (the
   // previous step's solution inside an integrator); Lemke is finite and is
-  // the one that can prove infeasibility, so it decides when Newton stalls.
+  // the one that can prove infeasibility (SolveLemke decides feasibility
+  // itself when M is not copositive-plus), so it decides when Newton stalls.
   AttemptLog log;
   SolveResult newton =
       SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start);
@@ -237,7 +185,6 @@ SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
   SolveResult lemke = SolveLemke(lcp, options);
   Rename(SolverMethod::kLemke, lemke);
   FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
-  if (lemke.status == SolveStatus::kFailed) DecideFeasibility(lcp, options, lemke);
   if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
   log.Add(std::move(lemke));
   return std::move(log).Best();
@@ -298,11 +245,9 @@ SolveResult SolveSparseLcp(const SparseLcp& lcp, const SolverOptions& options,
   if (newton.solved()) return log.Decisive(std::move(newton));
   log.Add(std::move(newton));
   if (m > kDenseLemkeLimit) return std::move(log).Best();
-  const Lcp dense = densified();
-  SolveResult lemke = SolveLemke(dense, options);
+  SolveResult lemke = SolveLemke(densified(), options);
   Rename(SolverMethod::kLemke, lemke);
   FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
-  if (lemke.status == SolveStatus::kFailed) DecideFeasibility(dense, options, lemke);
   if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
   log.Add(std::move(lemke));
   return std::move(log).Best();

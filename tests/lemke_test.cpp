@@ -13,6 +13,7 @@
 #include "dvi/projected_gauss_seidel.hpp"
 #include "dvi/semismooth_newton.hpp"
 #include "support/random_problems.hpp"
+#include "support/siconos_data.hpp"
 
 namespace dvi {
 namespace {
@@ -345,18 +346,35 @@ TEST(Lemke, FailsWithoutCertificateOnARayOfANonCopositivePlusMatrix) {
   // z = (0, 1), w = (0, 2) solves this LCP, but M (with M₁₁ = 0 and a
   // negative M₂₂) is not copositive-plus: after z0 enters, z₁ increases
   // without bound along a secondary ray. No Farkas certificate exists
-  // (the LCP is feasible), so the outcome must be kFailed, never kSolved or
-  // kInfeasible.
+  // (the LCP is feasible, which the feasibility LP solved after the ray
+  // confirms), so the outcome must be kFailed, never kSolved or kInfeasible.
   Lcp lcp{Eigen::MatrixXd(2, 2), Eigen::VectorXd(2)};
   lcp.M << 0, 3, 2, -1;
   lcp.q << -3, 3;
   const SolveResult result = SolveLemke(lcp);
   EXPECT_EQ(result.status, SolveStatus::kFailed);
   EXPECT_NE(result.message.find("ray termination"), std::string::npos) << result.message;
+  EXPECT_NE(result.message.find("is not empty"), std::string::npos) << result.message;
   EXPECT_EQ(result.certificate.size(), 0);
   EXPECT_EQ(result.iterations, 1);
   const Eigen::Vector2d solution(0.0, 1.0);
   EXPECT_EQ((lcp.M * solution + lcp.q).minCoeff(), 0.0);
+}
+
+TEST(Lemke, DecidesInfeasibilityWhenARayOfANonCopositivePlusMatrixProvesNothing) {
+  // Siconos' lcp_Pang_isolated_sol_perturbed: M = [0 1 −1; −1 0 0; −1 0 0]
+  // is not copositive-plus, and Lemke's secondary ray is no certificate.
+  // Row 2 reads w₂ = −z₁ − 1 < 0, so the LCP is infeasible; the feasibility
+  // LP run after the ray must prove it with a Farkas certificate.
+  const auto instance = test::ReadSiconosLcp(test::SiconosDataDirectory() +
+                                             "/lcp/lcp_Pang_isolated_sol_perturbed.dat");
+  const Lcp& lcp = instance.lcp;
+  const SolveResult result = SolveLemke(lcp);
+  ASSERT_EQ(result.status, SolveStatus::kInfeasible) << result.message;
+  EXPECT_NE(result.message.find("feasibility LP"), std::string::npos) << result.message;
+  ExpectFarkasCertificate(lcp, result.certificate);
+  EXPECT_TRUE(result.has_index_sets);
+  EXPECT_EQ(result.w.size(), 3);
 }
 
 TEST(Lemke, CertifiesInfeasibilityWhenMIsMinusIdentity) {

@@ -82,15 +82,27 @@ TEST(Solve, DenseLcpAutoTakesTheWarmStart) {
 }
 
 TEST(Solve, DenseLcpAutoFallsBackToLemkeWhereNewtonStalls) {
-  // Siconos' lcp_tobenna (n = 40): the Fischer–Burmeister Newton method does
-  // not converge from 0 (as Siconos' own Newton solvers do not), Lemke does.
-  const auto instance = test::ReadSiconosLcp(test::SiconosDataDirectory() + "/lcp/lcp_tobenna.dat");
-  const SolveResult result = Solve(instance.lcp);
+  // M = [2 −3; 2 −2] is not P0 (M₂₂ < 0), so stationary points of the
+  // Fischer–Burmeister merit need not solve the LCP [De Luca–Facchinei–Kanzow
+  // 1996]. Here the plain FB merit has a strict local minimizer near
+  // (0.412, −0.087) with Ψ ≈ 0.092 and the penalized one (λ = 0.95) near
+  // (0.378, −0.118) with Ψ ≈ 0.115, and descent from z = 0 (Newton's start)
+  // ends there: Newton cannot solve it, whatever its step rule. Lemke does,
+  // in two pivots: z = (4.5, 4), w = 0.
+  Lcp lcp;
+  lcp.M = (Eigen::Matrix2d() << 2, -3, 2, -2).finished();
+  lcp.q = Eigen::Vector2d(3, -1);
+  const SolveResult result = Solve(lcp);
   EXPECT_EQ(result.method, "lemke");
   ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
   EXPECT_LE(result.residual, kResidualTolerance);
+  // The basis solve on integer data of a 2×2 system: exact up to round-off.
+  constexpr double kRoundOff = 1e-12;
+  EXPECT_NEAR(result.z(0), 4.5, kRoundOff);
+  EXPECT_NEAR(result.z(1), 4.0, kRoundOff);
   EXPECT_TRUE(Contains(result.message, "after newton")) << result.message;
   EXPECT_TRUE(result.has_index_sets);
+  EXPECT_EQ(result.index_sets.alpha, (std::vector<int>{0, 1}));
 }
 
 TEST(Solve, DenseLcpAutoReportsInfeasibleWithCertificate) {

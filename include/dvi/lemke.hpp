@@ -12,9 +12,13 @@ namespace dvi {
 /// and cycling-prone instances [Cottle–Pang–Stone 1992, §4.4, §4.9].
 /// Ends in a solution, or in a secondary ray: for M copositive-plus (e.g.
 /// positive semidefinite) the ray proves infeasibility and the status is
-/// kInfeasible with a Farkas certificate; otherwise kFailed ("ray termination").
-/// The result is polished by one solve on the final basis; its residual is
-/// checked against options.tolerance.
+/// kInfeasible with a Farkas certificate. A ray that proves nothing (M not
+/// copositive-plus) is followed by Lemke on the skew-symmetric 2m LCP that
+/// decides whether {z ≥ 0 : Mz + q ≥ 0} is empty: kInfeasible with its
+/// certificate if so, otherwise kFailed (feasible, yet no solution found).
+/// Unless the pivoted z already beats options.tolerance by a wide margin, it
+/// is polished by one solve on the final basis; the residual is checked
+/// against options.tolerance.
 /// @throws InvalidInputError from lcp.Validate() or options.Validate().
 SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options = {});
 

@@ -26,8 +26,10 @@ Eigen::MatrixXd RandomTriangularPMatrix(int m, std::mt19937& rng);
 /// random skew-symmetric part (still PSD in the xᵀMx sense, not symmetric).
 Eigen::MatrixXd RandomPsdMatrix(int m, int rank, std::mt19937& rng, bool add_skew);
 
-/// Sparse symmetric positive definite tridiagonal-plus-random matrix of size m
-/// with about nnz_per_row nonzeros per row, strictly diagonally dominant.
+/// Sparse symmetric positive definite matrix of size m with a random pattern:
+/// each row draws nnz_per_row / 2 random columns and mirrors them (about
+/// nnz_per_row nonzeros per row; repeated draws add up), and the diagonal is
+/// the row's absolute sum + 1, so it is strictly diagonally dominant.
 Eigen::SparseMatrix<double> RandomSparseSpd(int m, int nnz_per_row, std::mt19937& rng);
 
 /// Complementary z* ≥ 0 and w* ≥ 0 of size m with a known pattern: each index
