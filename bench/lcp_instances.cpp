@@ -48,31 +48,9 @@ SparseLcp SparseSpdLcp(int n, std::uint32_t seed) {
 
 SparseLcp GridSpdLcp(int k, std::uint32_t seed) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  const int n = k * k;
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(5 * static_cast<size_t>(n));
-  Eigen::VectorXd row_sum = Eigen::VectorXd::Zero(n);
-  auto couple = [&](int a, int b) {
-    const double v = uniform(rng);
-    triplets.emplace_back(a, b, v);
-    triplets.emplace_back(b, a, v);
-    row_sum(a) += std::abs(v);
-    row_sum(b) += std::abs(v);
-  };
-  for (int r = 0; r < k; ++r) {
-    for (int c = 0; c < k; ++c) {
-      const int i = r * k + c;
-      if (c + 1 < k) couple(i, i + 1);
-      if (r + 1 < k) couple(i, i + k);
-    }
-  }
-  for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, row_sum(i) + 1.0);
   SparseLcp lcp;
-  lcp.M.resize(n, n);
-  lcp.M.setFromTriplets(triplets.begin(), triplets.end());
-  lcp.M.makeCompressed();
-  lcp.q = test::RandomVector(n, rng);
+  lcp.M = test::RandomGridSpd(k, rng);
+  lcp.q = test::RandomVector(k * k, rng);
   return lcp;
 }
 

@@ -265,37 +265,10 @@ TEST(SemismoothNewton, FiniteDifferencesAgreeWithTheExactJacobian) {
   EXPECT_LE((r.z - star.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
 }
 
-// Five-point stencil on a k×k grid with random symmetric weights and a
-// diagonal one above the row's absolute sum: SPD, and (unlike the expander
-// pattern of RandomSparseSpd, which fills in to nearly dense) the pattern of
-// a 2-D PDE, for which sparse LU is the right tool.
-SparseMatrix GridSpd(int k, std::mt19937& rng) {
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  const int m = k * k;
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::VectorXd row_sum = Eigen::VectorXd::Zero(m);
-  auto couple = [&](int a, int b) {
-    const double v = uniform(rng);
-    triplets.emplace_back(a, b, v);
-    triplets.emplace_back(b, a, v);
-    row_sum(a) += std::abs(v);
-    row_sum(b) += std::abs(v);
-  };
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      if (i + 1 < k) couple(i * k + j, (i + 1) * k + j);
-      if (j + 1 < k) couple(i * k + j, i * k + j + 1);
-    }
-  }
-  for (int a = 0; a < m; ++a) triplets.emplace_back(a, a, row_sum(a) + 1.0);
-  SparseMatrix M(m, m);
-  M.setFromTriplets(triplets.begin(), triplets.end());
-  return M;
-}
-
+// A 2-D PDE pattern (RandomGridSpd): sparse LU is the right tool for it.
 TEST(SemismoothNewton, KluPathSolvesALargeSparseLcp) {
   std::mt19937 rng(11);
-  const SparseMatrix M = GridSpd(142, rng);  // m = 20164
+  const SparseMatrix M = test::RandomGridSpd(142, rng);  // m = 20164
   const int m = static_cast<int>(M.rows());
   const KnownSolution star = ComplementaryPair(m, rng);
   const Eigen::VectorXd q = star.w - M * star.z;

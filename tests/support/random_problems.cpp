@@ -88,4 +88,31 @@ ComplementaryPair RandomComplementaryPair(int m, std::mt19937& rng, double degen
   return pair;
 }
 
+Eigen::SparseMatrix<double> RandomGridSpd(int k, std::mt19937& rng) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const int m = k * k;
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(5 * static_cast<std::size_t>(m));
+  Eigen::VectorXd row_sum = Eigen::VectorXd::Zero(m);
+  auto couple = [&](int a, int b) {
+    const double v = uniform(rng);
+    triplets.emplace_back(a, b, v);
+    triplets.emplace_back(b, a, v);
+    row_sum(a) += std::abs(v);
+    row_sum(b) += std::abs(v);
+  };
+  for (int r = 0; r < k; ++r) {
+    for (int c = 0; c < k; ++c) {
+      const int i = r * k + c;
+      if (c + 1 < k) couple(i, i + 1);
+      if (r + 1 < k) couple(i, i + k);
+    }
+  }
+  for (int i = 0; i < m; ++i) triplets.emplace_back(i, i, row_sum(i) + 1.0);
+  Eigen::SparseMatrix<double> M(m, m);
+  M.setFromTriplets(triplets.begin(), triplets.end());
+  M.makeCompressed();
+  return M;
+}
+
 }  // namespace dvi::test

@@ -44,4 +44,10 @@ struct ComplementaryPair {
 ComplementaryPair RandomComplementaryPair(int m, std::mt19937& rng,
                                           double degenerate_fraction = 0.2);
 
+/// Sparse symmetric positive definite matrix with the five-point-stencil
+/// pattern of a k×k grid (m = k²): random symmetric couplings in [−1, 1] and
+/// diagonal = absolute row sum + 1. The pattern of a 2-D PDE, whose sparse LU
+/// fills in like n log n (unlike RandomSparseSpd's random pattern).
+Eigen::SparseMatrix<double> RandomGridSpd(int k, std::mt19937& rng);
+
 }  // namespace dvi::test
