@@ -2,6 +2,7 @@
 #include "dvi/lemke.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -58,24 +59,36 @@ class LemkePivoting {
  public:
   enum class Outcome { kSolution, kRay, kIterationLimit };
 
-  LemkePivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q_scaled)
-      : m_(static_cast<int>(q_scaled.size())),
+  // Copies q / scale into the working storage; M must outlive the object.
+  LemkePivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, double scale)
+      : m_(static_cast<int>(q.size())),
         M_(M),
-        q_(q_scaled),
-        binv_(Eigen::MatrixXd::Identity(m_, m_)),
-        x_(q_scaled),
-        column_(m_),
-        eta_(m_),
-        basis_(m_),
-        row_of_(2 * m_ + 1, -1),
-        dense_position_(m_, -1) {
+        doubles_(Buffer(small_doubles_, large_doubles_,
+                        static_cast<std::size_t>(m_) * (m_ + kVectorColumns))),
+        indices_(Buffer(small_indices_, large_indices_, 6 * static_cast<std::size_t>(m_) + 1)),
+        binv_(doubles_, m_, m_),
+        q_(Column(0)),
+        x_(Column(1)),
+        column_(Column(2)),
+        eta_(Column(3)),
+        work_(Column(4)),
+        basis_(indices_),
+        row_of_(basis_ + m_),
+        dense_position_(row_of_ + 2 * m_ + 1),
+        dense_columns_(dense_position_ + m_),
+        ties_(dense_columns_ + m_) {
+    binv_.setIdentity();
+    q_ = q / scale;
+    x_ = q_;
+    std::fill(row_of_, row_of_ + 2 * m_ + 1, -1);
+    std::fill(dense_position_, dense_position_ + m_, -1);
     for (int i = 0; i < m_; ++i) {
       basis_[i] = i;
       row_of_[i] = i;
     }
-    ties_.reserve(m_);
-    dense_columns_.reserve(m_);
   }
+  LemkePivoting(const LemkePivoting&) = delete;
+  LemkePivoting& operator=(const LemkePivoting&) = delete;
 
   // Runs until z0 leaves, a secondary ray, or max_pivots pivots.
   Outcome Run(int max_pivots) {
@@ -149,24 +162,31 @@ class LemkePivoting {
   // (w_i basic in row p) contributes a_i at p.
   void ComputeColumn(int v) {
     if (v < m_) {
-      column_ = binv_.col(v);
+      std::copy_n(&binv_(0, v), m_, column_.data());
       return;
     }
     const auto a = M_.col(v - m_);
-    column_.setZero();
-    for (int i : dense_columns_) {
-      if (a(i) != 0.0) column_.noalias() -= a(i) * binv_.col(i);
+    std::fill_n(column_.data(), m_, 0.0);
+    for (int k = 0; k < dense_count_; ++k) {
+      const int i = dense_columns_[k];
+      if (a(i) != 0.0) SubtractScaled(a(i), &binv_(0, i), column_.data(), m_);
     }
     for (int i = 0; i < m_; ++i) {
       if (row_of_[i] >= 0) column_(row_of_[i]) -= a(i);
     }
   }
 
+  // The pivoting loop (ComputeColumn, RatioTest, Pivot) uses plain loops
+  // over the short columns rather than Eigen expressions, whose per-call set-up
+  // dominated the cost of a pivot on small problems; the arithmetic is the
+  // same.
+
   // Lexicographic minimum-ratio test over the rows with column_(i) > 0; −1 if
   // none blocks (secondary ray). z0 leaves whenever its ratio ties the
   // minimum: that ends the method at a feasible complementary basis.
   int RatioTest() {
-    const double scale = column_.cwiseAbs().maxCoeff();
+    double scale = 0.0;
+    for (int i = 0; i < m_; ++i) scale = std::max(scale, std::abs(column_(i)));
     const double threshold = kPivotTolerance * std::max(scale, 1.0);
     double min_ratio = kInf;
     for (int i = 0; i < m_; ++i) {
@@ -174,29 +194,32 @@ class LemkePivoting {
     }
     if (min_ratio == kInf) return -1;
     const double tie = kTieTolerance * (1.0 + min_ratio);
-    ties_.clear();
+    int tie_count = 0;
     for (int i = 0; i < m_; ++i) {
       if (column_(i) > threshold && std::max(x_(i), 0.0) / column_(i) <= min_ratio + tie) {
-        ties_.push_back(i);
+        ties_[tie_count++] = i;
       }
     }
     const int z0_row = row_of_[2 * m_];
-    if (z0_row >= 0 && std::find(ties_.begin(), ties_.end(), z0_row) != ties_.end()) {
+    if (z0_row >= 0 && std::find(ties_, ties_ + tie_count, z0_row) != ties_ + tie_count) {
       return z0_row;
     }
     // Break the remaining ties column by column of B⁻¹ [CPS §4.9]: its rows
     // are linearly independent, so one row remains at the end.
-    for (int k = 0; k < m_ && ties_.size() > 1; ++k) {
+    for (int k = 0; k < m_ && tie_count > 1; ++k) {
       double min_value = kInf;
-      for (int i : ties_) min_value = std::min(min_value, binv_(i, k) / column_(i));
+      for (int t = 0; t < tie_count; ++t) {
+        min_value = std::min(min_value, binv_(ties_[t], k) / column_(ties_[t]));
+      }
       const double lex_tie = kTieTolerance * (1.0 + std::abs(min_value));
-      std::size_t kept = 0;
-      for (int i : ties_) {
+      int kept = 0;
+      for (int t = 0; t < tie_count; ++t) {
+        const int i = ties_[t];
         if (binv_(i, k) / column_(i) <= min_value + lex_tie) ties_[kept++] = i;
       }
-      ties_.resize(kept);
+      tie_count = kept;
     }
-    return ties_.front();
+    return ties_[0];
   }
 
   // Basis change: `entering` replaces the variable of row r. With c = B⁻¹A_e,
@@ -208,13 +231,14 @@ class LemkePivoting {
     const double pivot = column_(r);
     const int leaving = basis_[r];
     if (leaving < m_) AddDenseColumn(leaving);
-    eta_ = column_;
+    std::copy_n(column_.data(), m_, eta_.data());
     eta_(r) -= 1.0;
-    for (int i : dense_columns_) {
+    for (int k = 0; k < dense_count_; ++k) {
+      const int i = dense_columns_[k];
       const double factor = binv_(r, i) / pivot;
-      if (i != entering && factor != 0.0) binv_.col(i).noalias() -= factor * eta_;
+      if (i != entering && factor != 0.0) SubtractScaled(factor, eta_.data(), &binv_(0, i), m_);
     }
-    x_.noalias() -= (x_(r) / pivot) * eta_;
+    SubtractScaled(x_(r) / pivot, eta_.data(), x_.data(), m_);
     row_of_[leaving] = -1;
     basis_[r] = entering;
     row_of_[entering] = r;
@@ -224,16 +248,24 @@ class LemkePivoting {
     }
   }
 
+  // y −= a·x over n entries. A plain loop, which the compiler vectorizes,
+  // rounds exactly as the Eigen expression but skips its alignment peeling,
+  // which on the short columns of a small problem costs as much as the
+  // arithmetic; x and y are distinct columns of the storage (__restrict
+  // spares the run-time overlap test).
+  static void SubtractScaled(double a, const double* __restrict x, double* __restrict y, int n) {
+    for (int i = 0; i < n; ++i) y[i] -= a * x[i];
+  }
+
   void AddDenseColumn(int i) {
-    dense_position_[i] = static_cast<int>(dense_columns_.size());
-    dense_columns_.push_back(i);
+    dense_position_[i] = dense_count_;
+    dense_columns_[dense_count_++] = i;
   }
 
   void RemoveDenseColumn(int i) {
     const int position = dense_position_[i];
-    dense_columns_[position] = dense_columns_.back();
+    dense_columns_[position] = dense_columns_[--dense_count_];
     dense_position_[dense_columns_[position]] = position;
-    dense_columns_.pop_back();
     dense_position_[i] = -1;
   }
 
@@ -244,8 +276,9 @@ class LemkePivoting {
   }
 
   // B v for the current basis, v indexed by rows.
-  void MultiplyBasis(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
-    out.setZero(m_);
+  void MultiplyBasis(const Eigen::Ref<const Eigen::VectorXd>& v,
+                     Eigen::Ref<Eigen::VectorXd> out) const {
+    out.setZero();
     for (int i = 0; i < m_; ++i) {
       const int var = basis_[i];
       if (var < m_) {
@@ -296,21 +329,52 @@ class LemkePivoting {
     defect_floor_ = Defect();
   }
 
+  // Columns of storage_ after the m of B⁻¹: q, x, column, eta, work.
+  static constexpr int kVectorColumns = 5;
+
+  Eigen::Map<Eigen::VectorXd> Column(int k) {
+    return {doubles_ + static_cast<std::size_t>(m_) * (m_ + k), m_};
+  }
+
+  // The small buffer when `size` fits in it, else `large` resized.
+  template <typename T, std::size_t N>
+  static T* Buffer(std::array<T, N>& small, std::vector<T>& large, std::size_t size) {
+    if (size <= N) return small.data();
+    large.resize(size);
+    return large.data();
+  }
+
+  // Working storage up to these sizes (m ≤ 20) lives in the object itself:
+  // on the small LCPs that dominate benchmark suites, the allocations cost
+  // as much as the pivoting.
+  static constexpr std::size_t kSmallDoubles = 20 * (20 + kVectorColumns);
+  static constexpr std::size_t kSmallIndices = 6 * 20 + 1;
+
   int m_;
   const Eigen::MatrixXd& M_;
-  const Eigen::VectorXd& q_;
-  Eigen::MatrixXd binv_;
-  Eigen::VectorXd x_;          // basic values, x = B⁻¹ q
-  Eigen::VectorXd column_;     // B⁻¹ A_e of the entering variable
-  Eigen::VectorXd eta_;        // c − e_r of the current pivot; scratch
-  Eigen::VectorXd work_;       // scratch of the drift check, sized on first use
-  std::vector<int> basis_;   // variable basic in each row
-  std::vector<int> row_of_;  // row of each basic variable, −1 if nonbasic
+  // All working storage in two buffers, not initialized here: B⁻¹ and the
+  // vectors as the columns of one m × (m + kVectorColumns) block, the index
+  // arrays as slices of one int buffer.
+  std::array<double, kSmallDoubles> small_doubles_;
+  std::array<int, kSmallIndices> small_indices_;
+  std::vector<double> large_doubles_;
+  std::vector<int> large_indices_;
+  double* doubles_;
+  int* indices_;
+  Eigen::Map<Eigen::MatrixXd> binv_;
+  Eigen::Map<Eigen::VectorXd> q_;       // q scaled to ‖q‖∞ ≈ 1
+  Eigen::Map<Eigen::VectorXd> x_;       // basic values, x = B⁻¹ q
+  Eigen::Map<Eigen::VectorXd> column_;  // B⁻¹ A_e of the entering variable
+  Eigen::Map<Eigen::VectorXd> eta_;     // c − e_r of the current pivot; scratch
+  Eigen::Map<Eigen::VectorXd> work_;    // scratch of the drift check
+  int* basis_;           // variable basic in each row (m)
+  int* row_of_;          // row of each basic variable, −1 if nonbasic (2m + 1)
   // Columns i of B⁻¹ that are not unit vectors (w_i nonbasic), with each
-  // one's position in that list (−1 for unit columns).
-  std::vector<int> dense_columns_;
-  std::vector<int> dense_position_;
-  std::vector<int> ties_;
+  // one's position in that list (−1 for unit columns); m each.
+  int* dense_position_;
+  int* dense_columns_;
+  int* ties_;            // rows tied in the ratio test (m)
+  int dense_count_ = 0;
   int pivots_ = 0;
   int ray_entering_ = -1;
   double defect_floor_ = 0.0;  // Defect() right after the last refactorization
@@ -422,8 +486,7 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
   } else {
     // A power of two keeps the scaling exact.
     const double scale = std::exp2(std::round(std::log2(lcp.q.cwiseAbs().maxCoeff())));
-    const Eigen::VectorXd q_scaled = lcp.q / scale;
-    LemkePivoting lemke(lcp.M, q_scaled);
+    LemkePivoting lemke(lcp.M, lcp.q, scale);
     const LemkePivoting::Outcome outcome = lemke.Run(max_pivots);
     result.iterations = lemke.pivots();
     lemke.BasicZ(scale, result.z);
@@ -447,7 +510,8 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
         }
         if (result.residual <= options.tolerance) {
           result.status = SolveStatus::kSolved;
-          result.message = "z0 left the basis after " + std::to_string(result.iterations) + " pivots";
+          result.message = internal::CountMessage("z0 left the basis after ",
+                                                  result.iterations, " pivots");
         } else {
           std::ostringstream message;
           message << "complementary basis reached, but the residual " << result.residual

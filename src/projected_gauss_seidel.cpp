@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -40,6 +41,25 @@ void ComputeW(const Matrix& M, const Eigen::VectorXd& q, const Eigen::VectorXd& 
   w += q;
 }
 
+// The diagonal of M: a view for dense M (no copy), a vector for sparse M,
+// whose diagonal entries must be searched for.
+Eigen::Diagonal<const Eigen::MatrixXd> Diagonal(const Eigen::MatrixXd& M) { return M.diagonal(); }
+Eigen::VectorXd Diagonal(const SparseMatrix& M) { return M.diagonal(); }
+
+// OrthantNaturalResidual(z, w) for the per-sweep test, inlined into one
+// branch-free pass: on a small problem a sweep costs little more than this
+// check. z − z + w − w is NaN exactly when z or w is not finite, so `poison`
+// flags the same cases as OrthantNaturalResidual's NaN.
+double SweepResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
+  double residual = 0.0;
+  double poison = 0.0;
+  for (Eigen::Index i = 0; i < z.size(); ++i) {
+    residual = std::max(residual, std::abs(std::min(z(i), w(i))));
+    poison += (z(i) - z(i)) + (w(i) - w(i));
+  }
+  return poison == 0.0 ? residual : std::numeric_limits<double>::quiet_NaN();
+}
+
 // Projected SOR [Cottle–Pang–Stone 1992, Alg. 5.2.1]: for i = 1..m,
 //   z_i ← max(0, z_i − ω (Mz + q)_i / M_ii),
 // with (Mz + q)_i read from w, which each change of z_i updates by one column
@@ -62,12 +82,18 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
   result.method = "pgs";
   result.z = warm_start.size() == m ? warm_start : Eigen::VectorXd::Zero(m);
   result.w.resize(m);
-  const Eigen::VectorXd diagonal = M.diagonal();
+  const auto diagonal = Diagonal(M);
 
-  // Moves the result out: finish ends every path.
-  const auto finish = [&](SolveStatus status, std::string message) {
-    ComputeW(M, q, result.z, result.w);
-    result.residual = internal::OrthantNaturalResidual(result.z, result.w);
+  // Moves the result out: finish ends every path. w_is_fresh: w was just
+  // recomputed from z and `residual` is its natural residual.
+  const auto finish = [&](SolveStatus status, std::string message, bool w_is_fresh = false,
+                          double residual = 0.0) {
+    if (w_is_fresh) {
+      result.residual = residual;
+    } else {
+      ComputeW(M, q, result.z, result.w);
+      result.residual = internal::OrthantNaturalResidual(result.z, result.w);
+    }
     result.status = status;
     result.message = std::move(message);
     result.has_index_sets = true;
@@ -89,7 +115,11 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
 
   Eigen::VectorXd& z = result.z;
   Eigen::VectorXd& w = result.w;
-  ComputeW(M, q, z, w);
+  if (warm_start.size() == m) {
+    ComputeW(M, q, z, w);
+  } else {
+    w = q;  // M·0 + q without the product
+  }
   for (int sweep = 1; sweep <= max_sweeps; ++sweep) {
     for (int i = 0; i < m; ++i) {
       const double updated = std::max(0.0, z(i) - omega * w(i) / diagonal(i));
@@ -102,7 +132,7 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
     result.iterations = sweep;
     const bool refresh = sweep % kRefreshPeriod == 0;
     if (refresh) ComputeW(M, q, z, w);
-    const double residual = internal::OrthantNaturalResidual(z, w);
+    double residual = SweepResidual(z, w);
     if (!std::isfinite(residual)) {
       return finish(SolveStatus::kFailed,
                     "the iterates diverged at sweep " + std::to_string(sweep) +
@@ -111,10 +141,11 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
     if (residual <= options.tolerance) {
       if (!refresh) {
         ComputeW(M, q, z, w);
-        if (internal::OrthantNaturalResidual(z, w) > options.tolerance) continue;
+        residual = internal::OrthantNaturalResidual(z, w);
+        if (!(residual <= options.tolerance)) continue;
       }
       return finish(SolveStatus::kSolved,
-                    "converged after " + std::to_string(sweep) + " sweeps");
+                    internal::CountMessage("converged after ", sweep, " sweeps"), true, residual);
     }
   }
   return finish(SolveStatus::kMaxIterations,

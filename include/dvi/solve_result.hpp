@@ -33,7 +33,7 @@ struct IndexSets {
 
 struct SolveResult {
   SolveStatus status = SolveStatus::kFailed;
-  std::string message = "no solve was run";
+  std::string message = "not solved";
   std::string method;    ///< The solver that produced z ("lemke", "newton", ...).
   Eigen::VectorXd z;     ///< The solution (or last iterate).
   Eigen::VectorXd w;     ///< F(z).
