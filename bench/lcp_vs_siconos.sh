@@ -13,6 +13,8 @@ src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build_dir=${BUILD_DIR:-/tmp/build-bench}
 csv=${1:-$build_dir/lcp_vs_siconos.csv}
 shift $(( $# > 0 ? 1 : 0 ))
+# The anchor: Siconos numerics from Debian, needed by this benchmark only.
+"$src_dir/scripts/install-deps.sh" libsiconos-numerics-dev
 cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS=OFF \
   -DDVI_BUILD_TOOLS=OFF >/dev/null
 cmake --build "$build_dir" --target lcp_vs_siconos -j1 >/dev/null
