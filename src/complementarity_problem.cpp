@@ -64,14 +64,17 @@ void Lcp::Validate() const { CheckAffineData(M, q); }
 
 void SparseLcp::Validate() const { CheckAffineData(M, q); }
 
-BoxMcp BoxMcp::Affine(Eigen::MatrixXd M, Eigen::VectorXd q, Eigen::VectorXd lower,
-                      Eigen::VectorXd upper) {
-  CheckAffineData(M, q);
+namespace {
+
+// The box MCP with F(z) = M z + q, dense or sparse M; the caller sets the
+// Jacobian of its storage kind. M and q are shared so that copies of the
+// problem (and of its std::functions) do not copy M.
+template <typename Matrix>
+BoxMcp AffineMcp(std::shared_ptr<const Matrix> matrix, Eigen::VectorXd q, Eigen::VectorXd lower,
+                 Eigen::VectorXd upper) {
+  CheckAffineData(*matrix, q);
   DVI_THROW_UNLESS(lower.size() == q.size(),
                    "lower has " << lower.size() << " entries, expected " << q.size());
-  // Shared so that copies of the problem (and of its std::functions) do not
-  // copy M.
-  auto matrix = std::make_shared<const Eigen::MatrixXd>(std::move(M));
   auto offset = std::make_shared<const Eigen::VectorXd>(std::move(q));
   BoxMcp mcp;
   mcp.lower = std::move(lower);
@@ -80,6 +83,15 @@ BoxMcp BoxMcp::Affine(Eigen::MatrixXd M, Eigen::VectorXd q, Eigen::VectorXd lowe
     w.noalias() = *matrix * z;
     w += *offset;
   };
+  return mcp;
+}
+
+}  // namespace
+
+BoxMcp BoxMcp::Affine(Eigen::MatrixXd M, Eigen::VectorXd q, Eigen::VectorXd lower,
+                      Eigen::VectorXd upper) {
+  auto matrix = std::make_shared<const Eigen::MatrixXd>(std::move(M));
+  BoxMcp mcp = AffineMcp(matrix, std::move(q), std::move(lower), std::move(upper));
   mcp.jacobian = [matrix](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J = *matrix; };
   mcp.Validate();
   return mcp;
@@ -87,19 +99,9 @@ BoxMcp BoxMcp::Affine(Eigen::MatrixXd M, Eigen::VectorXd q, Eigen::VectorXd lowe
 
 BoxMcp BoxMcp::Affine(SparseMatrix M, Eigen::VectorXd q, Eigen::VectorXd lower,
                       Eigen::VectorXd upper) {
-  CheckAffineData(M, q);
-  DVI_THROW_UNLESS(lower.size() == q.size(),
-                   "lower has " << lower.size() << " entries, expected " << q.size());
   M.makeCompressed();
   auto matrix = std::make_shared<const SparseMatrix>(std::move(M));
-  auto offset = std::make_shared<const Eigen::VectorXd>(std::move(q));
-  BoxMcp mcp;
-  mcp.lower = std::move(lower);
-  mcp.upper = std::move(upper);
-  mcp.F = [matrix, offset](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
-    w.noalias() = *matrix * z;
-    w += *offset;
-  };
+  BoxMcp mcp = AffineMcp(matrix, std::move(q), std::move(lower), std::move(upper));
   mcp.sparse_jacobian = [matrix](const Eigen::VectorXd&, SparseMatrix& J) { J = *matrix; };
   mcp.Validate();
   return mcp;

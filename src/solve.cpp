@@ -333,39 +333,40 @@ SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
 
 }  // namespace
 
-SolveResult Solve(const Lcp& lcp, const SolverOptions& options,
-                  const Eigen::VectorXd& warm_start) {
+namespace {
+
+// What every public Solve does around its dispatch: validate, run, make the
+// box diagnostics hold, and time the whole.
+template <typename Problem, typename Run>
+SolveResult TimedBoxSolve(const Problem& problem, const SolverOptions& options,
+                          const Eigen::VectorXd& lower, const Eigen::VectorXd& upper, Run run) {
   const Clock::time_point start = Clock::now();
   options.Validate();
-  lcp.Validate();
-  SolveResult result = SolveDenseLcp(lcp, options, warm_start);
-  const int m = lcp.dim();
-  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, result);
+  problem.Validate();
+  SolveResult result = run();
+  FinishBoxResult(lower, upper, options.tolerance, result);
   result.seconds = SecondsSince(start);
   return result;
+}
+
+}  // namespace
+
+SolveResult Solve(const Lcp& lcp, const SolverOptions& options,
+                  const Eigen::VectorXd& warm_start) {
+  return TimedBoxSolve(lcp, options, Zeros(lcp.dim()), Infinities(lcp.dim()),
+                       [&] { return SolveDenseLcp(lcp, options, warm_start); });
 }
 
 SolveResult Solve(const SparseLcp& lcp, const SolverOptions& options,
                   const Eigen::VectorXd& warm_start) {
-  const Clock::time_point start = Clock::now();
-  options.Validate();
-  lcp.Validate();
-  SolveResult result = SolveSparseLcp(lcp, options, warm_start);
-  const int m = lcp.dim();
-  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, result);
-  result.seconds = SecondsSince(start);
-  return result;
+  return TimedBoxSolve(lcp, options, Zeros(lcp.dim()), Infinities(lcp.dim()),
+                       [&] { return SolveSparseLcp(lcp, options, warm_start); });
 }
 
 SolveResult Solve(const BoxMcp& mcp, const SolverOptions& options,
                   const Eigen::VectorXd& warm_start) {
-  const Clock::time_point start = Clock::now();
-  options.Validate();
-  mcp.Validate();
-  SolveResult result = SolveMcp(mcp, options, warm_start);
-  FinishBoxResult(mcp.lower, mcp.upper, options.tolerance, result);
-  result.seconds = SecondsSince(start);
-  return result;
+  return TimedBoxSolve(mcp, options, mcp.lower, mcp.upper,
+                       [&] { return SolveMcp(mcp, options, warm_start); });
 }
 
 SolveResult Solve(const Vi& vi, const SolverOptions& options, const Eigen::VectorXd& warm_start) {
