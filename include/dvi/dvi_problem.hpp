@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <functional>
+
+#include <Eigen/Dense>
+
+#include "dvi/complementarity_problem.hpp"
+#include "dvi/convex_set.hpp"
+
+namespace dvi {
+
+/// Notation of [Seed] Sect. 2: the state is x ∈ ℝⁿ, the algebraic variable
+/// u ∈ ℝᵐ, time t; f is the ODE's right-hand side and F the VI's map.
+
+/// out = g(t, x, u); out arrives sized to g's dimension.
+using TimeStateFunction = std::function<void(double t, const Eigen::VectorXd& x,
+                                             const Eigen::VectorXd& u, Eigen::VectorXd& out)>;
+/// The partial Jacobians of such a g at (t, x, u): Jx = ∂g/∂x (rows×n) and
+/// Ju = ∂g/∂u (rows×m); both arrive sized.
+using TimeStateJacobian =
+    std::function<void(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                       Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju)>;
+/// out = g(t, x); out arrives sized.
+using TimeFunction = std::function<void(double t, const Eigen::VectorXd& x, Eigen::VectorXd& out)>;
+/// J = ∂g/∂x at (t, x) (or, for a matrix-valued g such as B(t, x), the
+/// value itself); J arrives sized.
+using TimeMatrixFunction =
+    std::function<void(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J)>;
+
+/// The DVI (2.2) as an initial-value problem:
+///   x' = f(t, x, u),   u ∈ SOL(K, F(t, x, ·)),   x(0) = x0.
+/// Without Jacobians the integrators use forward differences. Boundary
+/// conditions (Sect. 9) are a separate problem type, not a field here.
+struct Dvi {
+  int n = 0;  ///< State dimension, ≥ 1.
+  int m = 0;  ///< Dimension of u (of K), ≥ 0.
+  TimeStateFunction f;
+  TimeStateJacobian f_jacobian;  ///< Optional.
+  TimeStateFunction F;
+  TimeStateJacobian F_jacobian;  ///< Optional.
+  ConvexSet K = ConvexSet::Orthant(0);
+
+  /// @throws InvalidInputError on n < 1, a missing f or F (m > 0), or
+  /// K.dim() != m, naming the field.
+  void Validate() const;
+};
+
+/// The separable DVI (6.2), the setting of the convergence theory of Sect. 7:
+///   x' = f(t, x) + B(t, x) u,   u ∈ SOL(K, G(t, x) + F(·)).
+/// Scheme (7.2) evaluates B at the old step, which keeps x^{i+1} an explicit
+/// function of u^{i+1} when f is affine.
+struct SeparableDvi {
+  int n = 0;
+  int m = 0;
+  TimeFunction f;
+  TimeMatrixFunction f_jacobian;  ///< Optional, n×n.
+  TimeMatrixFunction B;           ///< n×m.
+  TimeFunction G;
+  TimeMatrixFunction G_jacobian;  ///< Optional, m×n.
+  VectorMap F;                    ///< u ↦ F(u), m → m.
+  DenseJacobian F_jacobian;       ///< Optional, m×m.
+  ConvexSet K = ConvexSet::Orthant(0);
+
+  /// @throws InvalidInputError as Dvi::Validate (also for a missing B or G).
+  void Validate() const;
+  /// The same problem as a general Dvi (f + B u, G + F), with Jacobians
+  /// where all the parts have them (∂(Bu)/∂x by differences of B otherwise).
+  Dvi ToDvi() const;
+};
+
+/// The semi-affine DVI (5.3): x' = f(x) + B u, u ∈ SOL(K, q + C x + D ·),
+/// the class of Proposition 5.1 (a unique C¹ trajectory iff B·SOL(K, Cx, D)
+/// is a singleton for all x).
+struct SemiAffineDvi {
+  std::function<void(const Eigen::VectorXd& x, Eigen::VectorXd& out)> f;
+  std::function<void(const Eigen::VectorXd& x, Eigen::MatrixXd& J)> f_jacobian;  ///< Optional.
+  Eigen::MatrixXd B;  ///< n×m.
+  Eigen::MatrixXd C;  ///< m×n.
+  Eigen::MatrixXd D;  ///< m×m.
+  Eigen::VectorXd q;  ///< m; empty means 0.
+  ConvexSet K = ConvexSet::Orthant(0);
+
+  int n() const { return static_cast<int>(B.rows()); }
+  int m() const { return static_cast<int>(B.cols()); }
+  /// @throws InvalidInputError on mismatched sizes, non-finite entries or a
+  /// missing f.
+  void Validate() const;
+  SeparableDvi ToSeparable() const;
+};
+
+}  // namespace dvi

@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace dvi {
+
+/// How an integration ended. Only kSuccess reaches the final time.
+enum class IntegrationStatus {
+  kSuccess,
+  kStepFailure,        ///< A step's VI / complementarity problem was not solved; see message.
+  kStepSizeTooSmall,   ///< Error control asked for a step below the minimum.
+  kMaxSteps,           ///< The step limit was reached before the final time.
+};
+/// "success", "step-failure", "step-size-too-small", "max-steps".
+std::string_view ToString(IntegrationStatus status);
+
+/// A change of the active set (the mode) of u.
+enum class EventKind {
+  kReachedLower,        ///< u_j reached its lower bound (index: component j).
+  kReachedUpper,        ///< u_j reached its upper bound.
+  kLeftBound,           ///< u_j left the bound it was at.
+  kConstraintActive,    ///< A constraint of a non-box K became active (index: constraint).
+  kConstraintReleased,  ///< A constraint of a non-box K became inactive.
+};
+/// "reached-lower", "reached-upper", "left-bound", "constraint-active",
+/// "constraint-released".
+std::string_view ToString(EventKind kind);
+
+struct Event {
+  double time = 0;  ///< For time-stepping: the end of the step where the mode changed.
+  EventKind kind = EventKind::kLeftBound;
+  int index = 0;    ///< Zero-based component of u, or constraint of K.
+};
+
+/// The method that produced [from, to] and why it was chosen.
+struct MethodInterval {
+  double from = 0;
+  double to = 0;
+  std::string name;    ///< "stepping", ...
+  std::string reason;
+};
+
+/// Work counters of an integration.
+struct IntegrationStats {
+  long steps = 0;           ///< Accepted steps.
+  long rejected_steps = 0;  ///< Steps redone with a smaller size (error control).
+  long rhs_evals = 0;       ///< Evaluations of f (and of F for stepping's MCPs).
+  long jacobian_evals = 0;  ///< Jacobian evaluations (and factorizations of the step matrix).
+  long vi_solves = 0;       ///< VI / complementarity problems solved.
+  long solver_iterations = 0;  ///< Summed over all VI solves.
+  double max_residual = 0;  ///< Largest natural-map residual of an accepted step's VI.
+  double wall_seconds = 0;  ///< The integration's own time.
+};
+
+/// Per-step record of time-stepping.
+struct StepRecord {
+  double t = 0;         ///< End of the step.
+  double h = 0;         ///< Its size.
+  int iterations = 0;   ///< Iterations of its VI solve.
+  double residual = 0;  ///< Natural-map residual of its VI.
+};
+
+/// The result of an integration: samples of x and u, events, the method per
+/// interval, and statistics. For time-stepping the samples are the paper's
+/// interpolants (Sect. 7): x̂ᴴ piecewise linear through the steps, ûᴴ
+/// piecewise constant, ûᴴ(t) = u^{i+1} on (t_i, t_{i+1}].
+struct Trajectory {
+  IntegrationStatus status = IntegrationStatus::kSuccess;
+  std::string message;  ///< Why it stopped when status != kSuccess (time, step, residual).
+
+  std::vector<double> times;               ///< Ascending sample times.
+  std::vector<Eigen::VectorXd> states;     ///< x at times[k].
+  std::vector<Eigen::VectorXd> multipliers;  ///< u at times[k] (the right limit at a switch).
+
+  std::vector<Event> events;
+  std::vector<MethodInterval> intervals;
+  std::vector<StepRecord> step_log;  ///< Time-stepping: one record per accepted step.
+  IntegrationStats stats;
+
+  bool succeeded() const { return status == IntegrationStatus::kSuccess; }
+  int state_dim() const { return states.empty() ? 0 : static_cast<int>(states.front().size()); }
+  int multiplier_dim() const {
+    return multipliers.empty() ? 0 : static_cast<int>(multipliers.front().size());
+  }
+  double final_time() const { return times.empty() ? 0 : times.back(); }
+
+  /// x at time t, linear between samples (x̂ᴴ when every step is a sample).
+  /// @throws InvalidInputError when t lies outside [times.front(), times.back()].
+  Eigen::VectorXd StateAt(double t) const;
+  /// u at time t: at a sample time its value there, between samples the
+  /// value of the next sample (ûᴴ). @throws InvalidInputError as StateAt.
+  Eigen::VectorXd MultiplierAt(double t) const;
+};
+
+}  // namespace dvi

@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <memory>
+#include <sstream>
+#include <string>
+#include <tuple>
+
+#include <Eigen/Dense>
+
+#include "dvi/lcs.hpp"
+#include "dvi/solve_result.hpp"
+#include "dvi/time_stepping.hpp"
+#include "one_step_method.hpp"
+
+namespace dvi::internal {
+
+// Notation of [Seed] (2.8): x' = p + A x + B u, u ∈ SOL(K, q + C x + D ·).
+// Step i → i+1 of scheme (7.2) for an LCS, with r the known part
+//   r = (I + hθA) x^i + h p + h(1−γ) B u^i,   W = I − h(1−θ)A,
+//   W x^{i+1} − hγ B u^{i+1} = r,   u^{i+1} ∈ SOL(K, q + C x^{i+1} + D ·).
+// Scheme (3.4) puts x^i in the VI instead: u^{i+1} ∈ SOL(K, q + C x^i + D ·).
+// The initial VI u⁰ ∈ SOL(K, q + C x⁰ + D ·) is the same step with h = 0
+// (W = I, r = x⁰), so both paths reuse their step machinery for it.
+
+// Step sizes whose factorizations stay cached. Step doubling walks the
+// ladder h·2ᵏ down to a switch and back up, so every level it used should
+// still be there on the way back; the dense path caps its cache at
+// kDenseCacheBytes of matrices.
+constexpr size_t kCachedStepSizes = 16;
+constexpr double kDenseCacheBytes = 256e6;
+
+// The method's view of K: the orthant (an LCP), a box (a box MCP), or any
+// other closed convex set (an affine VI).
+struct SetShape {
+  bool orthant = false;
+  bool box = false;
+  Eigen::VectorXd lower, upper;
+};
+
+inline SetShape Shape(const ConvexSet& K) {
+  SetShape shape;
+  shape.box = K.IsBox();
+  if (!shape.box) return shape;
+  std::tie(shape.lower, shape.upper) = K.BoxBounds();
+  shape.orthant = (shape.lower.array() == 0).all() && shape.upper.array().isInf().all();
+  return shape;
+}
+
+inline std::string FailureText(const SolveResult& result, const char* problem) {
+  std::ostringstream message;
+  message.precision(6);
+  message << problem << " " << ToString(result.status) << " (" << result.method << ", "
+          << result.iterations << " iterations, residual " << result.residual
+          << "): " << result.message;
+  return message.str();
+}
+
+class LcsMethod : public OneStepMethod {
+ public:
+  LcsMethod(const Lcs& lcs, const TimeSteppingOptions& options)
+      : lcs_(lcs),
+        theta_(options.theta),
+        gamma_(options.gamma),
+        vi_at_old_state_(options.scheme == SteppingScheme::kViAtOldState),
+        scheme_name_(options.scheme == SteppingScheme::kViAtOldState   ? "(3.4)"
+                     : options.scheme == SteppingScheme::kViAtNewState ? "(3.3)"
+                                                                       : "(7.2)"),
+        solver_(options.solver),
+        shape_(Shape(lcs.K)) {}
+
+  int state_dim() const override { return lcs_.n(); }
+  int multiplier_dim() const override { return lcs_.m(); }
+  // (3.4) lags u by a step, so only (7.2) / (3.3) with θ = γ = ½ reach 2.
+  int order() const override { return !vi_at_old_state_ && theta_ == 0.5 && gamma_ == 0.5 ? 2 : 1; }
+  const ConvexSet& ModeSet() const override { return lcs_.K; }
+
+  std::string Describe() const override {
+    std::ostringstream text;
+    text << "scheme " << scheme_name_ << ", θ = " << theta_ << ", γ = " << gamma_ << ", "
+         << LinearAlgebra();
+    return text.str();
+  }
+
+  StepOutcome Initial(double, const Eigen::VectorXd& x0) override {
+    return Advance(0, x0, Eigen::VectorXd::Zero(lcs_.m()), Eigen::VectorXd());
+  }
+
+  StepOutcome Step(double, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u) override {
+    return Advance(h, x, u, u);
+  }
+
+ protected:
+  virtual std::string LinearAlgebra() const = 0;
+  /// One step of size h ≥ 0 from (x, u); warm_start may be empty.
+  virtual StepOutcome Advance(double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                              const Eigen::VectorXd& warm_start) = 0;
+
+  /// r = (I + hθA) x + h p + h(1−γ) B u, the known right side of (7.2).
+  Eigen::VectorXd KnownTerms(double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u) const {
+    Eigen::VectorXd r = x;
+    if (h == 0) return r;
+    if (theta_ != 0) r += (h * theta_) * (lcs_.A * x);
+    r += h * lcs_.p;
+    if (gamma_ != 1) r += (h * (1 - gamma_)) * (lcs_.B * u);
+    return r;
+  }
+
+  const Lcs& lcs_;
+  const double theta_;
+  const double gamma_;
+  const bool vi_at_old_state_;
+  const char* const scheme_name_;
+  const SolverOptions solver_;
+  const SetShape shape_;
+};
+
+/// Sect. 9.2's transfer matrix, dense LU (small systems, any K).
+std::unique_ptr<OneStepMethod> MakeDenseLcsMethod(const Lcs& lcs, const TimeSteppingOptions& options);
+/// The mixed (x, u) system on KLU with an active-set iteration (box K).
+std::unique_ptr<OneStepMethod> MakeSparseLcsMethod(const Lcs& lcs, const TimeSteppingOptions& options);
+
+}  // namespace dvi::internal

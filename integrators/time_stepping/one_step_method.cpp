@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "one_step_method.hpp"
+
+#include <cmath>
+
+namespace dvi::internal {
+
+void OneStepMethod::Mode(const StepOutcome& outcome, std::vector<int>& mode) const {
+  const ConvexSet& set = ModeSet();
+  const Eigen::VectorXd& u = outcome.u;
+  if (!ModeIsPerComponent()) {
+    // Solvers meet active constraints to their tolerance, far below 1e-9.
+    mode = set.Active(u, 1e-9 * (1 + u.lpNorm<Eigen::Infinity>())).indices;
+    return;
+  }
+  const auto [lower, upper] = set.BoxBounds();
+  mode.assign(static_cast<size_t>(u.size()), 0);
+  const bool has_w = outcome.w.size() == u.size();
+  for (Eigen::Index j = 0; j < u.size(); ++j) {
+    // Without F at the solution, a bound holds u_j when it is within a
+    // relative 1e-9 of it.
+    const double slack_tol = 1e-9 * (1 + std::abs(u[j]));
+    const double w = has_w ? outcome.w[j] : 0.0;
+    const bool at_lower = std::isfinite(lower[j]) &&
+                          (has_w ? u[j] - lower[j] < w : u[j] - lower[j] <= slack_tol);
+    const bool at_upper = std::isfinite(upper[j]) &&
+                          (has_w ? upper[j] - u[j] < -w : upper[j] - u[j] <= slack_tol);
+    mode[static_cast<size_t>(j)] = at_lower ? -1 : (at_upper ? 1 : 0);
+  }
+}
+
+}  // namespace dvi::internal

@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "dvi/time_stepping.hpp"
+#include "dvi/trajectory.hpp"
+#include "one_step_method.hpp"
+
+namespace dvi::internal {
+
+/// Advances `method` from (t0, x0) to t_end with options.h (fixed) or with
+/// step doubling on the ladder h·2ᵏ (options.adaptive); samples, events,
+/// step log and statistics as TimeSteppingOptions documents. Never throws
+/// for a numerical failure: it ends the trajectory with a status and a
+/// message naming the step and time. @pre options validated, x0 sized.
+Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
+                           double t_end, const TimeSteppingOptions& options);
+
+}  // namespace dvi::internal

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <cmath>
+
+#include "check.hpp"
+#include "dvi/time_stepping.hpp"
+
+namespace dvi {
+
+std::string_view ToString(SteppingScheme scheme) {
+  switch (scheme) {
+    case SteppingScheme::kAuto: return "auto";
+    case SteppingScheme::kSeparable: return "7.2";
+    case SteppingScheme::kViAtNewState: return "3.3";
+    case SteppingScheme::kViAtOldState: return "3.4";
+    case SteppingScheme::kFullyImplicit: return "7.3";
+  }
+  return "unknown";
+}
+
+SteppingScheme ParseSteppingScheme(std::string_view name) {
+  for (const SteppingScheme scheme :
+       {SteppingScheme::kAuto, SteppingScheme::kSeparable, SteppingScheme::kViAtNewState,
+        SteppingScheme::kViAtOldState, SteppingScheme::kFullyImplicit})
+    if (ToString(scheme) == name) return scheme;
+  throw InvalidInputError("unknown stepping scheme \"" + std::string(name) +
+                          "\" (expected auto, 7.2, 3.3, 3.4 or 7.3)");
+}
+
+void TimeSteppingOptions::Validate() const {
+  DVI_THROW_UNLESS(std::isfinite(h) && h > 0, "h: " << h << " is not a positive step size");
+  DVI_THROW_UNLESS(theta >= 0 && theta <= 1, "theta: " << theta << " is outside [0, 1]");
+  DVI_THROW_UNLESS(gamma >= 0 && gamma <= 1, "gamma: " << gamma << " is outside [0, 1]");
+  DVI_THROW_UNLESS(std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 &&
+                       rtol + atol > 0,
+                   "rtol, atol: " << rtol << ", " << atol
+                                  << " must be finite, non-negative and not both zero");
+  DVI_THROW_UNLESS(std::isfinite(h_min) && h_min >= 0, "h_min: " << h_min << " is negative or not finite");
+  DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0, "h_max: " << h_max << " is negative or not finite");
+  DVI_THROW_UNLESS(h_max == 0 || h_max >= h_min, "h_max: " << h_max << " is below h_min = " << h_min);
+  DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
+  for (size_t k = 0; k < output_times.size(); ++k) {
+    DVI_THROW_UNLESS(std::isfinite(output_times[k]),
+                     "output_times[" << k << "]: " << output_times[k] << " is not finite");
+    DVI_THROW_UNLESS(k == 0 || output_times[k] > output_times[k - 1],
+                     "output_times[" << k << "]: " << output_times[k]
+                                     << " does not exceed the previous time");
+  }
+  solver.Validate();
+}
+
+}  // namespace dvi

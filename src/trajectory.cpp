@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/trajectory.hpp"
+
+#include <algorithm>
+
+#include "check.hpp"
+
+namespace dvi {
+namespace {
+
+// Index k of the first sample with times[k] ≥ t. @throws if t is outside.
+size_t SampleAtOrAfter(const std::vector<double>& times, double t) {
+  DVI_THROW_UNLESS(!times.empty(), "Trajectory: no samples");
+  DVI_THROW_UNLESS(t >= times.front() && t <= times.back(),
+                   "Trajectory: t = " << t << " is outside [" << times.front() << ", "
+                                      << times.back() << "]");
+  return static_cast<size_t>(std::lower_bound(times.begin(), times.end(), t) - times.begin());
+}
+
+}  // namespace
+
+std::string_view ToString(IntegrationStatus status) {
+  switch (status) {
+    case IntegrationStatus::kSuccess: return "success";
+    case IntegrationStatus::kStepFailure: return "step-failure";
+    case IntegrationStatus::kStepSizeTooSmall: return "step-size-too-small";
+    case IntegrationStatus::kMaxSteps: return "max-steps";
+  }
+  return "unknown";
+}
+
+std::string_view ToString(EventKind kind) {
+  switch (kind) {
+    case EventKind::kReachedLower: return "reached-lower";
+    case EventKind::kReachedUpper: return "reached-upper";
+    case EventKind::kLeftBound: return "left-bound";
+    case EventKind::kConstraintActive: return "constraint-active";
+    case EventKind::kConstraintReleased: return "constraint-released";
+  }
+  return "unknown";
+}
+
+Eigen::VectorXd Trajectory::StateAt(double t) const {
+  const size_t k = SampleAtOrAfter(times, t);
+  if (times[k] == t) return states[k];
+  const double s = (t - times[k - 1]) / (times[k] - times[k - 1]);
+  return (1 - s) * states[k - 1] + s * states[k];
+}
+
+Eigen::VectorXd Trajectory::MultiplierAt(double t) const {
+  return multipliers[SampleAtOrAfter(times, t)];
+}
+
+}  // namespace dvi
