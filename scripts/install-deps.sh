@@ -12,6 +12,8 @@ packages=(
   libboost-dev           # Boost.Odeint adapter (header-only)
   nlohmann-json3-dev     # scene and problem files, JSON answers
   libcli11-dev           # dvisim's command line
+  libginac-dev           # scene expressions: parsing and exact symbolic derivatives
+  gnuplot-nox            # dvisim run's plots (pngcairo and svg terminals)
   libgtest-dev libgmock-dev  # the test suites
   libbenchmark-dev       # bench/
   "$@"

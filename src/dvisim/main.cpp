@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // dvisim: the command-line front end of dvi. One subcommand per task; `solve`
 // answers a static VI / complementarity problem (scene-format.md, "Static
-// problems").
+// problems"), `run` integrates a scene (docs/scenes.md).
+#include <unistd.h>
+
 #include <iostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "run_command.hpp"
 #include "solve_command.hpp"
 
 namespace {
@@ -26,6 +29,20 @@ CLI::App* AddSolveCommand(CLI::App& app, dvi::dvisim::SolveCommand& command,
   return solve;
 }
 
+// Registers `dvisim run` with its options; returns the subcommand.
+CLI::App* AddRunCommand(CLI::App& app, dvi::dvisim::RunCommand& command, std::string& method,
+                        std::string& out_dir, double& h, double& theta, double& gamma) {
+  CLI::App* run = app.add_subcommand(
+      "run", "Integrate a scene and write trajectory.csv, summary.json and plots");
+  run->add_option("scene", command.scene_path, "The scene file (JSON)")->required();
+  run->add_option("--method", method, "auto or stepping (overrides method.name)");
+  run->add_option("--out", out_dir, "Output directory (overrides output.dir)");
+  run->add_option("--h", h, "Step size (overrides method.h)");
+  run->add_option("--theta", theta, "Weight of the old state in f, in [0, 1] (0: backward Euler)");
+  run->add_option("--gamma", gamma, "Weight of the new multiplier, in [0, 1]");
+  return run;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -35,6 +52,10 @@ int main(int argc, char** argv) {
   std::string solver;
   double tolerance = 0.0;
   CLI::App* solve = AddSolveCommand(app, solve_command, solver, tolerance);
+  dvi::dvisim::RunCommand run_command;
+  std::string method, out_dir;
+  double h = 0.0, theta = 0.0, gamma = 0.0;
+  CLI::App* run = AddRunCommand(app, run_command, method, out_dir, h, theta, gamma);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -46,6 +67,15 @@ int main(int argc, char** argv) {
     if (solve->count("--solver") > 0) solve_command.solver = solver;
     if (solve->count("--tol") > 0) solve_command.tolerance = tolerance;
     return dvi::dvisim::RunSolve(solve_command, std::cout, std::cerr);
+  }
+  if (run->parsed()) {
+    if (run->count("--method") > 0) run_command.method = method;
+    if (run->count("--out") > 0) run_command.out_dir = out_dir;
+    if (run->count("--h") > 0) run_command.h = h;
+    if (run->count("--theta") > 0) run_command.theta = theta;
+    if (run->count("--gamma") > 0) run_command.gamma = gamma;
+    run_command.progress_bar = ::isatty(STDERR_FILENO) != 0;
+    return dvi::dvisim::RunScene(run_command, std::cout, std::cerr);
   }
   return dvi::dvisim::kExitBadInput;
 }

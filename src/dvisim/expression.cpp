@@ -1,0 +1,515 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "expression.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "json_reading.hpp"
+
+namespace dvi::dvisim {
+namespace scene_functions {
+
+// GiNaC has abs and csgn, but d|a| comes out as a·a'/|a| (0/0 at a = 0) and
+// csgn has no derivative. These three carry the generalized-gradient choice
+// documented in expression.hpp, so Jacobians stay finite at kinks.
+DECLARE_FUNCTION_1P(sign)
+DECLARE_FUNCTION_2P(min)
+DECLARE_FUNCTION_2P(max)
+
+namespace {
+
+GiNaC::ex SignEval(const GiNaC::ex& a) {
+  if (GiNaC::is_exactly_a<GiNaC::numeric>(a) && GiNaC::ex_to<GiNaC::numeric>(a).is_real()) {
+    const GiNaC::numeric& value = GiNaC::ex_to<GiNaC::numeric>(a);
+    return value.is_zero() ? 0 : (value.is_positive() ? 1 : -1);
+  }
+  return sign(a).hold();
+}
+GiNaC::ex SignDerivative(const GiNaC::ex&, unsigned) { return 0; }
+
+// ∂min(a, b)/∂a = 1 where a < b, 0 where a > b, ½ at a tie.
+GiNaC::ex MinDerivative(const GiNaC::ex& a, const GiNaC::ex& b, unsigned parameter) {
+  const GiNaC::ex s = sign(a - b);
+  return parameter == 0 ? (1 - s) / 2 : (1 + s) / 2;
+}
+GiNaC::ex MaxDerivative(const GiNaC::ex& a, const GiNaC::ex& b, unsigned parameter) {
+  const GiNaC::ex s = sign(a - b);
+  return parameter == 0 ? (1 + s) / 2 : (1 - s) / 2;
+}
+
+}  // namespace
+
+REGISTER_FUNCTION(sign, eval_func(SignEval).derivative_func(SignDerivative))
+REGISTER_FUNCTION(min, derivative_func(MinDerivative))
+REGISTER_FUNCTION(max, derivative_func(MaxDerivative))
+
+}  // namespace scene_functions
+
+namespace {
+
+[[noreturn]] void Fail(const std::string& path, const std::string& message) {
+  throw InputError(path + ": " + message);
+}
+
+// The operations of the tape (see TapeProgram).
+enum class Op : std::uint8_t {
+  kAdd,
+  kSub,
+  kMul,
+  kDiv,
+  kNeg,
+  kPowInt,
+  kPow,
+  kSqrt,
+  kExp,
+  kLog,
+  kSin,
+  kCos,
+  kTan,
+  kAsin,
+  kAcos,
+  kAtan,
+  kSinh,
+  kCosh,
+  kTanh,
+  kSign,
+  kMin,
+  kMax,
+};
+
+const std::map<std::string, Op>& UnaryFunctions() {
+  static const std::map<std::string, Op> functions{
+      {"exp", Op::kExp},   {"log", Op::kLog},   {"sin", Op::kSin},   {"cos", Op::kCos},
+      {"tan", Op::kTan},   {"asin", Op::kAsin}, {"acos", Op::kAcos}, {"atan", Op::kAtan},
+      {"sinh", Op::kSinh}, {"cosh", Op::kCosh}, {"tanh", Op::kTanh}, {"sign", Op::kSign},
+  };
+  return functions;
+}
+
+const char kSupportedFunctions[] =
+    "sqrt, exp, log, sin, cos, tan, asin, acos, atan, sinh, cosh, tanh, abs, sign, min, max";
+
+bool IsSupportedFunction(const std::string& name) {
+  return UnaryFunctions().count(name) > 0 || name == "abs" || name == "min" || name == "max";
+}
+
+bool IsIdentifier(const std::string& name) {
+  if (name.empty() || !(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_'))
+    return false;
+  for (const char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+// Whether name is prefix followed by digits only ("x12" for 'x').
+bool IsIndexedName(const std::string& name, char prefix) {
+  if (name.size() < 2 || name[0] != prefix) return false;
+  for (std::size_t k = 1; k < name.size(); ++k)
+    if (!std::isdigit(static_cast<unsigned char>(name[k]))) return false;
+  return true;
+}
+
+// GiNaC's parse_error::what() is "GiNaC: parse error at line L, column C:
+// DETAIL\n[location in GiNaC's sources]"; the user wants DETAIL.
+std::string ParseErrorDetail(const std::string& what) {
+  std::string detail = what;
+  const std::size_t column = detail.find("column ");
+  const std::size_t colon = detail.find(": ", column == std::string::npos ? 0 : column);
+  if (colon != std::string::npos) detail = detail.substr(colon + 2);
+  const std::size_t newline = detail.find('\n');
+  if (newline != std::string::npos) detail = detail.substr(0, newline);
+  return detail;
+}
+
+// Rewrites GiNaC's abs(a) as a·sign(a): the same value, and the derivative
+// a'·sign(a) is defined at a = 0.
+struct ReplaceAbs : GiNaC::map_function {
+  GiNaC::ex operator()(const GiNaC::ex& e) override {
+    if (GiNaC::is_a<GiNaC::function>(e) && GiNaC::ex_to<GiNaC::function>(e).get_name() == "abs") {
+      const GiNaC::ex a = e.op(0).map(*this);
+      return a * scene_functions::sign(a);
+    }
+    return e.map(*this);
+  }
+};
+
+// Rejects what the tape cannot evaluate, naming it.
+void CheckEvaluable(const GiNaC::ex& e, const std::string& path) {
+  if (GiNaC::is_a<GiNaC::numeric>(e) && !GiNaC::ex_to<GiNaC::numeric>(e).is_real())
+    Fail(path, "complex numbers are not supported");
+  if (GiNaC::is_a<GiNaC::function>(e)) {
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    if (!IsSupportedFunction(name))
+      Fail(path,
+           "function \"" + name + "\" is not supported (supported: " + kSupportedFunctions + ")");
+  }
+  if (GiNaC::is_a<GiNaC::lst>(e)) Fail(path, "lists {...} are not expressions");
+  for (std::size_t k = 0; k < e.nops(); ++k) CheckEvaluable(e.op(k), path);
+}
+
+}  // namespace
+
+ExpressionVariables::ExpressionVariables(int n, int m,
+                                         std::vector<std::pair<std::string, double>> params,
+                                         const std::string& params_path)
+    : n_(n), m_(m), t_("t") {
+  table_["t"] = t_;
+  for (int i = 0; i < n; ++i) {
+    x_.emplace_back("x" + std::to_string(i + 1));
+    table_[x_.back().get_name()] = x_.back();
+  }
+  for (int j = 0; j < m; ++j) {
+    u_.emplace_back("u" + std::to_string(j + 1));
+    table_[u_.back().get_name()] = u_.back();
+  }
+  table_["pi"] = GiNaC::Pi;
+  for (const auto& [name, value] : params) {
+    const std::string path = params_path + "." + name;
+    if (!IsIdentifier(name))
+      Fail(path, "a parameter name must be a letter or _ followed by letters, digits or _");
+    const bool reserved = name == "t" || name == "pi" || name == "Pi" || name == "I" ||
+                          name == "Euler" || name == "Catalan" || IsIndexedName(name, 'x') ||
+                          IsIndexedName(name, 'u') || IsSupportedFunction(name) || name == "sqrt";
+    if (reserved)
+      Fail(path, "the name \"" + name +
+                     "\" is reserved (time, states, multipliers, constants and functions)");
+    if (!std::isfinite(value)) Fail(path, "expected a finite number");
+    table_[name] = GiNaC::numeric(value);
+  }
+}
+
+GiNaC::ex ExpressionVariables::Parse(const std::string& text, const std::string& path) const {
+  GiNaC::parser reader(table_, /*strict=*/false);
+  GiNaC::ex e;
+  try {
+    e = reader(text);
+  } catch (const GiNaC::parse_error& error) {
+    Fail(path, "cannot parse " + Describe(text) + ": " + ParseErrorDetail(error.what()));
+  } catch (const std::exception& error) {
+    // GiNaC evaluates while parsing, so 1/0 and the like surface here.
+    Fail(path, "cannot parse " + Describe(text) + ": " + ParseErrorDetail(error.what()));
+  }
+  std::string unknown;
+  for (const auto& [name, symbol] : reader.get_syms())
+    if (table_.count(name) == 0) unknown += (unknown.empty() ? "\"" : ", \"") + name + "\"";
+  if (!unknown.empty()) {
+    std::string allowed = "t";
+    if (n_ > 0) allowed += n_ == 1 ? ", x1" : ", x1..x" + std::to_string(n_);
+    if (m_ > 0) allowed += m_ == 1 ? ", u1" : ", u1..u" + std::to_string(m_);
+    Fail(path, (unknown.find(',') == std::string::npos ? "unknown symbol " : "unknown symbols ") +
+                   unknown + " (expected " + allowed + ", pi or a parameter)");
+  }
+  CheckEvaluable(e, path);
+  ReplaceAbs replace;
+  return replace(e);
+}
+
+// The tape: registers 0 .. 1+n+m−1 hold t, x, u; constants sit in registers
+// filled once by NewScratch; every instruction writes its own register (SSA).
+struct TapeProgram {
+  struct Instruction {
+    Op op;
+    int destination;
+    int a;
+    int b;  // Second operand's register, or the integer exponent of kPowInt.
+  };
+  int n = 0;
+  int m = 0;
+  int num_registers = 0;
+  std::vector<std::pair<int, double>> constants;
+  std::vector<Instruction> code;
+  std::vector<int> outputs;
+};
+
+namespace {
+
+class TapeCompiler {
+ public:
+  TapeCompiler(TapeProgram& program, const ExpressionVariables& variables) : program_(program) {
+    program_.n = variables.n();
+    program_.m = variables.m();
+    program_.num_registers = 1 + variables.n() + variables.m();
+    memo_[variables.t()] = 0;
+    for (int i = 0; i < variables.n(); ++i) memo_[variables.x(i)] = 1 + i;
+    for (int j = 0; j < variables.m(); ++j) memo_[variables.u(j)] = 1 + variables.n() + j;
+  }
+
+  int Emit(const GiNaC::ex& e, const std::string& path) {
+    const auto found = memo_.find(e);
+    if (found != memo_.end()) return found->second;
+    const int result = EmitNew(e, path);
+    memo_[e] = result;
+    return result;
+  }
+
+ private:
+  int Constant(double value) {
+    const auto found = constants_.find(value);
+    if (found != constants_.end()) return found->second;
+    const int r = program_.num_registers++;
+    program_.constants.emplace_back(r, value);
+    constants_[value] = r;
+    return r;
+  }
+  int Instruction(Op op, int a, int b = 0) {
+    const int r = program_.num_registers++;
+    program_.code.push_back({op, r, a, b});
+    return r;
+  }
+
+  static double ToDouble(const GiNaC::ex& e) {
+    return GiNaC::ex_to<GiNaC::numeric>(e.evalf()).to_double();
+  }
+  static bool IsNegativeTerm(const GiNaC::ex& e) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return ToDouble(e) < 0;
+    return GiNaC::is_a<GiNaC::mul>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(e.nops() - 1)) &&
+           ToDouble(e.op(e.nops() - 1)) < 0;
+  }
+  static bool IsNegativeIntegerPower(const GiNaC::ex& e) {
+    return GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+           GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative();
+  }
+
+  int EmitSum(const GiNaC::ex& e, const std::string& path) {
+    // Positive terms first, then subtract the negated negative ones.
+    int total = -1;
+    for (const bool negative : {false, true}) {
+      for (std::size_t k = 0; k < e.nops(); ++k) {
+        const GiNaC::ex term = e.op(k);
+        if (IsNegativeTerm(term) != negative) continue;
+        const int r = Emit(negative ? GiNaC::ex(-term) : term, path);
+        if (total < 0) {
+          total = negative ? Instruction(Op::kNeg, r) : r;
+        } else {
+          total = Instruction(negative ? Op::kSub : Op::kAdd, total, r);
+        }
+      }
+    }
+    return total;
+  }
+
+  int EmitProduct(const GiNaC::ex& e, const std::string& path) {
+    // Negative powers go to one denominator: fewer divisions, and a/b rather
+    // than a·b⁻¹ rounds like the formula the user wrote.
+    int numerator = -1;
+    int denominator = -1;
+    bool negate = false;
+    for (std::size_t k = 0; k < e.nops(); ++k) {
+      const GiNaC::ex factor = e.op(k);
+      if (GiNaC::is_a<GiNaC::numeric>(factor) && factor.is_equal(-1)) {
+        negate = !negate;
+        continue;
+      }
+      int& target = IsNegativeIntegerPower(factor) ? denominator : numerator;
+      const int r = Emit(
+          IsNegativeIntegerPower(factor) ? GiNaC::pow(factor.op(0), -factor.op(1)) : factor, path);
+      target = target < 0 ? r : Instruction(Op::kMul, target, r);
+    }
+    if (numerator < 0) numerator = Constant(1.0);
+    int result = denominator < 0 ? numerator : Instruction(Op::kDiv, numerator, denominator);
+    return negate ? Instruction(Op::kNeg, result) : result;
+  }
+
+  int EmitPower(const GiNaC::ex& e, const std::string& path) {
+    const GiNaC::ex base = e.op(0);
+    const GiNaC::ex exponent = e.op(1);
+    if (GiNaC::is_a<GiNaC::numeric>(exponent)) {
+      const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(exponent);
+      if (k.is_integer() && abs(k) <= 1024) {
+        const int b = Emit(base, path);
+        return Instruction(Op::kPowInt, b, k.to_int());
+      }
+      if (k.is_equal(GiNaC::numeric(1, 2))) return Instruction(Op::kSqrt, Emit(base, path));
+      if (k.is_equal(GiNaC::numeric(-1, 2)))
+        return Instruction(Op::kDiv, Constant(1.0), Instruction(Op::kSqrt, Emit(base, path)));
+    }
+    return Instruction(Op::kPow, Emit(base, path), Emit(exponent, path));
+  }
+
+  int EmitFunction(const GiNaC::ex& e, const std::string& path) {
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    const auto unary = UnaryFunctions().find(name);
+    if (unary != UnaryFunctions().end()) return Instruction(unary->second, Emit(e.op(0), path));
+    if (name == "min" || name == "max")
+      return Instruction(name == "min" ? Op::kMin : Op::kMax, Emit(e.op(0), path),
+                         Emit(e.op(1), path));
+    if (name == "abs") {
+      const int a = Emit(e.op(0), path);
+      return Instruction(Op::kMul, a, Instruction(Op::kSign, a));
+    }
+    Fail(path,
+         "function \"" + name + "\" is not supported (supported: " + kSupportedFunctions + ")");
+  }
+
+  int EmitNew(const GiNaC::ex& e, const std::string& path) {
+    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) {
+      CheckEvaluable(e, path);
+      return Constant(ToDouble(e));
+    }
+    if (GiNaC::is_a<GiNaC::add>(e)) return EmitSum(e, path);
+    if (GiNaC::is_a<GiNaC::mul>(e)) return EmitProduct(e, path);
+    if (GiNaC::is_a<GiNaC::power>(e)) return EmitPower(e, path);
+    if (GiNaC::is_a<GiNaC::function>(e)) return EmitFunction(e, path);
+    if (GiNaC::is_a<GiNaC::symbol>(e))
+      Fail(path, "unknown symbol \"" + GiNaC::ex_to<GiNaC::symbol>(e).get_name() + "\"");
+    std::ostringstream text;
+    text << e;
+    Fail(path, "cannot evaluate " + Describe(text.str()));
+  }
+
+  TapeProgram& program_;
+  std::map<GiNaC::ex, int, GiNaC::ex_is_less> memo_;
+  std::map<double, int> constants_;
+};
+
+double IntegerPower(double base, int exponent) {
+  unsigned k = static_cast<unsigned>(exponent < 0 ? -exponent : exponent);
+  double result = 1.0;
+  while (k > 0) {
+    if (k & 1u) result *= base;
+    base *= base;
+    k >>= 1;
+  }
+  return exponent < 0 ? 1.0 / result : result;
+}
+
+double Sign(double a) { return a > 0 ? 1.0 : (a < 0 ? -1.0 : 0.0); }
+
+}  // namespace
+
+ExpressionTape::ExpressionTape(const std::vector<GiNaC::ex>& expressions,
+                               const ExpressionVariables& variables, const std::string& path) {
+  auto program = std::make_unique<TapeProgram>();
+  TapeCompiler compiler(*program, variables);
+  for (std::size_t k = 0; k < expressions.size(); ++k)
+    program->outputs.push_back(compiler.Emit(expressions[k], path + "[" + std::to_string(k) + "]"));
+  program_ = std::move(program);
+}
+
+ExpressionTape::~ExpressionTape() = default;
+
+int ExpressionTape::size() const { return static_cast<int>(program_->outputs.size()); }
+
+std::vector<double> ExpressionTape::NewScratch() const {
+  std::vector<double> scratch(static_cast<std::size_t>(program_->num_registers), 0.0);
+  for (const auto& [r, value] : program_->constants) scratch[static_cast<std::size_t>(r)] = value;
+  return scratch;
+}
+
+void ExpressionTape::Evaluate(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                              double* out, std::vector<double>& scratch) const {
+  const TapeProgram& p = *program_;
+  if (scratch.size() != static_cast<std::size_t>(p.num_registers)) scratch = NewScratch();
+  double* r = scratch.data();
+  r[0] = t;
+  for (Eigen::Index i = 0; i < x.size() && i < p.n; ++i) r[1 + i] = x(i);
+  for (Eigen::Index j = 0; j < u.size() && j < p.m; ++j) r[1 + p.n + j] = u(j);
+  for (const TapeProgram::Instruction& in : p.code) {
+    const double a = r[in.a];
+    double& d = r[in.destination];
+    switch (in.op) {
+      case Op::kAdd: d = a + r[in.b]; break;
+      case Op::kSub: d = a - r[in.b]; break;
+      case Op::kMul: d = a * r[in.b]; break;
+      case Op::kDiv: d = a / r[in.b]; break;
+      case Op::kNeg: d = -a; break;
+      case Op::kPowInt: d = IntegerPower(a, in.b); break;
+      case Op::kPow: d = std::pow(a, r[in.b]); break;
+      case Op::kSqrt: d = std::sqrt(a); break;
+      case Op::kExp: d = std::exp(a); break;
+      case Op::kLog: d = std::log(a); break;
+      case Op::kSin: d = std::sin(a); break;
+      case Op::kCos: d = std::cos(a); break;
+      case Op::kTan: d = std::tan(a); break;
+      case Op::kAsin: d = std::asin(a); break;
+      case Op::kAcos: d = std::acos(a); break;
+      case Op::kAtan: d = std::atan(a); break;
+      case Op::kSinh: d = std::sinh(a); break;
+      case Op::kCosh: d = std::cosh(a); break;
+      case Op::kTanh: d = std::tanh(a); break;
+      case Op::kSign: d = Sign(a); break;
+      case Op::kMin: d = std::fmin(a, r[in.b]); break;
+      case Op::kMax: d = std::fmax(a, r[in.b]); break;
+    }
+  }
+  for (std::size_t k = 0; k < p.outputs.size(); ++k) out[k] = r[p.outputs[k]];
+}
+
+ExpressionFunction::ExpressionFunction(const std::vector<std::string>& texts,
+                                       const ExpressionVariables& variables,
+                                       const std::string& path)
+    : t_(variables.t()), n_(variables.n()), m_(variables.m()) {
+  for (std::size_t k = 0; k < texts.size(); ++k)
+    expressions_.push_back(variables.Parse(texts[k], path + "[" + std::to_string(k) + "]"));
+  value_ = std::make_shared<const ExpressionTape>(expressions_, variables, path);
+  std::vector<GiNaC::ex> derivatives;
+  for (const GiNaC::ex& g : expressions_)
+    for (int i = 0; i < n_; ++i) derivatives.push_back(g.diff(variables.x(i)));
+  for (const GiNaC::ex& g : expressions_)
+    for (int j = 0; j < m_; ++j) derivatives.push_back(g.diff(variables.u(j)));
+  jacobian_ = std::make_shared<const ExpressionTape>(derivatives, variables, path + "'");
+}
+
+std::vector<GiNaC::ex> ExpressionFunction::TimeDerivative() const {
+  std::vector<GiNaC::ex> derivatives;
+  for (const GiNaC::ex& g : expressions_)
+    derivatives.push_back(g.diff(GiNaC::ex_to<GiNaC::symbol>(t_)));
+  return derivatives;
+}
+
+TimeStateFunction ExpressionFunction::Function() const {
+  return [tape = value_, scratch = value_->NewScratch()](
+             double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+             Eigen::VectorXd& out) mutable { tape->Evaluate(t, x, u, out.data(), scratch); };
+}
+
+TimeStateJacobian ExpressionFunction::Jacobian() const {
+  return [tape = jacobian_, scratch = jacobian_->NewScratch(),
+          entries = std::vector<double>(static_cast<std::size_t>(jacobian_->size())), rows = rows(),
+          n = n_, m = m_](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                          Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) mutable {
+    tape->Evaluate(t, x, u, entries.data(), scratch);
+    std::size_t k = 0;
+    for (int r = 0; r < rows; ++r)
+      for (int i = 0; i < n; ++i) Jx(r, i) = entries[k++];
+    for (int r = 0; r < rows; ++r)
+      for (int j = 0; j < m; ++j) Ju(r, j) = entries[k++];
+  };
+}
+
+TimeFunction ExpressionFunction::StateFunction() const {
+  if (m_ != 0) throw std::logic_error("ExpressionFunction::StateFunction: the variables have u");
+  return [tape = value_, scratch = value_->NewScratch()](double t, const Eigen::VectorXd& x,
+                                                         Eigen::VectorXd& out) mutable {
+    tape->Evaluate(t, x, Eigen::VectorXd(), out.data(), scratch);
+  };
+}
+
+TimeMatrixFunction ExpressionFunction::StateJacobian() const {
+  if (m_ != 0) throw std::logic_error("ExpressionFunction::StateJacobian: the variables have u");
+  return [tape = jacobian_, scratch = jacobian_->NewScratch(),
+          entries = std::vector<double>(static_cast<std::size_t>(jacobian_->size())), rows = rows(),
+          n = n_](double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J) mutable {
+    tape->Evaluate(t, x, Eigen::VectorXd(), entries.data(), scratch);
+    for (int r = 0; r < rows; ++r)
+      for (int i = 0; i < n; ++i) J(r, i) = entries[static_cast<std::size_t>(r * n + i)];
+  };
+}
+
+TimeMatrixFunction ExpressionFunction::MatrixValue(int rows, int cols) const {
+  if (m_ != 0 || rows * cols != this->rows())
+    throw std::logic_error("ExpressionFunction::MatrixValue: shape or variables do not match");
+  return [tape = value_, scratch = value_->NewScratch(),
+          entries = std::vector<double>(static_cast<std::size_t>(rows * cols)), rows,
+          cols](double t, const Eigen::VectorXd& x, Eigen::MatrixXd& value) mutable {
+    tape->Evaluate(t, x, Eigen::VectorXd(), entries.data(), scratch);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) value(r, c) = entries[static_cast<std::size_t>(r * cols + c)];
+  };
+}
+
+}  // namespace dvi::dvisim

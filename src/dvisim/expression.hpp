@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dvi/dvi_problem.hpp"
+
+namespace dvi::dvisim {
+
+/// Expressions of scene files (docs/scenes.md), in the notation of [Seed]
+/// Sect. 2: time t, state x1..xn, algebraic variable u1..um, plus named
+/// constant parameters. They are parsed with GiNaC, differentiated
+/// symbolically (exact Jacobians; ∂/∂t stays available for the index
+/// reduction of Theorems 5.2/5.3) and compiled to a flat instruction tape,
+/// since GiNaC's own evalf is far too slow for a right-hand side.
+///
+/// Syntax: numbers, + − * / ^, parentheses, pi, and the functions sqrt, exp,
+/// log, sin, cos, tan, asin, acos, atan, sinh, cosh, tanh, abs, sign, min(a, b),
+/// max(a, b). sign(0) = 0; at a kink the derivative taken is one element of
+/// the generalized gradient (d|a| = sign(a) da, dmin = dmax = ½ at a tie).
+
+/// The variables and parameters an expression may use.
+class ExpressionVariables {
+ public:
+  /// n states x1..xn, m multipliers u1..um, parameters as (name, value);
+  /// params_path names the parameters' JSON object in messages.
+  /// @throws InputError when a parameter name is not an identifier, clashes
+  /// with t, xI, uJ, pi or a function, or its value is not finite.
+  ExpressionVariables(int n, int m, std::vector<std::pair<std::string, double>> params = {},
+                      const std::string& params_path = "params");
+
+  int n() const { return n_; }
+  int m() const { return m_; }
+  const GiNaC::realsymbol& t() const { return t_; }
+  /// Zero-based: x(0) is x1.
+  const GiNaC::realsymbol& x(int i) const { return x_[static_cast<std::size_t>(i)]; }
+  const GiNaC::realsymbol& u(int j) const { return u_[static_cast<std::size_t>(j)]; }
+
+  /// Parses one expression; parameters become their values.
+  /// @throws InputError "PATH: unknown symbol \"y\" (...)", "PATH: cannot parse
+  /// \"...\": DETAIL" or "PATH: function \"f\" is not supported".
+  GiNaC::ex Parse(const std::string& text, const std::string& path) const;
+
+ private:
+  int n_;
+  int m_;
+  GiNaC::realsymbol t_;
+  std::vector<GiNaC::realsymbol> x_;
+  std::vector<GiNaC::realsymbol> u_;
+  GiNaC::symtab table_;
+};
+
+struct TapeProgram;
+
+/// A list of expressions in (t, x, u) compiled to a tape of double
+/// operations with common subexpressions shared. Immutable; evaluation uses a
+/// caller-owned scratch buffer, so copies may run concurrently.
+class ExpressionTape {
+ public:
+  /// @throws InputError naming path[k] when expression k uses something the
+  /// tape cannot evaluate (a non-real number, an unsupported function).
+  ExpressionTape(const std::vector<GiNaC::ex>& expressions, const ExpressionVariables& variables,
+                 const std::string& path);
+  ~ExpressionTape();
+
+  int size() const;
+  /// A scratch buffer of the right size for Evaluate.
+  std::vector<double> NewScratch() const;
+  /// out[k] = expression k at (t, x, u). @pre x, u sized n, m; out holds size().
+  void Evaluate(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, double* out,
+                std::vector<double>& scratch) const;
+
+ private:
+  std::unique_ptr<const TapeProgram> program_;
+};
+
+/// g(t, x, u) ∈ ℝʳ given as r expressions, with its exact partial Jacobians
+/// ∂g/∂x (r×n) and ∂g/∂u (r×m) compiled too.
+class ExpressionFunction {
+ public:
+  /// Parses texts[k] (JSON path path[k]) and compiles g and its Jacobians.
+  /// @throws InputError as ExpressionVariables::Parse and ExpressionTape.
+  ExpressionFunction(const std::vector<std::string>& texts, const ExpressionVariables& variables,
+                     const std::string& path);
+
+  int rows() const { return static_cast<int>(expressions_.size()); }
+  const std::vector<GiNaC::ex>& expressions() const { return expressions_; }
+  /// ∂g/∂t, symbolically.
+  std::vector<GiNaC::ex> TimeDerivative() const;
+
+  /// g(t, x, u) as a TimeStateFunction and its (Jx, Ju) as a TimeStateJacobian.
+  TimeStateFunction Function() const;
+  TimeStateJacobian Jacobian() const;
+  /// For g(t, x) (the expressions must not use u): value and ∂g/∂x.
+  TimeFunction StateFunction() const;
+  TimeMatrixFunction StateJacobian() const;
+  /// For a matrix-valued g(t, x) written row-major (rows·cols expressions):
+  /// the value as a rows×cols matrix.
+  TimeMatrixFunction MatrixValue(int rows, int cols) const;
+
+ private:
+  std::vector<GiNaC::ex> expressions_;
+  GiNaC::ex t_;
+  int n_;
+  int m_;
+  std::shared_ptr<const ExpressionTape> value_;
+  std::shared_ptr<const ExpressionTape> jacobian_;  ///< ∂g/∂x row-major, then ∂g/∂u row-major.
+};
+
+}  // namespace dvi::dvisim

@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "run_command.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+#include <tuple>
+#include <type_traits>
+#include <variant>
+
+#include "dvi/error.hpp"
+#include "plot.hpp"
+#include "solve_command.hpp"
+
+namespace dvi::dvisim {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kProgressBarWidth = 40;
+
+// Enough digits to read back the same double (files).
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", value);
+  return text;
+}
+
+// Six significant digits (messages for people).
+std::string Short(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", value);
+  return text;
+}
+
+// The u columns of the output: s for the filippov matrix form, u (which is
+// already ν for pds and s for a FilippovSystem) otherwise.
+Eigen::VectorXd OutputMultiplier(const Scene& scene, const Eigen::VectorXd& u) {
+  return scene.filippov_sign_lcs ? FilippovSignFromLcs(u) : u;
+}
+
+// A progress bar redrawn in place when the whole percentage changes.
+std::function<void(double)> ProgressBar(std::ostream& err, double horizon) {
+  return [&err, horizon, shown = -1](double t) mutable {
+    const int percent = static_cast<int>(100.0 * t / horizon);
+    if (percent == shown) return;
+    shown = percent;
+    const int filled = kProgressBarWidth * percent / 100;
+    err << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+        << std::string(static_cast<std::size_t>(kProgressBarWidth - filled), ' ') << "] " << percent
+        << "%" << std::flush;
+  };
+}
+
+void WriteFile(const fs::path& path, const std::string& contents) {
+  std::ofstream stream(path, std::ios::binary | std::ios::trunc);
+  stream << contents;
+  stream.close();
+  if (!stream) throw InputError("output.dir: cannot write " + path.string());
+}
+
+// Writes the files into a temporary directory beside dir, then moves them
+// in, so a reader never sees half an output; the temporary directory goes
+// away on every path.
+std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& trajectory) {
+  fs::path dir(scene.output.dir);
+  if (dir.filename().empty()) dir = dir.parent_path();
+  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+  const fs::path temporary =
+      parent / ("." + dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  std::error_code error;
+  std::vector<std::string> written;
+  try {
+    fs::create_directories(parent, error);
+    if (error || !fs::create_directory(temporary, error) || error)
+      throw InputError("output.dir: cannot create " + temporary.string() + " (" + error.message() +
+                       ")");
+    WriteFile(temporary / "trajectory.csv", TrajectoryCsv(scene, trajectory));
+    WriteFile(temporary / "summary.json", SummaryJson(scene, trajectory).dump(2) + "\n");
+    std::vector<std::string> names{"trajectory.csv", "summary.json"};
+    if (scene.output.plot) {
+      PlotRequest request{
+          scene.name.empty() ? scene.type : scene.name, scene.n, scene.output_multipliers, {}};
+      for (const Event& event : trajectory.events) request.event_times.push_back(event.time);
+      WritePlots(temporary.string(), request);
+      names.insert(names.end(), {"plot.png", "plot.svg"});
+    }
+    fs::create_directories(dir, error);
+    if (error || !fs::is_directory(dir))
+      throw InputError("output.dir: cannot create the directory " + dir.string() +
+                       (error ? " (" + error.message() + ")" : ""));
+    for (const std::string& name : names) {
+      fs::rename(temporary / name, dir / name, error);
+      if (error)
+        throw InputError("output.dir: cannot move " + name + " into " + dir.string() + " (" +
+                         error.message() + ")");
+      written.push_back((dir / name).string());
+    }
+  } catch (...) {
+    // Files already moved in go too: a run leaves all of its outputs or none.
+    std::error_code ignored;
+    for (const std::string& file : written) fs::remove(file, ignored);
+    fs::remove_all(temporary, ignored);
+    throw;
+  }
+  fs::remove_all(temporary, error);
+  return written;
+}
+
+void PrintSummary(const Scene& scene, const Trajectory& trajectory,
+                  const std::vector<std::string>& files, std::ostream& out) {
+  const IntegrationStats& stats = trajectory.stats;
+  out << (scene.name.empty() ? std::string("scene") : scene.name) << " (" << scene.type
+      << ", n = " << scene.n << ", " << scene.output_multipliers
+      << " multiplier columns): " << ToString(trajectory.status) << "\n"
+      << "  time-stepping to t = " << Short(trajectory.final_time())
+      << " with h = " << Short(scene.stepping.h) << ", theta = " << Short(scene.stepping.theta)
+      << ", gamma = " << Short(scene.stepping.gamma) << "\n"
+      << "  " << stats.steps << " steps (" << stats.rejected_steps << " rejected), "
+      << stats.vi_solves << " VI solves, " << trajectory.events.size() << " events, "
+      << Short(stats.wall_seconds) << " s\n";
+  for (const std::string& file : files) out << "  wrote " << file << "\n";
+}
+
+}  // namespace
+
+void ApplyOverrides(const RunCommand& command, Scene& scene) {
+  if (command.method) {
+    const std::string& name = *command.method;
+    if (name == "event" || name == "bvp")
+      throw InputError("--method: \"" + name +
+                       "\" is not available in this version (use auto or stepping)");
+    if (name != "auto" && name != "stepping")
+      throw InputError("--method: unknown method \"" + name + "\" (expected auto or stepping)");
+    scene.method = name;
+  }
+  if (command.out_dir) {
+    if (command.out_dir->empty()) throw InputError("--out: expected a directory");
+    scene.output.dir = *command.out_dir;
+  }
+  if (command.h) {
+    if (!(*command.h > 0 && *command.h <= scene.horizon))
+      throw InputError("--h: expected a step in (0, horizon] = (0, " + Short(scene.horizon) +
+                       "], got " + Short(*command.h));
+    scene.stepping.h = *command.h;
+  }
+  for (const auto& [name, value, field] :
+       {std::tuple{"--theta", command.theta, &scene.stepping.theta},
+        std::tuple{"--gamma", command.gamma, &scene.stepping.gamma}}) {
+    if (!value) continue;
+    if (!(*value >= 0 && *value <= 1))
+      throw InputError(std::string(name) + ": expected a number in [0, 1], got " + Short(*value));
+    *field = *value;
+  }
+}
+
+Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress) {
+  TimeSteppingOptions options = scene.stepping;
+  options.output_times = OutputTimes(scene);
+  options.progress = std::move(progress);
+  return std::visit(
+      [&](const auto& problem) -> Trajectory {
+        using Problem = std::decay_t<decltype(problem)>;
+        if constexpr (std::is_same_v<Problem, FilippovSystem>) {
+          return IntegrateTimeStepping(problem.ToSeparable(), scene.x0, 0.0, scene.horizon,
+                                       options);
+        } else {
+          return IntegrateTimeStepping(problem, scene.x0, 0.0, scene.horizon, options);
+        }
+      },
+      scene.problem);
+}
+
+std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory) {
+  std::string csv = "t";
+  for (int i = 1; i <= scene.n; ++i) csv += ",x" + std::to_string(i);
+  for (int j = 1; j <= scene.output_multipliers; ++j) csv += ",u" + std::to_string(j);
+  csv += "\n";
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    csv += Number(trajectory.times[k]);
+    for (Eigen::Index i = 0; i < trajectory.states[k].size(); ++i)
+      csv += "," + Number(trajectory.states[k](i));
+    const Eigen::VectorXd u = OutputMultiplier(scene, trajectory.multipliers[k]);
+    for (Eigen::Index j = 0; j < u.size(); ++j) csv += "," + Number(u(j));
+    csv += "\n";
+  }
+  return csv;
+}
+
+nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& trajectory) {
+  nlohmann::ordered_json summary;
+  summary["status"] = std::string(ToString(trajectory.status));
+  summary["message"] = trajectory.message;
+  summary["name"] = scene.name;
+  summary["type"] = scene.type;
+  nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
+  for (const MethodInterval& interval : trajectory.intervals)
+    intervals.push_back(
+        {{"from", interval.from},
+         {"to", interval.to},
+         {"name", interval.name},
+         {"reason", scene.method == "auto"
+                        ? "auto: time-stepping is this version's method; " + interval.reason
+                        : interval.reason}});
+  summary["method"] = intervals;
+  summary["requested_method"] = scene.method;
+  summary["h"] = scene.stepping.h;
+  summary["theta"] = scene.stepping.theta;
+  summary["gamma"] = scene.stepping.gamma;
+  nlohmann::ordered_json events = nlohmann::ordered_json::array();
+  for (const Event& event : trajectory.events)
+    events.push_back({{"time", event.time},
+                      {"kind", std::string(ToString(event.kind))},
+                      {"index", event.index}});
+  summary["events"] = events;
+  const IntegrationStats& stats = trajectory.stats;
+  summary["stats"] = {{"steps", stats.steps},
+                      {"rejected_steps", stats.rejected_steps},
+                      {"rhs_evals", stats.rhs_evals},
+                      {"vi_solves", stats.vi_solves},
+                      {"jacobian_evals", stats.jacobian_evals},
+                      {"solver_iterations", stats.solver_iterations},
+                      {"max_residual", NumberToJson(stats.max_residual)},
+                      {"wall_seconds", stats.wall_seconds}};
+  summary["x_final"] =
+      VectorToJson(trajectory.states.empty() ? Eigen::VectorXd() : trajectory.states.back());
+  return summary;
+}
+
+int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
+  try {
+    Scene scene = ReadScene(command.scene_path);
+    ApplyOverrides(command, scene);
+    Trajectory trajectory;
+    try {
+      trajectory = IntegrateScene(scene, command.progress_bar ? ProgressBar(err, scene.horizon)
+                                                              : std::function<void(double)>());
+    } catch (const InvalidInputError& error) {
+      throw InputError(command.scene_path + ": problem: " + error.what());
+    }
+    if (command.progress_bar) err << "\n";
+    if (!trajectory.succeeded()) {
+      err << "dvisim: " << command.scene_path << ": " << ToString(trajectory.status) << ": "
+          << trajectory.message << " (no files written)\n";
+      return kExitNumericalFailure;
+    }
+    PrintSummary(scene, trajectory, WriteOutputs(scene, trajectory), out);
+    return kExitSolved;
+  } catch (const InputError& error) {
+    err << "dvisim: " << error.what() << "\n";
+  } catch (const InvalidInputError& error) {
+    err << "dvisim: " << command.scene_path << ": " << error.what() << "\n";
+  }
+  return kExitBadInput;
+}
+
+}  // namespace dvi::dvisim

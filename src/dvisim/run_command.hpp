@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "dvi/trajectory.hpp"
+#include "scene_file.hpp"
+
+namespace dvi::dvisim {
+
+/// `dvisim run SCENE.json [--method M] [--out DIR] [--h H] [--theta θ] [--gamma γ]`.
+struct RunCommand {
+  std::string scene_path;
+  std::optional<std::string> method;   ///< Overrides method.name.
+  std::optional<std::string> out_dir;  ///< Overrides output.dir.
+  std::optional<double> h;
+  std::optional<double> theta;
+  std::optional<double> gamma;
+  /// Draw a progress bar on `err` (the caller sets it when stderr is a terminal).
+  bool progress_bar = false;
+};
+
+/// Applies the command-line overrides to a scene, checked like the file's
+/// fields. @throws InputError naming the option ("--theta: ...").
+void ApplyOverrides(const RunCommand& command, Scene& scene);
+
+/// Integrates the scene with dvi::IntegrateTimeStepping, sampling
+/// OutputTimes(scene) (plus the ends of steps where the mode changed).
+/// @throws InvalidInputError when the library rejects the problem or x0.
+Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress = {});
+
+/// trajectory.csv: header t,x1..xn,u1..um, one row per sample; u holds s for
+/// filippov scenes in matrix form and ν for pds scenes (scene-format.md).
+std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory);
+
+/// summary.json: status, message, name, type, method (intervals), requested
+/// method, h, theta, gamma, events, stats, x_final.
+nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& trajectory);
+
+/// Runs the command; returns the exit code of solve_command.hpp: 0 success,
+/// 1 numerical failure (message naming time and step on `err`, no files),
+/// 2 bad input (one-line message naming the field, no files). The files
+/// appear whole or not at all: they are written into a temporary directory
+/// beside the output directory and moved in at the end. A short summary goes
+/// to `out`.
+int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err);
+
+}  // namespace dvi::dvisim

@@ -1,0 +1,476 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "scene_file.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+#include "dvi/error.hpp"
+#include "expression.hpp"
+#include "problem_file.hpp"
+
+namespace dvi::dvisim {
+namespace {
+
+using nlohmann::json;
+
+// Without method.h: a thousand steps over the horizon, fine enough to draw the
+// trajectory and cheap enough to run at once; the user refines from there.
+constexpr int kDefaultStepsPerHorizon = 1000;
+// Without output.times and output.samples: this many rows, enough for a plot.
+constexpr int kDefaultSamples = 501;
+// Output times closer than this fraction of the horizon are one row.
+constexpr double kMergeFraction = 1e-12;
+
+[[noreturn]] void Fail(const std::string& path, const std::string& message) {
+  throw InputError(path + ": " + message);
+}
+
+std::string Field(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+std::string Indexed(const std::string& path, std::size_t k) {
+  return path + "[" + std::to_string(k) + "]";
+}
+
+const json* FindField(const json& object, const std::string& key) {
+  const auto it = object.find(key);
+  return it == object.end() ? nullptr : &*it;
+}
+
+void RejectUnknownFields(const json& object, const std::string& path,
+                         const std::vector<std::string>& known, const std::string& context = "") {
+  for (const auto& item : object.items()) {
+    if (std::find(known.begin(), known.end(), item.key()) != known.end()) continue;
+    std::string list;
+    for (const std::string& key : known) list += (list.empty() ? "" : ", ") + key;
+    Fail(path.empty() ? "(file)" : path,
+         "unknown field \"" + item.key() + "\"" + context + " (expected " + list + ")");
+  }
+}
+
+void RequireObject(const json& value, const std::string& path) {
+  if (!value.is_object()) Fail(path, "expected an object, got " + Describe(value));
+}
+
+// Library constructors and Validate() check their arguments; their messages
+// gain the JSON path so the user knows which field to fix.
+template <typename Build>
+auto WithPath(const std::string& path, Build build) -> decltype(build()) {
+  try {
+    return build();
+  } catch (const InvalidInputError& error) {
+    Fail(path, error.what());
+  }
+}
+
+// An expression is a string, or a number standing for itself.
+std::string ReadExpressionText(const json& value, const std::string& path) {
+  if (value.is_string()) return value.get<std::string>();
+  if (value.is_number()) {
+    std::ostringstream text;
+    text.precision(17);
+    text << value.get<double>();
+    return text.str();
+  }
+  Fail(path, "expected an expression (a string or a number), got " + Describe(value));
+}
+
+std::vector<std::string> ReadExpressions(const json& value, const std::string& path,
+                                         int expected_size = -1) {
+  if (!value.is_array()) Fail(path, "expected an array of expressions, got " + Describe(value));
+  if (expected_size >= 0 && value.size() != static_cast<std::size_t>(expected_size))
+    Fail(path, "has " + std::to_string(value.size()) + " entries, expected " +
+                   std::to_string(expected_size));
+  std::vector<std::string> texts;
+  for (std::size_t k = 0; k < value.size(); ++k)
+    texts.push_back(ReadExpressionText(value[k], Indexed(path, k)));
+  return texts;
+}
+
+std::vector<std::pair<std::string, double>> ReadParams(const json& problem,
+                                                       const std::string& path) {
+  std::vector<std::pair<std::string, double>> params;
+  const json* value = FindField(problem, "params");
+  if (!value) return params;
+  RequireObject(*value, path);
+  for (const auto& item : value->items())
+    params.emplace_back(item.key(), ReadNumber(item.value(), Field(path, item.key()), false));
+  return params;
+}
+
+ConvexSet ReadOptionalSet(const json& problem, const std::string& path, int dim) {
+  const json* set = FindField(problem, "set");
+  return set ? ReadSet(*set, Field(path, "set"), dim) : ConvexSet::Orthant(dim);
+}
+
+void CheckShape(const MatrixField& M, const std::string& path, Eigen::Index rows,
+                Eigen::Index cols) {
+  if (M.rows() != rows || M.cols() != cols)
+    Fail(path, "is " + std::to_string(M.rows()) + "x" + std::to_string(M.cols()) + ", expected " +
+                   std::to_string(rows) + "x" + std::to_string(cols));
+}
+
+SparseMatrix ToSparse(const MatrixField& M) {
+  return M.is_sparse ? M.sparse : SparseMatrix(M.dense.sparseView());
+}
+
+void ReadLcs(const json& problem, const std::string& path, Scene& scene) {
+  RejectUnknownFields(problem, path, {"type", "A", "B", "C", "D", "p", "q", "set"},
+                      " for type lcs");
+  const MatrixField A = ReadMatrix(RequireField(problem, "A", path), Field(path, "A"));
+  const MatrixField D = ReadMatrix(RequireField(problem, "D", path), Field(path, "D"));
+  CheckShape(A, Field(path, "A"), A.rows(), A.rows());
+  CheckShape(D, Field(path, "D"), D.rows(), D.rows());
+  const Eigen::Index n = A.rows();
+  const Eigen::Index m = D.rows();
+  if (n < 1) Fail(Field(path, "A"), "is empty; an LCS needs at least one state");
+  const MatrixField B = ReadMatrix(RequireField(problem, "B", path), Field(path, "B"));
+  const MatrixField C = ReadMatrix(RequireField(problem, "C", path), Field(path, "C"));
+  CheckShape(B, Field(path, "B"), n, m);
+  CheckShape(C, Field(path, "C"), m, n);
+  const json* p = FindField(problem, "p");
+  const json* q = FindField(problem, "q");
+  Eigen::VectorXd p_value =
+      p ? ReadVector(*p, Field(path, "p"), false, static_cast<int>(n)) : Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd q_value =
+      q ? ReadVector(*q, Field(path, "q"), false, static_cast<int>(m)) : Eigen::VectorXd::Zero(m);
+  Lcs lcs = WithPath(path, [&] {
+    return Lcs::Sparse(ToSparse(A), ToSparse(B), ToSparse(C), ToSparse(D), p_value, q_value);
+  });
+  lcs.K = ReadOptionalSet(problem, path, static_cast<int>(m));
+  WithPath(path, [&] { lcs.Validate(); });
+  scene.n = static_cast<int>(n);
+  scene.output_multipliers = static_cast<int>(m);
+  scene.problem = std::move(lcs);
+}
+
+void ReadDvi(const json& problem, const std::string& path, Scene& scene, bool box) {
+  RejectUnknownFields(problem, path, {"type", "f", "F", "set", "params"},
+                      std::string(" for type ") + (box ? "box-dvi" : "dvi"));
+  const json& f_json = RequireField(problem, "f", path);
+  const json* F_json = FindField(problem, "F");
+  if (!f_json.is_array() || f_json.empty())
+    Fail(Field(path, "f"), "expected a non-empty array of expressions, got " + Describe(f_json));
+  const int n = static_cast<int>(f_json.size());
+  const std::vector<std::string> F_texts =
+      F_json ? ReadExpressions(*F_json, Field(path, "F")) : std::vector<std::string>{};
+  const int m = static_cast<int>(F_texts.size());
+  const ExpressionVariables variables(n, m, ReadParams(problem, Field(path, "params")),
+                                      Field(path, "params"));
+  const ExpressionFunction f(ReadExpressions(f_json, Field(path, "f")), variables,
+                             Field(path, "f"));
+  const ExpressionFunction F(F_texts, variables, Field(path, "F"));
+  Dvi dvi;
+  dvi.n = n;
+  dvi.m = m;
+  dvi.f = f.Function();
+  dvi.f_jacobian = f.Jacobian();
+  dvi.F = F.Function();
+  dvi.F_jacobian = F.Jacobian();
+  if (box && !FindField(problem, "set"))
+    Fail(path, "missing field \"set\" (type box-dvi needs a box)");
+  dvi.K = ReadOptionalSet(problem, path, m);
+  if (box && !dvi.K.IsBox())
+    Fail(Field(path, "set"), "type box-dvi needs a box, got " + dvi.K.Describe());
+  WithPath(path, [&] { dvi.Validate(); });
+  scene.n = n;
+  scene.output_multipliers = m;
+  scene.problem = std::move(dvi);
+}
+
+void ReadPds(const json& problem, const std::string& path, Scene& scene) {
+  RejectUnknownFields(problem, path, {"type", "F", "A", "c", "set", "params"}, " for type pds");
+  const json* F_json = FindField(problem, "F");
+  const json* A_json = FindField(problem, "A");
+  if ((F_json != nullptr) == (A_json != nullptr))
+    Fail(path, "give either \"F\" (expressions) or \"A\" and \"c\" (F(x) = A x - c)");
+  ProjectedDynamics pds;
+  int n = 0;
+  if (A_json) {
+    if (FindField(problem, "params"))
+      Fail(Field(path, "params"), "only used with \"F\" expressions");
+    const Eigen::MatrixXd A = ReadMatrix(*A_json, Field(path, "A")).ToDense();
+    if (A.rows() < 1 || A.rows() != A.cols())
+      Fail(Field(path, "A"), "is " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()) +
+                                 ", expected a non-empty square matrix");
+    n = static_cast<int>(A.rows());
+    const json* c = FindField(problem, "c");
+    const Eigen::VectorXd c_value =
+        c ? ReadVector(*c, Field(path, "c"), false, n) : Eigen::VectorXd::Zero(n);
+    const ConvexSet K = ReadOptionalSet(problem, path, n);
+    pds = WithPath(path, [&] { return ProjectedDynamics::Affine(A, c_value, K); });
+  } else {
+    if (FindField(problem, "c")) Fail(Field(path, "c"), "only used with \"A\"");
+    if (!F_json->is_array() || F_json->empty())
+      Fail(Field(path, "F"), "expected a non-empty array of expressions, got " + Describe(*F_json));
+    n = static_cast<int>(F_json->size());
+    const ExpressionVariables variables(n, 0, ReadParams(problem, Field(path, "params")),
+                                        Field(path, "params"));
+    const ExpressionFunction F(ReadExpressions(*F_json, Field(path, "F")), variables,
+                               Field(path, "F"));
+    pds.K = ReadOptionalSet(problem, path, n);
+    pds.F = F.StateFunction();
+    pds.F_jacobian = F.StateJacobian();
+  }
+  WithPath(path, [&] { pds.Validate(); });
+  scene.n = n;
+  scene.output_multipliers = n;
+  scene.problem = std::move(pds);
+}
+
+void ReadFilippov(const json& problem, const std::string& path, Scene& scene) {
+  RejectUnknownFields(problem, path, {"type", "E", "p", "f0", "f1", "h", "params"},
+                      " for type filippov");
+  const json* E_json = FindField(problem, "E");
+  const json* f0_json = FindField(problem, "f0");
+  if ((E_json != nullptr) == (f0_json != nullptr))
+    Fail(path, "give either \"E\" (and \"p\"), or \"f0\", \"f1\" and \"h\"");
+  if (E_json) {
+    for (const char* key : {"f1", "h", "params"})
+      if (FindField(problem, key)) Fail(Field(path, key), "only used with \"f0\"");
+    const Eigen::MatrixXd E = ReadMatrix(*E_json, Field(path, "E")).ToDense();
+    if (E.rows() < 1 || E.rows() != E.cols())
+      Fail(Field(path, "E"), "is " + std::to_string(E.rows()) + "x" + std::to_string(E.cols()) +
+                                 ", expected a non-empty square matrix");
+    const int n = static_cast<int>(E.rows());
+    const json* p = FindField(problem, "p");
+    const Eigen::VectorXd p_value =
+        p ? ReadVector(*p, Field(path, "p"), false, n) : Eigen::VectorXd::Zero(n);
+    scene.problem = WithPath(path, [&] { return FilippovSignLcs(E, p_value); });
+    scene.filippov_sign_lcs = true;
+    scene.n = n;
+    scene.output_multipliers = n;
+    return;
+  }
+  if (FindField(problem, "p")) Fail(Field(path, "p"), "only used with \"E\"");
+  if (!f0_json->is_array() || f0_json->empty())
+    Fail(Field(path, "f0"), "expected a non-empty array of expressions, got " + Describe(*f0_json));
+  const int n = static_cast<int>(f0_json->size());
+  const std::vector<std::string> h_texts =
+      ReadExpressions(RequireField(problem, "h", path), Field(path, "h"));
+  const int k = static_cast<int>(h_texts.size());
+  if (k < 1) Fail(Field(path, "h"), "needs at least one switching function");
+  const json& f1_json = RequireField(problem, "f1", path);
+  const std::string f1_path = Field(path, "f1");
+  if (!f1_json.is_array() || f1_json.size() != static_cast<std::size_t>(n))
+    Fail(f1_path, "expected " + std::to_string(n) + " rows (one per state) of " +
+                      std::to_string(k) + " expressions, got " + Describe(f1_json));
+  std::vector<std::string> f1_texts;
+  for (std::size_t r = 0; r < f1_json.size(); ++r) {
+    const std::vector<std::string> row = ReadExpressions(f1_json[r], Indexed(f1_path, r), k);
+    f1_texts.insert(f1_texts.end(), row.begin(), row.end());
+  }
+  const ExpressionVariables variables(n, 0, ReadParams(problem, Field(path, "params")),
+                                      Field(path, "params"));
+  const ExpressionFunction f0(ReadExpressions(*f0_json, Field(path, "f0")), variables,
+                              Field(path, "f0"));
+  // Parsed entry by entry first so that a message names f1[r][c], not the
+  // flat row-major index the compiled function uses.
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < k; ++c)
+      variables.Parse(
+          f1_texts[static_cast<std::size_t>(r * k + c)],
+          Indexed(Indexed(f1_path, static_cast<std::size_t>(r)), static_cast<std::size_t>(c)));
+  const ExpressionFunction f1(f1_texts, variables, f1_path);
+  const ExpressionFunction h(h_texts, variables, Field(path, "h"));
+  FilippovSystem system;
+  system.n = n;
+  system.k = k;
+  system.f0 = f0.StateFunction();
+  system.f0_jacobian = f0.StateJacobian();
+  system.f1 = f1.MatrixValue(n, k);
+  system.h = h.StateFunction();
+  system.h_jacobian = h.StateJacobian();
+  WithPath(path, [&] { system.Validate(); });
+  scene.n = n;
+  scene.output_multipliers = k;
+  scene.problem = std::move(system);
+}
+
+void ReadProblem(const json& problem, Scene& scene) {
+  const std::string path = "problem";
+  RequireObject(problem, path);
+  const json& type = RequireField(problem, "type", path);
+  if (!type.is_string()) Fail(Field(path, "type"), "expected a string, got " + Describe(type));
+  scene.type = type.get<std::string>();
+  if (scene.type == "lcs") {
+    ReadLcs(problem, path, scene);
+  } else if (scene.type == "dvi" || scene.type == "box-dvi") {
+    ReadDvi(problem, path, scene, scene.type == "box-dvi");
+  } else if (scene.type == "pds") {
+    ReadPds(problem, path, scene);
+  } else if (scene.type == "filippov") {
+    ReadFilippov(problem, path, scene);
+  } else if (scene.type == "nash") {
+    Fail(Field(path, "type"), "\"nash\" scenes are not supported yet");
+  } else {
+    Fail(Field(path, "type"),
+         "unknown type " + Describe(type) + " (expected lcs, dvi, box-dvi, pds or filippov)");
+  }
+}
+
+double ReadUnitInterval(const json& value, const std::string& path) {
+  const double x = ReadNumber(value, path, false);
+  if (!(x >= 0 && x <= 1)) Fail(path, "expected a number in [0, 1], got " + Describe(value));
+  return x;
+}
+
+double ReadPositive(const json& value, const std::string& path) {
+  const double x = ReadNumber(value, path, false);
+  if (!(x > 0)) Fail(path, "expected a number > 0, got " + Describe(value));
+  return x;
+}
+
+void ReadMethod(const json* method, Scene& scene) {
+  const std::string path = "method";
+  TimeSteppingOptions& options = scene.stepping;
+  options.h = scene.horizon / kDefaultStepsPerHorizon;
+  if (!method) return;
+  if (method->is_string()) {
+    scene.method = method->get<std::string>();
+  } else {
+    RequireObject(*method, path);
+    RejectUnknownFields(*method, path,
+                        {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
+                         "h_max", "max_steps", "solver", "tol"});
+    if (const json* name = FindField(*method, "name")) {
+      if (!name->is_string())
+        Fail(Field(path, "name"), "expected a string, got " + Describe(*name));
+      scene.method = name->get<std::string>();
+    }
+  }
+  const std::string name_path = method->is_string() ? path : Field(path, "name");
+  if (scene.method == "event" || scene.method == "bvp")
+    Fail(name_path, "\"" + scene.method +
+                        "\" is not available in this version (use \"auto\" or \"stepping\")");
+  if (scene.method != "auto" && scene.method != "stepping")
+    Fail(name_path, "unknown method " + Describe(scene.method) + " (expected auto or stepping)");
+  if (method->is_string()) return;
+  if (const json* h = FindField(*method, "h")) options.h = ReadPositive(*h, Field(path, "h"));
+  if (options.h > scene.horizon)
+    Fail(Field(path, "h"), "is larger than the horizon " + Describe(scene.horizon));
+  if (const json* theta = FindField(*method, "theta"))
+    options.theta = ReadUnitInterval(*theta, Field(path, "theta"));
+  if (const json* gamma = FindField(*method, "gamma"))
+    options.gamma = ReadUnitInterval(*gamma, Field(path, "gamma"));
+  if (const json* rtol = FindField(*method, "rtol"))
+    options.rtol = ReadTolerance(*rtol, Field(path, "rtol"));
+  if (const json* atol = FindField(*method, "atol"))
+    options.atol = ReadTolerance(*atol, Field(path, "atol"));
+  if (const json* scheme = FindField(*method, "scheme")) {
+    if (!scheme->is_string())
+      Fail(Field(path, "scheme"), "expected a string, got " + Describe(*scheme));
+    options.scheme = WithPath(Field(path, "scheme"),
+                              [&] { return ParseSteppingScheme(scheme->get<std::string>()); });
+  }
+  if (const json* adaptive = FindField(*method, "adaptive")) {
+    if (!adaptive->is_boolean())
+      Fail(Field(path, "adaptive"), "expected true or false, got " + Describe(*adaptive));
+    options.adaptive = adaptive->get<bool>();
+  }
+  if (const json* h_max = FindField(*method, "h_max"))
+    options.h_max = ReadPositive(*h_max, Field(path, "h_max"));
+  if (const json* max_steps = FindField(*method, "max_steps")) {
+    if (!max_steps->is_number_integer() || max_steps->get<long>() < 1)
+      Fail(Field(path, "max_steps"), "expected an integer ≥ 1, got " + Describe(*max_steps));
+    options.max_steps = max_steps->get<long>();
+  }
+  if (const json* solver = FindField(*method, "solver"))
+    options.solver.method = ReadSolver(*solver, Field(path, "solver"));
+  if (const json* tol = FindField(*method, "tol"))
+    options.solver.tolerance = ReadTolerance(*tol, Field(path, "tol"));
+}
+
+void ReadOutput(const json* output, Scene& scene) {
+  const std::string path = "output";
+  SceneOutput& out = scene.output;
+  out.dir = "out/" + (scene.name.empty() ? std::string("scene") : scene.name);
+  if (output) {
+    RequireObject(*output, path);
+    RejectUnknownFields(*output, path, {"dir", "times", "samples", "plot"});
+    if (const json* dir = FindField(*output, "dir")) {
+      if (!dir->is_string() || dir->get<std::string>().empty())
+        Fail(Field(path, "dir"), "expected a non-empty string, got " + Describe(*dir));
+      out.dir = dir->get<std::string>();
+    }
+    if (const json* times = FindField(*output, "times")) {
+      const Eigen::VectorXd values = ReadVector(*times, Field(path, "times"), false);
+      for (Eigen::Index k = 0; k < values.size(); ++k) {
+        if (values(k) < 0 || values(k) > scene.horizon)
+          Fail(Indexed(Field(path, "times"), static_cast<std::size_t>(k)),
+               Describe(values(k)) + " is outside [0, horizon] = [0, " + Describe(scene.horizon) +
+                   "]");
+        out.times.push_back(values(k));
+      }
+    }
+    if (const json* samples = FindField(*output, "samples")) {
+      if (!samples->is_number_integer() || samples->get<long>() < 2 ||
+          samples->get<long>() > 10'000'000)
+        Fail(Field(path, "samples"),
+             "expected an integer in [2, 10000000], got " + Describe(*samples));
+      out.samples = samples->get<int>();
+    }
+    if (const json* plot = FindField(*output, "plot")) {
+      if (!plot->is_boolean())
+        Fail(Field(path, "plot"), "expected true or false, got " + Describe(*plot));
+      out.plot = plot->get<bool>();
+    }
+  }
+  if (out.times.empty() && out.samples == 0) out.samples = kDefaultSamples;
+}
+
+}  // namespace
+
+std::vector<double> OutputTimes(const Scene& scene) {
+  std::vector<double> times = scene.output.times;
+  const int samples = scene.output.samples;
+  for (int k = 0; k < samples; ++k)
+    times.push_back(k + 1 == samples ? scene.horizon : scene.horizon * k / (samples - 1));
+  std::sort(times.begin(), times.end());
+  std::vector<double> merged;
+  for (const double t : times)
+    if (merged.empty() || t - merged.back() > kMergeFraction * scene.horizon) merged.push_back(t);
+  return merged;
+}
+
+Scene ParseScene(const std::string& text) {
+  const json root = ParseJson(text);
+  if (!root.is_object()) Fail("(file)", "expected a JSON object, got " + Describe(root));
+  if (FindField(root, "boundary"))
+    Fail("boundary", "boundary-value scenes are not supported yet (give \"x0\")");
+  RejectUnknownFields(root, "",
+                      {"name", "description", "problem", "x0", "horizon", "method", "output"});
+  Scene scene;
+  if (const json* name = FindField(root, "name")) {
+    if (!name->is_string()) Fail("name", "expected a string, got " + Describe(*name));
+    scene.name = name->get<std::string>();
+  }
+  if (const json* description = FindField(root, "description");
+      description && !description->is_string())
+    Fail("description", "expected a string, got " + Describe(*description));
+  ReadProblem(RequireField(root, "problem", "(file)"), scene);
+  scene.x0 = ReadVector(RequireField(root, "x0", "(file)"), "x0", false, scene.n);
+  scene.horizon = ReadPositive(RequireField(root, "horizon", "(file)"), "horizon");
+  ReadMethod(FindField(root, "method"), scene);
+  ReadOutput(FindField(root, "output"), scene);
+  return scene;
+}
+
+Scene ReadScene(const std::string& path) {
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
+  std::ostringstream contents;
+  contents << stream.rdbuf();
+  if (stream.bad()) throw InputError(path + ": cannot read the file");
+  try {
+    return ParseScene(contents.str());
+  } catch (const InputError& error) {
+    throw InputError(path + ": " + error.what());
+  }
+}
+
+}  // namespace dvi::dvisim

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "dvi/filippov.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/projected_dynamics.hpp"
+#include "dvi/time_stepping.hpp"
+#include "json_reading.hpp"
+
+namespace dvi::dvisim {
+
+/// A scene of `dvisim run` (/work/shared/docs/scene-format.md; the fields
+/// this version accepts, its extras and every default are in docs/scenes.md):
+///
+///   {"name": "...", "problem": {"type": "lcs" | "dvi" | "box-dvi" | "pds" |
+///    "filippov", ...}, "x0": [...], "horizon": T,
+///    "method": {"name": "auto" | "stepping", "h", "theta", "gamma", ...},
+///    "output": {"dir", "times", "samples", "plot"}}
+///
+/// Unknown fields are errors, so a misspelt field never falls back silently
+/// to a default.
+struct SceneOutput {
+  std::string dir;            ///< Default "out/<name>" ("out/scene" without a name).
+  std::vector<double> times;  ///< As given, within [0, horizon].
+  int samples = 0;            ///< Equally spaced times over [0, horizon]; 0 = none.
+  bool plot = false;
+};
+
+struct Scene {
+  std::string name;
+  std::string type;  ///< problem.type as written.
+  /// The problem in the library's types; FilippovSystem runs as its
+  /// separable DVI.
+  std::variant<Lcs, Dvi, ProjectedDynamics, FilippovSystem> problem;
+  /// The filippov matrix form: problem holds FilippovSignLcs(E, p), whose
+  /// multiplier u = (v, x⁻) is reported as s = FilippovSignFromLcs(u).
+  bool filippov_sign_lcs = false;
+  int n = 0;                   ///< State dimension.
+  int output_multipliers = 0;  ///< u columns of trajectory.csv (s for filippov, ν for pds).
+  Eigen::VectorXd x0;
+  double horizon = 0;
+  std::string method = "auto";   ///< "auto" or "stepping" (the same integrator in this version).
+  TimeSteppingOptions stepping;  ///< h, θ, γ and the extras, defaults resolved.
+  SceneOutput output;
+};
+
+/// The union of output.times and the samples, ascending, with times closer
+/// than 1e-12·horizon merged. Empty when neither is given (then every step
+/// is recorded).
+std::vector<double> OutputTimes(const Scene& scene);
+
+/// Parses the text of a scene. @throws InputError with the JSON path of the
+/// offending field ("problem.f[1]: unknown symbol \"y\" (...)").
+Scene ParseScene(const std::string& text);
+
+/// Reads and parses a file. @throws InputError naming the file.
+Scene ReadScene(const std::string& path);
+
+}  // namespace dvi::dvisim

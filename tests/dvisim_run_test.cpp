@@ -1,0 +1,580 @@
+// SPDX-License-Identifier: Apache-2.0
+// `dvisim run`: the scene reader (src/dvisim/scene_file) and end-to-end runs
+// of the built binary on examples/scenes — CSV layout and row count, values
+// against exact solutions with their measured orders, summary fields, plots —
+// and on bad scenes (exit 2) and a numerical failure (exit 1), which must
+// leave no files behind.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "plot.hpp"
+#include "scene_file.hpp"
+#include "support/convergence.hpp"
+
+namespace dvi::dvisim {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+std::string ParseError(const std::string& text) {
+  try {
+    ParseScene(text);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+// ---------------------------------------------------------------------------
+// The reader.
+
+TEST(SceneFile, ReadsLcsWithDefaults) {
+  const Scene scene = ParseScene(R"({"name": "s", "problem": {"type": "lcs",
+    "A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[1]]},
+    "x0": [1, 0], "horizon": 2})");
+  ASSERT_TRUE(std::holds_alternative<Lcs>(scene.problem));
+  EXPECT_EQ(scene.n, 2);
+  EXPECT_EQ(scene.output_multipliers, 1);
+  EXPECT_EQ(scene.method, "auto");
+  // Documented defaults (docs/scenes.md): h = horizon/1000, θ = 0, γ = 1,
+  // 501 samples, dir out/<name>, no plot.
+  EXPECT_EQ(scene.stepping.h, 2.0 / 1000);
+  EXPECT_EQ(scene.stepping.theta, 0.0);
+  EXPECT_EQ(scene.stepping.gamma, 1.0);
+  EXPECT_EQ(scene.output.samples, 501);
+  EXPECT_EQ(scene.output.dir, "out/s");
+  EXPECT_FALSE(scene.output.plot);
+  const Lcs& lcs = std::get<Lcs>(scene.problem);
+  EXPECT_EQ(Eigen::MatrixXd(lcs.A), (Eigen::Matrix2d() << 0, 1, -1, 0).finished());
+  EXPECT_EQ(lcs.p, Eigen::Vector2d::Zero());
+  EXPECT_EQ(lcs.q, Eigen::VectorXd::Zero(1));
+}
+
+TEST(SceneFile, OutputTimesAreTheSortedUnionOfTimesAndSamples) {
+  const Scene scene = ParseScene(R"({"problem": {"type": "dvi", "f": ["-x1"]},
+    "x0": [1], "horizon": 1, "output": {"times": [0.3, 0.5, 0.25], "samples": 5}})");
+  EXPECT_EQ(OutputTimes(scene), (std::vector<double>{0, 0.25, 0.3, 0.5, 0.75, 1}));
+}
+
+TEST(SceneFile, ReadsMethodFieldsAndExtras) {
+  const Scene scene = ParseScene(R"({"problem": {"type": "dvi", "f": ["-x1"]},
+    "x0": [1], "horizon": 1, "method": {"name": "stepping", "h": 0.01, "theta": 0.5,
+    "gamma": 0.5, "rtol": 1e-4, "atol": 1e-6, "scheme": "3.4", "adaptive": true,
+    "h_max": 0.1, "max_steps": 1000, "solver": "newton", "tol": 1e-9}})");
+  EXPECT_EQ(scene.method, "stepping");
+  EXPECT_EQ(scene.stepping.h, 0.01);
+  EXPECT_EQ(scene.stepping.theta, 0.5);
+  EXPECT_EQ(scene.stepping.gamma, 0.5);
+  EXPECT_EQ(scene.stepping.rtol, 1e-4);
+  EXPECT_EQ(scene.stepping.atol, 1e-6);
+  EXPECT_EQ(scene.stepping.scheme, SteppingScheme::kViAtOldState);
+  EXPECT_TRUE(scene.stepping.adaptive);
+  EXPECT_EQ(scene.stepping.h_max, 0.1);
+  EXPECT_EQ(scene.stepping.max_steps, 1000);
+  EXPECT_EQ(scene.stepping.solver.method, SolverMethod::kNewton);
+  EXPECT_EQ(scene.stepping.solver.tolerance, 1e-9);
+}
+
+TEST(SceneFile, MethodMayBeJustItsName) {
+  const Scene scene = ParseScene(R"({"problem": {"type": "dvi", "f": ["-x1"]},
+    "x0": [1], "horizon": 1, "method": "stepping"})");
+  EXPECT_EQ(scene.method, "stepping");
+  EXPECT_EQ(scene.stepping.h, 1e-3);
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["-x1"]},
+    "x0": [1], "horizon": 1, "method": "euler"})"),
+            "method: unknown method \"euler\" (expected auto or stepping)");
+}
+
+TEST(SceneFile, DviExpressionsBecomeFunctionsWithExactJacobians) {
+  const Scene scene = ParseScene(R"({"problem": {"type": "dvi", "f": ["k*x2 + u1", "-x1"],
+    "F": ["u1 + x1^2"], "params": {"k": 3}}, "x0": [1, 2], "horizon": 1})");
+  const Dvi& dvi = std::get<Dvi>(scene.problem);
+  EXPECT_EQ(dvi.n, 2);
+  EXPECT_EQ(dvi.m, 1);
+  EXPECT_EQ(dvi.K.kind(), ConvexSet::Kind::kOrthant);
+  Eigen::VectorXd f(2), F(1);
+  dvi.f(0.0, Eigen::Vector2d(1, 2), Eigen::VectorXd::Constant(1, 0.5), f);
+  dvi.F(0.0, Eigen::Vector2d(1.5, 2), Eigen::VectorXd::Constant(1, 0.5), F);
+  EXPECT_EQ(f, Eigen::Vector2d(6.5, -1));
+  EXPECT_EQ(F(0), 2.75);
+  Eigen::MatrixXd Jx(1, 2), Ju(1, 1);
+  dvi.F_jacobian(0.0, Eigen::Vector2d(1.5, 2), Eigen::VectorXd::Constant(1, 0.5), Jx, Ju);
+  EXPECT_EQ(Jx, Eigen::RowVector2d(3, 0));
+  EXPECT_EQ(Ju(0, 0), 1.0);
+}
+
+TEST(SceneFile, ErrorsNameTheField) {
+  const std::string lcs =
+      R"("problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]], "D": [[1]]})";
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "ode"}, "x0": [1], "horizon": 1})"),
+            "problem.type: unknown type \"ode\" (expected lcs, dvi, box-dvi, pds or filippov)");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "nash", "players": []}, "x0": [1], "horizon": 1})"),
+            "problem.type: \"nash\" scenes are not supported yet");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "boundary": {"M": [[1]]}, "horizon": 1})"),
+            "boundary: boundary-value scenes are not supported yet (give \"x0\")");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1, 2], "horizon": 1})"),
+            "x0: has 2 entries, expected 1");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 0})"),
+            "horizon: expected a number > 0, got 0");
+  EXPECT_EQ(
+      ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"name": "event"}})"),
+      "method.name: \"event\" is not available in this version (use \"auto\" or \"stepping\")");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"theta": 2}})"),
+            "method.theta: expected a number in [0, 1], got 2");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"h": 2}})"),
+            "method.h: is larger than the horizon 1.0");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "output": {"times": [2]}})"),
+            "output.times[0]: 2.0 is outside [0, horizon] = [0, 1.0]");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "output": {"plots": true}})"),
+            "output: unknown field \"plots\" (expected dir, times, samples, plot)");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "seed": 3})"),
+            "(file): unknown field \"seed\" (expected name, description, problem, x0, horizon, "
+            "method, output)");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1, 2]], "C": [[1]],
+    "D": [[1]]}, "x0": [1], "horizon": 1})"),
+            "problem.B: is 1x2, expected 1x1");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]],
+    "D": [[1]], "E": [[1]]}, "x0": [1], "horizon": 1})"),
+            "problem: unknown field \"E\" for type lcs (expected type, A, B, C, D, p, q, set)");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["u1"], "F": ["u1 + y"]},
+    "x0": [1], "horizon": 1})"),
+            "problem.F[0]: unknown symbol \"y\" (expected t, x1, u1, pi or a parameter)");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["u1 +"], "F": ["u1"]},
+    "x0": [1], "horizon": 1})"),
+            "problem.f[0]: cannot parse \"u1 +\": unexpected token, got: EOF");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "box-dvi", "f": ["u1"], "F": ["u1"],
+    "set": {"ball": {"center": [0], "radius": 1}}}, "x0": [1], "horizon": 1})"),
+            "problem.set: type box-dvi needs a box, got ball[1]");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "filippov", "f0": ["0"], "f1": [["1", "q"]],
+    "h": ["x1", "t"]}, "x0": [1], "horizon": 1})"),
+            "problem.f1[0][1]: unknown symbol \"q\" (expected t, x1, pi or a parameter)");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "pds", "F": ["x1"], "A": [[1]]},
+    "x0": [1], "horizon": 1})"),
+            "problem: give either \"F\" (expressions) or \"A\" and \"c\" (F(x) = A x - c)");
+}
+
+TEST(Plot, ScriptMarksEventsQuotesTheTitleAndDrawsBothPanels) {
+  const std::string script = PlotScript({"it's", 2, 3, {0.5, 0.25, 0.5}});
+  EXPECT_TRUE(Contains(script, "title 'it''s (dashed: 2 mode switches)'")) << script;
+  EXPECT_TRUE(Contains(script, "set arrow from 0.25, graph 0 to 0.25, graph 1")) << script;
+  EXPECT_TRUE(Contains(script, "set arrow from 0.5, graph 0 to 0.5, graph 1")) << script;
+  EXPECT_TRUE(Contains(script, "plot for [i=2:3]")) << script;
+  EXPECT_TRUE(Contains(script, "plot for [i=4:6]")) << script;
+  EXPECT_TRUE(Contains(script, "set output 'plot.png'")) << script;
+  EXPECT_TRUE(Contains(script, "set output 'plot.svg'")) << script;
+
+  PlotRequest many{"s", 1, 0, {}};
+  for (int k = 0; k <= kMaxMarkedEvents; ++k) many.event_times.push_back(k);
+  const std::string crowded = PlotScript(many);
+  EXPECT_FALSE(Contains(crowded, "set arrow")) << crowded;
+  EXPECT_TRUE(Contains(crowded, "201 mode switches, not marked")) << crowded;
+  EXPECT_TRUE(Contains(crowded, "layout 1,1")) << crowded;
+}
+
+// ---------------------------------------------------------------------------
+// The binary.
+
+struct RunOutcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  double Column(std::size_t row, const std::string& name) const {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return rows.at(row).at(static_cast<std::size_t>(it - header.begin()));
+  }
+};
+
+class DvisimRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ = fs::temp_directory_path() /
+                 ("dvisim_run_test_" + std::to_string(::getpid()) + "_" +
+                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(directory_);
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+
+  std::string Path(const std::string& name) const { return (directory_ / name).string(); }
+
+  std::string Write(const std::string& name, const std::string& text) const {
+    std::ofstream(Path(name)) << text;
+    return Path(name);
+  }
+
+  RunOutcome Dvisim(const std::string& arguments) const {
+    const std::string out = Path("stdout.txt");
+    const std::string err = Path("stderr.txt");
+    const std::string command =
+        std::string("'") + DVISIM_EXECUTABLE + "' " + arguments + " >'" + out + "' 2>'" + err + "'";
+    const int status = std::system(command.c_str());
+    RunOutcome run;
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.out = Slurp(out);
+    run.err = Slurp(err);
+    return run;
+  }
+
+  // Runs an example scene into out_dir (below the test's directory).
+  RunOutcome RunExample(const std::string& scene, const std::string& out_dir,
+                        const std::string& extra = "") const {
+    return Dvisim("run '" + Example(scene) + "' --out '" + Path(out_dir) + "' " + extra);
+  }
+
+  static std::string Slurp(const std::string& path) {
+    std::ifstream stream(path);
+    std::ostringstream text;
+    text << stream.rdbuf();
+    return text.str();
+  }
+
+  static std::string Example(const std::string& name) {
+    return std::string(DVI_EXAMPLES_DIR) + "/scenes/" + name;
+  }
+
+  Csv ReadCsv(const std::string& dir) const {
+    std::ifstream stream(Path(dir) + "/trajectory.csv");
+    Csv csv;
+    std::string line;
+    std::getline(stream, line);
+    std::stringstream header(line);
+    for (std::string cell; std::getline(header, cell, ',');) csv.header.push_back(cell);
+    while (std::getline(stream, line)) {
+      std::stringstream row(line);
+      std::vector<double> values;
+      for (std::string cell; std::getline(row, cell, ',');) values.push_back(std::stod(cell));
+      csv.rows.push_back(values);
+    }
+    return csv;
+  }
+
+  nlohmann::json ReadSummary(const std::string& dir) const {
+    return nlohmann::json::parse(Slurp(Path(dir) + "/summary.json"));
+  }
+
+  // Entries of the directory (none when it does not exist).
+  std::vector<std::string> Listing(const std::string& dir) const {
+    std::vector<std::string> names;
+    std::error_code ignored;
+    for (const auto& entry : fs::directory_iterator(Path(dir), ignored))
+      names.push_back(entry.path().filename().string());
+    return names;
+  }
+
+ private:
+  fs::path directory_;
+};
+
+// Rows = output.times ∪ samples ∪ event times, each once, ascending.
+void ExpectRowsAreTimesSamplesAndEvents(const Csv& csv, const nlohmann::json& summary,
+                                        std::set<double> expected) {
+  for (const auto& event : summary["events"]) expected.insert(event["time"].get<double>());
+  ASSERT_EQ(csv.rows.size(), expected.size());
+  std::size_t k = 0;
+  for (const double t : expected) {
+    EXPECT_NEAR(csv.rows[k][0], t, 1e-12) << "row " << k;
+    ++k;
+  }
+}
+
+std::set<double> Samples(int count, double horizon) {
+  std::set<double> times;
+  for (int k = 0; k < count; ++k)
+    times.insert(k + 1 == count ? horizon : horizon * k / (count - 1));
+  return times;
+}
+
+// x' = u, u ∈ SOL([−1, 1], u + x), x0 = 3: x = 3 − t up to t = 2, then e^{2−t}.
+double SaturationExact(double t) { return t <= 2 ? 3 - t : std::exp(2 - t); }
+
+TEST_F(DvisimRun, DviSceneIsFirstOrderAccurateAgainstItsExactSolution) {
+  std::vector<double> steps{4e-3, 2e-3, 1e-3, 5e-4};
+  std::vector<double> errors;
+  for (const double h : steps) {
+    const std::string dir = "h" + std::to_string(errors.size());
+    const RunOutcome run = RunExample("dvi_saturation.json", dir, "--h " + std::to_string(h));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const Csv csv = ReadCsv(dir);
+    ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "u1"}));
+    double error = 0;
+    for (const auto& row : csv.rows) {
+      const double exact = SaturationExact(row[0]);
+      error = std::max(error, std::abs(row[1] - exact));
+      // u^{i+1} = clamp(−x^{i+1}, −1, 1) at every step of (3.3); between
+      // step ends x̂ is interpolated while û holds u^{i+1}, |x'| ≤ 1.
+      EXPECT_NEAR(row[2], std::clamp(-row[1], -1.0, 1.0), 1.01 * h) << "t = " << row[0];
+    }
+    // Backward Euler on a Lipschitz DVI: global error ≤ C·h with C ≈ 1 here
+    // (the kink at t = 2 is crossed within one step).
+    EXPECT_LT(error, 2 * h) << "h = " << h;
+    errors.push_back(error);
+  }
+  const double order = testing::FittedOrder(steps, errors);
+  EXPECT_NEAR(order, 1.0, 0.15) << "errors " << errors[0] << " ... " << errors.back();
+}
+
+TEST_F(DvisimRun, DviSceneSummaryAndRows) {
+  const RunOutcome run = RunExample("dvi_saturation.json", "out");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(Contains(run.out, "success")) << run.out;
+  EXPECT_TRUE(Contains(run.out, "trajectory.csv")) << run.out;
+  const nlohmann::json summary = ReadSummary("out");
+  EXPECT_EQ(summary["status"], "success");
+  EXPECT_EQ(summary["name"], "dvi-saturation");
+  EXPECT_EQ(summary["h"], 1e-3);
+  EXPECT_EQ(summary["theta"], 0.0);
+  EXPECT_EQ(summary["gamma"], 1.0);
+  ASSERT_EQ(summary["method"].size(), 1u);
+  EXPECT_EQ(summary["method"][0]["name"], "stepping");
+  EXPECT_EQ(summary["method"][0]["from"], 0.0);
+  EXPECT_EQ(summary["method"][0]["to"], 4.0);
+  EXPECT_FALSE(summary["method"][0]["reason"].get<std::string>().empty());
+  // One mode change: u leaves its lower bound −1 when x reaches 1 at t = 2.
+  ASSERT_EQ(summary["events"].size(), 1u);
+  EXPECT_EQ(summary["events"][0]["kind"], "left-bound");
+  EXPECT_EQ(summary["events"][0]["index"], 0);
+  EXPECT_NEAR(summary["events"][0]["time"].get<double>(), 2.0, 2e-3);
+  const auto& stats = summary["stats"];
+  EXPECT_EQ(stats["steps"], 4000);
+  EXPECT_EQ(stats["rejected_steps"], 0);
+  EXPECT_GE(stats["vi_solves"].get<long>(), 4000);
+  EXPECT_GT(stats["rhs_evals"].get<long>(), 0);
+  EXPECT_GT(stats["jacobian_evals"].get<long>(), 0);
+  EXPECT_LE(stats["max_residual"].get<double>(), 1e-8);
+  EXPECT_GE(stats["wall_seconds"].get<double>(), 0.0);
+  ASSERT_EQ(summary["x_final"].size(), 1u);
+  EXPECT_NEAR(summary["x_final"][0].get<double>(), std::exp(-2.0), 2e-3);
+  std::set<double> expected = Samples(41, 4.0);
+  expected.insert({1.0, 2.0, 3.0});
+  ExpectRowsAreTimesSamplesAndEvents(ReadCsv("out"), summary, expected);
+}
+
+// The default scene: C v' = −i − v/R, L i' = v while the bridge conducts,
+// v(0) = 10, i(0) = 0 (a damped RLC oscillation, tests/../circuits).
+Eigen::Vector2d DiodeBridgeExact(double t) {
+  const double L = 1e-2, C = 1e-6, R = 1e3, v0 = 10;
+  const double alpha = 1 / (2 * R * C);
+  const double omega = std::sqrt(1 / (L * C) - alpha * alpha);
+  const double b = (-v0 / (R * C) + alpha * v0) / omega;  // From v'(0) = −v0/(RC).
+  const double e = std::exp(-alpha * t), c = std::cos(omega * t), s = std::sin(omega * t);
+  const double v = e * (v0 * c + b * s);
+  const double dv = e * ((-alpha * v0 + omega * b) * c + (-alpha * b - omega * v0) * s);
+  return {v, -C * dv - v / R};
+}
+
+TEST_F(DvisimRun, DiodeBridgeIsSecondOrderWithHalfWeightsAndPlots) {
+  std::vector<double> steps{4e-6, 2e-6, 1e-6};
+  std::vector<double> errors;
+  for (const double h : steps) {
+    const std::string dir = "h" + std::to_string(errors.size());
+    const bool plot = errors.empty();
+    const RunOutcome run = RunExample("diode_bridge.json", dir, "--h " + std::to_string(h));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const Csv csv = ReadCsv(dir);
+    ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "x2", "u1", "u2", "u3", "u4"}));
+    double error = 0;
+    for (const auto& row : csv.rows)
+      error = std::max(error, std::abs(row[1] - DiodeBridgeExact(row[0])(0)));
+    errors.push_back(error);
+    if (plot) {
+      const nlohmann::json summary = ReadSummary(dir);
+      EXPECT_EQ(summary["theta"], 0.5);
+      EXPECT_EQ(summary["gamma"], 0.5);
+      ExpectRowsAreTimesSamplesAndEvents(csv, summary, Samples(1001, 5e-3));
+      // The bridge switches every half period π/ω ≈ 0.315 ms: 16 times in 5 ms.
+      std::set<double> switch_times;
+      for (const auto& event : summary["events"]) switch_times.insert(event["time"].get<double>());
+      EXPECT_EQ(switch_times.size(), 16u);
+      for (const std::string name : {"plot.png", "plot.svg"})
+        EXPECT_GT(fs::file_size(Path(dir) + "/" + name), 1000u) << name;
+      const std::string png = Slurp(Path(dir) + "/plot.png");
+      EXPECT_EQ(png.substr(1, 3), "PNG");
+      EXPECT_TRUE(Contains(Slurp(Path(dir) + "/plot.svg"), "<svg"));
+      std::vector<std::string> files = Listing(dir);
+      std::sort(files.begin(), files.end());
+      EXPECT_EQ(files, (std::vector<std::string>{"plot.png", "plot.svg", "summary.json",
+                                                 "trajectory.csv"}));
+    }
+  }
+  // θ = γ = ½ is second order where u is continuous; v is C¹ across the
+  // switches (the tank always sees R), so the state error stays O(h²).
+  const double order = testing::FittedOrder(steps, errors);
+  EXPECT_NEAR(order, 2.0, 0.2) << "errors " << errors[0] << " ... " << errors.back();
+  EXPECT_LT(errors.back(), 1e-2);
+}
+
+TEST_F(DvisimRun, FilippovFormsAgreeAndReportTheSelectedSign) {
+  for (const std::string scene : {"filippov_relay.json", "filippov_sign_matrix.json"}) {
+    const RunOutcome run = RunExample(scene, scene);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const Csv csv = ReadCsv(scene);
+    ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "u1"})) << scene;
+    ExpectRowsAreTimesSamplesAndEvents(csv, ReadSummary(scene), Samples(41, 4.0));
+    for (std::size_t k = 0; k < csv.rows.size(); ++k) {
+      const double t = csv.rows[k][0];
+      // x = 1 − t/2 with s = 1 until t = 2, then sliding at 0 with s = a = ½
+      // (Filippov's equivalent control). Backward Euler hits x = 0 at a step
+      // end; while sliding, the VI residual tolerance 1e-10 lets x drift by
+      // that much per step, which moves s = a − (x^{i+1} − x^i)/h by 1e-10/h.
+      constexpr double kSlidingSignTolerance = 2e-10 / 1e-3;
+      if (t <= 1.999) {
+        EXPECT_NEAR(csv.Column(k, "x1"), 1 - t / 2, 1e-9) << scene << " t = " << t;
+        EXPECT_NEAR(csv.Column(k, "u1"), 1.0, 1e-9) << scene << " t = " << t;
+      } else if (t >= 2.001) {
+        EXPECT_NEAR(csv.Column(k, "x1"), 0.0, 1e-9) << scene << " t = " << t;
+        EXPECT_NEAR(csv.Column(k, "u1"), 0.5, kSlidingSignTolerance) << scene << " t = " << t;
+      }
+    }
+  }
+}
+
+TEST_F(DvisimRun, PdsReportsTheNormalConeElement) {
+  const RunOutcome run = RunExample("pds_box.json", "out");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Csv csv = ReadCsv("out");
+  ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "x2", "u1", "u2"}));
+  const nlohmann::json summary = ReadSummary("out");
+  ExpectRowsAreTimesSamplesAndEvents(csv, summary, Samples(21, 2.0));
+  ASSERT_EQ(summary["events"].size(), 2u);
+  // x1 reaches its upper bound 1 at ln 1.5, x2 its lower bound 0 at ln 2; the
+  // events come at the end of the step where it happened (h = 1e-3).
+  EXPECT_NEAR(summary["events"][0]["time"].get<double>(), std::log(1.5), 2e-3);
+  EXPECT_NEAR(summary["events"][1]["time"].get<double>(), std::log(2.0), 2e-3);
+  for (std::size_t k = 0; k < csv.rows.size(); ++k) {
+    const double t = csv.rows[k][0];
+    const double x1 = std::min(1.0, 2 - 1.5 * std::exp(-t));
+    const double x2 = std::max(0.0, -0.5 + std::exp(-t));
+    // Backward Euler: O(h) with a constant below 1 on this contraction.
+    EXPECT_NEAR(csv.Column(k, "x1"), x1, 1e-3) << "t = " << t;
+    EXPECT_NEAR(csv.Column(k, "x2"), x2, 1e-3) << "t = " << t;
+    // At rest on a face, x' = 0 = −F(x) − ν gives ν = c − x: (1, −½).
+    if (t > std::log(2.0) + 2e-3) {
+      EXPECT_NEAR(csv.Column(k, "u1"), 1.0, 1e-9) << "t = " << t;
+      EXPECT_NEAR(csv.Column(k, "u2"), -0.5, 1e-9) << "t = " << t;
+    }
+    if (t < std::log(1.5) - 2e-3) {
+      EXPECT_NEAR(csv.Column(k, "u1"), 0.0, 1e-9) << "t = " << t;
+      EXPECT_NEAR(csv.Column(k, "u2"), 0.0, 1e-9) << "t = " << t;
+    }
+  }
+}
+
+TEST_F(DvisimRun, SparseLcsEmptiesTheChainAndStaysNonnegative) {
+  const RunOutcome run = RunExample("sparse_heat_chain.json", "out");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Csv csv = ReadCsv("out");
+  ASSERT_EQ(csv.header.size(), 11u);
+  const nlohmann::json summary = ReadSummary("out");
+  ExpectRowsAreTimesSamplesAndEvents(csv, summary, Samples(51, 5.0));
+  // Each cell reaches 0 once and stays: five events, u_j reaching... its
+  // multiplier leaving 0.
+  EXPECT_EQ(summary["events"].size(), 5u);
+  for (const auto& row : csv.rows)
+    for (std::size_t i = 1; i <= 5; ++i) EXPECT_GE(row[i], -1e-12) << "t = " << row[0];
+  // Empty chain: x = 0 and u = −p − A·0 = 1 in every cell.
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_NEAR(summary["x_final"][i].get<double>(), 0.0, 1e-12);
+    EXPECT_NEAR(csv.rows.back()[6 + i], 1.0, 1e-9);
+  }
+}
+
+TEST_F(DvisimRun, CommandLineOverridesReachTheSummary) {
+  const RunOutcome run = RunExample("dvi_saturation.json", "out",
+                                    "--h 0.01 --theta 0.25 --gamma 0.75 --method stepping");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = ReadSummary("out");
+  EXPECT_EQ(summary["h"], 0.01);
+  EXPECT_EQ(summary["theta"], 0.25);
+  EXPECT_EQ(summary["gamma"], 0.75);
+  EXPECT_EQ(summary["requested_method"], "stepping");
+  EXPECT_EQ(summary["stats"]["steps"], 400);
+}
+
+TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
+  struct Case {
+    std::string scene;
+    std::string arguments;
+    std::string message;
+  };
+  const std::string dvi = R"("problem": {"type": "dvi", "f": ["u1"], "F": ["u1 + x1"]})";
+  const std::vector<Case> cases{
+      {R"({"problem": {"type": "dvi", )", "", "malformed JSON at line 1"},
+      {R"({"problem": {"type": "ode"}, "x0": [1], "horizon": 1})", "",
+       "problem.type: unknown type \"ode\""},
+      {"{" + dvi + R"(, "x0": [1, 2], "horizon": 1})", "", "x0: has 2 entries, expected 1"},
+      {R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1, 0]], "D": [[1]]},
+         "x0": [1], "horizon": 1})",
+       "", "problem.C: is 1x2, expected 1x1"},
+      {R"({"problem": {"type": "dvi", "f": ["u1 *"], "F": ["u1"]}, "x0": [1], "horizon": 1})", "",
+       "problem.f[0]: cannot parse \"u1 *\""},
+      {R"({"problem": {"type": "dvi", "f": ["u1"], "F": ["u1 + y"]}, "x0": [1], "horizon": 1})", "",
+       "problem.F[0]: unknown symbol \"y\""},
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1})", "--method event",
+       "--method: \"event\" is not available in this version"},
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1})", "--theta 1.5",
+       "--theta: expected a number in [0, 1], got 1.5"},
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"gamma": -1}})", "",
+       "method.gamma: expected a number in [0, 1], got -1"},
+  };
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const std::string scene = Write("bad" + std::to_string(k) + ".json", cases[k].scene);
+    const RunOutcome run =
+        Dvisim("run '" + scene + "' --out '" + Path("out") + "' " + cases[k].arguments);
+    EXPECT_EQ(run.exit_code, 2) << k << ": " << run.err;
+    EXPECT_TRUE(Contains(run.err, cases[k].message)) << k << ": " << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << k << ": " << run.err;
+    EXPECT_TRUE(run.out.empty()) << k;
+    EXPECT_TRUE(Listing("out").empty()) << k;
+  }
+  // Nothing beside the output directory either (no temporary left over).
+  std::vector<std::string> files = Listing("");
+  for (const std::string& name : files) EXPECT_FALSE(Contains(name, ".tmp")) << name;
+}
+
+TEST_F(DvisimRun, NumericalFailureExitsOneNamingTimeAndStepAndWritesNothing) {
+  // u ∈ SOL(ℝ₊, 1 − 2t) has no solution once 1 − 2t < 0: the step ending
+  // after t = ½ fails.
+  const std::string scene = Write("fail.json", R"({"problem": {"type": "dvi", "f": ["u1"],
+    "F": ["1 - 2*t"]}, "x0": [0], "horizon": 1, "method": {"h": 0.1}})");
+  const RunOutcome run = Dvisim("run '" + scene + "' --out '" + Path("out") + "'");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_TRUE(Contains(run.err, "step-failure")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "step 6 from t = 0.5")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "no files written")) << run.err;
+  EXPECT_TRUE(Listing("out").empty());
+  for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
+}
+
+TEST_F(DvisimRun, AFailedMoveLeavesNoOutputs) {
+  // A non-empty directory named like the second file to move in makes that
+  // move fail after trajectory.csv was moved: it must be taken back.
+  fs::create_directories(Path("out/summary.json/blocker"));
+  const RunOutcome run = RunExample("dvi_saturation.json", "out");
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_TRUE(Contains(run.err, "output.dir: cannot move summary.json")) << run.err;
+  EXPECT_EQ(Listing("out"), std::vector<std::string>{"summary.json"});
+  for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
+}
+
+}  // namespace
+}  // namespace dvi::dvisim
