@@ -83,19 +83,11 @@ class StackedVi {
   ConvexSet set_ = ConvexSet::Orthant(0);
 };
 
-std::string Failure(const char* what, const SolveResult& result) {
-  std::ostringstream text;
-  text.precision(6);
-  text << what << " was not solved: status " << ToString(result.status) << " (" << result.message
-       << "), residual " << result.residual;
-  return text.str();
-}
-
 // Fills outcome from a solved (or failed) VI result.
 void Finish(const char* what, const SolveResult& result, StepOutcome& outcome) {
   outcome.solved = result.solved();
   outcome.residual = result.residual;
-  if (!outcome.solved) outcome.failure = Failure(what, result);
+  if (!outcome.solved) outcome.failure = internal::SolveFailureText(what, result);
 }
 
 // x^{i+1}, u^{i+1} and the VI's map F at u^{i+1} from a solved stacked VI.

@@ -51,9 +51,9 @@ class DenseLcsMethod : public LcsMethod {
     outcome.iterations += result.iterations;
     outcome.residual = result.residual;
     if (!result.solved()) {
-      outcome.failure = FailureText(
-          result, shape_.orthant ? "the step's LCP"
-                                 : (shape_.box ? "the step's box MCP" : "the step's affine VI"));
+      outcome.failure = SolveFailureText(
+          shape_.orthant ? "the step's LCP" : (shape_.box ? "the step's box MCP" : "the step's affine VI"),
+          result);
       return outcome;
     }
     outcome.solved = true;

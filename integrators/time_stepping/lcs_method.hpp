@@ -47,15 +47,6 @@ inline SetShape Shape(const ConvexSet& K) {
   return shape;
 }
 
-inline std::string FailureText(const SolveResult& result, const char* problem) {
-  std::ostringstream message;
-  message.precision(6);
-  message << problem << " " << ToString(result.status) << " (" << result.method << ", "
-          << result.iterations << " iterations, residual " << result.residual
-          << "): " << result.message;
-  return message.str();
-}
-
 class LcsMethod : public OneStepMethod {
  public:
   LcsMethod(const Lcs& lcs, const TimeSteppingOptions& options)

@@ -239,7 +239,7 @@ class SparseLcsMethod : public LcsMethod {
     outcome.jacobian_evals += result.iterations;
     outcome.residual = result.residual;
     if (!result.solved()) {
-      outcome.failure = FailureText(result, "the step's mixed (x, u) MCP");
+      outcome.failure = SolveFailureText("the step's mixed (x, u) MCP", result);
       return outcome;
     }
     outcome.solved = true;

@@ -2,6 +2,7 @@
 #include "one_step_method.hpp"
 
 #include <cmath>
+#include <sstream>
 
 namespace dvi::internal {
 
@@ -27,6 +28,15 @@ void OneStepMethod::Mode(const StepOutcome& outcome, std::vector<int>& mode) con
                           (has_w ? upper[j] - u[j] < -w : upper[j] - u[j] <= slack_tol);
     mode[static_cast<size_t>(j)] = at_lower ? -1 : (at_upper ? 1 : 0);
   }
+}
+
+std::string SolveFailureText(const char* what, const SolveResult& result) {
+  std::ostringstream text;
+  text.precision(6);
+  text << what << " was not solved: status " << ToString(result.status) << " (" << result.method
+       << ", " << result.iterations << " iterations, residual " << result.residual
+       << "): " << result.message;
+  return text.str();
 }
 
 }  // namespace dvi::internal

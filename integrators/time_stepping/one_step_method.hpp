@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/convex_set.hpp"
+#include "dvi/solve_result.hpp"
 
 namespace dvi::internal {
 
@@ -59,5 +60,9 @@ class OneStepMethod {
   /// The set whose active constraints make the mode (K of the VI).
   virtual const ConvexSet& ModeSet() const = 0;
 };
+
+/// StepOutcome::failure for a step VI that was not solved: what it was, the
+/// solver's status, method, iterations, residual and message.
+std::string SolveFailureText(const char* what, const SolveResult& result);
 
 }  // namespace dvi::internal

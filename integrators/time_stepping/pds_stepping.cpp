@@ -28,14 +28,6 @@ constexpr double kMembershipTolerance = 1e-12;
 
 using internal::StepOutcome;
 
-std::string Failure(const char* what, const SolveResult& result) {
-  std::ostringstream text;
-  text.precision(6);
-  text << what << " was not solved: status " << ToString(result.status) << " (" << result.message
-       << "), residual " << result.residual;
-  return text.str();
-}
-
 // (7.3): x^{i+1} ∈ SOL(K, x − x^i + h F(t_{i+1}, x)), whose KKT conditions
 // are the implicit step of (2.10) with multiplier h·u; the recorded
 // multiplier is ν^{i+1} = (x^i − x^{i+1})/h − F(t_{i+1}, x^{i+1}) ∈ N(x^{i+1}; K).
@@ -106,7 +98,7 @@ class FullyImplicitPds final : public internal::OneStepMethod {
     outcome.solved = result.solved();
     outcome.residual = result.residual;
     if (!outcome.solved) {
-      outcome.failure = Failure("the projection of −F(t0, x0) onto N(x0; K)", result);
+      outcome.failure = internal::SolveFailureText("the projection of −F(t0, x0) onto N(x0; K)", result);
       return outcome;
     }
     outcome.u = A.transpose() * result.z;
@@ -144,7 +136,7 @@ class FullyImplicitPds final : public internal::OneStepMethod {
     outcome.solved = result.solved();
     outcome.residual = result.residual;
     if (!outcome.solved) {
-      outcome.failure = Failure("the VI (7.3) in x", result);
+      outcome.failure = internal::SolveFailureText("the VI (7.3) in x", result);
       return outcome;
     }
     outcome.x = result.z;
