@@ -17,11 +17,15 @@
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/time_stepping.hpp"
 #include "support/convergence.hpp"
+#include "support/expect_throw.hpp"
 
 namespace dvi {
 namespace {
 
+using testing::ExactState;
+using testing::ExpectThrowNaming;
 using testing::FittedOrder;
+using testing::MaxStateError;
 
 // Backward Euler is first order: the fitted slope over four halvings stays
 // within this of 1 once the asymptotic range is reached (h ≤ 0.04 here).
@@ -32,18 +36,6 @@ constexpr double kFirstOrderSlack = 0.1;
 constexpr double kMultiplierTolerance = 1e-7;
 
 const std::vector<double> kStepSizes = {0.04, 0.02, 0.01, 0.005};
-
-using Exact = std::function<Eigen::VectorXd(double t)>;
-
-// Max-norm error over the recorded samples (every step when output_times is
-// empty).
-double MaxError(const Trajectory& trajectory, const Exact& exact) {
-  double error = 0;
-  for (size_t k = 0; k < trajectory.times.size(); ++k)
-    error = std::max(error,
-                     (trajectory.states[k] - exact(trajectory.times[k])).lpNorm<Eigen::Infinity>());
-  return error;
-}
 
 TimeSteppingOptions Options(double h, SteppingScheme scheme = SteppingScheme::kAuto,
                             double theta = 0.0) {
@@ -64,16 +56,6 @@ double MeasuredOrder(const std::string& name, const std::vector<double>& step_si
   text << order << " (finest error " << errors.back() << ")";
   ::testing::Test::RecordProperty(name + "_order", text.str());
   return order;
-}
-
-void ExpectThrowNaming(const std::function<void()>& run, const std::string& name) {
-  try {
-    run();
-    ADD_FAILURE() << "no InvalidInputError; expected one naming " << name;
-  } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find(name), std::string::npos)
-        << "message \"" << error.what() << "\" does not name " << name;
-  }
 }
 
 // ---------------------------------------------------------------------------
@@ -116,7 +98,7 @@ std::vector<double> KinkErrors(SteppingScheme scheme) {
         KinkDvi(), Eigen::VectorXd::Constant(1, 3.0), 0, 4, Options(h, scheme));
     EXPECT_TRUE(trajectory.succeeded()) << trajectory.message;
     EXPECT_EQ(trajectory.stats.steps, std::lround(4 / h));
-    errors.push_back(MaxError(trajectory, KinkExact));
+    errors.push_back(MaxStateError(trajectory, KinkExact));
   }
   return errors;
 }
@@ -188,13 +170,13 @@ TEST(DviStepping, NonlinearStronglyMonotoneBoxDviIsFirstOrder) {
   // u1 and u2 start at −1 and leave it: two bound events.
   EXPECT_EQ(reference.multipliers.front(), Eigen::Vector2d(-1, -1));
   EXPECT_GE(reference.events.size(), 2u);
-  const Exact exact = [&](double t) { return reference.StateAt(t); };
+  const ExactState exact = [&](double t) { return reference.StateAt(t); };
   std::vector<double> errors;
   for (const double h : kStepSizes) {
     const Trajectory trajectory =
         IntegrateTimeStepping(NonlinearDvi(true), x0, 0, t_end, Options(h));
     ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-    errors.push_back(MaxError(trajectory, exact));
+    errors.push_back(MaxStateError(trajectory, exact));
   }
   EXPECT_NEAR(MeasuredOrder("nonlinear", kStepSizes, errors), 1.0, kFirstOrderSlack)
       << "errors " << errors[0] << " … " << errors[3];
@@ -231,7 +213,7 @@ SeparableDvi SmoothSeparable() {
 
 TEST(SeparableStepping, ThetaGammaHalfIsSecondOrderAndBackwardEulerFirst) {
   const Eigen::Vector2d x0(1, 0.5);
-  const Exact exact = [&](double t) {
+  const ExactState exact = [&](double t) {
     Eigen::Matrix2d R;
     R << std::cos(t), std::sin(t), -std::sin(t), std::cos(t);
     return Eigen::VectorXd(std::exp(-t / 2) * R * x0);
@@ -242,9 +224,9 @@ TEST(SeparableStepping, ThetaGammaHalfIsSecondOrderAndBackwardEulerFirst) {
     options.gamma = 0.5;
     const Trajectory half = IntegrateTimeStepping(SmoothSeparable(), x0, 0, 3, options);
     ASSERT_TRUE(half.succeeded()) << half.message;
-    midpoint.push_back(MaxError(half, exact));
+    midpoint.push_back(MaxStateError(half, exact));
     euler.push_back(
-        MaxError(IntegrateTimeStepping(SmoothSeparable(), x0, 0, 3, Options(h)), exact));
+        MaxStateError(IntegrateTimeStepping(SmoothSeparable(), x0, 0, 3, Options(h)), exact));
   }
   EXPECT_NEAR(MeasuredOrder("separable_half", kStepSizes, midpoint), 2.0, 0.1)
       << "errors " << midpoint[0] << " … " << midpoint[3];
@@ -252,7 +234,7 @@ TEST(SeparableStepping, ThetaGammaHalfIsSecondOrderAndBackwardEulerFirst) {
   // (3.3) through ToDvi: u at the new state, first order.
   std::vector<double> general;
   for (const double h : kStepSizes)
-    general.push_back(MaxError(IntegrateTimeStepping(SmoothSeparable(), x0, 0, 3,
+    general.push_back(MaxStateError(IntegrateTimeStepping(SmoothSeparable(), x0, 0, 3,
                                                      Options(h, SteppingScheme::kViAtNewState)),
                                exact));
   // With constant B, θ = 0 and γ = 1, (3.3) and (7.2) are the same equations.
@@ -298,13 +280,13 @@ TEST(DviStepping, BallKUsesTheProjectionMethodAndIsFirstOrder) {
   };
   dvi.K = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0);
   const Eigen::Vector2d direction(0.8, 0.6);
-  const Exact exact = [&](double t) { return Eigen::VectorXd(KinkExact(t)[0] * direction); };
+  const ExactState exact = [&](double t) { return Eigen::VectorXd(KinkExact(t)[0] * direction); };
   const std::vector<double> step_sizes = {0.04, 0.02, 0.01};
   std::vector<double> errors;
   for (const double h : step_sizes) {
     const Trajectory trajectory = IntegrateTimeStepping(dvi, 3 * direction, 0, 4, Options(h));
     ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-    errors.push_back(MaxError(trajectory, exact));
+    errors.push_back(MaxStateError(trajectory, exact));
     for (size_t k = 0; k < trajectory.times.size(); ++k) {
       const Eigen::VectorXd& x = trajectory.states[k];
       EXPECT_LT((trajectory.multipliers[k] - dvi.K.Project(-x)).lpNorm<Eigen::Infinity>(), 1e-8);
@@ -439,7 +421,7 @@ TEST(PdsStepping, BoxFullyImplicitIsFirstOrderWithTheExactNormalConeElement) {
   for (const double h : kStepSizes) {
     const Trajectory trajectory = IntegrateTimeStepping(BoxPds(), kBoxStart, 0, 3, Options(h));
     ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-    errors.push_back(MaxError(trajectory, BoxPdsExact));
+    errors.push_back(MaxStateError(trajectory, BoxPdsExact));
     // Contact is one event: x2 reaches its upper bound. Backward Euler
     // approaches it like (1 + h)^{−i} instead of e^{−t}, so it arrives late
     // by about t_c·h/2 plus the step it lands in.
@@ -570,7 +552,7 @@ TEST(PdsStepping, BallStaysInsideAndConverges) {
   const double t_hit = -std::log(s_hit);
   const Eigen::Vector2d hit = c + d * s_hit;
   const double phi_hit = std::atan2(hit[1], hit[0]);
-  const Exact exact = [&](double t) -> Eigen::VectorXd {
+  const ExactState exact = [&](double t) -> Eigen::VectorXd {
     if (t <= t_hit) return c + d * std::exp(-t);
     const double phi = 2 * std::atan(std::tan(phi_hit / 2) * std::exp(-2 * (t - t_hit)));
     return Eigen::Vector2d(std::cos(phi), std::sin(phi));
@@ -580,7 +562,7 @@ TEST(PdsStepping, BallStaysInsideAndConverges) {
     const Trajectory trajectory = IntegrateTimeStepping(pds, x0, 0, 2, Options(h));
     ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
     for (const Eigen::VectorXd& x : trajectory.states) EXPECT_LE(x.norm(), 1 + 1e-8);
-    errors.push_back(MaxError(trajectory, exact));
+    errors.push_back(MaxStateError(trajectory, exact));
     // Sliding: ν is the outward normal times the normal part of −F.
     const Eigen::VectorXd x_end = trajectory.states.back(), nu_end = trajectory.multipliers.back();
     EXPECT_NEAR(nu_end.dot(Eigen::Vector2d(-x_end[1], x_end[0])), 0.0, 1e-6);

@@ -5,12 +5,9 @@
 // and on bad scenes (exit 2) and a numerical failure (exit 1), which must
 // leave no files behind.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -22,11 +19,13 @@
 #include "plot.hpp"
 #include "scene_file.hpp"
 #include "support/convergence.hpp"
+#include "support/dvisim_fixture.hpp"
 
 namespace dvi::dvisim {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::RunOutcome;
 
 bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
@@ -190,12 +189,6 @@ TEST(Plot, ScriptMarksEventsQuotesTheTitleAndDrawsBothPanels) {
 // ---------------------------------------------------------------------------
 // The binary.
 
-struct RunOutcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
 struct Csv {
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
@@ -205,47 +198,12 @@ struct Csv {
   }
 };
 
-class DvisimRun : public ::testing::Test {
+class DvisimRun : public testing::DvisimBinaryTest {
  protected:
-  void SetUp() override {
-    directory_ = fs::temp_directory_path() /
-                 ("dvisim_run_test_" + std::to_string(::getpid()) + "_" +
-                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(directory_);
-  }
-  void TearDown() override { fs::remove_all(directory_); }
-
-  std::string Path(const std::string& name) const { return (directory_ / name).string(); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    std::ofstream(Path(name)) << text;
-    return Path(name);
-  }
-
-  RunOutcome Dvisim(const std::string& arguments) const {
-    const std::string out = Path("stdout.txt");
-    const std::string err = Path("stderr.txt");
-    const std::string command =
-        std::string("'") + DVISIM_EXECUTABLE + "' " + arguments + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(command.c_str());
-    RunOutcome run;
-    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.out = Slurp(out);
-    run.err = Slurp(err);
-    return run;
-  }
-
   // Runs an example scene into out_dir (below the test's directory).
   RunOutcome RunExample(const std::string& scene, const std::string& out_dir,
                         const std::string& extra = "") const {
     return Dvisim("run '" + Example(scene) + "' --out '" + Path(out_dir) + "' " + extra);
-  }
-
-  static std::string Slurp(const std::string& path) {
-    std::ifstream stream(path);
-    std::ostringstream text;
-    text << stream.rdbuf();
-    return text.str();
   }
 
   static std::string Example(const std::string& name) {
@@ -280,9 +238,6 @@ class DvisimRun : public ::testing::Test {
       names.push_back(entry.path().filename().string());
     return names;
   }
-
- private:
-  fs::path directory_;
 };
 
 // Rows = output.times ∪ samples ∪ event times, each once, ascending.

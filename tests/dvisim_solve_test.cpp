@@ -1,15 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // `dvisim solve`: the problem-file reader (src/dvisim/problem_file) and
 // end-to-end runs of the built binary on examples/problems and on bad files.
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,11 +13,13 @@
 #include <nlohmann/json.hpp>
 
 #include "problem_file.hpp"
+#include "support/dvisim_fixture.hpp"
 
 namespace dvi::dvisim {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::RunOutcome;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // dvisim solves at the default tolerance 1e-10 unless told otherwise.
@@ -179,56 +177,11 @@ TEST(ProblemFile, EachBadInputHasItsMessage) {
   }
 }
 
-// What a run of the built dvisim produced.
-struct RunOutcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-class DvisimBinary : public testing::Test {
+class DvisimBinary : public testing::DvisimBinaryTest {
  protected:
-  void SetUp() override {
-    directory_ = fs::temp_directory_path() /
-                 ("dvisim_solve_test_" + std::to_string(::getpid()) + "_" +
-                  testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(directory_);
-  }
-  void TearDown() override { fs::remove_all(directory_); }
-
-  std::string Path(const std::string& name) const { return (directory_ / name).string(); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    std::ofstream(Path(name)) << text;
-    return Path(name);
-  }
-
-  RunOutcome Dvisim(const std::string& arguments) const {
-    const std::string out = Path("stdout.txt");
-    const std::string err = Path("stderr.txt");
-    const std::string command =
-        std::string("'") + DVISIM_EXECUTABLE + "' " + arguments + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(command.c_str());
-    RunOutcome run;
-    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.out = Slurp(out);
-    run.err = Slurp(err);
-    return run;
-  }
-
-  static std::string Slurp(const std::string& path) {
-    std::ifstream stream(path);
-    std::ostringstream text;
-    text << stream.rdbuf();
-    return text.str();
-  }
-
   static std::string Example(const std::string& name) {
     return std::string(DVI_EXAMPLES_DIR) + "/problems/" + name;
   }
-
- private:
-  fs::path directory_;
 };
 
 Eigen::VectorXd VectorOf(const nlohmann::json& array) {

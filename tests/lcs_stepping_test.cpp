@@ -20,16 +20,8 @@
 namespace dvi {
 namespace {
 
-using ExactState = std::function<Eigen::VectorXd(double t)>;
-
-// Max over the step ends of ‖x̂ − x‖∞: the nodes of the piecewise-linear x̂ᴴ.
-double MaxError(const Trajectory& trajectory, const ExactState& exact) {
-  double error = 0;
-  for (size_t k = 0; k < trajectory.times.size(); ++k)
-    error = std::max(error,
-                     (trajectory.states[k] - exact(trajectory.times[k])).lpNorm<Eigen::Infinity>());
-  return error;
-}
+using testing::ExactState;
+using testing::MaxStateError;
 
 struct OrderStudy {
   std::vector<double> step_sizes;
@@ -47,7 +39,7 @@ OrderStudy MeasureOrder(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
     const Trajectory trajectory = IntegrateTimeStepping(lcs, x0, 0, t_end, options);
     EXPECT_TRUE(trajectory.succeeded()) << trajectory.message;
     study.step_sizes.push_back(options.h);
-    study.errors.push_back(MaxError(trajectory, exact));
+    study.errors.push_back(MaxStateError(trajectory, exact));
   }
   study.order = testing::FittedOrder(study.step_sizes, study.errors);
   return study;
@@ -276,7 +268,7 @@ TEST(LcsStepping, StepDoublingMeetsTheToleranceWithFewerSteps) {
   // Step doubling holds each accepted pair's local error to rtol·|x| + atol;
   // the global error adds those up over the ~100 steps of the decaying arc
   // (damped by e^{−(t−s)}) plus the switch step, measured 14·rtol.
-  const double error = MaxError(adaptive, circuit.Exact());
+  const double error = MaxStateError(adaptive, circuit.Exact());
   EXPECT_LT(error, 20 * options.rtol);
   // Each step size's W is factored once: the accepted half steps h, their
   // coarse steps 2h (rejected attempts are on the same ladder), and u⁰'s W = I.
@@ -293,7 +285,7 @@ TEST(LcsStepping, StepDoublingMeetsTheToleranceWithFewerSteps) {
     options.h = 2.0 / std::pow(2.0, k);
     const Trajectory fixed = IntegrateTimeStepping(lcs, circuit.Initial(), 0, 2, options);
     fixed_steps = fixed.stats.steps;
-    if (MaxError(fixed, circuit.Exact()) <= error) break;
+    if (MaxStateError(fixed, circuit.Exact()) <= error) break;
   }
   EXPECT_LT(adaptive.stats.steps + adaptive.stats.rejected_steps, fixed_steps);
 }

@@ -12,6 +12,7 @@
 
 #include "dvi/dvi_problem.hpp"
 #include "dvi/error.hpp"
+#include "support/expect_throw.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/solution_diagnostics.hpp"
@@ -20,21 +21,13 @@
 namespace dvi {
 namespace {
 
+using testing::ExpectThrowNaming;
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Converters only rearrange floating-point operations: a few ulps.
 constexpr double kRoundOff = 1e-14;
 // ∂(B(t, x) u)/∂x by forward differences with step √eps: error O(√eps).
 constexpr double kDifferenceTolerance = 1e-6;
-
-void ExpectThrowNaming(const std::function<void()>& run, const std::string& name) {
-  try {
-    run();
-    ADD_FAILURE() << "no InvalidInputError; expected one naming " << name;
-  } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find(name), std::string::npos)
-        << "message \"" << error.what() << "\" does not name " << name;
-  }
-}
 
 Dvi ValidDvi() {
   Dvi dvi;

@@ -97,6 +97,20 @@ void Split(const SolveResult& result, int n, int m, StepOutcome& outcome) {
   if (result.w.size() == n + m) outcome.w = result.w.tail(m);
 }
 
+// Solves a step's stacked VI in (x, u) warm-started from (x_old, u_old) and
+// fills outcome with x^{i+1}, u^{i+1} or the failure.
+void SolveStackedStep(const char* what, const StackedVi& stacked, const VectorMap& map,
+                      const DenseJacobian& jacobian, const SolverOptions& options,
+                      const Eigen::VectorXd& x_old, const Eigen::VectorXd& u_old,
+                      StepOutcome& outcome) {
+  Eigen::VectorXd warm(x_old.size() + u_old.size());
+  warm << x_old, u_old;
+  const SolveResult result = stacked.Solve(map, jacobian, options, warm, outcome);
+  Finish(what, result, outcome);
+  if (outcome.solved)
+    Split(result, static_cast<int>(x_old.size()), static_cast<int>(u_old.size()), outcome);
+}
+
 std::string Weights(double theta) {
   std::ostringstream text;
   text << "θ = " << theta;
@@ -217,11 +231,8 @@ class ViAtNewState final : public DviMethod {
         J.bottomRightCorner(m, m) = Fu;
       };
     }
-    Eigen::VectorXd warm(n + m);
-    warm << x_old, u_old;
-    const SolveResult result = stacked_.Solve(map, jacobian, solver_, warm, outcome);
-    Finish("the VI (3.3) in (x, u)", result, outcome);
-    if (outcome.solved) Split(result, n, m, outcome);
+    SolveStackedStep("the VI (3.3) in (x, u)", stacked_, map, jacobian, solver_, x_old, u_old,
+                     outcome);
     return outcome;
   }
 
@@ -395,11 +406,8 @@ class SeparableMethod final : public internal::OneStepMethod {
         J.bottomRightCorner(m, m) = Fu;
       };
     }
-    Eigen::VectorXd warm(n + m);
-    warm << x_old, u_old;
-    const SolveResult result = stacked_.Solve(map, jacobian, solver_, warm, outcome);
-    Finish("the VI (7.2) in (x, u)", result, outcome);
-    if (outcome.solved) Split(result, n, m, outcome);
+    SolveStackedStep("the VI (7.2) in (x, u)", stacked_, map, jacobian, solver_, x_old, u_old,
+                     outcome);
     return outcome;
   }
 

@@ -2,9 +2,13 @@
 #include "json_reading.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -168,6 +172,15 @@ nlohmann::ordered_json VectorToJson(const Eigen::VectorXd& v) {
   nlohmann::ordered_json array = nlohmann::ordered_json::array();
   for (Eigen::Index i = 0; i < v.size(); ++i) array.push_back(NumberToJson(v(i)));
   return array;
+}
+
+std::string ReadTextFile(const std::string& path) {
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
+  std::ostringstream contents;
+  contents << stream.rdbuf();
+  if (stream.bad()) throw InputError(path + ": cannot read the file");
+  return contents.str();
 }
 
 }  // namespace dvi::dvisim

@@ -27,6 +27,15 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The whole text of the file at path. @throws InputError "PATH: cannot
+/// open (reason)" or "PATH: cannot read the file".
+std::string ReadTextFile(const std::string& path);
+
+/// parse(ReadTextFile(path)), an InputError from parsing prefixed with the
+/// path ("scene.json: x0: ...").
+template <typename Parse>
+auto ParseFile(const std::string& path, Parse parse) -> decltype(parse(std::string()));
+
 /// Parses JSON text. @throws InputError "malformed JSON at line L, column C: ...".
 nlohmann::json ParseJson(const std::string& text);
 
@@ -69,5 +78,15 @@ MatrixField ReadMatrix(const nlohmann::json& value, const std::string& path);
 /// no literal for them; the strings follow the input convention).
 nlohmann::ordered_json NumberToJson(double value);
 nlohmann::ordered_json VectorToJson(const Eigen::VectorXd& v);
+
+template <typename Parse>
+auto ParseFile(const std::string& path, Parse parse) -> decltype(parse(std::string())) {
+  const std::string text = ReadTextFile(path);
+  try {
+    return parse(text);
+  } catch (const InputError& error) {
+    throw InputError(path + ": " + error.what());
+  }
+}
 
 }  // namespace dvi::dvisim

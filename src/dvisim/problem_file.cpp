@@ -1,11 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "problem_file.hpp"
 
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -282,16 +278,7 @@ ProblemFile ParseProblemFile(const std::string& text) {
 }
 
 ProblemFile ReadProblemFile(const std::string& path) {
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
-  std::ostringstream contents;
-  contents << stream.rdbuf();
-  if (stream.bad()) throw InputError(path + ": cannot read the file");
-  try {
-    return ParseProblemFile(contents.str());
-  } catch (const InputError& error) {
-    throw InputError(path + ": " + error.what());
-  }
+  return ParseFile(path, ParseProblemFile);
 }
 
 }  // namespace dvi::dvisim

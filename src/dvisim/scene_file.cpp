@@ -2,9 +2,6 @@
 #include "scene_file.hpp"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <sstream>
 #include <utility>
 
@@ -461,16 +458,7 @@ Scene ParseScene(const std::string& text) {
 }
 
 Scene ReadScene(const std::string& path) {
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
-  std::ostringstream contents;
-  contents << stream.rdbuf();
-  if (stream.bad()) throw InputError(path + ": cannot read the file");
-  try {
-    return ParseScene(contents.str());
-  } catch (const InputError& error) {
-    throw InputError(path + ": " + error.what());
-  }
+  return ParseFile(path, ParseScene);
 }
 
 }  // namespace dvi::dvisim

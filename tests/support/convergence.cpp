@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "support/convergence.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -24,6 +25,14 @@ double FittedOrder(const std::vector<double>& step_sizes, const std::vector<doub
     sxx += dx * dx;
   }
   return sxy / sxx;
+}
+
+double MaxStateError(const Trajectory& trajectory, const ExactState& exact) {
+  double error = 0;
+  for (size_t k = 0; k < trajectory.times.size(); ++k)
+    error = std::max(error,
+                     (trajectory.states[k] - exact(trajectory.times[k])).lpNorm<Eigen::Infinity>());
+  return error;
 }
 
 }  // namespace dvi::testing
