@@ -6,6 +6,7 @@
 #include "dvi/convex_set.hpp"
 #include "dvi/dvi_problem.hpp"
 #include "dvi/error.hpp"
+#include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/lemke.hpp"

@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "dvi/dvi_problem.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/solver_options.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi {
+
+/// Event-driven integration of index-one DVIs ([Seed] Sect. 5). When F(t, x, ·)
+/// is uniformly P / strongly monotone on K ((A0), (B0), Theorem 5.1), or the
+/// solution u0 is strongly regular (A0', Sect. 5.3), u(t, x) is Lipschitz and
+/// the DVI is the ODE (5.2) x' = f(t, x, u(t, x)). Its right-hand side has
+/// kinks where the active set of u changes, which cost a plain ODE solver its
+/// order; instead each MODE (for a box K: every u_j at its lower bound, at its
+/// upper bound, or free) is integrated as a smooth ODE by CVODE, and the mode
+/// changes at root-found events.
+///
+/// Notation as dvi_problem.hpp: state x ∈ ℝⁿ, u ∈ K ⊂ ℝᵐ, time t.
+
+/// The linear multistep family CVODE uses inside a mode.
+enum class OdeMethod {
+  kBdf,    ///< Backward differentiation, orders 1–5: stiff problems (circuits).
+  kAdams,  ///< Adams–Moulton, orders 1–12: non-stiff problems.
+};
+/// "bdf", "adams".
+std::string_view ToString(OdeMethod method);
+
+struct EventDrivenOptions {
+  /// CVODE's local error test: ‖err_i‖ ≤ rtol·|x_i| + atol, finite and ≥ 0,
+  /// not both zero.
+  double rtol = 1e-8;
+  double atol = 1e-10;
+  OdeMethod method = OdeMethod::kBdf;
+  /// Limit on accepted steps over the whole run, > 0.
+  long max_steps = 1'000'000;
+  /// Largest step size; 0 means no limit.
+  double h_max = 0;
+  /// Times to sample (ascending, within [t0, t_end]), interpolated with
+  /// CVODE's dense output; empty samples every accepted step. Either way t0,
+  /// t_end and every event time (u the right limit) are also sampled.
+  std::vector<double> output_times;
+  /// Limit on mode changes over the whole run, > 0.
+  long max_events = 100'000;
+  /// Chattering guard: a run of max_event_burst consecutive events, each
+  /// closer than min_event_spacing·(t_end − t0) to the previous one, stops
+  /// the integration (Zeno behaviour, or a mode left as soon as entered).
+  /// Re-entering a mode already left at the same time stops it at once.
+  int max_event_burst = 16;
+  double min_event_spacing = 1e-6;
+  /// Options of the full VI solves at the initial time and at events (box MCP
+  /// by semismooth Newton); its tolerance also accepts the mode's Newton
+  /// solves of F_free(t, x, u) = 0.
+  SolverOptions solver;
+
+  /// @throws InvalidInputError naming the field out of range.
+  void Validate() const;
+};
+
+/// Integrates from (t0, x0) to t_end. K must be a box (orthant, box, whole
+/// space, or products of them). Inside a mode the VI reduces to
+/// F_j(t, x, u) = 0 on the free components, the others at their bounds; that
+/// system is solved by Newton from the last u, and the Jacobian of (5.2) is
+/// f_x + f_u·du/dx with du/dx from the implicit function theorem. Root
+/// functions watch the mode's validity: a free u_j reaching a bound, or a
+/// bound component's F_j changing sign. At an event the full VI selects the
+/// new mode; degenerate components (the β set of Sect. 5.3) take the mode
+/// that a short look-ahead along the flow follows.
+///
+/// Before integrating, index one is checked at (t0, x0, u0): ∂F/∂u a P-matrix
+/// (Theorem 5.1) or u0 strongly regular (Sect. 5.3). If neither holds the
+/// result has status kStepFailure and a message naming the failed condition;
+/// the same status reports a VI that is not solved, a singular mode Jacobian,
+/// a CVODE failure (its flag name), or chattering (more than the event limits).
+/// kMaxSteps reports the step limit. Samples up to the failure are kept.
+/// @throws InvalidInputError on an invalid problem, x0, t0/t_end, options,
+/// or a K that is not a box.
+Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
+                                double t_end, const EventDrivenOptions& options = {});
+/// The LCS (2.8) and its box generalization, through Lcs::ToDvi (exact,
+/// constant Jacobians; ∂F/∂u = D).
+Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
+                                double t_end, const EventDrivenOptions& options = {});
+
+}  // namespace dvi

@@ -1,0 +1,500 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/event_driven.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include <cvode/cvode_ls.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "box_mode.hpp"
+#include "check.hpp"
+#include "dvi/matrix_classes.hpp"
+#include "sundials_handles.hpp"
+
+namespace dvi {
+
+std::string_view ToString(OdeMethod method) {
+  switch (method) {
+    case OdeMethod::kBdf: return "bdf";
+    case OdeMethod::kAdams: return "adams";
+  }
+  return "unknown";
+}
+
+void EventDrivenOptions::Validate() const {
+  DVI_THROW_UNLESS(std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 &&
+                       rtol + atol > 0,
+                   "rtol, atol: " << rtol << ", " << atol
+                                  << " must be finite, non-negative and not both zero");
+  DVI_THROW_UNLESS(method == OdeMethod::kBdf || method == OdeMethod::kAdams,
+                   "method: " << static_cast<int>(method) << " is not an OdeMethod");
+  DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
+  DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
+                   "h_max: " << h_max << " is negative or not finite");
+  for (std::size_t k = 0; k < output_times.size(); ++k) {
+    DVI_THROW_UNLESS(std::isfinite(output_times[k]),
+                     "output_times[" << k << "]: " << output_times[k] << " is not finite");
+    DVI_THROW_UNLESS(k == 0 || output_times[k] >= output_times[k - 1],
+                     "output_times[" << k << "]: " << output_times[k]
+                                     << " is below output_times[" << k - 1
+                                     << "] = " << output_times[k - 1]);
+  }
+  DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
+  DVI_THROW_UNLESS(max_event_burst >= 2,
+                   "max_event_burst: " << max_event_burst << " is below 2");
+  DVI_THROW_UNLESS(std::isfinite(min_event_spacing) && min_event_spacing >= 0 &&
+                       min_event_spacing < 1,
+                   "min_event_spacing: " << min_event_spacing << " is outside [0, 1)");
+  solver.Validate();
+}
+
+namespace {
+
+using internal::BoundState;
+using internal::BoxMode;
+using internal::BoxModeSystem;
+
+// Look-ahead length at a degenerate event, relative to the horizon.
+constexpr double kLookAheadFraction = 1e-5;
+// Events closer than this (relative to |t| + horizon) happen at the same time.
+constexpr double kSameTimeFraction = 1e-12;
+
+// What the CVODE callbacks see. Exceptions of user functions never cross
+// CVODE's C frames: they are stored and rethrown after CVode returns.
+struct CallbackData {
+  BoxModeSystem* system = nullptr;
+  Eigen::VectorXd x;
+  Eigen::VectorXd xdot;
+  Eigen::MatrixXd J;
+  std::exception_ptr error;
+  std::string cvode_message;
+  long rhs_evals = 0;
+  long jacobian_evals = 0;
+};
+
+void Load(CallbackData& data, N_Vector y) {
+  const double* values = N_VGetArrayPointer(y);
+  for (int i = 0; i < data.x.size(); ++i) data.x(i) = values[i];
+}
+
+// CVODE's convention: 0 success, > 0 recoverable (a smaller step may help:
+// a Newton failure in the mode), < 0 fatal.
+int RhsCallback(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  try {
+    ++data.rhs_evals;
+    Load(data, y);
+    if (!data.system->Solve(t, data.x)) return 1;
+    data.system->Rhs(t, data.x, data.xdot);
+    if (!data.xdot.allFinite()) return 1;
+    std::copy(data.xdot.data(), data.xdot.data() + data.xdot.size(), N_VGetArrayPointer(ydot));
+    return 0;
+  } catch (...) {
+    data.error = std::current_exception();
+    return -1;
+  }
+}
+
+int JacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void* user_data, N_Vector,
+                     N_Vector, N_Vector) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  try {
+    ++data.jacobian_evals;
+    Load(data, y);
+    if (!data.system->Solve(t, data.x)) return 1;
+    if (!data.system->RhsJacobian(t, data.x, data.J)) return 1;
+    const long n = data.J.rows();
+    for (long k = 0; k < n; ++k) {
+      double* column = SUNDenseMatrix_Column(Jac, k);
+      for (long i = 0; i < n; ++i) column[i] = data.J(i, k);
+    }
+    return 0;
+  } catch (...) {
+    data.error = std::current_exception();
+    return -1;
+  }
+}
+
+int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  try {
+    Load(data, y);
+    if (!data.system->Solve(t, data.x)) return -1;
+    data.system->Roots(t, data.x, g);
+    return 0;
+  } catch (...) {
+    data.error = std::current_exception();
+    return -1;
+  }
+}
+
+void ErrorHandler(int, const char*, const char* function, char* message, void* user_data) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  data.cvode_message = std::string(function) + ": " + message;
+}
+
+std::string Format(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+std::string Describe(const BoxMode& mode) {
+  std::string text;
+  for (const BoundState state : mode)
+    text += state == BoundState::kFree ? 'f' : state == BoundState::kLower ? 'l' : 'u';
+  return text;
+}
+
+// One run: the CVODE objects, the mode system and the trajectory being built.
+class EventDrivenRun {
+ public:
+  EventDrivenRun(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
+                 const EventDrivenOptions& options)
+      : dvi_(dvi),
+        options_(options),
+        t0_(t0),
+        t_end_(t_end),
+        x0_(x0),
+        system_(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver) {}
+
+  Trajectory Run();
+
+ private:
+  bool Start();
+  bool IntegrateModes();
+  bool HandleEvent(double t, const Eigen::VectorXd& x);
+  bool Check(int flag, const char* call);
+  void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u);
+  void SampleOutputs(double before);
+  void AddCvodeStats();
+  bool Fail(IntegrationStatus status, const std::string& message);
+
+  const Dvi& dvi_;
+  const EventDrivenOptions& options_;
+  const double t0_;
+  const double t_end_;
+  const Eigen::VectorXd& x0_;
+  BoxModeSystem system_;
+  Trajectory trajectory_;
+  std::string index_one_reason_;
+  std::size_t next_output_ = 0;
+  double t_ = 0;
+
+  internal::SunContext context_;
+  internal::SerialVector y_{x0_.size(), context_.get()};
+  internal::SerialVector dky_{x0_.size(), context_.get()};
+  internal::DenseLinearSolver linear_solver_{y_.get(), x0_.size(), context_.get()};
+  internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
+                               context_.get()};
+  CallbackData data_;
+
+  bool segment_open_ = false;  // CVODE's counters hold steps not yet in stats
+  double last_event_time_ = 0;
+  int burst_ = 0;
+  std::vector<BoxMode> modes_at_event_time_;
+};
+
+bool EventDrivenRun::Fail(IntegrationStatus status, const std::string& message) {
+  trajectory_.status = status;
+  trajectory_.message = message;
+  return false;
+}
+
+bool EventDrivenRun::Check(int flag, const char* call) {
+  if (data_.error) std::rethrow_exception(data_.error);
+  if (flag >= 0) return true;
+  std::ostringstream message;
+  message << "event: " << call << " failed at t = " << t_ << ": "
+          << CVodeGetReturnFlagName(flag);
+  if (!data_.cvode_message.empty()) message << " (" << data_.cvode_message << ")";
+  return Fail(IntegrationStatus::kStepFailure, message.str());
+}
+
+void EventDrivenRun::Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
+  trajectory_.times.push_back(t);
+  trajectory_.states.push_back(x);
+  trajectory_.multipliers.push_back(u);
+}
+
+// Dense output of the current step (CVodeGetDky) at the requested times
+// before `before` (a time equal to it is in the next step too); u there from
+// the mode, which is smooth inside the step.
+void EventDrivenRun::SampleOutputs(double before) {
+  const auto& times = options_.output_times;
+  while (next_output_ < times.size() && times[next_output_] < before) {
+    const double t = times[next_output_++];
+    if (t <= t0_ || t >= t_end_) continue;
+    // A time the step's interpolant cannot serve (outside it, or where the
+    // mode's Newton fails) is left unsampled rather than guessed.
+    if (CVodeGetDky(cvode_.get(), t, 0, dky_.get()) != CV_SUCCESS) continue;
+    const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
+    if (!system_.Solve(t, x)) continue;
+    Sample(t, x, system_.u());
+  }
+}
+
+void EventDrivenRun::AddCvodeStats() {
+  long steps = 0, error_test_failures = 0;
+  CVodeGetNumSteps(cvode_.get(), &steps);
+  CVodeGetNumErrTestFails(cvode_.get(), &error_test_failures);
+  trajectory_.stats.steps += steps;
+  trajectory_.stats.rejected_steps += error_test_failures;
+  segment_open_ = false;
+}
+
+bool EventDrivenRun::Start() {
+  IntegrationStats& stats = trajectory_.stats;
+  if (dvi_.m == 0) {
+    index_one_reason_ = "m = 0: an ODE, one mode";
+    Sample(t0_, x0_, Eigen::VectorXd());
+    return true;
+  }
+  const Eigen::VectorXd warm = Eigen::VectorXd::Zero(dvi_.m);
+  const SolveResult vi = system_.SolveVi(t0_, x0_, warm);
+  ++stats.vi_solves;
+  stats.solver_iterations += vi.iterations;
+  stats.max_residual = std::max(stats.max_residual, vi.residual);
+  if (!vi.solved()) {
+    std::ostringstream message;
+    message << "event: the VI at t = " << t0_ << " is not solved (" << ToString(vi.status)
+            << ", residual " << vi.residual << "): " << vi.message;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  // Index one at (t0, x0, u0): Theorem 5.1 (uniformly P) or Sect. 5.3
+  // (strongly regular); without it u(t, x) need not be Lipschitz and the
+  // modes need not be smooth ODEs.
+  const Eigen::MatrixXd Fu = system_.MultiplierJacobian(t0_, x0_, vi.z);
+  const MatrixClassVerdict p_matrix = IsPMatrix(Fu);
+  if (p_matrix.holds) {
+    index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + Format(t0_) +
+                        " (Theorem 5.1)";
+  } else {
+    const MatrixClassVerdict regular = IsStronglyRegular(Fu, vi.index_sets);
+    if (!regular.holds) {
+      std::ostringstream message;
+      message << "event: not index one at t = " << t0_ << ": ∂F/∂u is not a P-matrix ("
+              << p_matrix.reason << ") and u0 is not strongly regular (" << regular.reason
+              << ")";
+      return Fail(IntegrationStatus::kStepFailure, message.str());
+    }
+    index_one_reason_ = "index one: u0 strongly regular at t = " + Format(t0_) +
+                        " (Sect. 5.3)";
+  }
+  BoxMode mode;
+  std::string why;
+  if (!system_.SelectMode(t0_, x0_, vi, kLookAheadFraction * (t_end_ - t0_), mode,
+                          &stats.vi_solves, &stats.solver_iterations, &why))
+    return Fail(IntegrationStatus::kStepFailure, "event: at t = " + Format(t0_) + ": " + why);
+  system_.Enter(mode, vi.z);
+  if (!system_.Solve(t0_, x0_, &why))
+    return Fail(IntegrationStatus::kStepFailure,
+                "event: mode " + Describe(mode) + " at t = " + Format(t0_) + ": " + why);
+  Sample(t0_, x0_, system_.u());
+  return true;
+}
+
+bool EventDrivenRun::HandleEvent(double t, const Eigen::VectorXd& x) {
+  IntegrationStats& stats = trajectory_.stats;
+  const BoxMode old_mode = system_.mode();
+  // u of the old mode at the root only warm-starts the VI: no check needed.
+  system_.Solve(t, x);
+  const SolveResult vi = system_.SolveVi(t, x, system_.u());
+  ++stats.vi_solves;
+  stats.solver_iterations += vi.iterations;
+  stats.max_residual = std::max(stats.max_residual, vi.residual);
+  std::ostringstream message;
+  message << "event: at t = " << t << ": ";
+  if (!vi.solved()) {
+    message << "the VI is not solved (" << ToString(vi.status) << ", residual " << vi.residual
+            << "): " << vi.message;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  // Index one at the event (Sect. 5.3): where u is not strongly regular the
+  // modes need not be smooth and the solution may slide along the switching
+  // surface, so the mode would chatter. (A P-matrix ∂F/∂u implies it.)
+  const MatrixClassVerdict regular =
+      IsStronglyRegular(system_.MultiplierJacobian(t, x, vi.z), vi.index_sets);
+  if (!regular.holds) {
+    message << "not index one: u is not strongly regular (" << regular.reason
+            << "), so the mode would chatter";
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  BoxMode mode;
+  std::string why;
+  const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
+  if (delta > 0 &&
+      !system_.SelectMode(t, x, vi, delta, mode, &stats.vi_solves, &stats.solver_iterations, &why))
+    return Fail(IntegrationStatus::kStepFailure, message.str() + why);
+  if (delta <= 0) mode = old_mode;
+  // Chattering guards: roots must not pile up (Zeno), and a mode must not be
+  // re-entered at the instant it was left — stop with a status, never loop.
+  const double horizon = t_end_ - t0_;
+  const bool same_time =
+      burst_ > 0 && t - last_event_time_ <= kSameTimeFraction * (std::abs(t) + horizon);
+  burst_ = burst_ > 0 && t - last_event_time_ < options_.min_event_spacing * horizon ? burst_ + 1
+                                                                                      : 1;
+  last_event_time_ = t;
+  if (burst_ >= options_.max_event_burst) {
+    message << "chattering: " << burst_ << " consecutive events each less than "
+            << options_.min_event_spacing * horizon << " apart (Zeno behaviour or a mode left "
+            << "as soon as entered)";
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  // A root function that only touched zero (or vanishes identically, as F_j
+  // of a degenerate component) leaves the mode as it is: no event.
+  if (mode == old_mode) return true;
+  if (!same_time) modes_at_event_time_.assign(1, old_mode);
+  if (std::find(modes_at_event_time_.begin(), modes_at_event_time_.end(), mode) !=
+      modes_at_event_time_.end()) {
+    message << "chattering: mode " << Describe(mode) << " (f free, l lower, u upper bound) was "
+            << "left at this time and would be re-entered";
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  modes_at_event_time_.push_back(mode);
+  for (int j = 0; j < dvi_.m; ++j) {
+    if (mode[j] == old_mode[j]) continue;
+    const EventKind kind = mode[j] == BoundState::kLower   ? EventKind::kReachedLower
+                           : mode[j] == BoundState::kUpper ? EventKind::kReachedUpper
+                                                           : EventKind::kLeftBound;
+    trajectory_.events.push_back({t, kind, j});
+  }
+  if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
+    message << "more than max_events = " << options_.max_events << " events";
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+
+  system_.Enter(mode, vi.z);
+  if (!system_.Solve(t, x, &why)) {
+    message << "mode " << Describe(mode) << ": " << why;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  Sample(t, x, system_.u());
+  return true;
+}
+
+bool EventDrivenRun::IntegrateModes() {
+  void* cvode = cvode_.get();
+  data_.system = &system_;
+  data_.x.resize(x0_.size());
+  std::copy(x0_.data(), x0_.data() + x0_.size(), y_.data());
+  t_ = t0_;
+  std::vector<int> directions(2 * dvi_.m, -1);  // the root functions are positive in the mode
+  std::vector<int> roots(2 * dvi_.m);
+  if (!Check(CVodeSetErrHandlerFn(cvode, ErrorHandler, &data_), "CVodeSetErrHandlerFn") ||
+      !Check(CVodeInit(cvode, RhsCallback, t0_, y_.get()), "CVodeInit") ||
+      !Check(CVodeSStolerances(cvode, options_.rtol, options_.atol), "CVodeSStolerances") ||
+      !Check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData") ||
+      !Check(CVodeSetLinearSolver(cvode, linear_solver_.solver(), linear_solver_.matrix()),
+             "CVodeSetLinearSolver") ||
+      !Check(CVodeSetJacFn(cvode, JacobianCallback), "CVodeSetJacFn") ||
+      !Check(CVodeSetMaxStep(cvode, options_.h_max), "CVodeSetMaxStep") ||
+      !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
+      !Check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn"))
+    return false;
+  if (dvi_.m > 0 &&
+      (!Check(CVodeRootInit(cvode, 2 * dvi_.m, RootCallback), "CVodeRootInit") ||
+       !Check(CVodeSetRootDirection(cvode, directions.data()), "CVodeSetRootDirection")))
+    return false;
+  segment_open_ = true;
+
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), x0_.size());
+  while (true) {
+    double t_reached = t_;
+    const int flag = CVode(cvode, t_end_, y_.get(), &t_reached, CV_ONE_STEP);
+    if (!Check(flag, "CVode")) return false;
+    long steps = 0;
+    CVodeGetNumSteps(cvode, &steps);
+    if (trajectory_.stats.steps + steps > options_.max_steps) {
+      std::ostringstream message;
+      message << "event: max_steps = " << options_.max_steps << " reached at t = " << t_reached;
+      return Fail(IntegrationStatus::kMaxSteps, message.str());
+    }
+    t_ = t_reached;
+    if (flag == CV_ROOT_RETURN) {
+      SampleOutputs(t_);
+      AddCvodeStats();
+      const Eigen::VectorXd x = y;
+      const Eigen::VectorXd u_left = system_.u();
+      if (!HandleEvent(t_, x)) {
+        Sample(t_, x, u_left);
+        return false;
+      }
+      // An event this close to t_end ends the run: CVODE cannot start a
+      // step shorter than its minimum (CV_TOO_CLOSE), and x moves by O(gap).
+      if (t_end_ - t_ <= kSameTimeFraction * (std::abs(t_end_) + t_end_ - t0_)) {
+        if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
+        return true;
+      }
+      if (!Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
+          !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime"))
+        return false;
+      segment_open_ = true;
+      continue;
+    }
+    const bool at_end = flag == CV_TSTOP_RETURN || t_ >= t_end_;
+    SampleOutputs(t_);
+    if (at_end || options_.output_times.empty()) {
+      const Eigen::VectorXd x = y;
+      if (!system_.Solve(t_, x)) {
+        std::ostringstream message;
+        message << "event: mode " << Describe(system_.mode()) << " at t = " << t_
+                << ": Newton on the free components did not converge";
+        return Fail(IntegrationStatus::kStepFailure, message.str());
+      }
+      Sample(t_, x, system_.u());
+    }
+    if (at_end) {
+      AddCvodeStats();
+      return true;
+    }
+  }
+}
+
+Trajectory EventDrivenRun::Run() {
+  const auto start = std::chrono::steady_clock::now();
+  if (Start()) IntegrateModes();
+  if (segment_open_) AddCvodeStats();
+  IntegrationStats& stats = trajectory_.stats;
+  stats.rhs_evals += data_.rhs_evals;
+  stats.jacobian_evals += data_.jacobian_evals;
+  stats.solver_iterations += system_.newton_iterations();
+  if (!trajectory_.times.empty())
+    trajectory_.intervals.push_back(
+        {t0_, trajectory_.times.back(), "event",
+         index_one_reason_.empty() ? "index one not established" : index_one_reason_});
+  stats.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return std::move(trajectory_);
+}
+
+}  // namespace
+
+Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
+                                double t_end, const EventDrivenOptions& options) {
+  dvi.Validate();
+  options.Validate();
+  DVI_THROW_UNLESS(dvi.K.IsBox(), "K: event-driven integration needs a box K (orthant, box, "
+                                  "whole space or products of them)");
+  DVI_THROW_UNLESS(x0.size() == dvi.n, "x0 has " << x0.size() << " entries, expected " << dvi.n);
+  for (int i = 0; i < x0.size(); ++i)
+    DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
+  DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
+                   "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
+  EventDrivenRun run(dvi, x0, t0, t_end, options);
+  return run.Run();
+}
+
+Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
+                                double t_end, const EventDrivenOptions& options) {
+  lcs.Validate();
+  return IntegrateEventDriven(lcs.ToDvi(), x0, t0, t_end, options);
+}
+
+}  // namespace dvi

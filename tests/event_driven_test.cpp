@@ -1,0 +1,321 @@
+// SPDX-License-Identifier: Apache-2.0
+// Event-driven integration of index-one DVIs ([Seed] Sect. 5): exact
+// piecewise solutions, tolerance proportionality of the error (the measured
+// slope of log error against log rtol), refusal when index one fails, and
+// the chattering guard.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dvi/error.hpp"
+#include "dvi/event_driven.hpp"
+#include "support/convergence.hpp"
+
+namespace dvi {
+namespace {
+
+std::string Scientific(double value) {
+  std::ostringstream text;
+  text << std::scientific << std::setprecision(3) << value;
+  return text.str();
+}
+
+std::vector<double> Linspace(double a, double b, int count) {
+  std::vector<double> times(count);
+  for (int k = 0; k < count; ++k) times[k] = a + (b - a) * k / (count - 1);
+  return times;
+}
+
+// Largest error of the samples against an exact x(t) (componentwise max).
+template <typename Exact>
+double MaxError(const Trajectory& trajectory, Exact exact) {
+  double error = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const Eigen::VectorXd difference = trajectory.states[k] - exact(trajectory.times[k]);
+    error = std::max(error, difference.lpNorm<Eigen::Infinity>());
+  }
+  return error;
+}
+
+// x' = u, u ∈ SOL([−1, 1], u + x): u = clamp(−x), so from x0 = 3 the
+// solution is x = 3 − t until x = 1 at t = 2, then x = e^{−(t−2)}.
+Dvi SaturatedDecay() {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = u(0);
+  };
+  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx(0, 0) = 0;
+    Ju(0, 0) = 1;
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = u(0) + x(0);
+  };
+  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx(0, 0) = 1;
+    Ju(0, 0) = 1;
+  };
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
+  return dvi;
+}
+
+class EventDrivenMethod : public ::testing::TestWithParam<OdeMethod> {};
+
+TEST_P(EventDrivenMethod, SaturatedDecayMatchesExactSolutionAndEventTime) {
+  EventDrivenOptions options;
+  options.method = GetParam();
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  options.output_times = Linspace(0, 5, 200);
+  const Trajectory trajectory =
+      IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  const auto exact = [](double t) {
+    return Eigen::VectorXd::Constant(1, t <= 2 ? 3 - t : std::exp(-(t - 2)));
+  };
+  const double error = MaxError(trajectory, exact);
+  EXPECT_LE(error, 1e-8);
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_NEAR(trajectory.events[0].time, 2.0, 1e-9);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kLeftBound);
+  EXPECT_EQ(trajectory.events[0].index, 0);
+  EXPECT_GE(trajectory.times.size(), 200u);
+  // u = −1 before the event, and from it on (the right limit) u = −x.
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double expected = trajectory.times[k] < trajectory.events[0].time
+                                ? -1.0
+                                : -trajectory.states[k](0);
+    EXPECT_NEAR(trajectory.multipliers[k](0), expected, 1e-10) << "t = " << trajectory.times[k];
+  }
+  EXPECT_GT(trajectory.stats.steps, 0);
+  EXPECT_GT(trajectory.stats.vi_solves, 0);
+  ASSERT_EQ(trajectory.intervals.size(), 1u);
+  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  RecordProperty("max_error", Scientific(error));
+  RecordProperty("event_time_error", Scientific(std::abs(trajectory.events[0].time - 2)));
+}
+
+INSTANTIATE_TEST_SUITE_P(BdfAndAdams, EventDrivenMethod,
+                         ::testing::Values(OdeMethod::kBdf, OdeMethod::kAdams),
+                         [](const ::testing::TestParamInfo<OdeMethod>& info) {
+                           return std::string(ToString(info.param));
+                         });
+
+// RC circuit with an ideal diode in series with Rd: C v' = −v/R − I + u,
+// 0 ≤ u ⊥ v + Rd u ≥ 0. From v0 > 0 the diode is off (u = 0) until v = 0 at
+// t* = RC ln((v0 + IR)/(IR)); then it conducts, u = −v/Rd, and
+// v → v∞ = −I/(1/R + 1/Rd) with time constant τ = C/(1/R + 1/Rd).
+constexpr double kCapacitance = 1, kResistance = 1, kDiodeResistance = 0.5, kCurrent = 1,
+                 kV0 = 2;
+
+Lcs DiodeCircuit() {
+  Eigen::MatrixXd A(1, 1), B(1, 1), C(1, 1), D(1, 1);
+  A << -1 / (kResistance * kCapacitance);
+  B << 1 / kCapacitance;
+  C << 1;
+  D << kDiodeResistance;
+  return Lcs::Dense(A, B, C, D, Eigen::VectorXd::Constant(1, -kCurrent / kCapacitance),
+                    Eigen::VectorXd::Zero(1));
+}
+
+Eigen::VectorXd DiodeVoltage(double t) {
+  const double switch_time =
+      kResistance * kCapacitance *
+      std::log((kV0 + kCurrent * kResistance) / (kCurrent * kResistance));
+  if (t <= switch_time)
+    return Eigen::VectorXd::Constant(
+        1, -kCurrent * kResistance +
+               (kV0 + kCurrent * kResistance) * std::exp(-t / (kResistance * kCapacitance)));
+  const double conductance = 1 / kResistance + 1 / kDiodeResistance;
+  const double v_inf = -kCurrent / conductance, tau = kCapacitance / conductance;
+  return Eigen::VectorXd::Constant(1, v_inf - v_inf * std::exp(-(t - switch_time) / tau));
+}
+
+TEST(EventDriven, DiodeCircuitErrorIsProportionalToTolerance) {
+  std::vector<double> tolerances, errors;
+  for (const double rtol : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+    EventDrivenOptions options;
+    options.rtol = rtol;
+    options.atol = 1e-2 * rtol;
+    options.output_times = Linspace(0, 3, 100);
+    const Trajectory trajectory = IntegrateEventDriven(
+        DiodeCircuit(), Eigen::VectorXd::Constant(1, kV0), 0, 3, options);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    ASSERT_EQ(trajectory.events.size(), 1u);
+    EXPECT_EQ(trajectory.events[0].kind, EventKind::kLeftBound);
+    EXPECT_NEAR(trajectory.events[0].time, std::log(3.0), 1e2 * rtol);
+    tolerances.push_back(rtol);
+    errors.push_back(MaxError(trajectory, DiodeVoltage));
+  }
+  const double slope = testing::FittedOrder(tolerances, errors);
+  EXPECT_GE(slope, 0.8);
+  EXPECT_LE(errors.back(), 1e-6);
+  RecordProperty("slope", Scientific(slope));
+  for (std::size_t k = 0; k < errors.size(); ++k)
+    RecordProperty("error_at_rtol_" + Scientific(tolerances[k]), Scientific(errors[k]));
+}
+
+// A nonlinear strongly monotone DVI on [−1, 1]³: F = M u + 0.1 u³ + G x with
+// M + Mᵀ positive definite, so ∂F/∂u = M + diag(0.3 u²) is uniformly P
+// (Theorem 5.1). The oscillator x1, x2 drives u in and out of saturation.
+// No Jacobians: the forward-difference path.
+Dvi SaturatedOscillator() {
+  Dvi dvi;
+  dvi.n = 3;
+  dvi.m = 3;
+  dvi.f = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out << x(1), -x(0) + 0.5 * u(0), -0.2 * x(2) + u(2) + 0.5 * u(1) + std::sin(t);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    Eigen::Matrix3d M, G;
+    M << 2, 0.5, 0, -0.5, 2, 0.3, 0, -0.3, 1.5;
+    G << 1.5, 0, 0, 0, 1.5, 0, 0.5, 0, 1.5;
+    out = M * u + 0.1 * u.array().cube().matrix() + G * x;
+  };
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(3, -1), Eigen::VectorXd::Constant(3, 1));
+  return dvi;
+}
+
+TEST(EventDriven, NonlinearBoxDviErrorIsProportionalToTolerance) {
+  const Eigen::Vector3d x0(2.5, 0, 1);
+  const double t_end = 10;
+  EventDrivenOptions reference_options;
+  reference_options.rtol = 1e-12;
+  reference_options.atol = 1e-14;
+  reference_options.output_times = Linspace(0, t_end, 101);
+  const Trajectory reference =
+      IntegrateEventDriven(SaturatedOscillator(), x0, 0, t_end, reference_options);
+  ASSERT_TRUE(reference.succeeded()) << reference.message;
+  EXPECT_GE(reference.events.size(), 4u);
+  const auto exact = [&reference](double t) { return reference.StateAt(t); };
+
+  std::vector<double> tolerances, errors;
+  for (const double rtol : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+    EventDrivenOptions options = reference_options;
+    options.rtol = rtol;
+    options.atol = 1e-2 * rtol;
+    const Trajectory trajectory =
+        IntegrateEventDriven(SaturatedOscillator(), x0, 0, t_end, options);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    EXPECT_EQ(trajectory.events.size(), reference.events.size());
+    // Compare at the output times only, which the reference sampled too (the
+    // event samples sit at slightly different times in each run).
+    double error = 0;
+    for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+      const double t = trajectory.times[k];
+      if (std::find(reference_options.output_times.begin(), reference_options.output_times.end(),
+                    t) == reference_options.output_times.end())
+        continue;
+      error = std::max(error, (trajectory.states[k] - exact(t)).lpNorm<Eigen::Infinity>());
+    }
+    tolerances.push_back(rtol);
+    errors.push_back(error);
+  }
+  const double slope = testing::FittedOrder(tolerances, errors);
+  EXPECT_GE(slope, 0.8);
+  RecordProperty("slope", Scientific(slope));
+  for (std::size_t k = 0; k < errors.size(); ++k)
+    RecordProperty("error_at_rtol_" + Scientific(tolerances[k]), Scientific(errors[k]));
+  RecordProperty("events", std::to_string(reference.events.size()));
+}
+
+// D = 0: at x0 = 0 every u ≥ 0 solves 0 ≤ u ⊥ x + 0·u ≥ 0, u0 = 0 is
+// degenerate and the Schur complement D_ββ = 0 is not P (Sect. 5.3).
+TEST(EventDriven, RefusesWhenNotIndexOne) {
+  Eigen::MatrixXd A(1, 1), B(1, 1), C(1, 1), D(1, 1);
+  A << -1;
+  B << 1;
+  C << 1;
+  D << 0;
+  const Trajectory trajectory =
+      IntegrateEventDriven(Lcs::Dense(A, B, C, D), Eigen::VectorXd::Zero(1), 0, 1);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("not index one at t = 0"), std::string::npos)
+      << trajectory.message;
+  EXPECT_NE(trajectory.message.find("not a P-matrix"), std::string::npos) << trajectory.message;
+  EXPECT_NE(trajectory.message.find("not strongly regular"), std::string::npos)
+      << trajectory.message;
+  EXPECT_EQ(trajectory.stats.steps, 0);
+}
+
+// x' = u, u ∈ SOL([−1, 1], x² u + x): ∂F/∂u = x² is P at x0 = 2, and
+// u = −1/x until x = 1 at t = 1.5, then u = −1 until x = 0 at t = 2.5. There
+// ∂F/∂u = 0 and the solution would slide on x = 0 (u = +1 for x < 0, −1 for
+// x > 0): the integration must stop there with a message, not chatter.
+TEST(EventDriven, StopsWhereTheModeWouldChatter) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = u(0);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = x(0) * x(0) * u(0) + x(0);
+  };
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 2), 0, 5);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("not index one"), std::string::npos) << trajectory.message;
+  EXPECT_NE(trajectory.message.find("chatter"), std::string::npos) << trajectory.message;
+  ASSERT_GE(trajectory.events.size(), 1u);
+  EXPECT_NEAR(trajectory.events[0].time, 1.5, 1e-6);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kReachedLower);
+  EXPECT_NEAR(trajectory.final_time(), 2.5, 1e-6);
+  EXPECT_NEAR(trajectory.states.back()(0), 0, 1e-6);
+  RecordProperty("message", trajectory.message);
+}
+
+TEST(EventDriven, StopsAtMaxEvents) {
+  EventDrivenOptions options;
+  options.max_events = 3;
+  const Trajectory trajectory =
+      IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("max_events = 3"), std::string::npos) << trajectory.message;
+  EXPECT_LT(trajectory.final_time(), 10);
+}
+
+// m = 0: a plain ODE in one mode, x'' = −x, back to x0 after a period.
+TEST(EventDriven, IntegratesAnOdeWithoutMultipliers) {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out << x(1), -x(0);
+  };
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const double period = 2 * std::acos(-1.0);
+  const Trajectory trajectory =
+      IntegrateEventDriven(dvi, Eigen::Vector2d(1, 0), 0, period, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  EXPECT_DOUBLE_EQ(trajectory.final_time(), period);
+  EXPECT_LE((trajectory.states.back() - Eigen::Vector2d(1, 0)).lpNorm<Eigen::Infinity>(), 1e-8);
+  EXPECT_TRUE(trajectory.events.empty());
+}
+
+TEST(EventDriven, RejectsInvalidInput) {
+  EventDrivenOptions options;
+  options.rtol = -1;
+  EXPECT_THROW(IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Zero(1), 0, 1, options),
+               InvalidInputError);
+  EXPECT_THROW(IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Zero(2), 0, 1),
+               InvalidInputError);
+  EXPECT_THROW(IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Zero(1), 1, 1),
+               InvalidInputError);
+  Dvi ball = SaturatedDecay();
+  ball.K = ConvexSet::Ball(Eigen::VectorXd::Zero(1), 1);
+  EXPECT_THROW(IntegrateEventDriven(ball, Eigen::VectorXd::Zero(1), 0, 1), InvalidInputError);
+}
+
+}  // namespace
+}  // namespace dvi
