@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "dvi/dvi_problem.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/solver_options.hpp"
+
+namespace dvi {
+
+class IndexOneRhs;
+
+namespace internal {
+/// For the C callbacks of cvode_rhs.hpp, which cannot let an exception cross
+/// CVODE's frames: they record its text as the rhs's message().
+struct IndexOneRhsAccess {
+  static void SetMessage(IndexOneRhs& rhs, std::string message);
+};
+}  // namespace internal
+
+/// Where u_j sits in a mode of a box K: at its lower bound, at its upper
+/// bound, or free (strictly inside, F_j(t, x, u) = 0).
+enum class MultiplierBound : signed char { kFree, kLower, kUpper };
+
+/// Work done by an IndexOneRhs since construction.
+struct IndexOneRhsStats {
+  long rhs_evals = 0;          ///< Evaluate calls.
+  long jacobian_evals = 0;     ///< Jacobian calls.
+  long vi_solves = 0;          ///< Full VI solves (mode selections).
+  long newton_iterations = 0;  ///< Newton iterations inside modes.
+  long mode_changes = 0;       ///< Selections that changed the mode.
+};
+
+/// The right-hand side of the index-one DVI as the implicit ODE (5.2)
+///   x' = f(t, x, u(t, x)),   u(t, x) = SOL(K, F(t, x, ·)),
+/// for a plain ODE solver (odeint_system.hpp, cvode_rhs.hpp) or the caller's
+/// own loop. K must be a box. Index one (∂F/∂u uniformly P, Theorem 5.1, or
+/// u strongly regular, Sect. 5.3) makes u(t, x) unique and Lipschitz; it is
+/// the caller's assumption and is not checked here (IntegrateEventDriven
+/// checks it).
+///
+/// u is found inside the current mode by Newton on the free components
+/// (F_A(t, x, u) = 0, the others at their bounds) from the last u. When that
+/// fails, or the result leaves the mode (a free u_j outside its bounds, a
+/// bound component's F_j of the wrong sign), the full VI is solved, warm
+/// started, and selects the new mode. No look-ahead is needed: u is Lipschitz,
+/// so at a degenerate component both modes give the same u.
+///
+/// The right-hand side has kinks where the mode changes; a plain ODE solver
+/// steps across them at reduced order. For event location at the kinks use
+/// IntegrateEventDriven (event_driven.hpp).
+///
+/// Not thread-safe: an evaluation updates the mode and the warm start.
+class IndexOneRhs {
+ public:
+  /// @throws InvalidInputError when dvi is invalid (Dvi::Validate), K is not
+  /// a box, or solver is invalid.
+  explicit IndexOneRhs(const Dvi& dvi, const SolverOptions& solver = {});
+  /// The LCS (2.8) or its box generalization through Lcs::ToDvi.
+  /// @throws InvalidInputError as Lcs::Validate, or as above.
+  explicit IndexOneRhs(const Lcs& lcs, const SolverOptions& solver = {});
+  ~IndexOneRhs();
+  IndexOneRhs(IndexOneRhs&&) noexcept;
+  IndexOneRhs& operator=(IndexOneRhs&&) noexcept;
+  IndexOneRhs(const IndexOneRhs&) = delete;
+  IndexOneRhs& operator=(const IndexOneRhs&) = delete;
+
+  int n() const;
+  int m() const;
+
+  /// xdot = f(t, x, u(t, x)), xdot resized to n. False, with message(), when
+  /// u cannot be computed: the VI is not solved, or (frozen mode) Newton in
+  /// the mode fails. Exceptions of the problem's functions propagate.
+  /// @throws InvalidInputError when x.size() != n.
+  bool Evaluate(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot);
+  /// J = f_x + f_u·du/dx of the mode at (t, x) (du_A/dx by the implicit
+  /// function theorem on F_A = 0), J resized to n×n; updates u and the mode
+  /// as Evaluate. False, with message(), as Evaluate or when ∂F/∂u on the
+  /// free components is singular. @throws InvalidInputError as Evaluate.
+  bool Jacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J);
+
+  /// u at the last (t, x) where it was computed (Evaluate, Jacobian,
+  /// SelectMode); zero before any.
+  const Eigen::VectorXd& multiplier() const;
+  /// Why the last failed call failed.
+  const std::string& message() const;
+  /// The current mode, m entries; empty before the first evaluation or
+  /// EnterMode.
+  const std::vector<MultiplierBound>& mode() const;
+
+  /// Solves the full VI at (t, x) and enters its mode (a component within
+  /// the solver tolerance of a bound is taken at that bound). False, with
+  /// message(), when the VI is not solved. @throws InvalidInputError as
+  /// Evaluate.
+  bool SelectMode(double t, const Eigen::VectorXd& x);
+  /// Enters mode with u as Newton's starting point (its bound components are
+  /// reset to the bounds). @throws InvalidInputError when mode or u does not
+  /// have m entries, u is not finite, or mode bounds a component at an
+  /// infinite bound.
+  void EnterMode(const std::vector<MultiplierBound>& mode, const Eigen::VectorXd& u);
+  /// While frozen, Evaluate and Jacobian never re-select: they integrate the
+  /// smooth extension of the current mode past its validity (for a caller
+  /// that knows the switch times). Frozen before any mode is known, the
+  /// first evaluation selects one and keeps it.
+  void FreezeMode(bool frozen);
+  bool mode_frozen() const;
+
+  IndexOneRhsStats stats() const;
+
+ private:
+  friend struct internal::IndexOneRhsAccess;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dvi

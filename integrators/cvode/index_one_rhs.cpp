@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/index_one_rhs.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "box_mode.hpp"
+#include "check.hpp"
+
+namespace dvi {
+namespace {
+
+using internal::BoundState;
+using internal::BoxMode;
+
+// The public and internal enums name the same three states; converted
+// explicitly so that neither depends on the other's layout.
+BoundState ToInternal(MultiplierBound bound) {
+  switch (bound) {
+    case MultiplierBound::kFree: return BoundState::kFree;
+    case MultiplierBound::kLower: return BoundState::kLower;
+    case MultiplierBound::kUpper: return BoundState::kUpper;
+  }
+  return BoundState::kFree;
+}
+
+std::string Describe(const std::vector<MultiplierBound>& mode) {
+  std::string text;
+  for (const MultiplierBound bound : mode)
+    text += bound == MultiplierBound::kFree ? 'f' : bound == MultiplierBound::kLower ? 'l' : 'u';
+  return text;
+}
+
+const Dvi& Validated(const Dvi& dvi, const SolverOptions& solver) {
+  dvi.Validate();
+  solver.Validate();
+  DVI_THROW_UNLESS(dvi.K.IsBox(), "K: IndexOneRhs needs a box K (orthant, box, whole space or "
+                                  "products of them)");
+  return dvi;
+}
+
+Dvi ValidatedDvi(const Lcs& lcs) {
+  lcs.Validate();
+  return lcs.ToDvi();
+}
+
+}  // namespace
+
+struct IndexOneRhs::Impl {
+  Impl(Dvi problem, const SolverOptions& solver)
+      : dvi(std::move(problem)),
+        lower(dvi.K.BoxBounds().first),
+        upper(dvi.K.BoxBounds().second),
+        tolerance(solver.tolerance),
+        system(dvi, lower, upper, solver),
+        u(Eigen::VectorXd::Zero(dvi.m)) {}
+
+  void CheckState(const Eigen::VectorXd& x) const {
+    DVI_THROW_UNLESS(x.size() == dvi.n, "x has " << x.size() << " entries, expected " << dvi.n);
+  }
+  bool InMode(double t, const Eigen::VectorXd& x);
+  bool Select(double t, const Eigen::VectorXd& x);
+  bool Update(double t, const Eigen::VectorXd& x);
+
+  // The Dvi is owned: BoxModeSystem keeps a reference to it, and an Lcs's
+  // Dvi is a temporary.
+  const Dvi dvi;
+  const Eigen::VectorXd lower;
+  const Eigen::VectorXd upper;
+  const double tolerance;
+  internal::BoxModeSystem system;
+  Eigen::VectorXd u;
+  std::vector<MultiplierBound> mode;
+  bool has_mode = false;
+  bool frozen = false;
+  // Whether system.u() solves the mode at the last (t, x), which the
+  // Jacobian needs (after a selection whose mode Newton failed, u is the VI's).
+  bool mode_solved = false;
+  std::string message;
+  IndexOneRhsStats stats;
+};
+
+// The mode's root functions (box_mode.hpp) non-negative up to the VI
+// tolerance: a free u_j inside its bounds, a bound component's F_j of the
+// sign that holds it there. The slack keeps a degenerate component (F_j ≈ 0
+// at a bound) from forcing a VI solve at every evaluation; its effect on u
+// is within the tolerance a VI solve would leave anyway.
+bool IndexOneRhs::Impl::InMode(double t, const Eigen::VectorXd& x) {
+  std::vector<double> roots(2 * static_cast<std::size_t>(dvi.m));
+  system.Roots(t, x, roots.data());
+  for (const double g : roots)
+    if (!(g >= -tolerance)) return false;
+  return true;
+}
+
+bool IndexOneRhs::Impl::Select(double t, const Eigen::VectorXd& x) {
+  const SolveResult vi = system.SolveVi(t, x, u);
+  ++stats.vi_solves;
+  if (!vi.solved()) {
+    std::ostringstream text;
+    text << "IndexOneRhs: the VI at t = " << t << " is not solved (" << ToString(vi.status)
+         << ", residual " << vi.residual << "): " << vi.message;
+    message = text.str();
+    return false;
+  }
+  // A component within the tolerance of a bound is taken there: u is
+  // Lipschitz, so a degenerate component (the β set of Sect. 5.3) has the
+  // same u in either neighbouring mode.
+  std::vector<MultiplierBound> selected(dvi.m, MultiplierBound::kFree);
+  BoxMode internal_mode(dvi.m, BoundState::kFree);
+  for (int j = 0; j < dvi.m; ++j) {
+    const double to_lower = vi.z(j) - lower(j), to_upper = upper(j) - vi.z(j);
+    if (to_lower <= tolerance && to_lower <= to_upper)
+      selected[j] = MultiplierBound::kLower;
+    else if (to_upper <= tolerance)
+      selected[j] = MultiplierBound::kUpper;
+    internal_mode[j] = ToInternal(selected[j]);
+  }
+  if (has_mode && selected != mode) ++stats.mode_changes;
+  mode = std::move(selected);
+  has_mode = true;
+  system.Enter(internal_mode, vi.z);
+  // The mode's Newton polishes u to round-off, so that u is smooth along the
+  // flow; if it fails, the VI's u is as good to the tolerance.
+  mode_solved = system.Solve(t, x);
+  u = mode_solved ? system.u() : vi.z;
+  return true;
+}
+
+bool IndexOneRhs::Impl::Update(double t, const Eigen::VectorXd& x) {
+  if (!has_mode) return Select(t, x);
+  std::string why;
+  mode_solved = system.Solve(t, x, &why);
+  if (mode_solved && (frozen || InMode(t, x))) {
+    u = system.u();
+    return true;
+  }
+  if (!frozen) return Select(t, x);
+  std::ostringstream text;
+  text << "IndexOneRhs: frozen mode " << Describe(mode) << " at t = " << t << ": " << why;
+  message = text.str();
+  return false;
+}
+
+IndexOneRhs::IndexOneRhs(const Dvi& dvi, const SolverOptions& solver)
+    : impl_(std::make_unique<Impl>(Validated(dvi, solver), solver)) {}
+
+IndexOneRhs::IndexOneRhs(const Lcs& lcs, const SolverOptions& solver)
+    : IndexOneRhs(ValidatedDvi(lcs), solver) {}
+
+IndexOneRhs::~IndexOneRhs() = default;
+IndexOneRhs::IndexOneRhs(IndexOneRhs&&) noexcept = default;
+IndexOneRhs& IndexOneRhs::operator=(IndexOneRhs&&) noexcept = default;
+
+int IndexOneRhs::n() const { return impl_->dvi.n; }
+int IndexOneRhs::m() const { return impl_->dvi.m; }
+
+bool IndexOneRhs::Evaluate(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) {
+  Impl& impl = *impl_;
+  impl.CheckState(x);
+  ++impl.stats.rhs_evals;
+  if (!impl.Update(t, x)) return false;
+  xdot.resize(impl.dvi.n);
+  impl.dvi.f(t, x, impl.u, xdot);
+  if (!xdot.allFinite()) {
+    std::ostringstream text;
+    text << "IndexOneRhs: f is not finite at t = " << t;
+    impl.message = text.str();
+    return false;
+  }
+  return true;
+}
+
+bool IndexOneRhs::Jacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
+  Impl& impl = *impl_;
+  impl.CheckState(x);
+  ++impl.stats.jacobian_evals;
+  if (!impl.Update(t, x)) return false;
+  const auto fail = [&](const char* why) {
+    std::ostringstream text;
+    text << "IndexOneRhs: mode " << Describe(impl.mode) << " at t = " << t << ": " << why;
+    impl.message = text.str();
+    return false;
+  };
+  if (!impl.mode_solved)
+    return fail("Newton on the free components did not converge, so du/dx is unknown");
+  // f_x + f_u du/dx with du_A/dx = −F_u[A, A]⁻¹ F_x[A, :] (box_mode.hpp).
+  if (!impl.system.RhsJacobian(t, x, J)) return fail("∂F/∂u on the free components is singular");
+  return true;
+}
+
+const Eigen::VectorXd& IndexOneRhs::multiplier() const { return impl_->u; }
+const std::string& IndexOneRhs::message() const { return impl_->message; }
+
+const std::vector<MultiplierBound>& IndexOneRhs::mode() const { return impl_->mode; }
+
+bool IndexOneRhs::SelectMode(double t, const Eigen::VectorXd& x) {
+  impl_->CheckState(x);
+  return impl_->Select(t, x);
+}
+
+void IndexOneRhs::EnterMode(const std::vector<MultiplierBound>& mode, const Eigen::VectorXd& u) {
+  Impl& impl = *impl_;
+  const int m = impl.dvi.m;
+  DVI_THROW_UNLESS(static_cast<int>(mode.size()) == m,
+                   "mode has " << mode.size() << " entries, expected " << m);
+  DVI_THROW_UNLESS(u.size() == m, "u has " << u.size() << " entries, expected " << m);
+  BoxMode internal_mode(m);
+  for (int j = 0; j < m; ++j) {
+    DVI_THROW_UNLESS(std::isfinite(u(j)), "u(" << j << ") = " << u(j) << " is not finite");
+    DVI_THROW_UNLESS(mode[j] == MultiplierBound::kFree || mode[j] == MultiplierBound::kLower ||
+                         mode[j] == MultiplierBound::kUpper,
+                     "mode[" << j << "]: " << static_cast<int>(mode[j])
+                             << " is not a MultiplierBound");
+    DVI_THROW_UNLESS(mode[j] != MultiplierBound::kLower || std::isfinite(impl.lower(j)),
+                     "mode[" << j << "]: at the lower bound, which is " << impl.lower(j));
+    DVI_THROW_UNLESS(mode[j] != MultiplierBound::kUpper || std::isfinite(impl.upper(j)),
+                     "mode[" << j << "]: at the upper bound, which is " << impl.upper(j));
+    internal_mode[j] = ToInternal(mode[j]);
+  }
+  impl.system.Enter(internal_mode, u);
+  impl.mode = mode;
+  impl.has_mode = true;
+  impl.mode_solved = false;
+}
+
+void IndexOneRhs::FreezeMode(bool frozen) { impl_->frozen = frozen; }
+bool IndexOneRhs::mode_frozen() const { return impl_->frozen; }
+
+IndexOneRhsStats IndexOneRhs::stats() const {
+  IndexOneRhsStats stats = impl_->stats;
+  stats.newton_iterations = impl_->system.newton_iterations();
+  return stats;
+}
+
+void internal::IndexOneRhsAccess::SetMessage(IndexOneRhs& rhs, std::string message) {
+  rhs.impl_->message = std::move(message);
+}
+
+}  // namespace dvi
