@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -90,6 +91,32 @@ TEST(SceneFile, ReadsMethodFieldsAndExtras) {
   EXPECT_EQ(scene.stepping.solver.tolerance, 1e-9);
 }
 
+TEST(SceneFile, ReadsEventFieldsAndSharedFieldsReachBothIntegrators) {
+  const std::string problem = R"("problem": {"type": "box-dvi", "f": ["u1"], "F": ["u1 + x1"],
+    "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3], "horizon": 4)";
+  // Documented defaults: rtol 1e-8, atol 1e-10, bdf, as EventDrivenOptions.
+  const Scene plain = ParseScene("{" + problem + R"(, "method": "event"})");
+  EXPECT_EQ(plain.method, "event");
+  EXPECT_EQ(plain.event.rtol, 1e-8);
+  EXPECT_EQ(plain.event.atol, 1e-10);
+  EXPECT_EQ(plain.event.method, OdeMethod::kBdf);
+  EXPECT_EQ(plain.stepping.rtol, 1e-6);
+  const Scene scene = ParseScene("{" + problem + R"(, "method": {"name": "event",
+    "rtol": 1e-9, "atol": 1e-12, "ode": "adams", "max_events": 7, "h_max": 0.5,
+    "max_steps": 99, "tol": 1e-11}})");
+  EXPECT_EQ(scene.event.rtol, 1e-9);
+  EXPECT_EQ(scene.event.atol, 1e-12);
+  EXPECT_EQ(scene.event.method, OdeMethod::kAdams);
+  EXPECT_EQ(scene.event.max_events, 7);
+  EXPECT_EQ(scene.event.h_max, 0.5);
+  EXPECT_EQ(scene.event.max_steps, 99);
+  EXPECT_EQ(scene.event.solver.tolerance, 1e-11);
+  EXPECT_EQ(scene.stepping.rtol, 1e-9);
+  EXPECT_EQ(scene.stepping.max_steps, 99);
+  EXPECT_EQ(scene.stepping.solver.tolerance, 1e-11);
+  EXPECT_EQ(WhyNotEventDriven(scene), "");
+}
+
 TEST(SceneFile, MethodMayBeJustItsName) {
   const Scene scene = ParseScene(R"({"problem": {"type": "dvi", "f": ["-x1"]},
     "x0": [1], "horizon": 1, "method": "stepping"})");
@@ -97,7 +124,7 @@ TEST(SceneFile, MethodMayBeJustItsName) {
   EXPECT_EQ(scene.stepping.h, 1e-3);
   EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["-x1"]},
     "x0": [1], "horizon": 1, "method": "euler"})"),
-            "method: unknown method \"euler\" (expected auto or stepping)");
+            "method: unknown method \"euler\" (expected auto, stepping or event)");
 }
 
 TEST(SceneFile, DviExpressionsBecomeFunctionsWithExactJacobians) {
@@ -131,9 +158,23 @@ TEST(SceneFile, ErrorsNameTheField) {
             "x0: has 2 entries, expected 1");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 0})"),
             "horizon: expected a number > 0, got 0");
-  EXPECT_EQ(
-      ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"name": "event"}})"),
-      "method.name: \"event\" is not available in this version (use \"auto\" or \"stepping\")");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"name": "bvp"}})"),
+            "method.name: \"bvp\" is not available in this version (use \"auto\", \"stepping\" "
+            "or \"event\")");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "pds", "A": [[1]]}, "x0": [1], "horizon": 1,
+    "method": "event"})"),
+            "method: \"event\" needs an index-one DVI on a box (an lcs, dvi or box-dvi scene, "
+            "Sect. 5); a pds scene is not index one: its VI is in x itself, x' ∈ −F(x) − N(x; K), "
+            "with no multiplier u for F to depend on (use \"auto\" or \"stepping\")");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["u1"], "F": ["u1"],
+    "set": {"ball": {"center": [0], "radius": 1}}}, "x0": [1], "horizon": 1,
+    "method": {"name": "event"}})"),
+            "method.name: \"event\" needs an index-one DVI on a box (an lcs, dvi or box-dvi "
+            "scene, Sect. 5); its set K = ball[1] is not a box (use \"auto\" or \"stepping\")");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"ode": "rk4"}})"),
+            "method.ode: expected \"bdf\" or \"adams\", got \"rk4\"");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"max_events": 0}})"),
+            "method.max_events: expected an integer ≥ 1, got 0");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"theta": 2}})"),
             "method.theta: expected a number in [0, 1], got 2");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"h": 2}})"),
@@ -355,6 +396,16 @@ TEST_F(DvisimRun, DiodeBridgeIsSecondOrderWithHalfWeightsAndPlots) {
       const nlohmann::json summary = ReadSummary(dir);
       EXPECT_EQ(summary["theta"], 0.5);
       EXPECT_EQ(summary["gamma"], 0.5);
+      // auto: D is only positive semidefinite; u⁰ is strongly regular, so
+      // event-driven starts, but the first switch is degenerate (not index
+      // one), and time-stepping reruns the whole horizon.
+      ASSERT_EQ(summary["method"].size(), 1u);
+      EXPECT_EQ(summary["method"][0]["name"], "stepping");
+      const std::string reason = summary["method"][0]["reason"].get<std::string>();
+      EXPECT_TRUE(Contains(reason, "auto: time-stepping, event-driven stopped at t = 0.000152"))
+          << reason;
+      EXPECT_TRUE(Contains(reason, "not index one")) << reason;
+      EXPECT_TRUE(Contains(reason, "time-stepping reran the whole horizon")) << reason;
       ExpectRowsAreTimesSamplesAndEvents(csv, summary, Samples(1001, 5e-3));
       // The bridge switches every half period π/ω ≈ 0.315 ms: 16 times in 5 ms.
       std::set<double> switch_times;
@@ -484,8 +535,18 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
        "problem.f[0]: cannot parse \"u1 *\""},
       {R"({"problem": {"type": "dvi", "f": ["u1"], "F": ["u1 + y"]}, "x0": [1], "horizon": 1})", "",
        "problem.F[0]: unknown symbol \"y\""},
-      {"{" + dvi + R"(, "x0": [1], "horizon": 1})", "--method event",
-       "--method: \"event\" is not available in this version"},
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1})", "--method bvp",
+       "--method: \"bvp\" is not available in this version"},
+      {R"({"problem": {"type": "pds", "A": [[1]]}, "x0": [1], "horizon": 1})", "--method event",
+       "--method: \"event\" needs an index-one DVI on a box"},
+      {R"({"problem": {"type": "pds", "A": [[1]]}, "x0": [1], "horizon": 1,
+          "method": {"name": "event"}})",
+       "", "method.name: \"event\" needs an index-one DVI on a box (an lcs, dvi or box-dvi scene, "
+           "Sect. 5); a pds scene is not index one"},
+      {R"({"problem": {"type": "filippov", "E": [[-1]]}, "x0": [1], "horizon": 1,
+          "method": {"name": "event"}})",
+       "", "method.name: \"event\" needs an index-one DVI on a box (an lcs, dvi or box-dvi scene, "
+           "Sect. 5); a filippov scene is not index one"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1})", "--theta 1.5",
        "--theta: expected a number in [0, 1], got 1.5"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"gamma": -1}})", "",
@@ -528,6 +589,158 @@ TEST_F(DvisimRun, AFailedMoveLeavesNoOutputs) {
   EXPECT_EQ(run.exit_code, 2) << run.err;
   EXPECT_TRUE(Contains(run.err, "output.dir: cannot move summary.json")) << run.err;
   EXPECT_EQ(Listing("out"), std::vector<std::string>{"summary.json"});
+  for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
+}
+
+// ---------------------------------------------------------------------------
+// Event-driven integration (Sect. 5) and auto's choice.
+
+// The kink scene of SaturationExact, integrated as `method`.
+std::string KinkScene(const std::string& method) {
+  return R"({"name": "kink", "problem": {"type": "box-dvi", "f": ["u1"], "F": ["u1 + x1"],
+    "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3], "horizon": 4,
+    "method": )" + method + R"(, "output": {"samples": 41, "times": [1.5, 2.5]}})";
+}
+
+// x' = −1 + u, 0 ≤ u ⊥ x ≥ 0 from x = 0: u = 1 holds x at 0, but D = 0 and
+// u⁰ is degenerate (w = x = 0), so the LCS is not index one (index two).
+const char* const kIndexTwoLcs = R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]],
+  "C": [[1]], "D": [[0]], "p": [-1]}, "x0": [0], "horizon": 1, "method": {"h": 0.01}})";
+
+TEST_F(DvisimRun, EventDrivenKinkSceneIsExactToTheToleranceAndFindsTheEvent) {
+  const std::string scene =
+      Write("kink.json", KinkScene(R"({"name": "event", "rtol": 1e-9, "atol": 1e-12})"));
+  const RunOutcome run = Dvisim("run '" + scene + "' --out '" + Path("out") + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(Contains(run.out, "event-driven (bdf)")) << run.out;
+  const nlohmann::json summary = ReadSummary("out");
+  EXPECT_EQ(summary["status"], "success");
+  EXPECT_EQ(summary["requested_method"], "event");
+  ASSERT_EQ(summary["method"].size(), 1u);
+  EXPECT_EQ(summary["method"][0]["name"], "event");
+  EXPECT_EQ(summary["method"][0]["to"], 4.0);
+  EXPECT_EQ(summary["method"][0]["reason"],
+            "index one: ∂F/∂u is a P-matrix at t = 0 (Theorem 5.1)");
+  EXPECT_EQ(summary["rtol"], 1e-9);
+  EXPECT_EQ(summary["atol"], 1e-12);
+  EXPECT_EQ(summary["ode"], "bdf");
+  EXPECT_FALSE(summary.contains("h"));
+  // One root: u leaves its lower bound −1 when x reaches 1 at t = 2 exactly.
+  ASSERT_EQ(summary["events"].size(), 1u);
+  EXPECT_EQ(summary["events"][0]["kind"], "left-bound");
+  EXPECT_EQ(summary["events"][0]["index"], 0);
+  const double event_time = summary["events"][0]["time"].get<double>();
+  EXPECT_NEAR(event_time, 2.0, 1e-7);
+  const auto& stats = summary["stats"];
+  // A few hundred CVODE steps, not the 4000 of stepping at h = 1e-3.
+  EXPECT_GT(stats["steps"].get<long>(), 10);
+  EXPECT_LT(stats["steps"].get<long>(), 2000);
+  EXPECT_GE(stats["vi_solves"].get<long>(), 2);  // t = 0 and the event
+  EXPECT_GT(stats["rhs_evals"].get<long>(), stats["steps"].get<long>());
+  EXPECT_GT(stats["jacobian_evals"].get<long>(), 0);
+  EXPECT_GE(stats["rejected_steps"].get<long>(), 0);
+  EXPECT_GE(stats["wall_seconds"].get<double>(), 0.0);
+  std::set<double> expected = Samples(41, 4.0);
+  expected.insert({1.5, 2.5});
+  const Csv csv = ReadCsv("out");
+  ExpectRowsAreTimesSamplesAndEvents(csv, summary, expected);
+  double error = 0;
+  for (const auto& row : csv.rows) {
+    error = std::max(error, std::abs(row[1] - SaturationExact(row[0])));
+    // u solves the mode's equation exactly: u = clamp(−x, −1, 1).
+    EXPECT_NEAR(row[2], std::clamp(-row[1], -1.0, 1.0), 1e-9) << "t = " << row[0];
+  }
+  EXPECT_LE(error, 1e-6);
+  std::cout << "kink, event at rtol 1e-9: max error " << error << ", event at t = 2 + "
+            << event_time - 2 << ", " << stats["steps"] << " steps\n";
+}
+
+TEST_F(DvisimRun, MethodEventOverridesTheFileAndPlotsTheRcDiodeClamp) {
+  const RunOutcome kink = RunExample("dvi_saturation.json", "kink", "--method event");
+  ASSERT_EQ(kink.exit_code, 0) << kink.err;
+  const nlohmann::json summary = ReadSummary("kink");
+  EXPECT_EQ(summary["requested_method"], "event");
+  EXPECT_EQ(summary["method"][0]["name"], "event");
+  EXPECT_EQ(summary["rtol"], 1e-8);  // the event default, not stepping's 1e-6
+  double error = 0;
+  for (const auto& row : ReadCsv("kink").rows)
+    error = std::max(error, std::abs(row[1] - SaturationExact(row[0])));
+  EXPECT_LE(error, 1e-5);
+
+  // C v' = I0 − i, 0 ≤ i ⊥ Rd i − v + Vc ≥ 0 (examples/scenes/rc_diode_event.json):
+  // v = t I0/C until t1 = C Vc/I0 = 5 ms, then Vc + Rd I0 (1 − e^{−(t−t1)/(Rd C)}).
+  const RunOutcome run = RunExample("rc_diode_event.json", "rc");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json rc = ReadSummary("rc");
+  EXPECT_EQ(rc["method"][0]["name"], "event");
+  ASSERT_EQ(rc["events"].size(), 1u);
+  EXPECT_EQ(rc["events"][0]["kind"], "left-bound");
+  const double t1 = 5e-3, Vc = 5, Rd = 100, I0 = 1e-3, tau = 1e-4;
+  EXPECT_NEAR(rc["events"][0]["time"].get<double>(), t1, 1e-10);
+  const Csv csv = ReadCsv("rc");
+  ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "u1"}));
+  ExpectRowsAreTimesSamplesAndEvents(csv, rc, Samples(201, 1e-2));
+  double v_error = 0, i_error = 0;
+  for (const auto& row : csv.rows) {
+    const double t = row[0];
+    const double v = t <= t1 ? t * I0 / 1e-6 : Vc + Rd * I0 * (1 - std::exp(-(t - t1) / tau));
+    v_error = std::max(v_error, std::abs(row[1] - v));
+    i_error = std::max(i_error, std::abs(row[2] - std::max(0.0, (v - Vc) / Rd)));
+  }
+  EXPECT_LE(v_error, 1e-6);
+  EXPECT_LE(i_error, 1e-8);
+  for (const std::string name : {"plot.png", "plot.svg"})
+    EXPECT_GT(fs::file_size(Path("rc") + "/" + name), 1000u) << name;
+  std::cout << "kink at rtol 1e-8: max error " << error << "; rc diode: v error " << v_error
+            << ", i error " << i_error << "\n";
+}
+
+TEST_F(DvisimRun, AutoPicksEventWhereIndexOneAndSteppingElsewhereSayingWhy) {
+  const std::string kink = Write("kink.json", KinkScene(R"("auto")"));
+  const RunOutcome event = Dvisim("run '" + kink + "' --out '" + Path("kink") + "'");
+  ASSERT_EQ(event.exit_code, 0) << event.err;
+  const nlohmann::json chosen = ReadSummary("kink");
+  EXPECT_EQ(chosen["requested_method"], "auto");
+  ASSERT_EQ(chosen["method"].size(), 1u);
+  EXPECT_EQ(chosen["method"][0]["name"], "event");
+  EXPECT_EQ(chosen["method"][0]["reason"],
+            "auto: event-driven, index one: ∂F/∂u is a P-matrix at t = 0 (Theorem 5.1)");
+  EXPECT_NEAR(chosen["events"][0]["time"].get<double>(), 2.0, 1e-6);
+
+  const RunOutcome pds = RunExample("pds_box.json", "pds", "--method auto");
+  ASSERT_EQ(pds.exit_code, 0) << pds.err;
+  const nlohmann::json stepped = ReadSummary("pds");
+  ASSERT_EQ(stepped["method"].size(), 1u);
+  EXPECT_EQ(stepped["method"][0]["name"], "stepping");
+  const std::string reason = stepped["method"][0]["reason"].get<std::string>();
+  EXPECT_TRUE(Contains(reason, "auto: time-stepping, not event-driven, as a pds scene is not "
+                               "index one"))
+      << reason;
+  EXPECT_EQ(stepped["h"], 1e-3);
+  EXPECT_FALSE(stepped.contains("rtol"));
+
+  // Refused at t = 0 (not index one): time-stepping, which holds x at 0.
+  const RunOutcome refused = Dvisim("run '" + Write("lcs.json", kIndexTwoLcs) + "' --out '" +
+                                    Path("lcs") + "'");
+  ASSERT_EQ(refused.exit_code, 0) << refused.err;
+  const nlohmann::json fallback = ReadSummary("lcs");
+  EXPECT_EQ(fallback["method"][0]["name"], "stepping");
+  EXPECT_TRUE(Contains(fallback["method"][0]["reason"].get<std::string>(),
+                       "auto: time-stepping, event-driven refused at t = 0 (event: not index one"))
+      << fallback["method"][0]["reason"];
+  EXPECT_NEAR(fallback["x_final"][0].get<double>(), 0.0, 1e-12);
+}
+
+TEST_F(DvisimRun, EventOnANonIndexOneLcsExitsOneNamingTheConditionAndWritesNothing) {
+  const RunOutcome run =
+      Dvisim("run '" + Write("lcs.json", kIndexTwoLcs) + "' --method event --out '" +
+             Path("out") + "'");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_TRUE(Contains(run.err, "step-failure: event: not index one at t = 0")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "not a P-matrix")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "no files written")) << run.err;
+  EXPECT_TRUE(run.out.empty()) << run.out;
+  EXPECT_TRUE(Listing("out").empty());
   for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
 }
 

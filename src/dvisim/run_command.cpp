@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <variant>
 
 #include "dvi/error.hpp"
+#include "dvi/event_driven.hpp"
 #include "plot.hpp"
 #include "solve_command.hpp"
 
@@ -110,19 +112,54 @@ std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& traj
   return written;
 }
 
+bool UsedMethod(const Trajectory& trajectory, const std::string& name) {
+  return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
+                     [&](const MethodInterval& interval) { return interval.name == name; });
+}
+
 void PrintSummary(const Scene& scene, const Trajectory& trajectory,
                   const std::vector<std::string>& files, std::ostream& out) {
   const IntegrationStats& stats = trajectory.stats;
   out << (scene.name.empty() ? std::string("scene") : scene.name) << " (" << scene.type
       << ", n = " << scene.n << ", " << scene.output_multipliers
-      << " multiplier columns): " << ToString(trajectory.status) << "\n"
-      << "  time-stepping to t = " << Short(trajectory.final_time())
-      << " with h = " << Short(scene.stepping.h) << ", theta = " << Short(scene.stepping.theta)
-      << ", gamma = " << Short(scene.stepping.gamma) << "\n"
-      << "  " << stats.steps << " steps (" << stats.rejected_steps << " rejected), "
+      << " multiplier columns): " << ToString(trajectory.status) << "\n";
+  if (UsedMethod(trajectory, "event"))
+    out << "  event-driven (" << ToString(scene.event.method) << ") to t = "
+        << Short(trajectory.final_time()) << " with rtol = " << Short(scene.event.rtol)
+        << ", atol = " << Short(scene.event.atol) << "\n";
+  if (UsedMethod(trajectory, "stepping"))
+    out << "  time-stepping to t = " << Short(trajectory.final_time())
+        << " with h = " << Short(scene.stepping.h) << ", theta = " << Short(scene.stepping.theta)
+        << ", gamma = " << Short(scene.stepping.gamma) << "\n";
+  out << "  " << stats.steps << " steps (" << stats.rejected_steps << " rejected), "
       << stats.vi_solves << " VI solves, " << trajectory.events.size() << " events, "
       << Short(stats.wall_seconds) << " s\n";
   for (const std::string& file : files) out << "  wrote " << file << "\n";
+}
+
+Trajectory IntegrateStepping(const Scene& scene, std::function<void(double t)> progress) {
+  TimeSteppingOptions options = scene.stepping;
+  options.output_times = OutputTimes(scene);
+  options.progress = std::move(progress);
+  return std::visit(
+      [&](const auto& problem) -> Trajectory {
+        using Problem = std::decay_t<decltype(problem)>;
+        if constexpr (std::is_same_v<Problem, FilippovSystem>) {
+          return IntegrateTimeStepping(problem.ToSeparable(), scene.x0, 0.0, scene.horizon,
+                                       options);
+        } else {
+          return IntegrateTimeStepping(problem, scene.x0, 0.0, scene.horizon, options);
+        }
+      },
+      scene.problem);
+}
+
+Trajectory IntegrateEvent(const Scene& scene) {
+  EventDrivenOptions options = scene.event;
+  options.output_times = OutputTimes(scene);
+  if (const Lcs* lcs = std::get_if<Lcs>(&scene.problem))
+    return IntegrateEventDriven(*lcs, scene.x0, 0.0, scene.horizon, options);
+  return IntegrateEventDriven(std::get<Dvi>(scene.problem), scene.x0, 0.0, scene.horizon, options);
 }
 
 }  // namespace
@@ -130,11 +167,16 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
 void ApplyOverrides(const RunCommand& command, Scene& scene) {
   if (command.method) {
     const std::string& name = *command.method;
-    if (name == "event" || name == "bvp")
-      throw InputError("--method: \"" + name +
-                       "\" is not available in this version (use auto or stepping)");
-    if (name != "auto" && name != "stepping")
-      throw InputError("--method: unknown method \"" + name + "\" (expected auto or stepping)");
+    if (name == "bvp")
+      throw InputError("--method: \"bvp\" is not available in this version (use auto, stepping "
+                       "or event)");
+    if (name != "auto" && name != "stepping" && name != "event")
+      throw InputError("--method: unknown method \"" + name +
+                       "\" (expected auto, stepping or event)");
+    if (name == "event") {
+      const std::string why = WhyNotEventDriven(scene);
+      if (!why.empty()) throw InputError("--method: " + EventDrivenMismatch(why));
+    }
     scene.method = name;
   }
   if (command.out_dir) {
@@ -158,20 +200,30 @@ void ApplyOverrides(const RunCommand& command, Scene& scene) {
 }
 
 Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress) {
-  TimeSteppingOptions options = scene.stepping;
-  options.output_times = OutputTimes(scene);
-  options.progress = std::move(progress);
-  return std::visit(
-      [&](const auto& problem) -> Trajectory {
-        using Problem = std::decay_t<decltype(problem)>;
-        if constexpr (std::is_same_v<Problem, FilippovSystem>) {
-          return IntegrateTimeStepping(problem.ToSeparable(), scene.x0, 0.0, scene.horizon,
-                                       options);
-        } else {
-          return IntegrateTimeStepping(problem, scene.x0, 0.0, scene.horizon, options);
-        }
-      },
-      scene.problem);
+  if (scene.method == "stepping") return IntegrateStepping(scene, std::move(progress));
+  if (scene.method == "event") return IntegrateEvent(scene);
+  // auto: event-driven where it applies and the integrator finds index one
+  // at t = 0 (Theorem 5.1 or Sect. 5.3); time-stepping, which converges
+  // without index one (Sects. 7-8), everywhere else.
+  std::string why_stepping;
+  if (const std::string why = WhyNotEventDriven(scene); !why.empty()) {
+    why_stepping = "not event-driven, as " + why;
+  } else {
+    Trajectory event = IntegrateEvent(scene);
+    if (event.succeeded()) {
+      for (MethodInterval& interval : event.intervals)
+        interval.reason = "auto: event-driven, " + interval.reason;
+      return event;
+    }
+    why_stepping = event.times.empty()
+                       ? "event-driven refused at t = 0 (" + event.message + ")"
+                       : "event-driven stopped at t = " + Short(event.final_time()) + " (" +
+                             event.message + "), so time-stepping reran the whole horizon";
+  }
+  Trajectory stepping = IntegrateStepping(scene, std::move(progress));
+  for (MethodInterval& interval : stepping.intervals)
+    interval.reason = "auto: time-stepping, " + why_stepping + "; " + interval.reason;
+  return stepping;
 }
 
 std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory) {
@@ -198,18 +250,23 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
   summary["type"] = scene.type;
   nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
   for (const MethodInterval& interval : trajectory.intervals)
-    intervals.push_back(
-        {{"from", interval.from},
-         {"to", interval.to},
-         {"name", interval.name},
-         {"reason", scene.method == "auto"
-                        ? "auto: time-stepping is this version's method; " + interval.reason
-                        : interval.reason}});
+    intervals.push_back({{"from", interval.from},
+                         {"to", interval.to},
+                         {"name", interval.name},
+                         {"reason", interval.reason}});
   summary["method"] = intervals;
   summary["requested_method"] = scene.method;
-  summary["h"] = scene.stepping.h;
-  summary["theta"] = scene.stepping.theta;
-  summary["gamma"] = scene.stepping.gamma;
+  // The parameters of the integrator that ran.
+  if (UsedMethod(trajectory, "stepping")) {
+    summary["h"] = scene.stepping.h;
+    summary["theta"] = scene.stepping.theta;
+    summary["gamma"] = scene.stepping.gamma;
+  }
+  if (UsedMethod(trajectory, "event")) {
+    summary["rtol"] = scene.event.rtol;
+    summary["atol"] = scene.event.atol;
+    summary["ode"] = std::string(ToString(scene.event.method));
+  }
   nlohmann::ordered_json events = nlohmann::ordered_json::array();
   for (const Event& event : trajectory.events)
     events.push_back({{"time", event.time},

@@ -15,7 +15,7 @@ namespace dvi::dvisim {
 /// `dvisim run SCENE.json [--method M] [--out DIR] [--h H] [--theta θ] [--gamma γ]`.
 struct RunCommand {
   std::string scene_path;
-  std::optional<std::string> method;   ///< Overrides method.name.
+  std::optional<std::string> method;   ///< auto, stepping or event; overrides method.name.
   std::optional<std::string> out_dir;  ///< Overrides output.dir.
   std::optional<double> h;
   std::optional<double> theta;
@@ -28,8 +28,14 @@ struct RunCommand {
 /// fields. @throws InputError naming the option ("--theta: ...").
 void ApplyOverrides(const RunCommand& command, Scene& scene);
 
-/// Integrates the scene with dvi::IntegrateTimeStepping, sampling
-/// OutputTimes(scene) (plus the ends of steps where the mode changed).
+/// Integrates the scene by its method, sampling OutputTimes(scene) (plus
+/// the event times): "stepping" with dvi::IntegrateTimeStepping, "event"
+/// with dvi::IntegrateEventDriven (a refusal, e.g. not index one at t = 0,
+/// is the returned status). "auto" runs event-driven where WhyNotEventDriven
+/// allows it, and time-stepping over the whole horizon where it does not or
+/// where event-driven stops (refused at t = 0, or failed later, e.g.
+/// chattering); each interval's reason says which and why. `progress` is
+/// called by time-stepping only.
 /// @throws InvalidInputError when the library rejects the problem or x0.
 Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress = {});
 
@@ -38,7 +44,8 @@ Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> prog
 std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory);
 
 /// summary.json: status, message, name, type, method (intervals), requested
-/// method, h, theta, gamma, events, stats, x_final.
+/// method, the parameters of the integrator that ran (h, theta, gamma for
+/// stepping; rtol, atol, ode for event), events, stats, x_final.
 nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& trajectory);
 
 /// Runs the command; returns the exit code of solve_command.hpp: 0 success,

@@ -322,10 +322,63 @@ double ReadPositive(const json& value, const std::string& path) {
   return x;
 }
 
+OdeMethod ReadOdeMethod(const json& value, const std::string& path) {
+  for (const OdeMethod method : {OdeMethod::kBdf, OdeMethod::kAdams})
+    if (value.is_string() && value.get<std::string>() == ToString(method)) return method;
+  Fail(path, "expected \"bdf\" or \"adams\", got " + Describe(value));
+}
+
+long ReadCount(const json& value, const std::string& path) {
+  if (!value.is_number_integer() || value.get<long>() < 1)
+    Fail(path, "expected an integer ≥ 1, got " + Describe(value));
+  return value.get<long>();
+}
+
+// The fields shared by both integrators set both option sets, so that auto
+// honours them whichever it picks.
+void ReadMethodFields(const json& method, Scene& scene) {
+  const std::string path = "method";
+  TimeSteppingOptions& stepping = scene.stepping;
+  EventDrivenOptions& event = scene.event;
+  if (const json* h = FindField(method, "h")) stepping.h = ReadPositive(*h, Field(path, "h"));
+  if (stepping.h > scene.horizon)
+    Fail(Field(path, "h"), "is larger than the horizon " + Describe(scene.horizon));
+  if (const json* theta = FindField(method, "theta"))
+    stepping.theta = ReadUnitInterval(*theta, Field(path, "theta"));
+  if (const json* gamma = FindField(method, "gamma"))
+    stepping.gamma = ReadUnitInterval(*gamma, Field(path, "gamma"));
+  if (const json* rtol = FindField(method, "rtol"))
+    stepping.rtol = event.rtol = ReadTolerance(*rtol, Field(path, "rtol"));
+  if (const json* atol = FindField(method, "atol"))
+    stepping.atol = event.atol = ReadTolerance(*atol, Field(path, "atol"));
+  if (const json* scheme = FindField(method, "scheme")) {
+    if (!scheme->is_string())
+      Fail(Field(path, "scheme"), "expected a string, got " + Describe(*scheme));
+    stepping.scheme = WithPath(Field(path, "scheme"),
+                               [&] { return ParseSteppingScheme(scheme->get<std::string>()); });
+  }
+  if (const json* adaptive = FindField(method, "adaptive")) {
+    if (!adaptive->is_boolean())
+      Fail(Field(path, "adaptive"), "expected true or false, got " + Describe(*adaptive));
+    stepping.adaptive = adaptive->get<bool>();
+  }
+  if (const json* h_max = FindField(method, "h_max"))
+    stepping.h_max = event.h_max = ReadPositive(*h_max, Field(path, "h_max"));
+  if (const json* max_steps = FindField(method, "max_steps"))
+    stepping.max_steps = event.max_steps = ReadCount(*max_steps, Field(path, "max_steps"));
+  if (const json* solver = FindField(method, "solver"))
+    stepping.solver.method = event.solver.method = ReadSolver(*solver, Field(path, "solver"));
+  if (const json* tol = FindField(method, "tol"))
+    stepping.solver.tolerance = event.solver.tolerance = ReadTolerance(*tol, Field(path, "tol"));
+  if (const json* ode = FindField(method, "ode"))
+    event.method = ReadOdeMethod(*ode, Field(path, "ode"));
+  if (const json* max_events = FindField(method, "max_events"))
+    event.max_events = ReadCount(*max_events, Field(path, "max_events"));
+}
+
 void ReadMethod(const json* method, Scene& scene) {
   const std::string path = "method";
-  TimeSteppingOptions& options = scene.stepping;
-  options.h = scene.horizon / kDefaultStepsPerHorizon;
+  scene.stepping.h = scene.horizon / kDefaultStepsPerHorizon;
   if (!method) return;
   if (method->is_string()) {
     scene.method = method->get<std::string>();
@@ -333,7 +386,7 @@ void ReadMethod(const json* method, Scene& scene) {
     RequireObject(*method, path);
     RejectUnknownFields(*method, path,
                         {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
-                         "h_max", "max_steps", "solver", "tol"});
+                         "h_max", "max_steps", "solver", "tol", "ode", "max_events"});
     if (const json* name = FindField(*method, "name")) {
       if (!name->is_string())
         Fail(Field(path, "name"), "expected a string, got " + Describe(*name));
@@ -341,45 +394,17 @@ void ReadMethod(const json* method, Scene& scene) {
     }
   }
   const std::string name_path = method->is_string() ? path : Field(path, "name");
-  if (scene.method == "event" || scene.method == "bvp")
-    Fail(name_path, "\"" + scene.method +
-                        "\" is not available in this version (use \"auto\" or \"stepping\")");
-  if (scene.method != "auto" && scene.method != "stepping")
-    Fail(name_path, "unknown method " + Describe(scene.method) + " (expected auto or stepping)");
-  if (method->is_string()) return;
-  if (const json* h = FindField(*method, "h")) options.h = ReadPositive(*h, Field(path, "h"));
-  if (options.h > scene.horizon)
-    Fail(Field(path, "h"), "is larger than the horizon " + Describe(scene.horizon));
-  if (const json* theta = FindField(*method, "theta"))
-    options.theta = ReadUnitInterval(*theta, Field(path, "theta"));
-  if (const json* gamma = FindField(*method, "gamma"))
-    options.gamma = ReadUnitInterval(*gamma, Field(path, "gamma"));
-  if (const json* rtol = FindField(*method, "rtol"))
-    options.rtol = ReadTolerance(*rtol, Field(path, "rtol"));
-  if (const json* atol = FindField(*method, "atol"))
-    options.atol = ReadTolerance(*atol, Field(path, "atol"));
-  if (const json* scheme = FindField(*method, "scheme")) {
-    if (!scheme->is_string())
-      Fail(Field(path, "scheme"), "expected a string, got " + Describe(*scheme));
-    options.scheme = WithPath(Field(path, "scheme"),
-                              [&] { return ParseSteppingScheme(scheme->get<std::string>()); });
+  if (scene.method == "bvp")
+    Fail(name_path, "\"bvp\" is not available in this version (use \"auto\", \"stepping\" or "
+                    "\"event\")");
+  if (scene.method != "auto" && scene.method != "stepping" && scene.method != "event")
+    Fail(name_path,
+         "unknown method " + Describe(scene.method) + " (expected auto, stepping or event)");
+  if (scene.method == "event") {
+    const std::string why = WhyNotEventDriven(scene);
+    if (!why.empty()) Fail(name_path, EventDrivenMismatch(why));
   }
-  if (const json* adaptive = FindField(*method, "adaptive")) {
-    if (!adaptive->is_boolean())
-      Fail(Field(path, "adaptive"), "expected true or false, got " + Describe(*adaptive));
-    options.adaptive = adaptive->get<bool>();
-  }
-  if (const json* h_max = FindField(*method, "h_max"))
-    options.h_max = ReadPositive(*h_max, Field(path, "h_max"));
-  if (const json* max_steps = FindField(*method, "max_steps")) {
-    if (!max_steps->is_number_integer() || max_steps->get<long>() < 1)
-      Fail(Field(path, "max_steps"), "expected an integer ≥ 1, got " + Describe(*max_steps));
-    options.max_steps = max_steps->get<long>();
-  }
-  if (const json* solver = FindField(*method, "solver"))
-    options.solver.method = ReadSolver(*solver, Field(path, "solver"));
-  if (const json* tol = FindField(*method, "tol"))
-    options.solver.tolerance = ReadTolerance(*tol, Field(path, "tol"));
+  if (!method->is_string()) ReadMethodFields(*method, scene);
 }
 
 void ReadOutput(const json* output, Scene& scene) {
@@ -421,6 +446,25 @@ void ReadOutput(const json* output, Scene& scene) {
 }
 
 }  // namespace
+
+std::string EventDrivenMismatch(const std::string& why) {
+  return "\"event\" needs an index-one DVI on a box (an lcs, dvi or box-dvi scene, Sect. 5); " +
+         why + " (use \"auto\" or \"stepping\")";
+}
+
+std::string WhyNotEventDriven(const Scene& scene) {
+  if (scene.type == "pds")
+    return "a pds scene is not index one: its VI is in x itself, x' ∈ −F(x) − N(x; K), with no "
+           "multiplier u for F to depend on";
+  if (scene.type == "filippov")
+    return "a filippov scene is not index one: s ∈ Sgn(h(x)) is set-valued on h = 0, where a "
+           "sliding solution's s is no function of x";
+  const ConvexSet& K = std::holds_alternative<Lcs>(scene.problem)
+                           ? std::get<Lcs>(scene.problem).K
+                           : std::get<Dvi>(scene.problem).K;
+  if (!K.IsBox()) return "its set K = " + K.Describe() + " is not a box";
+  return "";
+}
 
 std::vector<double> OutputTimes(const Scene& scene) {
   std::vector<double> times = scene.output.times;

@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/projected_dynamics.hpp"
@@ -20,7 +21,8 @@ namespace dvi::dvisim {
 ///
 ///   {"name": "...", "problem": {"type": "lcs" | "dvi" | "box-dvi" | "pds" |
 ///    "filippov", ...}, "x0": [...], "horizon": T,
-///    "method": {"name": "auto" | "stepping", "h", "theta", "gamma", ...},
+///    "method": {"name": "auto" | "stepping" | "event", "h", "theta", "gamma",
+///    "rtol", "atol", ...},
 ///    "output": {"dir", "times", "samples", "plot"}}
 ///
 /// Unknown fields are errors, so a misspelt field never falls back silently
@@ -45,8 +47,13 @@ struct Scene {
   int output_multipliers = 0;  ///< u columns of trajectory.csv (s for filippov, ν for pds).
   Eigen::VectorXd x0;
   double horizon = 0;
-  std::string method = "auto";   ///< "auto" or "stepping" (the same integrator in this version).
+  /// "auto", "stepping" (IntegrateTimeStepping) or "event"
+  /// (IntegrateEventDriven); auto takes event where it applies and the
+  /// integrator finds index one at t = 0, stepping otherwise (and over the
+  /// whole horizon when event stops later).
+  std::string method = "auto";
   TimeSteppingOptions stepping;  ///< h, θ, γ and the extras, defaults resolved.
+  EventDrivenOptions event;      ///< rtol, atol and the extras, defaults resolved.
   SceneOutput output;
 };
 
@@ -54,6 +61,14 @@ struct Scene {
 /// than 1e-12·horizon merged. Empty when neither is given (then every step
 /// is recorded).
 std::vector<double> OutputTimes(const Scene& scene);
+
+/// Why event-driven integration does not apply to the scene's problem, ""
+/// when it does: it needs an lcs, dvi or box-dvi scene whose set is a box
+/// (index one then still depends on the state, which the integrator checks).
+std::string WhyNotEventDriven(const Scene& scene);
+/// The message for a request of "event" that WhyNotEventDriven refuses:
+/// what the method needs, `why`, and what to use instead.
+std::string EventDrivenMismatch(const std::string& why);
 
 /// Parses the text of a scene. @throws InputError with the JSON path of the
 /// offending field ("problem.f[1]: unknown symbol \"y\" (...)").
