@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "work_precision_baselines.hpp"
+
+#include <cstdlib>
+#include <exception>
+#include <sstream>
+#include <stdexcept>
+
+#include <boost/numeric/odeint.hpp>
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "dvi/cvode_rhs.hpp"
+#include "dvi/index_one_rhs.hpp"
+#include "dvi/odeint_system.hpp"
+
+namespace dvi::bench {
+namespace {
+
+namespace odeint = boost::numeric::odeint;
+
+constexpr long kMaxSteps = 10'000'000;
+
+IndexOneRhs MakeRhs(const WorkPrecisionProblem& problem) {
+  return problem.lcs ? IndexOneRhs(*problem.lcs) : IndexOneRhs(problem.dvi);
+}
+
+// First trial step of the odeint steppers; their controllers shrink it.
+double InitialStep(const WorkPrecisionProblem& problem) {
+  return 1e-4 * (problem.t_end - problem.t0);
+}
+
+// CVODE's failures are reported through the flags; its own printing is off.
+void SilentErrorHandler(int, const char*, const char*, char*, void*) {}
+
+void Check(int flag, const char* call) {
+  if (flag < 0) throw std::runtime_error(std::string(call) + " failed with flag " +
+                                         std::to_string(flag));
+}
+
+// CVODE BDF on an IndexOneRhs with the dense LU and the mode's Jacobian
+// (IndexOneCvJac): the linear algebra the event-driven integrator uses.
+class CvodeSolver {
+ public:
+  CvodeSolver(IndexOneRhs& rhs, const Eigen::VectorXd& x0, double t0, double rtol, double atol) {
+    const auto n = static_cast<sunindextype>(x0.size());
+    Check(SUNContext_Create(nullptr, &context_), "SUNContext_Create");
+    y_ = N_VNew_Serial(n, context_);
+    cvode_ = CVodeCreate(CV_BDF, context_);
+    matrix_ = SUNDenseMatrix(n, n, context_);
+    if (y_ == nullptr || cvode_ == nullptr || matrix_ == nullptr)
+      throw std::runtime_error("CVODE: out of memory");
+    SetState(x0);
+    solver_ = SUNLinSol_Dense(y_, matrix_, context_);
+    if (solver_ == nullptr) throw std::runtime_error("SUNLinSol_Dense failed");
+    Check(CVodeInit(cvode_, IndexOneCvRhs, t0, y_), "CVodeInit");
+    Check(CVodeSetErrHandlerFn(cvode_, SilentErrorHandler, nullptr), "CVodeSetErrHandlerFn");
+    Check(CVodeSStolerances(cvode_, rtol, atol), "CVodeSStolerances");
+    Check(CVodeSetUserData(cvode_, &rhs), "CVodeSetUserData");
+    Check(CVodeSetLinearSolver(cvode_, solver_, matrix_), "CVodeSetLinearSolver");
+    Check(CVodeSetJacFn(cvode_, IndexOneCvJac), "CVodeSetJacFn");
+    Check(CVodeSetMaxNumSteps(cvode_, kMaxSteps), "CVodeSetMaxNumSteps");
+  }
+  ~CvodeSolver() {
+    CVodeFree(&cvode_);
+    SUNLinSolFree(solver_);
+    SUNMatDestroy(matrix_);
+    N_VDestroy(y_);
+    SUNContext_Free(&context_);
+  }
+  CvodeSolver(const CvodeSolver&) = delete;
+  CvodeSolver& operator=(const CvodeSolver&) = delete;
+
+  // Restarts at (t, current state) with a stop time: no step passes it.
+  void Restart(double t, double stop) {
+    steps_before_restart_ = steps();
+    Check(CVodeReInit(cvode_, t, y_), "CVodeReInit");
+    Check(CVodeSetStopTime(cvode_, stop), "CVodeSetStopTime");
+  }
+  void SetStopTime(double stop) { Check(CVodeSetStopTime(cvode_, stop), "CVodeSetStopTime"); }
+
+  // x at t (CVODE's interpolant when it stepped past t). False, with why,
+  // when CVode fails.
+  bool AdvanceTo(double t, std::string& failure) {
+    double reached = 0;
+    const int flag = CVode(cvode_, t, y_, &reached, CV_NORMAL);
+    if (flag >= 0) return true;
+    char* name = CVodeGetReturnFlagName(flag);
+    std::ostringstream why;
+    why << "CVode: " << name << " at t = " << reached;
+    std::free(name);
+    failure = why.str();
+    return false;
+  }
+
+  Eigen::VectorXd State() const {
+    return Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(y_), N_VGetLength(y_));
+  }
+  long steps() const {
+    long steps = 0;
+    CVodeGetNumSteps(cvode_, &steps);
+    return steps_before_restart_ + steps;
+  }
+
+ private:
+  void SetState(const Eigen::VectorXd& x) {
+    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(y_), x.size()) = x;
+  }
+
+  SUNContext context_ = nullptr;
+  N_Vector y_ = nullptr;
+  void* cvode_ = nullptr;
+  SUNMatrix matrix_ = nullptr;
+  SUNLinearSolver solver_ = nullptr;
+  long steps_before_restart_ = 0;
+};
+
+}  // namespace
+
+BaselineRun RunPlainCvode(const WorkPrecisionProblem& problem, double rtol, double atol) {
+  BaselineRun run;
+  IndexOneRhs rhs = MakeRhs(problem);
+  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol);
+  for (const double t : problem.output_times) {
+    if (t <= problem.t0) {
+      run.states.push_back(problem.x0);
+      continue;
+    }
+    if (!cvode.AdvanceTo(t, run.failure)) break;
+    run.states.push_back(cvode.State());
+  }
+  run.rhs_evals = rhs.stats().rhs_evals;
+  run.steps = cvode.steps();
+  return run;
+}
+
+BaselineRun RunOracleCvode(const WorkPrecisionProblem& problem, double rtol, double atol) {
+  BaselineRun run;
+  IndexOneRhs rhs = MakeRhs(problem);
+  rhs.FreezeMode(true);
+  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol);
+  const std::vector<double>& times = problem.output_times;
+  std::size_t next = 0;
+  for (; next < times.size() && times[next] <= problem.t0; ++next)
+    run.states.push_back(problem.x0);
+  for (std::size_t k = 0; k < problem.schedule.size() && run.failure.empty(); ++k) {
+    const ModeSegment& segment = problem.schedule[k];
+    // x is continuous at a switch; u restarts from its last value.
+    rhs.EnterMode(segment.mode, rhs.mode().empty() ? Eigen::VectorXd::Zero(rhs.m()).eval()
+                                                   : rhs.multiplier());
+    if (k == 0)
+      cvode.SetStopTime(segment.to);
+    else
+      cvode.Restart(segment.from, segment.to);
+    bool at_end = false;
+    for (; next < times.size() && times[next] <= segment.to; ++next) {
+      if (!cvode.AdvanceTo(times[next], run.failure)) break;
+      run.states.push_back(cvode.State());
+      at_end = times[next] == segment.to;
+    }
+    if (run.failure.empty() && !at_end) cvode.AdvanceTo(segment.to, run.failure);
+  }
+  run.rhs_evals = rhs.stats().rhs_evals;
+  run.steps = cvode.steps();
+  return run;
+}
+
+BaselineRun RunOdeintDopri5(const WorkPrecisionProblem& problem, double rtol, double atol) {
+  using State = std::vector<double>;
+  BaselineRun run;
+  IndexOneRhs rhs = MakeRhs(problem);
+  State x(problem.x0.data(), problem.x0.data() + problem.x0.size());
+  auto stepper = odeint::make_dense_output(atol, rtol, odeint::runge_kutta_dopri5<State>());
+  try {
+    run.steps = static_cast<long>(odeint::integrate_times(
+        stepper, OdeintSystem(rhs), x, problem.output_times.begin(), problem.output_times.end(),
+        InitialStep(problem), [&run](const State& state, double) {
+          run.states.push_back(Eigen::Map<const Eigen::VectorXd>(
+              state.data(), static_cast<Eigen::Index>(state.size())));
+        }));
+  } catch (const std::exception& error) {
+    run.failure = std::string("dopri5: ") + error.what();
+  }
+  run.rhs_evals = rhs.stats().rhs_evals;
+  return run;
+}
+
+BaselineRun RunOdeintRosenbrock4(const WorkPrecisionProblem& problem, double rtol, double atol) {
+  using State = boost::numeric::ublas::vector<double>;
+  BaselineRun run;
+  IndexOneRhs rhs = MakeRhs(problem);
+  State x(problem.x0.size());
+  for (Eigen::Index i = 0; i < problem.x0.size(); ++i) x[i] = problem.x0(i);
+  auto stepper = odeint::make_dense_output(atol, rtol, odeint::rosenbrock4<double>());
+  try {
+    run.steps = static_cast<long>(odeint::integrate_times(
+        stepper, std::make_pair(OdeintSystem(rhs), OdeintJacobian(rhs)), x,
+        problem.output_times.begin(), problem.output_times.end(), InitialStep(problem),
+        [&run](const State& state, double) {
+          Eigen::VectorXd copy(static_cast<Eigen::Index>(state.size()));
+          for (std::size_t i = 0; i < state.size(); ++i)
+            copy(static_cast<Eigen::Index>(i)) = state[i];
+          run.states.push_back(copy);
+        }));
+  } catch (const std::exception& error) {
+    run.failure = std::string("rosenbrock4: ") + error.what();
+  }
+  run.rhs_evals = rhs.stats().rhs_evals;
+  return run;
+}
+
+}  // namespace dvi::bench

@@ -1,0 +1,183 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "work_precision_problems.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "dvi/event_driven.hpp"
+
+namespace dvi::bench {
+namespace {
+
+std::vector<double> Linspace(double a, double b, int count) {
+  std::vector<double> times(count);
+  for (int k = 0; k < count; ++k) times[k] = a + (b - a) * k / (count - 1);
+  times.back() = b;
+  return times;
+}
+
+// x' = u, u ∈ SOL([−1, 1], u + x), x0 = 3: u = clamp(−x), so x = 3 − t
+// (u at its lower bound −1) until x = 1 at t = 2, then x = e^{2−t} (u free).
+WorkPrecisionProblem SaturatedDecay(int output_count) {
+  WorkPrecisionProblem problem;
+  problem.name = "decay";
+  problem.title = "x' = u, u in SOL([-1,1], u + x), x0 = 3, [0, 5]";
+  problem.reference = "exact";
+  Dvi& dvi = problem.dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = u(0);
+  };
+  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx(0, 0) = 0;
+    Ju(0, 0) = 1;
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = u(0) + x(0);
+  };
+  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx(0, 0) = 1;
+    Ju(0, 0) = 1;
+  };
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
+  problem.x0 = Eigen::VectorXd::Constant(1, 3);
+  problem.t_end = 5;
+  problem.output_times = Linspace(0, 5, output_count);
+  for (const double t : problem.output_times)
+    problem.exact.push_back(Eigen::VectorXd::Constant(1, t <= 2 ? 3 - t : std::exp(2 - t)));
+  problem.schedule = {{0, 2, {MultiplierBound::kLower}}, {2, 5, {MultiplierBound::kFree}}};
+  return problem;
+}
+
+// RC circuit with an ideal diode in series with Rd (C = R = I = 1, Rd = ½):
+// v' = −v − 1 + u, 0 ≤ u ⊥ v + Rd u ≥ 0, D = Rd > 0 a P-matrix (Sect. 5.1).
+// From v0 = 2 the diode is off until v = 0 at t* = ln 3, then u = −v/Rd and
+// v relaxes to v∞ = −1/3 with τ = 1/3.
+WorkPrecisionProblem DiodeCircuit(int output_count) {
+  WorkPrecisionProblem problem;
+  problem.name = "diode";
+  problem.title = "RC circuit, ideal diode + Rd (LCS, D = 0.5), v0 = 2, [0, 3]";
+  problem.reference = "exact";
+  Eigen::MatrixXd A(1, 1), B(1, 1), C(1, 1), D(1, 1);
+  A << -1;
+  B << 1;
+  C << 1;
+  D << 0.5;
+  problem.lcs =
+      Lcs::Dense(A, B, C, D, Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Zero(1));
+  problem.dvi = problem.lcs->ToDvi();
+  problem.x0 = Eigen::VectorXd::Constant(1, 2);
+  problem.t_end = 3;
+  problem.output_times = Linspace(0, 3, output_count);
+  const double switch_time = std::log(3.0), v_inf = -1.0 / 3, tau = 1.0 / 3;
+  for (const double t : problem.output_times)
+    problem.exact.push_back(Eigen::VectorXd::Constant(
+        1, t <= switch_time ? -1 + 3 * std::exp(-t)
+                            : v_inf - v_inf * std::exp(-(t - switch_time) / tau)));
+  problem.schedule = {{0, switch_time, {MultiplierBound::kLower}},
+                      {switch_time, 3, {MultiplierBound::kFree}}};
+  return problem;
+}
+
+// Nonlinear strongly monotone DVI on [−1, 1]³: F = M u + 0.1 u³ + G x with
+// M + Mᵀ positive definite, so ∂F/∂u is uniformly P (Theorem 5.1); the
+// oscillator (x1, x2) drives u in and out of saturation. No Jacobians.
+WorkPrecisionProblem SaturatedOscillator(int output_count) {
+  WorkPrecisionProblem problem;
+  problem.name = "oscillator";
+  problem.title = "nonlinear strongly monotone 3-D box DVI, x0 = (2.5, 0, 1), [0, 10]";
+
+  Dvi& dvi = problem.dvi;
+  dvi.n = 3;
+  dvi.m = 3;
+  dvi.f = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out << x(1), -x(0) + 0.5 * u(0), -0.2 * x(2) + u(2) + 0.5 * u(1) + std::sin(t);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    Eigen::Matrix3d M, G;
+    M << 2, 0.5, 0, -0.5, 2, 0.3, 0, -0.3, 1.5;
+    G << 1.5, 0, 0, 0, 1.5, 0, 0.5, 0, 1.5;
+    out = M * u + 0.1 * u.array().cube().matrix() + G * x;
+  };
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(3, -1), Eigen::VectorXd::Constant(3, 1));
+  problem.x0 = Eigen::Vector3d(2.5, 0, 1);
+  problem.t_end = 10;
+  problem.output_times = Linspace(0, 10, output_count);
+
+  // The reference, and a run at ten times its tolerance to estimate its error.
+  EventDrivenOptions options;
+  options.rtol = 1e-13;
+  options.atol = 1e-15;
+  options.output_times = problem.output_times;
+  const Trajectory reference =
+      IntegrateEventDriven(problem.dvi, problem.x0, problem.t0, problem.t_end, options);
+  options.rtol *= 10;
+  options.atol *= 10;
+  const Trajectory check =
+      IntegrateEventDriven(problem.dvi, problem.x0, problem.t0, problem.t_end, options);
+  if (!reference.succeeded() || !check.succeeded())
+    throw std::runtime_error("oscillator reference run failed: " + reference.message +
+                             check.message);
+  double distance = 0;
+  for (const double t : problem.output_times) {
+    problem.exact.push_back(reference.StateAt(t));
+    distance = std::max(
+        distance, (check.StateAt(t) - problem.exact.back()).lpNorm<Eigen::Infinity>());
+  }
+  std::ostringstream reference_text;
+  reference_text << "event run, rtol = 1e-13, atol = 1e-15 (max distance to the rtol = 1e-12 run: "
+                 << distance << ")";
+  problem.reference = reference_text.str();
+
+  // The mode at t0 from u0 (no component is degenerate there), then each
+  // event moves one component; simultaneous events share a segment start.
+  constexpr double kBoundTolerance = 1e-9;
+  const Eigen::VectorXd& u0 = reference.multipliers.front();
+  ModeSegment segment{problem.t0, problem.t_end, std::vector<MultiplierBound>(3)};
+  for (int j = 0; j < 3; ++j)
+    segment.mode[j] = u0(j) <= -1 + kBoundTolerance  ? MultiplierBound::kLower
+                      : u0(j) >= 1 - kBoundTolerance ? MultiplierBound::kUpper
+                                                     : MultiplierBound::kFree;
+  for (const Event& event : reference.events) {
+    if (event.time > segment.from) {
+      segment.to = event.time;
+      problem.schedule.push_back(segment);
+      segment.from = event.time;
+    }
+    segment.mode[event.index] = event.kind == EventKind::kReachedLower   ? MultiplierBound::kLower
+                                : event.kind == EventKind::kReachedUpper ? MultiplierBound::kUpper
+                                                                         : MultiplierBound::kFree;
+  }
+  segment.to = problem.t_end;
+  problem.schedule.push_back(segment);
+  return problem;
+}
+
+}  // namespace
+
+std::vector<WorkPrecisionProblem> MakeWorkPrecisionProblems(int output_count) {
+  std::vector<WorkPrecisionProblem> problems;
+  problems.push_back(SaturatedDecay(output_count));
+  problems.push_back(DiodeCircuit(output_count));
+  problems.push_back(SaturatedOscillator(output_count));
+  return problems;
+}
+
+double MaxError(const WorkPrecisionProblem& problem, const std::vector<Eigen::VectorXd>& states) {
+  if (states.size() != problem.exact.size()) return std::numeric_limits<double>::infinity();
+  double error = 0;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    const double difference = (states[k] - problem.exact[k]).lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(difference)) return std::numeric_limits<double>::infinity();
+    error = std::max(error, difference);
+  }
+  return error;
+}
+
+}  // namespace dvi::bench
