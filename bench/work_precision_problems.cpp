@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "dvi/event_driven.hpp"
+#include "support/saturated_decay.hpp"
 
 namespace dvi::bench {
 namespace {
@@ -26,31 +27,12 @@ WorkPrecisionProblem SaturatedDecay(int output_count) {
   problem.name = "decay";
   problem.title = "x' = u, u in SOL([-1,1], u + x), x0 = 3, [0, 5]";
   problem.reference = "exact";
-  Dvi& dvi = problem.dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0);
-  };
-  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 0;
-    Ju(0, 0) = 1;
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0) + x(0);
-  };
-  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 1;
-    Ju(0, 0) = 1;
-  };
-  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
+  problem.dvi = testing::SaturatedDecay();
   problem.x0 = Eigen::VectorXd::Constant(1, 3);
   problem.t_end = 5;
   problem.output_times = Linspace(0, 5, output_count);
   for (const double t : problem.output_times)
-    problem.exact.push_back(Eigen::VectorXd::Constant(1, t <= 2 ? 3 - t : std::exp(2 - t)));
+    problem.exact.push_back(testing::SaturatedDecayExact(t));
   problem.schedule = {{0, 2, {MultiplierBound::kLower}}, {2, 5, {MultiplierBound::kFree}}};
   return problem;
 }

@@ -18,6 +18,7 @@
 #include "dvi/time_stepping.hpp"
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
+#include "support/saturated_decay.hpp"
 
 namespace dvi {
 namespace {
@@ -26,6 +27,8 @@ using testing::ExactState;
 using testing::ExpectThrowNaming;
 using testing::FittedOrder;
 using testing::MaxStateError;
+using testing::SaturatedDecay;
+using testing::SaturatedDecayExact;
 
 // Backward Euler is first order: the fitted slope over four halvings stays
 // within this of 1 once the asymptotic range is reached (h ≤ 0.04 here).
@@ -63,42 +66,14 @@ double MeasuredOrder(const std::string& name, const std::vector<double>& step_si
 // u = Π_{[−1,1]}(−x). From x0 = 3: x = 3 − t until x = 1 at t = 2, then
 // x = e^{−(t−2)} with u = −x.
 
-Dvi KinkDvi() {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u;
-  };
-  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
-                      Eigen::MatrixXd& Ju) {
-    Jx.setZero(1, 1);
-    Ju.setOnes(1, 1);
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u + x;
-  };
-  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
-                      Eigen::MatrixXd& Ju) {
-    Jx.setOnes(1, 1);
-    Ju.setOnes(1, 1);
-  };
-  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1.0), Eigen::VectorXd::Constant(1, 1.0));
-  return dvi;
-}
-
-Eigen::VectorXd KinkExact(double t) {
-  return Eigen::VectorXd::Constant(1, t <= 2 ? 3 - t : std::exp(-(t - 2)));
-}
-
 std::vector<double> KinkErrors(SteppingScheme scheme) {
   std::vector<double> errors;
   for (const double h : kStepSizes) {
     const Trajectory trajectory = IntegrateTimeStepping(
-        KinkDvi(), Eigen::VectorXd::Constant(1, 3.0), 0, 4, Options(h, scheme));
+        SaturatedDecay(), Eigen::VectorXd::Constant(1, 3.0), 0, 4, Options(h, scheme));
     EXPECT_TRUE(trajectory.succeeded()) << trajectory.message;
     EXPECT_EQ(trajectory.stats.steps, std::lround(4 / h));
-    errors.push_back(MaxStateError(trajectory, KinkExact));
+    errors.push_back(MaxStateError(trajectory, SaturatedDecayExact));
   }
   return errors;
 }
@@ -111,7 +86,7 @@ TEST(DviStepping, KinkedBoxDviBackwardEulerIsFirstOrder) {
   EXPECT_LT(errors.back(), 0.3 * kStepSizes.back());
 
   const Trajectory trajectory =
-      IntegrateTimeStepping(KinkDvi(), Eigen::VectorXd::Constant(1, 3.0), 0, 4, Options(0.01));
+      IntegrateTimeStepping(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3.0), 0, 4, Options(0.01));
   // u = −1 before the kink, −x after (the VI at the new state holds exactly).
   for (size_t k = 1; k < trajectory.times.size(); ++k) {
     const double x = trajectory.states[k][0], u = trajectory.multipliers[k][0];
@@ -244,11 +219,11 @@ TEST(SeparableStepping, ThetaGammaHalfIsSecondOrderAndBackwardEulerFirst) {
 // The kink DVI with K written as the polyhedron {u : u ≤ 1, −u ≤ 1}: (3.3)
 // then solves a VI on ℝ × K by its KKT system, and must take the box's steps.
 TEST(DviStepping, PolyhedralKTakesTheSameStepsAsTheBox) {
-  Dvi polyhedral = KinkDvi();
+  Dvi polyhedral = SaturatedDecay();
   polyhedral.K = ConvexSet::Polyhedron(Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
                                        Eigen::MatrixXd(0, 1), Eigen::VectorXd(0));
   const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 3.0);
-  const Trajectory box = IntegrateTimeStepping(KinkDvi(), x0, 0, 4, Options(0.02));
+  const Trajectory box = IntegrateTimeStepping(SaturatedDecay(), x0, 0, 4, Options(0.02));
   const Trajectory kkt = IntegrateTimeStepping(polyhedral, x0, 0, 4, Options(0.02));
   ASSERT_TRUE(kkt.succeeded()) << kkt.message;
   ASSERT_EQ(kkt.times.size(), box.times.size());
@@ -280,7 +255,7 @@ TEST(DviStepping, BallKUsesTheProjectionMethodAndIsFirstOrder) {
   };
   dvi.K = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0);
   const Eigen::Vector2d direction(0.8, 0.6);
-  const ExactState exact = [&](double t) { return Eigen::VectorXd(KinkExact(t)[0] * direction); };
+  const ExactState exact = [&](double t) { return Eigen::VectorXd(SaturatedDecayExact(t)[0] * direction); };
   const std::vector<double> step_sizes = {0.04, 0.02, 0.01};
   std::vector<double> errors;
   for (const double h : step_sizes) {
@@ -580,23 +555,23 @@ TEST(DviStepping, InvalidCallsThrowNamingTheArgument) {
   const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 3.0);
   ExpectThrowNaming(
       [&] {
-        IntegrateTimeStepping(KinkDvi(), x0, 0, 1, Options(0.1, SteppingScheme::kFullyImplicit));
+        IntegrateTimeStepping(SaturatedDecay(), x0, 0, 1, Options(0.1, SteppingScheme::kFullyImplicit));
       },
       "scheme: 7.3");
   ExpectThrowNaming(
-      [&] { IntegrateTimeStepping(KinkDvi(), x0, 0, 1, Options(0.1, SteppingScheme::kSeparable)); },
+      [&] { IntegrateTimeStepping(SaturatedDecay(), x0, 0, 1, Options(0.1, SteppingScheme::kSeparable)); },
       "scheme: 7.2");
   ExpectThrowNaming(
-      [&] { IntegrateTimeStepping(KinkDvi(), Eigen::Vector2d(1, 2), 0, 1, Options(0.1)); },
+      [&] { IntegrateTimeStepping(SaturatedDecay(), Eigen::Vector2d(1, 2), 0, 1, Options(0.1)); },
       "x0: 2 entries, expected n = 1");
   ExpectThrowNaming(
       [&] {
-        IntegrateTimeStepping(KinkDvi(), Eigen::VectorXd::Constant(1, std::nan("")), 0, 1,
+        IntegrateTimeStepping(SaturatedDecay(), Eigen::VectorXd::Constant(1, std::nan("")), 0, 1,
                               Options(0.1));
       },
       "x0[0]");
-  ExpectThrowNaming([&] { IntegrateTimeStepping(KinkDvi(), x0, 1, 1, Options(0.1)); }, "t_end");
-  ExpectThrowNaming([&] { IntegrateTimeStepping(KinkDvi(), x0, 0, 1, Options(-0.1)); }, "h:");
+  ExpectThrowNaming([&] { IntegrateTimeStepping(SaturatedDecay(), x0, 1, 1, Options(0.1)); }, "t_end");
+  ExpectThrowNaming([&] { IntegrateTimeStepping(SaturatedDecay(), x0, 0, 1, Options(-0.1)); }, "h:");
   const SeparableDvi separable = SignSystem(0.3).ToSeparable();
   ExpectThrowNaming(
       [&] {

@@ -15,9 +15,13 @@
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "support/convergence.hpp"
+#include "support/saturated_decay.hpp"
 
 namespace dvi {
 namespace {
+
+using testing::MaxStateError;
+using testing::SaturatedDecay;
 
 std::string Scientific(double value) {
   std::ostringstream text;
@@ -32,42 +36,6 @@ std::vector<double> Linspace(double a, double b, int count) {
 }
 
 // Largest error of the samples against an exact x(t) (componentwise max).
-template <typename Exact>
-double MaxError(const Trajectory& trajectory, Exact exact) {
-  double error = 0;
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
-    const Eigen::VectorXd difference = trajectory.states[k] - exact(trajectory.times[k]);
-    error = std::max(error, difference.lpNorm<Eigen::Infinity>());
-  }
-  return error;
-}
-
-// x' = u, u ∈ SOL([−1, 1], u + x): u = clamp(−x), so from x0 = 3 the
-// solution is x = 3 − t until x = 1 at t = 2, then x = e^{−(t−2)}.
-Dvi SaturatedDecay() {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0);
-  };
-  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 0;
-    Ju(0, 0) = 1;
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0) + x(0);
-  };
-  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 1;
-    Ju(0, 0) = 1;
-  };
-  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
-  return dvi;
-}
-
 class EventDrivenMethod : public ::testing::TestWithParam<OdeMethod> {};
 
 TEST_P(EventDrivenMethod, SaturatedDecayMatchesExactSolutionAndEventTime) {
@@ -82,7 +50,7 @@ TEST_P(EventDrivenMethod, SaturatedDecayMatchesExactSolutionAndEventTime) {
   const auto exact = [](double t) {
     return Eigen::VectorXd::Constant(1, t <= 2 ? 3 - t : std::exp(-(t - 2)));
   };
-  const double error = MaxError(trajectory, exact);
+  const double error = MaxStateError(trajectory, exact);
   EXPECT_LE(error, 1e-8);
   ASSERT_EQ(trajectory.events.size(), 1u);
   EXPECT_NEAR(trajectory.events[0].time, 2.0, 1e-9);
@@ -154,7 +122,7 @@ TEST(EventDriven, DiodeCircuitErrorIsProportionalToTolerance) {
     EXPECT_EQ(trajectory.events[0].kind, EventKind::kLeftBound);
     EXPECT_NEAR(trajectory.events[0].time, std::log(3.0), 1e2 * rtol);
     tolerances.push_back(rtol);
-    errors.push_back(MaxError(trajectory, DiodeVoltage));
+    errors.push_back(MaxStateError(trajectory, DiodeVoltage));
   }
   const double slope = testing::FittedOrder(tolerances, errors);
   EXPECT_GE(slope, 0.8);

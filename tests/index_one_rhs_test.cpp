@@ -29,9 +29,13 @@
 #include "dvi/index_one_rhs.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/odeint_system.hpp"
+#include "support/saturated_decay.hpp"
 
 namespace dvi {
 namespace {
+
+using testing::SaturatedDecay;
+using testing::SaturatedDecayExact;
 
 namespace odeint = boost::numeric::odeint;
 namespace ublas = boost::numeric::ublas;
@@ -47,35 +51,6 @@ std::vector<double> Linspace(double a, double b, int count) {
   for (int k = 0; k < count; ++k) times[k] = a + (b - a) * k / (count - 1);
   return times;
 }
-
-// x' = u, u ∈ SOL([−1, 1], u + x): u = Π_{[−1,1]}(−x), so from x0 = 3 the
-// solution is x = 3 − t until x = 1 at t = 2, then x = e^{−(t−2)}; f has a
-// kink in x at |x| = 1.
-Dvi SaturatedDecay() {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0);
-  };
-  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 0;
-    Ju(0, 0) = 1;
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0) + x(0);
-  };
-  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 1;
-    Ju(0, 0) = 1;
-  };
-  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
-  return dvi;
-}
-
-double ExactDecay(double t) { return t <= 2 ? 3 - t : std::exp(-(t - 2)); }
 
 // Π_{[−1,1]}(−x), the VI's solution in closed form.
 double ExactMultiplier(double x) { return std::clamp(-x, -1.0, 1.0); }
@@ -119,7 +94,7 @@ TEST(IndexOneRhs, OdeintDopri5MatchesSaturatedDecayAndMultiplier) {
                                                                                 kOdeTolerance),
       CheckedDecay{&rhs, &max_multiplier_error}, x, times.begin(), times.end(), 0.01,
       [&](const std::vector<double>& state, double t) {
-        max_error = std::max(max_error, std::abs(state[0] - ExactDecay(t)));
+        max_error = std::max(max_error, std::abs(state[0] - SaturatedDecayExact(t)(0)));
         ++observed;
       });
   EXPECT_EQ(observed, 101);
@@ -150,7 +125,7 @@ TEST(IndexOneRhs, OdeintRosenbrock4WithModeJacobianMatchesSaturatedDecay) {
       odeint::make_controlled<odeint::rosenbrock4<double>>(kOdeTolerance, kOdeTolerance),
       std::make_pair(OdeintSystem(rhs), OdeintJacobian(rhs)), x, times.begin(), times.end(),
       0.01, [&](const ublas::vector<double>& state, double t) {
-        max_error = std::max(max_error, std::abs(state[0] - ExactDecay(t)));
+        max_error = std::max(max_error, std::abs(state[0] - SaturatedDecayExact(t)(0)));
       });
   EXPECT_LE(max_error, kRosenbrockTolerance);
   EXPECT_GT(rhs.stats().jacobian_evals, 0);
@@ -205,7 +180,7 @@ double CvodeMaxError(int method, bool with_jacobian, IndexOneRhs& rhs) {
     const int flag = CVode(cvode, t_out, y, &t, CV_NORMAL);
     EXPECT_EQ(flag, CV_SUCCESS) << "t = " << t_out << ": " << CVodeGetReturnFlagName(flag);
     if (flag < 0) break;
-    max_error = std::max(max_error, std::abs(NV_Ith_S(y, 0) - ExactDecay(t)));
+    max_error = std::max(max_error, std::abs(NV_Ith_S(y, 0) - SaturatedDecayExact(t)(0)));
   }
   CVodeFree(&cvode);
   SUNLinSolFree(solver);
