@@ -8,17 +8,11 @@
 #include <stdexcept>
 
 #include "dvi/event_driven.hpp"
-#include "support/saturated_decay.hpp"
+#include "support/convergence.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi::bench {
 namespace {
-
-std::vector<double> Linspace(double a, double b, int count) {
-  std::vector<double> times(count);
-  for (int k = 0; k < count; ++k) times[k] = a + (b - a) * k / (count - 1);
-  times.back() = b;
-  return times;
-}
 
 // x' = u, u ∈ SOL([−1, 1], u + x), x0 = 3: u = clamp(−x), so x = 3 − t
 // (u at its lower bound −1) until x = 1 at t = 2, then x = e^{2−t} (u free).
@@ -30,7 +24,7 @@ WorkPrecisionProblem SaturatedDecay(int output_count) {
   problem.dvi = testing::SaturatedDecay();
   problem.x0 = Eigen::VectorXd::Constant(1, 3);
   problem.t_end = 5;
-  problem.output_times = Linspace(0, 5, output_count);
+  problem.output_times = testing::Linspace(0, 5, output_count);
   for (const double t : problem.output_times)
     problem.exact.push_back(testing::SaturatedDecayExact(t));
   problem.schedule = {{0, 2, {MultiplierBound::kLower}}, {2, 5, {MultiplierBound::kFree}}};
@@ -56,7 +50,7 @@ WorkPrecisionProblem DiodeCircuit(int output_count) {
   problem.dvi = problem.lcs->ToDvi();
   problem.x0 = Eigen::VectorXd::Constant(1, 2);
   problem.t_end = 3;
-  problem.output_times = Linspace(0, 3, output_count);
+  problem.output_times = testing::Linspace(0, 3, output_count);
   const double switch_time = std::log(3.0), v_inf = -1.0 / 3, tau = 1.0 / 3;
   for (const double t : problem.output_times)
     problem.exact.push_back(Eigen::VectorXd::Constant(
@@ -67,30 +61,16 @@ WorkPrecisionProblem DiodeCircuit(int output_count) {
   return problem;
 }
 
-// Nonlinear strongly monotone DVI on [−1, 1]³: F = M u + 0.1 u³ + G x with
-// M + Mᵀ positive definite, so ∂F/∂u is uniformly P (Theorem 5.1); the
-// oscillator (x1, x2) drives u in and out of saturation. No Jacobians.
+// testing::SaturatedOscillator, many kinks, against a tight event run.
 WorkPrecisionProblem SaturatedOscillator(int output_count) {
   WorkPrecisionProblem problem;
   problem.name = "oscillator";
   problem.title = "nonlinear strongly monotone 3-D box DVI, x0 = (2.5, 0, 1), [0, 10]";
 
-  Dvi& dvi = problem.dvi;
-  dvi.n = 3;
-  dvi.m = 3;
-  dvi.f = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out << x(1), -x(0) + 0.5 * u(0), -0.2 * x(2) + u(2) + 0.5 * u(1) + std::sin(t);
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    Eigen::Matrix3d M, G;
-    M << 2, 0.5, 0, -0.5, 2, 0.3, 0, -0.3, 1.5;
-    G << 1.5, 0, 0, 0, 1.5, 0, 0.5, 0, 1.5;
-    out = M * u + 0.1 * u.array().cube().matrix() + G * x;
-  };
-  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(3, -1), Eigen::VectorXd::Constant(3, 1));
+  problem.dvi = testing::SaturatedOscillator();
   problem.x0 = Eigen::Vector3d(2.5, 0, 1);
   problem.t_end = 10;
-  problem.output_times = Linspace(0, 10, output_count);
+  problem.output_times = testing::Linspace(0, 10, output_count);
 
   // The reference, and a run at ten times its tolerance to estimate its error.
   EventDrivenOptions options;

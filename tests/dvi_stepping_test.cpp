@@ -18,7 +18,7 @@
 #include "dvi/time_stepping.hpp"
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
-#include "support/saturated_decay.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi {
 namespace {

@@ -15,24 +15,20 @@
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "support/convergence.hpp"
-#include "support/saturated_decay.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi {
 namespace {
 
+using testing::Linspace;
 using testing::MaxStateError;
 using testing::SaturatedDecay;
+using testing::SaturatedOscillator;
 
 std::string Scientific(double value) {
   std::ostringstream text;
   text << std::scientific << std::setprecision(3) << value;
   return text.str();
-}
-
-std::vector<double> Linspace(double a, double b, int count) {
-  std::vector<double> times(count);
-  for (int k = 0; k < count; ++k) times[k] = a + (b - a) * k / (count - 1);
-  return times;
 }
 
 // Largest error of the samples against an exact x(t) (componentwise max).
@@ -130,27 +126,6 @@ TEST(EventDriven, DiodeCircuitErrorIsProportionalToTolerance) {
   RecordProperty("slope", Scientific(slope));
   for (std::size_t k = 0; k < errors.size(); ++k)
     RecordProperty("error_at_rtol_" + Scientific(tolerances[k]), Scientific(errors[k]));
-}
-
-// A nonlinear strongly monotone DVI on [−1, 1]³: F = M u + 0.1 u³ + G x with
-// M + Mᵀ positive definite, so ∂F/∂u = M + diag(0.3 u²) is uniformly P
-// (Theorem 5.1). The oscillator x1, x2 drives u in and out of saturation.
-// No Jacobians: the forward-difference path.
-Dvi SaturatedOscillator() {
-  Dvi dvi;
-  dvi.n = 3;
-  dvi.m = 3;
-  dvi.f = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out << x(1), -x(0) + 0.5 * u(0), -0.2 * x(2) + u(2) + 0.5 * u(1) + std::sin(t);
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    Eigen::Matrix3d M, G;
-    M << 2, 0.5, 0, -0.5, 2, 0.3, 0, -0.3, 1.5;
-    G << 1.5, 0, 0, 0, 1.5, 0, 0.5, 0, 1.5;
-    out = M * u + 0.1 * u.array().cube().matrix() + G * x;
-  };
-  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(3, -1), Eigen::VectorXd::Constant(3, 1));
-  return dvi;
 }
 
 TEST(EventDriven, NonlinearBoxDviErrorIsProportionalToTolerance) {

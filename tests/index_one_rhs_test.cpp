@@ -29,11 +29,13 @@
 #include "dvi/index_one_rhs.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/odeint_system.hpp"
-#include "support/saturated_decay.hpp"
+#include "support/convergence.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi {
 namespace {
 
+using testing::Linspace;
 using testing::SaturatedDecay;
 using testing::SaturatedDecayExact;
 
@@ -44,12 +46,6 @@ std::string Scientific(double value) {
   std::ostringstream text;
   text << std::scientific << std::setprecision(3) << value;
   return text.str();
-}
-
-std::vector<double> Linspace(double a, double b, int count) {
-  std::vector<double> times(count);
-  for (int k = 0; k < count; ++k) times[k] = a + (b - a) * k / (count - 1);
-  return times;
 }
 
 // Π_{[−1,1]}(−x), the VI's solution in closed form.

@@ -27,6 +27,12 @@ double FittedOrder(const std::vector<double>& step_sizes, const std::vector<doub
   return sxy / sxx;
 }
 
+std::vector<double> Linspace(double a, double b, int count) {
+  std::vector<double> times(static_cast<size_t>(count));
+  for (int k = 0; k < count; ++k) times[static_cast<size_t>(k)] = a + (b - a) * k / (count - 1);
+  return times;
+}
+
 double MaxStateError(const Trajectory& trajectory, const ExactState& exact) {
   double error = 0;
   for (size_t k = 0; k < trajectory.times.size(); ++k)

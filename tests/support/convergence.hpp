@@ -14,6 +14,9 @@ namespace dvi::testing {
 /// convergence. @pre equal sizes ≥ 2, all entries positive.
 double FittedOrder(const std::vector<double>& step_sizes, const std::vector<double>& errors);
 
+/// count equally spaced times from a to b (both included), count ≥ 2.
+std::vector<double> Linspace(double a, double b, int count);
+
 /// The exact state x(t) a trajectory is measured against.
 using ExactState = std::function<Eigen::VectorXd(double t)>;
 

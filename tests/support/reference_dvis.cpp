@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "support/saturated_decay.hpp"
+#include "support/reference_dvis.hpp"
 
 #include <cmath>
 
@@ -31,6 +31,23 @@ Dvi SaturatedDecay() {
 
 Eigen::VectorXd SaturatedDecayExact(double t) {
   return Eigen::VectorXd::Constant(1, t <= 2 ? 3 - t : std::exp(2 - t));
+}
+
+Dvi SaturatedOscillator() {
+  Dvi dvi;
+  dvi.n = 3;
+  dvi.m = 3;
+  dvi.f = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out << x(1), -x(0) + 0.5 * u(0), -0.2 * x(2) + u(2) + 0.5 * u(1) + std::sin(t);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    Eigen::Matrix3d M, G;
+    M << 2, 0.5, 0, -0.5, 2, 0.3, 0, -0.3, 1.5;
+    G << 1.5, 0, 0, 0, 1.5, 0, 0.5, 0, 1.5;
+    out = M * u + 0.1 * u.array().cube().matrix() + G * x;
+  };
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(3, -1), Eigen::VectorXd::Constant(3, 1));
+  return dvi;
 }
 
 }  // namespace dvi::testing

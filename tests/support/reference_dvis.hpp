@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "dvi/dvi_problem.hpp"
+
+namespace dvi::testing {
+
+/// Reference index-one box DVIs shared by the integrators' tests and the
+/// work-precision benchmark.
+
+/// A DVI with one kink:
+///   x' = u,   u ∈ SOL([−1, 1], u + x),
+/// so u = Π_{[−1,1]}(−x) (F is strongly monotone in u, Theorem 5.1). From
+/// x0 = 3 the solution is x = 3 − t with u = −1 at its lower bound until
+/// x = 1 at t = 2, then x = e^{2−t} with u = −x free. Exact Jacobians.
+Dvi SaturatedDecay();
+
+/// x(t) of SaturatedDecay from x0 = 3 at t0 = 0.
+Eigen::VectorXd SaturatedDecayExact(double t);
+
+/// A nonlinear 3-D DVI with many kinks: x1, x2 oscillate and drive u in and
+/// out of saturation on K = [−1, 1]³,
+///   x' = (x2, −x1 + ½u1, −0.2x3 + u3 + ½u2 + sin t),
+///   F(t, x, u) = M u + 0.1 u³ + G x,
+/// with M + Mᵀ positive definite, so ∂F/∂u = M + diag(0.3 u²) is uniformly P
+/// (Theorem 5.1). No Jacobians (the forward-difference paths). No closed
+/// form: tests compare against a tight run.
+Dvi SaturatedOscillator();
+
+}  // namespace dvi::testing
