@@ -50,8 +50,9 @@ void FinishBoxResult(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
   }
 }
 
-void Rename(SolverMethod method, SolveResult& result) {
+SolveResult Named(SolverMethod method, SolveResult result) {
   result.method = std::string(ToString(method));
+  return result;
 }
 
 // The attempts of an automatic choice, in order. A decisive attempt (solved,
@@ -140,34 +141,22 @@ SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
                           const Eigen::VectorXd& warm_start) {
   const int m = lcp.dim();
   switch (options.method) {
-    case SolverMethod::kLemke: {
-      SolveResult result = SolveLemke(lcp, options);
-      Rename(SolverMethod::kLemke, result);
-      return result;
-    }
-    case SolverMethod::kPgs: {
-      SolveResult result = SolvePgs(lcp, options, warm_start);
-      Rename(SolverMethod::kPgs, result);
-      return result;
-    }
-    case SolverMethod::kNewton: {
-      SolveResult result =
-          SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start);
-      Rename(SolverMethod::kNewton, result);
-      return result;
-    }
-    case SolverMethod::kExtragradient: {
-      SolveResult result =
-          SolveExtragradient(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start);
-      Rename(SolverMethod::kExtragradient, result);
-      return result;
-    }
-    case SolverMethod::kKkt: {
-      SolveResult result =
-          SolvePolyhedralVi(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start);
-      Rename(SolverMethod::kKkt, result);
-      return result;
-    }
+    case SolverMethod::kLemke:
+      return Named(SolverMethod::kLemke, SolveLemke(lcp, options));
+    case SolverMethod::kPgs:
+      return Named(SolverMethod::kPgs, SolvePgs(lcp, options, warm_start));
+    case SolverMethod::kNewton:
+      return Named(
+          SolverMethod::kNewton,
+          SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start));
+    case SolverMethod::kExtragradient:
+      return Named(
+          SolverMethod::kExtragradient,
+          SolveExtragradient(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start));
+    case SolverMethod::kKkt:
+      return Named(
+          SolverMethod::kKkt,
+          SolvePolyhedralVi(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start));
     case SolverMethod::kAuto:
       break;
   }
@@ -176,14 +165,13 @@ SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
   // the one that can prove infeasibility (SolveLemke decides feasibility
   // itself when M is not copositive-plus), so it decides when Newton stalls.
   AttemptLog log;
-  SolveResult newton =
-      SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start);
-  Rename(SolverMethod::kNewton, newton);
+  SolveResult newton = Named(
+      SolverMethod::kNewton,
+      SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start));
   FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, newton);
   if (newton.solved()) return newton;
   log.Add(std::move(newton));
-  SolveResult lemke = SolveLemke(lcp, options);
-  Rename(SolverMethod::kLemke, lemke);
+  SolveResult lemke = Named(SolverMethod::kLemke, SolveLemke(lcp, options));
   FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
   if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
   log.Add(std::move(lemke));
@@ -195,33 +183,21 @@ SolveResult SolveSparseLcp(const SparseLcp& lcp, const SolverOptions& options,
   const int m = lcp.dim();
   const auto densified = [&lcp]() { return Lcp{Eigen::MatrixXd(lcp.M), lcp.q}; };
   switch (options.method) {
-    case SolverMethod::kLemke: {
-      SolveResult result = SolveLemke(densified(), options);
-      Rename(SolverMethod::kLemke, result);
-      return result;
-    }
-    case SolverMethod::kPgs: {
-      SolveResult result = SolvePgs(lcp, options, warm_start);
-      Rename(SolverMethod::kPgs, result);
-      return result;
-    }
-    case SolverMethod::kNewton: {
-      SolveResult result =
-          SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start);
-      Rename(SolverMethod::kNewton, result);
-      return result;
-    }
-    case SolverMethod::kExtragradient: {
-      SolveResult result = SolveExtragradient(OrthantVi(lcp.M, lcp.q), options, warm_start);
-      Rename(SolverMethod::kExtragradient, result);
-      return result;
-    }
-    case SolverMethod::kKkt: {
-      SolveResult result = SolvePolyhedralVi(
-          Vi::Affine(Eigen::MatrixXd(lcp.M), lcp.q, ConvexSet::Orthant(m)), options, warm_start);
-      Rename(SolverMethod::kKkt, result);
-      return result;
-    }
+    case SolverMethod::kLemke:
+      return Named(SolverMethod::kLemke, SolveLemke(densified(), options));
+    case SolverMethod::kPgs:
+      return Named(SolverMethod::kPgs, SolvePgs(lcp, options, warm_start));
+    case SolverMethod::kNewton:
+      return Named(
+          SolverMethod::kNewton,
+          SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start));
+    case SolverMethod::kExtragradient:
+      return Named(SolverMethod::kExtragradient,
+                   SolveExtragradient(OrthantVi(lcp.M, lcp.q), options, warm_start));
+    case SolverMethod::kKkt:
+      return Named(SolverMethod::kKkt, SolvePolyhedralVi(Vi::Affine(Eigen::MatrixXd(lcp.M), lcp.q,
+                                                                    ConvexSet::Orthant(m)),
+                                                         options, warm_start));
     case SolverMethod::kAuto:
       break;
   }
@@ -231,22 +207,20 @@ SolveResult SolveSparseLcp(const SparseLcp& lcp, const SolverOptions& options,
   AttemptLog log;
   Eigen::VectorXd start = warm_start;
   if (IsSymmetricWithPositiveDiagonal(lcp.M)) {
-    SolveResult pgs = SolvePgs(lcp, options, warm_start);
-    Rename(SolverMethod::kPgs, pgs);
+    SolveResult pgs = Named(SolverMethod::kPgs, SolvePgs(lcp, options, warm_start));
     FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, pgs);
     if (pgs.solved()) return pgs;
     if (pgs.z.size() == m && pgs.z.allFinite()) start = pgs.z;
     log.Add(std::move(pgs));
   }
   SolveResult newton =
-      SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, start);
-  Rename(SolverMethod::kNewton, newton);
+      Named(SolverMethod::kNewton,
+            SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, start));
   FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, newton);
   if (newton.solved()) return log.Decisive(std::move(newton));
   log.Add(std::move(newton));
   if (m > kDenseLemkeLimit) return std::move(log).Best();
-  SolveResult lemke = SolveLemke(densified(), options);
-  Rename(SolverMethod::kLemke, lemke);
+  SolveResult lemke = Named(SolverMethod::kLemke, SolveLemke(densified(), options));
   FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
   if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
   log.Add(std::move(lemke));
@@ -265,19 +239,15 @@ SolveResult SolveMcp(const BoxMcp& mcp, const SolverOptions& options,
       vi.K = ConvexSet::Box(mcp.lower, mcp.upper);
       vi.F = mcp.F;
       vi.jacobian = mcp.jacobian;
-      SolveResult result = options.method == SolverMethod::kKkt
-                               ? SolvePolyhedralVi(vi, options, warm_start)
-                               : SolveExtragradient(vi, options, warm_start);
-      Rename(options.method, result);
-      return result;
+      return Named(options.method, options.method == SolverMethod::kKkt
+                                       ? SolvePolyhedralVi(vi, options, warm_start)
+                                       : SolveExtragradient(vi, options, warm_start));
     }
     case SolverMethod::kNewton:
     case SolverMethod::kAuto:
       break;
   }
-  SolveResult result = SolveNewton(mcp, options, warm_start);
-  Rename(SolverMethod::kNewton, result);
-  return result;
+  return Named(SolverMethod::kNewton, SolveNewton(mcp, options, warm_start));
 }
 
 SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
@@ -297,38 +267,25 @@ SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
       if (!K.IsBox())
         ThrowNotApplicable(options.method, Describe(K),
                            "semismooth Newton needs a box-like K (use kkt for a polyhedron)");
-      SolveResult result = SolveNewton(BoxMcpOfVi(vi), options, warm_start);
-      Rename(SolverMethod::kNewton, result);
-      return result;
+      return Named(SolverMethod::kNewton, SolveNewton(BoxMcpOfVi(vi), options, warm_start));
     }
     case SolverMethod::kKkt: {
       if (!K.IsPolyhedral())
         ThrowNotApplicable(options.method, Describe(K), "the KKT form needs a polyhedral K");
-      SolveResult result = SolvePolyhedralVi(vi, options, warm_start);
-      Rename(SolverMethod::kKkt, result);
-      return result;
+      return Named(SolverMethod::kKkt, SolvePolyhedralVi(vi, options, warm_start));
     }
-    case SolverMethod::kExtragradient: {
-      SolveResult result = SolveExtragradient(vi, options, warm_start);
-      Rename(SolverMethod::kExtragradient, result);
-      return result;
-    }
+    case SolverMethod::kExtragradient:
+      return Named(SolverMethod::kExtragradient, SolveExtragradient(vi, options, warm_start));
     case SolverMethod::kAuto:
       break;
   }
   if (K.IsBox()) {
-    SolveResult result = SolveNewton(BoxMcpOfVi(vi), options, warm_start);
-    Rename(SolverMethod::kNewton, result);
-    return result;
+    return Named(SolverMethod::kNewton, SolveNewton(BoxMcpOfVi(vi), options, warm_start));
   }
   if (K.IsPolyhedral()) {
-    SolveResult result = SolvePolyhedralVi(vi, options, warm_start);
-    Rename(SolverMethod::kKkt, result);
-    return result;
+    return Named(SolverMethod::kKkt, SolvePolyhedralVi(vi, options, warm_start));
   }
-  SolveResult result = SolveExtragradient(vi, options, warm_start);
-  Rename(SolverMethod::kExtragradient, result);
-  return result;
+  return Named(SolverMethod::kExtragradient, SolveExtragradient(vi, options, warm_start));
 }
 
 }  // namespace
