@@ -25,6 +25,8 @@ std::string_view ToString(IntegrationStatus status) {
     case IntegrationStatus::kStepFailure: return "step-failure";
     case IntegrationStatus::kStepSizeTooSmall: return "step-size-too-small";
     case IntegrationStatus::kMaxSteps: return "max-steps";
+    case IntegrationStatus::kEventAccumulation: return "event-accumulation";
+    case IntegrationStatus::kNotIndexOne: return "not-index-one";
   }
   return "unknown";
 }

@@ -171,30 +171,36 @@ TEST(EventDriven, NonlinearBoxDviErrorIsProportionalToTolerance) {
   RecordProperty("events", std::to_string(reference.events.size()));
 }
 
-// D = 0: at x0 = 0 every u ≥ 0 solves 0 ≤ u ⊥ x + 0·u ≥ 0, u0 = 0 is
-// degenerate and the Schur complement D_ββ = 0 is not P (Sect. 5.3).
+// x1' = x2, x2' = u, 0 ≤ u ⊥ x1 ≥ 0 at x0 = (0, −1): every u ≥ 0 solves the
+// LCP (D = 0, not strongly regular), and the differentiation procedure fails
+// too: Φ = x1 gives Φ̇ = x2 = −1, free of u ((5.8) = C B = 0), so the modified
+// LCP 0 ≤ u ⊥ −1 ≥ 0 has no solution. The state leaves x1 ≥ 0 at once.
 TEST(EventDriven, RefusesWhenNotIndexOne) {
-  Eigen::MatrixXd A(1, 1), B(1, 1), C(1, 1), D(1, 1);
-  A << -1;
-  B << 1;
-  C << 1;
+  Eigen::MatrixXd A(2, 2), B(2, 1), C(1, 2), D(1, 1);
+  A << 0, 1, 0, 0;
+  B << 0, 1;
+  C << 1, 0;
   D << 0;
   const Trajectory trajectory =
-      IntegrateEventDriven(Lcs::Dense(A, B, C, D), Eigen::VectorXd::Zero(1), 0, 1);
-  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
-  EXPECT_NE(trajectory.message.find("not index one at t = 0"), std::string::npos)
+      IntegrateEventDriven(Lcs::Dense(A, B, C, D), Eigen::Vector2d(0, -1), 0, 1);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kNotIndexOne);
+  EXPECT_NE(trajectory.message.find("at t = 0: not index one"), std::string::npos)
       << trajectory.message;
-  EXPECT_NE(trajectory.message.find("not a P-matrix"), std::string::npos) << trajectory.message;
   EXPECT_NE(trajectory.message.find("not strongly regular"), std::string::npos)
       << trajectory.message;
+  EXPECT_NE(trajectory.message.find("Theorem 5.3"), std::string::npos) << trajectory.message;
+  EXPECT_NE(trajectory.message.find("modified VI is not solved"), std::string::npos)
+      << trajectory.message;
   EXPECT_EQ(trajectory.stats.steps, 0);
+  RecordProperty("message", trajectory.message);
 }
 
 // x' = u, u ∈ SOL([−1, 1], x² u + x): ∂F/∂u = x² is P at x0 = 2, and
 // u = −1/x until x = 1 at t = 1.5, then u = −1 until x = 0 at t = 2.5. There
-// ∂F/∂u = 0 and the solution would slide on x = 0 (u = +1 for x < 0, −1 for
-// x > 0): the integration must stop there with a message, not chatter.
-TEST(EventDriven, StopsWhereTheModeWouldChatter) {
+// ∂F/∂u = 0 and u = −sgn(x) on either side: the solution slides on x = 0
+// with Filippov's u = 0, chosen by differentiating F along the flow
+// (Theorem 5.2: Φ̇ = (2xu + 1)u = 0).
+TEST(EventDriven, SlidesWhereTheIndexOneModesWouldChatter) {
   Dvi dvi;
   dvi.n = 1;
   dvi.m = 1;
@@ -205,16 +211,30 @@ TEST(EventDriven, StopsWhereTheModeWouldChatter) {
     out(0) = x(0) * x(0) * u(0) + x(0);
   };
   dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
-  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 2), 0, 5);
-  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
-  EXPECT_NE(trajectory.message.find("not index one"), std::string::npos) << trajectory.message;
-  EXPECT_NE(trajectory.message.find("chatter"), std::string::npos) << trajectory.message;
-  ASSERT_GE(trajectory.events.size(), 1u);
-  EXPECT_NEAR(trajectory.events[0].time, 1.5, 1e-6);
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const Trajectory trajectory =
+      IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 2), 0, 5, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_EQ(trajectory.events.size(), 2u);
+  EXPECT_NEAR(trajectory.events[0].time, 1.5, 1e-7);
   EXPECT_EQ(trajectory.events[0].kind, EventKind::kReachedLower);
-  EXPECT_NEAR(trajectory.final_time(), 2.5, 1e-6);
-  EXPECT_NEAR(trajectory.states.back()(0), 0, 1e-6);
-  RecordProperty("message", trajectory.message);
+  EXPECT_NEAR(trajectory.events[1].time, 2.5, 1e-7);
+  EXPECT_EQ(trajectory.events[1].kind, EventKind::kLeftBound);
+  double worst_x = 0, worst_u = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    if (trajectory.times[k] < 2.5 + 1e-6) continue;
+    worst_x = std::max(worst_x, std::abs(trajectory.states[k](0)));
+    worst_u = std::max(worst_u, std::abs(trajectory.multipliers[k](0)));
+  }
+  EXPECT_LE(worst_x, 1e-9);
+  EXPECT_LE(worst_u, 1e-9);
+  ASSERT_EQ(trajectory.intervals.size(), 1u);
+  EXPECT_NE(trajectory.intervals[0].reason.find("Theorem 5.3"), std::string::npos)
+      << trajectory.intervals[0].reason;
+  RecordProperty("max_abs_x_sliding", Scientific(worst_x));
+  RecordProperty("max_abs_u_sliding", Scientific(worst_u));
 }
 
 TEST(EventDriven, StopsAtMaxEvents) {
@@ -222,7 +242,7 @@ TEST(EventDriven, StopsAtMaxEvents) {
   options.max_events = 3;
   const Trajectory trajectory =
       IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
-  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kEventAccumulation);
   EXPECT_NE(trajectory.message.find("max_events = 3"), std::string::npos) << trajectory.message;
   EXPECT_LT(trajectory.final_time(), 10);
 }

@@ -39,6 +39,10 @@ struct Dvi {
   TimeStateJacobian f_jacobian;  ///< Optional.
   TimeStateFunction F;
   TimeStateJacobian F_jacobian;  ///< Optional.
+  /// ∂F/∂t (m entries), optional: the differentiation procedure of Theorems
+  /// 5.2/5.3 needs it for time-dependent F; forward differences otherwise
+  /// (exact, zero, for an autonomous F).
+  TimeStateFunction F_time_derivative;
   ConvexSet K = ConvexSet::Orthant(0);
 
   /// @throws InvalidInputError on n < 1, a missing f or F (m > 0), or

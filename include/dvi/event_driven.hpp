@@ -54,6 +54,12 @@ struct EventDrivenOptions {
   /// Re-entering a mode already left at the same time stops it at once.
   int max_event_burst = 16;
   double min_event_spacing = 1e-6;
+  /// Zeno detector: when the gaps between the last 8 mode changes shrink by a
+  /// near-constant ratio r < 1, the switch times converge to a predicted
+  /// t* = t + Δ·r/(1 − r); once t* − t is below zeno_window·(t_end − t0) the
+  /// run stops with kEventAccumulation and t* in the message (the automatic
+  /// driver steps over t*). In [0, 1]; 0 turns the detector off.
+  double zeno_window = 1e-2;
   /// Options of the full VI solves at the initial time and at events (box MCP
   /// by semismooth Newton); its tolerance also accepts the mode's Newton
   /// solves of F_free(t, x, u) = 0.
@@ -69,16 +75,27 @@ struct EventDrivenOptions {
 /// system is solved by Newton from the last u, and the Jacobian of (5.2) is
 /// f_x + f_u·du/dx with du/dx from the implicit function theorem. Root
 /// functions watch the mode's validity: a free u_j reaching a bound, or a
-/// bound component's F_j changing sign. At an event the full VI selects the
-/// new mode; degenerate components (the β set of Sect. 5.3) take the mode
-/// that a short look-ahead along the flow follows.
+/// bound component's F_j changing sign. At an event (and at t0) the full VI
+/// selects the new mode; degenerate components (the β set of Sect. 5.3) take
+/// the mode that a short look-ahead along the flow follows.
 ///
-/// Before integrating, index one is checked at (t0, x0, u0): ∂F/∂u a P-matrix
-/// (Theorem 5.1) or u0 strongly regular (Sect. 5.3). If neither holds the
-/// result has status kStepFailure and a message naming the failed condition;
-/// the same status reports a VI that is not solved, a singular mode Jacobian,
-/// a CVODE failure (its flag name), or chattering (more than the event limits).
-/// kMaxSteps reports the step limit. Samples up to the failure are kept.
+/// Index two. Where u is not strongly regular and the look-ahead finds no
+/// consistent mode (an ideal diode clamping a state, D = 0; a Filippov system
+/// sliding on h = 0), the differentiation procedure of Theorems 5.2/5.3
+/// selects it: the rows of ∂F/∂u on the components where F vanishes are split
+/// by a rank-revealing QR, each dependent row's u-free combination Φ is
+/// differentiated along the flow, and the modified VI must have a strongly
+/// regular solution ((5.8) nonsingular, (5.9) a P-matrix). Such a mode is
+/// integrated as the index-one system with the rows Φ̇ = 0, and kept on
+/// Φ = 0 by CVODE's projection after each BDF step (under Adams the drift is
+/// only measured: IntegrationStats::max_constraint_drift).
+///
+/// Statuses: kNotIndexOne when neither route gives a mode (the message names
+/// each failed condition, at t0 before any step); kEventAccumulation for Zeno
+/// behaviour (a geometric sequence of switch times, see zeno_window) or
+/// chattering (the event limits); kStepFailure for a VI that is not solved, a
+/// Newton failure in a mode, or a CVODE failure (its flag name); kMaxSteps for
+/// the step limit. Samples up to the failure are kept.
 /// @throws InvalidInputError on an invalid problem, x0, t0/t_end, options,
 /// or a K that is not a box.
 Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,

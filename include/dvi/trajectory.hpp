@@ -15,8 +15,17 @@ enum class IntegrationStatus {
   kStepFailure,        ///< A step's VI / complementarity problem was not solved; see message.
   kStepSizeTooSmall,   ///< Error control asked for a step below the minimum.
   kMaxSteps,           ///< The step limit was reached before the final time.
+  /// Event-driven: events accumulate (Zeno behaviour: a geometric sequence of
+  /// event times, or a burst of events in a shrinking window) or a mode is
+  /// left as soon as it is entered (chattering); the message says where.
+  kEventAccumulation,
+  /// Event-driven: the state is not index one and the differentiation
+  /// procedure of Theorems 5.2/5.3 does not reduce it; the message names the
+  /// failed condition.
+  kNotIndexOne,
 };
-/// "success", "step-failure", "step-size-too-small", "max-steps".
+/// "success", "step-failure", "step-size-too-small", "max-steps",
+/// "event-accumulation", "not-index-one".
 std::string_view ToString(IntegrationStatus status);
 
 /// A change of the active set (the mode) of u.
@@ -54,6 +63,9 @@ struct IntegrationStats {
   long vi_solves = 0;       ///< VI / complementarity problems solved.
   long solver_iterations = 0;  ///< Summed over all VI solves.
   double max_residual = 0;  ///< Largest natural-map residual of an accepted step's VI.
+  /// Event-driven modes reduced by differentiation (Theorems 5.2/5.3): the
+  /// largest |Φ_α| of the original constraints at accepted steps (drift).
+  double max_constraint_drift = 0;
   double wall_seconds = 0;  ///< The integration's own time.
 };
 

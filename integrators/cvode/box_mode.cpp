@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "dvi/complementarity_problem.hpp"
+#include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
 
 namespace dvi::internal {
@@ -49,17 +50,22 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
 }  // namespace
 
 BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::VectorXd upper,
-                             const SolverOptions& solver)
+                             const SolverOptions& solver, bool affine)
     : dvi_(dvi),
       lower_(std::move(lower)),
       upper_(std::move(upper)),
       solver_(solver),
+      affine_orthant_(affine && (lower_.array() == 0).all() &&
+                      (upper_.array() == std::numeric_limits<double>::infinity()).all()),
       mode_(dvi.m, BoundState::kFree),
       u_(Eigen::VectorXd::Zero(dvi.m)) {}
 
 void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
   mode_ = mode;
   free_.clear();
+  reduction_ = RowReduction();
+  differentiated_row_.clear();
+  rows_split_ = false;
   u_ = u;
   for (int j = 0; j < m(); ++j) {
     if (mode_[j] == BoundState::kFree) free_.push_back(j);
@@ -94,26 +100,89 @@ void BoxModeSystem::SmallFJacobians(double t, const Eigen::VectorXd& x, const Ei
     ForwardDifferences(dvi_.f, n(), t, x, u, fx, fu);
 }
 
+void BoxModeSystem::FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                                    Eigen::VectorXd& Ft) const {
+  Ft.resize(m());
+  if (dvi_.F_time_derivative) {
+    dvi_.F_time_derivative(t, x, u, Ft);
+    return;
+  }
+  const double step = std::sqrt(kEpsilon) * std::max(1.0, std::abs(t));
+  Eigen::VectorXd base(m());
+  dvi_.F(t, x, u, base);
+  dvi_.F(t + step, x, u, Ft);
+  Ft = (Ft - base) / step;
+}
+
+void BoxModeSystem::DifferentiatedRows(const RowReduction& reduction, double t,
+                                       const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                                       Eigen::VectorXd& values, Eigen::MatrixXd& Gu,
+                                       Eigen::MatrixXd* Gx) const {
+  Eigen::VectorXd Ft, xdot(n());
+  Eigen::MatrixXd Fx, Fu, fx, fu;
+  FTimeDerivative(t, x, u, Ft);
+  FJacobians(t, x, u, Fx, Fu);
+  SmallFJacobians(t, x, u, fx, fu);
+  dvi_.f(t, x, u, xdot);
+  // Φ̇ = P (∂F/∂t + J_xF ẋ): (5.7) differentiated, ẋ substituted from f.
+  const Eigen::MatrixXd P_Fx = reduction.P * Fx;
+  values = reduction.P * Ft + P_Fx * xdot;
+  Gu = P_Fx * fu;
+  if (Gx) *Gx = P_Fx * fx;
+}
+
+void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                                  Eigen::VectorXd& G, Eigen::MatrixXd& Gu,
+                                  Eigen::MatrixXd* Gx) const {
+  const int a = static_cast<int>(free_.size());
+  Eigen::VectorXd F(m()), derived;
+  Eigen::MatrixXd Fx, Fu, derived_u, derived_x;
+  EvalF(t, x, u, F);
+  FJacobians(t, x, u, Fx, Fu);
+  if (!reduction_.empty()) DifferentiatedRows(reduction_, t, x, u, derived, derived_u,
+                                              Gx ? &derived_x : nullptr);
+  G.resize(a);
+  Gu.resize(a, a);
+  if (Gx) Gx->resize(a, n());
+  for (int i = 0; i < a; ++i) {
+    const int row = differentiated_row_[i];
+    G(i) = row < 0 ? F(free_[i]) : derived(row);
+    for (int k = 0; k < a; ++k) Gu(i, k) = row < 0 ? Fu(free_[i], free_[k]) : derived_u(row, free_[k]);
+    if (Gx) Gx->row(i) = row < 0 ? Eigen::RowVectorXd(Fx.row(free_[i]))
+                                 : Eigen::RowVectorXd(derived_x.row(row));
+  }
+}
+
 bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) {
   if (free_.empty()) return true;
   const int a = static_cast<int>(free_.size());
-  Eigen::VectorXd u = u_, F(m()), residual(a);
-  Eigen::MatrixXd Fx, Fu, Faa(a, a);
+  if (!rows_split_) {
+    // Theorem 5.3's row operations on the free components, once per mode.
+    Eigen::MatrixXd Fx, Fu;
+    FJacobians(t, x, u_, Fx, Fu);
+    reduction_ = ReduceRows(Fu, free_);
+    differentiated_row_.assign(a, -1);
+    for (int k = 0; k < static_cast<int>(reduction_.differentiated.size()); ++k)
+      differentiated_row_[std::find(free_.begin(), free_.end(), reduction_.differentiated[k]) -
+                          free_.begin()] = k;
+    rows_split_ = true;
+  }
+  Eigen::VectorXd u = u_, residual;
+  Eigen::MatrixXd Gu;
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     ++newton_iterations_;
-    EvalF(t, x, u, F);
-    for (int i = 0; i < a; ++i) residual(i) = F(free_[i]);
+    ModeEquations(t, x, u, residual, Gu, nullptr);
     if (!residual.allFinite()) break;
     if (residual.lpNorm<Eigen::Infinity>() == 0) {
       u_ = u;
       return true;
     }
-    FJacobians(t, x, u, Fx, Fu);
-    for (int i = 0; i < a; ++i)
-      for (int k = 0; k < a; ++k) Faa(i, k) = Fu(free_[i], free_[k]);
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(Faa);
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
     if (!lu.isInvertible()) {
-      if (why) *why = "∂F/∂u on the free components is singular";
+      if (why)
+        *why = reduced() ? "the matrix (5.8) of the reduced mode is singular (Theorem 5.3 fails; "
+                           "a further differentiation would be needed)"
+                         : "∂F/∂u on the free components is singular";
       return false;
     }
     const Eigen::VectorXd step = lu.solve(residual);
@@ -123,10 +192,8 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
       u_norm = std::max(u_norm, std::abs(u(free_[i])));
     }
     if (step.lpNorm<Eigen::Infinity>() <= kNewtonStepTolerance * (1 + u_norm)) {
-      EvalF(t, x, u, F);
-      double final_residual = 0;
-      for (int i = 0; i < a; ++i) final_residual = std::max(final_residual, std::abs(F(free_[i])));
-      if (!(final_residual <= solver_.tolerance)) break;
+      ModeEquations(t, x, u, residual, Gu, nullptr);
+      if (!(residual.lpNorm<Eigen::Infinity>() <= solver_.tolerance)) break;
       u_ = u;
       return true;
     }
@@ -145,20 +212,49 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   SmallFJacobians(t, x, u_, fx, fu);
   J = fx;
   if (free_.empty()) return true;
-  Eigen::MatrixXd Fx, Fu;
-  FJacobians(t, x, u_, Fx, Fu);
   const int a = static_cast<int>(free_.size());
-  Eigen::MatrixXd Faa(a, a), Fax(a, n()), fua(n(), a);
-  for (int i = 0; i < a; ++i) {
-    for (int k = 0; k < a; ++k) Faa(i, k) = Fu(free_[i], free_[k]);
-    Fax.row(i) = Fx.row(free_[i]);
-    fua.col(i) = fu.col(free_[i]);
-  }
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Faa);
+  Eigen::VectorXd G;
+  Eigen::MatrixXd Gu, Gx, fua(n(), a);
+  ModeEquations(t, x, u_, G, Gu, &Gx);
+  for (int i = 0; i < a; ++i) fua.col(i) = fu.col(free_[i]);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
   if (!lu.isInvertible()) return false;
-  // Implicit function theorem on F_A(t, x, u(t, x)) = 0.
-  J -= fua * lu.solve(Fax);
+  // Implicit function theorem on G(t, x, u(t, x)) = 0.
+  J -= fua * lu.solve(Gx);
   return true;
+}
+
+void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
+                                Eigen::MatrixXd* phi_x) const {
+  Eigen::VectorXd F(m());
+  EvalF(t, x, u_, F);
+  phi = reduction_.P * F;
+  if (phi_x) {
+    Eigen::MatrixXd Fx, Fu;
+    FJacobians(t, x, u_, Fx, Fu);
+    *phi_x = reduction_.P * Fx;
+  }
+}
+
+double BoxModeSystem::ConstraintDrift(double t, const Eigen::VectorXd& x) const {
+  if (!reduced()) return 0;
+  Eigen::VectorXd phi;
+  Constraints(t, x, phi, nullptr);
+  return phi.lpNorm<Eigen::Infinity>();
+}
+
+void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd& correction,
+                            Eigen::VectorXd* err) const {
+  correction = Eigen::VectorXd::Zero(n());
+  if (!reduced()) return;
+  Eigen::VectorXd phi;
+  Eigen::MatrixXd phi_x;
+  Constraints(t, x, phi, &phi_x);
+  // Least-norm: Δx = −Φ_xᵀ (Φ_x Φ_xᵀ)⁻¹ Φ; Φ_x has full row rank when (5.8)
+  // is nonsingular, since (5.8)'s dependent rows are Φ_x f_u.
+  const Eigen::LDLT<Eigen::MatrixXd> gram(phi_x * phi_x.transpose());
+  correction = -phi_x.transpose() * gram.solve(phi);
+  if (err) *err -= phi_x.transpose() * gram.solve(phi_x * *err);
 }
 
 void BoxModeSystem::Roots(double t, const Eigen::VectorXd& x, double* g) const {
@@ -197,7 +293,18 @@ SolveResult BoxModeSystem::SolveVi(double t, const Eigen::VectorXd& x,
       dvi.F_jacobian(t, x, z, Jx, J);
     };
   }
-  return dvi::Solve(mcp, solver_, warm);
+  return SolveBoxProblem(mcp, warm);
+}
+
+SolveResult BoxModeSystem::SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm) const {
+  if (!affine_orthant_ || !mcp.jacobian) return dvi::Solve(mcp, solver_, warm);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m());
+  Lcp lcp;
+  lcp.q.resize(m());
+  lcp.M.resize(m(), m());
+  mcp.F(zero, lcp.q);
+  mcp.jacobian(zero, lcp.M);
+  return dvi::Solve(lcp, solver_, warm);
 }
 
 Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorXd& x,
@@ -207,9 +314,28 @@ Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorX
   return Fu;
 }
 
+bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why) const {
+  std::vector<double> g(2 * m());
+  Roots(t, x, g.data());
+  const double tolerance = 1e3 * solver_.tolerance;
+  for (int k = 0; k < 2 * m(); ++k) {
+    if (g[k] >= -tolerance) continue;
+    if (why) {
+      std::ostringstream message;
+      const int j = k / 2;
+      message << "u_" << j
+              << (mode_[j] == BoundState::kFree ? " would leave its bounds (" : " at its bound has F of the wrong sign (")
+              << g[k] << ")";
+      *why = message.str();
+    }
+    return false;
+  }
+  return true;
+}
+
 bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
-                               double delta, BoxMode& mode, long* vi_solves, long* iterations,
-                               std::string* why) const {
+                               double delta, bool every_component, BoxMode& mode,
+                               long* vi_solves, long* iterations, std::string* why) const {
   // Degeneracy tolerance: well above the VI's residual, well below the
   // O(delta) changes the look-ahead resolves.
   const double tolerance = 1e3 * solver_.tolerance;
@@ -219,10 +345,12 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
     const double to_lower = vi.z(j) - lower_(j), to_upper = upper_(j) - vi.z(j);
     if (to_lower <= tolerance && to_lower <= to_upper) {
       mode[j] = BoundState::kLower;
-      if (vi.w(j) <= tolerance) near_bound.push_back(j);
+      if (vi.w(j) <= tolerance || every_component) near_bound.push_back(j);
     } else if (to_upper <= tolerance) {
       mode[j] = BoundState::kUpper;
-      if (vi.w(j) >= -tolerance) near_bound.push_back(j);
+      if (vi.w(j) >= -tolerance || every_component) near_bound.push_back(j);
+    } else if (every_component) {
+      near_bound.push_back(j);
     }
   }
   if (near_bound.empty()) return true;
@@ -274,6 +402,78 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
     *why = message.str();
   }
   return false;
+}
+
+bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
+                                      BoxMode& mode, Eigen::VectorXd& u, long* vi_solves,
+                                      long* iterations, std::string* why) const {
+  const double tolerance = 1e3 * solver_.tolerance;
+  // S = α ∪ β: the components where F vanishes at the VI solution.
+  std::vector<int> S;
+  for (int j = 0; j < m(); ++j)
+    if (std::abs(vi.w(j)) <= tolerance) S.push_back(j);
+  Eigen::MatrixXd Fx, Fu;
+  FJacobians(t, x, vi.z, Fx, Fu);
+  const RowReduction reduction = ReduceRows(Fu, S);
+  if (reduction.empty()) {
+    if (why)
+      *why = "the differentiation procedure does not apply: the rows of ∂F/∂u where F "
+             "vanishes are linearly independent";
+    return false;
+  }
+  // The modified VI of Sect. 5.4 (5.6): the dependent rows replaced by Φ̇.
+  BoxMcp mcp;
+  mcp.lower = lower_;
+  mcp.upper = upper_;
+  const BoxModeSystem& self = *this;
+  mcp.F = [&self, &reduction, t, &x](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
+    self.EvalF(t, x, z, w);
+    Eigen::VectorXd derived;
+    Eigen::MatrixXd derived_u;
+    self.DifferentiatedRows(reduction, t, x, z, derived, derived_u, nullptr);
+    for (std::size_t k = 0; k < reduction.differentiated.size(); ++k)
+      w(reduction.differentiated[k]) = derived(static_cast<int>(k));
+  };
+  mcp.jacobian = [&self, &reduction, t, &x](const Eigen::VectorXd& z, Eigen::MatrixXd& J) {
+    Eigen::MatrixXd Jx;
+    self.FJacobians(t, x, z, Jx, J);
+    Eigen::VectorXd derived;
+    Eigen::MatrixXd derived_u;
+    self.DifferentiatedRows(reduction, t, x, z, derived, derived_u, nullptr);
+    for (std::size_t k = 0; k < reduction.differentiated.size(); ++k)
+      J.row(reduction.differentiated[k]) = derived_u.row(static_cast<int>(k));
+  };
+  const SolveResult modified = SolveBoxProblem(mcp, vi.z);
+  ++*vi_solves;
+  *iterations += modified.iterations;
+  std::ostringstream message;
+  message << "differentiation procedure (Theorem 5.3) on " << reduction.differentiated.size()
+          << " dependent row(s): ";
+  if (!modified.solved()) {
+    message << "the modified VI is not solved (" << ToString(modified.status) << ", residual "
+            << modified.residual << ")";
+    if (why) *why = message.str();
+    return false;
+  }
+  Eigen::MatrixXd J;
+  mcp.jacobian(modified.z, J);
+  const MatrixClassVerdict regular = IsStronglyRegular(J, modified.index_sets);
+  if (!regular.holds) {
+    message << "its solution is not strongly regular, (5.8) singular or (5.9) not a P-matrix ("
+            << regular.reason << ")";
+    if (why) *why = message.str();
+    return false;
+  }
+  mode.assign(m(), BoundState::kFree);
+  for (int j = 0; j < m(); ++j) {
+    const double to_lower = modified.z(j) - lower_(j), to_upper = upper_(j) - modified.z(j);
+    if (to_lower <= tolerance && to_lower <= to_upper)
+      mode[j] = BoundState::kLower;
+    else if (to_upper <= tolerance)
+      mode[j] = BoundState::kUpper;
+  }
+  u = modified.z;
+  return true;
 }
 
 }  // namespace dvi::internal

@@ -6,9 +6,11 @@
 
 #include <Eigen/Dense>
 
+#include "dvi/complementarity_problem.hpp"
 #include "dvi/dvi_problem.hpp"
 #include "dvi/solve_result.hpp"
 #include "dvi/solver_options.hpp"
+#include "mode_reduction.hpp"
 
 namespace dvi::internal {
 
@@ -21,7 +23,15 @@ using BoxMode = std::vector<BoundState>;
 /// F_A(t, x, u) = 0 with u_j = l_j or ū_j elsewhere. Under index one
 /// (Theorem 5.1, or strong regularity, Sect. 5.3) F_u[A, A] is nonsingular
 /// near the solution, so u is a smooth function of (t, x) inside the mode and
-/// du_A/dx = −F_u[A, A]⁻¹ F_x[A, :] (implicit function theorem).
+/// du_A/dx = −G_u⁻¹ G_x (implicit function theorem) with G = F_A.
+///
+/// When F_u[A, A] is singular (index two: an ideal diode with nothing
+/// resistive, a Filippov system sliding on h = 0), the mode is reduced by the
+/// differentiation procedure of Theorems 5.2/5.3 (mode_reduction.hpp): G
+/// keeps the independent rows of F_A and replaces each dependent one by the
+/// derivative of its u-free combination Φ along the flow; G_u is then the
+/// matrix (5.8) and must be nonsingular. The original constraints Φ(t, x) = 0
+/// are kept from drifting by projection (Project).
 ///
 /// Also the mode's validity as 2m root functions, all positive inside the mode:
 /// a free u_j gives u_j − l_j and ū_j − u_j, a lower-bound one F_j, an upper-
@@ -29,29 +39,46 @@ using BoxMode = std::vector<BoundState>;
 /// The multiplier of the last evaluation warm-starts the next Newton solve.
 class BoxModeSystem {
  public:
-  /// @pre dvi validated, lower.size() == upper.size() == dvi.m.
+  /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: F is
+  /// affine in u (an LCS), so the VIs at events are LCPs where K is the
+  /// orthant, and Lemke backs up Newton at the degenerate points events sit on.
   BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::VectorXd upper,
-                const SolverOptions& solver);
+                const SolverOptions& solver, bool affine);
 
   int n() const { return dvi_.n; }
   int m() const { return dvi_.m; }
   const BoxMode& mode() const { return mode_; }
-  /// Sets the mode and the Newton starting point.
+  /// Sets the mode and the Newton starting point. The rows are split (and
+  /// the mode reduced if need be) at the next Solve, at its (t, x).
   void Enter(const BoxMode& mode, const Eigen::VectorXd& u);
+  /// True when the current mode is reduced by differentiation.
+  bool reduced() const { return !reduction_.empty(); }
   /// The multiplier of the last successful Solve.
   const Eigen::VectorXd& u() const { return u_; }
   long newton_iterations() const { return newton_iterations_; }
 
   /// u(t, x) of the current mode by Newton from the last u. False (with why)
-  /// when F_u[A, A] is singular or Newton does not converge.
+  /// when G_u is singular (F_u[A, A], or (5.8) for a reduced mode) or Newton
+  /// does not converge.
   bool Solve(double t, const Eigen::VectorXd& x, std::string* why = nullptr);
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
-  /// f_x + f_u du/dx at (t, x, u(t, x)); false when F_u[A, A] is singular.
-  /// @pre Solve(t, x) succeeded.
+  /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a
+  /// reduced mode G_x drops the second derivatives of F (exact when F is
+  /// affine in x, as for an LCS): only CVODE's Newton convergence depends on
+  /// it. @pre Solve(t, x) succeeded.
   bool RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J) const;
   /// The 2m root functions; @pre Solve(t, x) succeeded.
   void Roots(double t, const Eigen::VectorXd& x, double* g) const;
+
+  /// Reduced mode: the largest |Φ_i(t, x)| of the original constraints.
+  double ConstraintDrift(double t, const Eigen::VectorXd& x) const;
+  /// Reduced mode: the least-norm correction that puts x back on Φ(t, x) = 0
+  /// (one Gauss–Newton step, exact for Φ affine in x), and the projection of
+  /// an error vector onto Φ's tangent space when err is given. Zero outside
+  /// reduced modes.
+  void Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd& correction,
+               Eigen::VectorXd* err) const;
 
   /// Solves the full VI at (t, x) as the box MCP, warm-started.
   SolveResult SolveVi(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm) const;
@@ -60,13 +87,31 @@ class BoxModeSystem {
                                      const Eigen::VectorXd& u) const;
   /// The mode of the VI solution vi at (t, x). A component within the
   /// degeneracy tolerance of a bound (the β set of Sect. 5.3 and its
-  /// neighbours) takes the mode it has after a backward-Euler look-ahead step
-  /// of length delta, solved by fixed-point iteration until two iterates agree
-  /// on the mode. The look-ahead solves are added to *vi_solves and
-  /// *iterations. False (with why) when a look-ahead VI is not solved or the
-  /// iterates keep alternating between modes (chattering).
+  /// neighbours) — every component when vi is not unique (not strongly
+  /// regular), since then vi.z is only one of many — takes the mode it has
+  /// after a backward-Euler look-ahead step of length delta, solved by
+  /// fixed-point iteration until two iterates agree on the mode. The
+  /// look-ahead solves are added to *vi_solves and *iterations. False (with
+  /// why) when a look-ahead VI is not solved or the iterates keep alternating
+  /// between modes (chattering).
   bool SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi, double delta,
-                  BoxMode& mode, long* vi_solves, long* iterations, std::string* why) const;
+                  bool every_component, BoxMode& mode, long* vi_solves, long* iterations,
+                  std::string* why) const;
+  /// Whether the current mode holds at (t, x) after Solve: every root
+  /// function ≥ −tolerance (a free u within its bounds, a bound component's
+  /// F of the right sign). False names the first violation in why.
+  bool Holds(double t, const Eigen::VectorXd& x, std::string* why) const;
+  /// The mode at (t, x) by the differentiation procedure (Sect. 5.4): the
+  /// components S where F vanishes at the VI solution vi are split into
+  /// independent and dependent rows, the dependent u-free combinations are
+  /// differentiated along the flow, and the modified VI is solved. Its
+  /// solution must be strongly regular — (5.8) nonsingular and the Schur
+  /// complement (5.9) a P-matrix, Theorems 5.2/5.3 — and becomes the new
+  /// mode and u. False (with why) when no row is dependent, the modified VI is
+  /// not solved, or the conditions fail.
+  bool SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
+                         BoxMode& mode, Eigen::VectorXd& u, long* vi_solves, long* iterations,
+                         std::string* why) const;
 
  private:
   void EvalF(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
@@ -75,13 +120,36 @@ class BoxModeSystem {
                   Eigen::MatrixXd& Fx, Eigen::MatrixXd& Fu) const;
   void SmallFJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                        Eigen::MatrixXd& fx, Eigen::MatrixXd& fu) const;
+  /// Solves the box MCP, as LCP(F(0), ∂F/∂u) when F is affine on the orthant.
+  SolveResult SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm) const;
+  /// ∂F/∂t: the given function, else forward differences.
+  void FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                       Eigen::VectorXd& Ft) const;
+  /// The differentiated rows Φ̇ = P (F_t + F_x f) of a reduction at (t, x, u),
+  /// with Φ̇_u = P F_x f_u and (when Gx) Φ̇_x ≈ P F_x f_x.
+  void DifferentiatedRows(const RowReduction& reduction, double t, const Eigen::VectorXd& x,
+                          const Eigen::VectorXd& u, Eigen::VectorXd& values, Eigen::MatrixXd& Gu,
+                          Eigen::MatrixXd* Gx) const;
+  /// The mode equations G(t, x, u) on the free components, G_u (a×a) and,
+  /// when Gx is given, G_x (a×n).
+  void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                     Eigen::VectorXd& G, Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const;
+  /// Φ(t, x) = P F(t, x, u_) and Φ_x = P F_x.
+  void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
+                   Eigen::MatrixXd* phi_x) const;
 
   const Dvi& dvi_;
   Eigen::VectorXd lower_;
   Eigen::VectorXd upper_;
   SolverOptions solver_;
+  bool affine_orthant_;
   BoxMode mode_;
   std::vector<int> free_;
+  RowReduction reduction_;
+  bool rows_split_ = false;  // reduction_ computed for the current mode
+  // Per free component (in free_ order): its row of reduction_.P when its
+  // equation is differentiated, else −1.
+  std::vector<int> differentiated_row_;
   Eigen::VectorXd u_;
   long newton_iterations_ = 0;
 };

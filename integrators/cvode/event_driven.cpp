@@ -5,11 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <utility>
 
 #include <cvode/cvode_ls.h>
+#include <cvode/cvode_proj.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "box_mode.hpp"
@@ -51,6 +53,8 @@ void EventDrivenOptions::Validate() const {
   DVI_THROW_UNLESS(std::isfinite(min_event_spacing) && min_event_spacing >= 0 &&
                        min_event_spacing < 1,
                    "min_event_spacing: " << min_event_spacing << " is outside [0, 1)");
+  DVI_THROW_UNLESS(std::isfinite(zeno_window) && zeno_window >= 0 && zeno_window <= 1,
+                   "zeno_window: " << zeno_window << " is outside [0, 1]");
   solver.Validate();
 }
 
@@ -64,6 +68,12 @@ using internal::BoxModeSystem;
 constexpr double kLookAheadFraction = 1e-5;
 // Events closer than this (relative to |t| + horizon) happen at the same time.
 constexpr double kSameTimeFraction = 1e-12;
+// Zeno detection: this many successive gap ratios, all below kZenoMaxRatio
+// and within kZenoRatioSpread (relative) of their mean, make a geometric
+// sequence of switch times.
+constexpr int kZenoGaps = 8;
+constexpr double kZenoMaxRatio = 0.99;
+constexpr double kZenoRatioSpread = 0.05;
 
 // What the CVODE callbacks see. Exceptions of user functions never cross
 // CVODE's C frames: they are stored and rethrown after CVode returns.
@@ -134,6 +144,25 @@ int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
   }
 }
 
+// Keeps a reduced mode on its original constraints Φ(t, x) = 0 (Theorems
+// 5.2/5.3 only make Φ̇ vanish, so Φ would drift with the integration error).
+int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector err,
+                       void* user_data) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  try {
+    Load(data, y);
+    Eigen::VectorXd error;
+    if (err) error = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(err), data.x.size());
+    data.system->Project(t, data.x, data.xdot, err ? &error : nullptr);
+    std::copy(data.xdot.data(), data.xdot.data() + data.xdot.size(), N_VGetArrayPointer(corr));
+    if (err) std::copy(error.data(), error.data() + error.size(), N_VGetArrayPointer(err));
+    return 0;
+  } catch (...) {
+    data.error = std::current_exception();
+    return -1;
+  }
+}
+
 void ErrorHandler(int, const char*, const char* function, char* message, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
   data.cvode_message = std::string(function) + ": " + message;
@@ -155,21 +184,25 @@ std::string Describe(const BoxMode& mode) {
 // One run: the CVODE objects, the mode system and the trajectory being built.
 class EventDrivenRun {
  public:
-  EventDrivenRun(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
+  EventDrivenRun(const Dvi& dvi, bool affine, const Eigen::VectorXd& x0, double t0, double t_end,
                  const EventDrivenOptions& options)
       : dvi_(dvi),
         options_(options),
         t0_(t0),
         t_end_(t_end),
         x0_(x0),
-        system_(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver) {}
+        system_(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver, affine) {}
 
   Trajectory Run();
 
  private:
   bool Start();
   bool IntegrateModes();
-  bool HandleEvent(double t, const Eigen::VectorXd& x);
+  bool TryMode(double t, Eigen::VectorXd& x, const BoxMode& mode, const Eigen::VectorXd& u,
+               std::string& why);
+  bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode);
+  bool HandleEvent(double t, Eigen::VectorXd& x);
+  bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u);
   void SampleOutputs(double before);
@@ -199,6 +232,9 @@ class EventDrivenRun {
   double last_event_time_ = 0;
   int burst_ = 0;
   std::vector<BoxMode> modes_at_event_time_;
+  std::vector<double> switch_times_;  // times of the mode changes, for Zeno detection
+  long reduced_selections_ = 0;       // modes chosen by Theorem 5.3
+  long look_ahead_selections_ = 0;    // non-strongly-regular points passed by look-ahead
 };
 
 bool EventDrivenRun::Fail(IntegrationStatus status, const std::string& message) {
@@ -249,10 +285,71 @@ void EventDrivenRun::AddCvodeStats() {
   segment_open_ = false;
 }
 
+// Enters the mode from (t, x) and u, and checks that it holds there: Newton
+// solves its equations, and every root function is non-negative. A reduced
+// mode first moves x onto its original constraints Φ = 0 (consistent initial
+// values: the event state satisfies them only to the VI's tolerance).
+bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const BoxMode& mode,
+                             const Eigen::VectorXd& u, std::string& why) {
+  system_.Enter(mode, u);
+  if (!system_.Solve(t, x, &why)) return false;
+  if (system_.reduced()) {
+    Eigen::VectorXd correction;
+    system_.Project(t, x, correction, nullptr);
+    x += correction;
+    if (!system_.Solve(t, x, &why)) return false;
+  }
+  return system_.Holds(t, x, &why);
+}
+
+// Selects and enters the mode to follow from (t, x), given the VI solution
+// vi there. A strongly regular u (Sect. 5.3) gives it directly, its
+// degenerate components by the look-ahead of SelectMode. Otherwise u(t, x)
+// may still be Lipschitz along the flow (Proposition 5.1: a bridge of ideal
+// diodes, a Filippov crossing), which the same look-ahead finds; when it is
+// not (index two: sliding, a diode that clamps a state), the differentiation
+// procedure of Theorems 5.2/5.3 selects the mode of the modified problem.
+// Neither: kNotIndexOne with every reason.
+bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi,
+                                BoxMode& mode) {
+  IntegrationStats& stats = trajectory_.stats;
+  const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
+  const MatrixClassVerdict regular =
+      IsStronglyRegular(system_.MultiplierJacobian(t, x, vi.z), vi.index_sets);
+  const Eigen::VectorXd x_event = x;
+  std::ostringstream message;
+  message << "event: at t = " << t << ": ";
+  std::string look_ahead_why;
+  if (system_.SelectMode(t, x, vi, delta, !regular.holds, mode, &stats.vi_solves,
+                         &stats.solver_iterations, &look_ahead_why) &&
+      TryMode(t, x, mode, vi.z, look_ahead_why)) {
+    if (!regular.holds) ++look_ahead_selections_;
+    return true;
+  }
+  if (regular.holds) {
+    message << "mode " << Describe(mode) << ": " << look_ahead_why;
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
+  }
+  x = x_event;
+  std::string reduced_why;
+  Eigen::VectorXd u;
+  if (system_.SelectReducedMode(t, x, vi, mode, u, &stats.vi_solves, &stats.solver_iterations,
+                                &reduced_why) &&
+      TryMode(t, x, mode, u, reduced_why)) {
+    ++reduced_selections_;
+    return true;
+  }
+  x = x_event;
+  message << "not index one: u is not strongly regular (" << regular.reason
+          << "); the look-ahead fails (" << look_ahead_why << "); " << reduced_why;
+  return Fail(IntegrationStatus::kNotIndexOne, message.str());
+}
+
 bool EventDrivenRun::Start() {
   IntegrationStats& stats = trajectory_.stats;
   if (dvi_.m == 0) {
     index_one_reason_ = "m = 0: an ODE, one mode";
+    std::copy(x0_.data(), x0_.data() + x0_.size(), y_.data());
     Sample(t0_, x0_, Eigen::VectorXd());
     return true;
   }
@@ -268,39 +365,59 @@ bool EventDrivenRun::Start() {
     return Fail(IntegrationStatus::kStepFailure, message.str());
   }
   // Index one at (t0, x0, u0): Theorem 5.1 (uniformly P) or Sect. 5.3
-  // (strongly regular); without it u(t, x) need not be Lipschitz and the
-  // modes need not be smooth ODEs.
+  // (strongly regular); otherwise the mode comes from ChooseMode's look-ahead
+  // or from the differentiation procedure (Theorem 5.3).
   const Eigen::MatrixXd Fu = system_.MultiplierJacobian(t0_, x0_, vi.z);
-  const MatrixClassVerdict p_matrix = IsPMatrix(Fu);
-  if (p_matrix.holds) {
-    index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + Format(t0_) +
-                        " (Theorem 5.1)";
-  } else {
-    const MatrixClassVerdict regular = IsStronglyRegular(Fu, vi.index_sets);
-    if (!regular.holds) {
-      std::ostringstream message;
-      message << "event: not index one at t = " << t0_ << ": ∂F/∂u is not a P-matrix ("
-              << p_matrix.reason << ") and u0 is not strongly regular (" << regular.reason
-              << ")";
-      return Fail(IntegrationStatus::kStepFailure, message.str());
-    }
-    index_one_reason_ = "index one: u0 strongly regular at t = " + Format(t0_) +
-                        " (Sect. 5.3)";
-  }
+  if (IsPMatrix(Fu).holds)
+    index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + Format(t0_) + " (Theorem 5.1)";
+  else if (IsStronglyRegular(Fu, vi.index_sets).holds)
+    index_one_reason_ = "index one: u0 strongly regular at t = " + Format(t0_) + " (Sect. 5.3)";
   BoxMode mode;
-  std::string why;
-  if (!system_.SelectMode(t0_, x0_, vi, kLookAheadFraction * (t_end_ - t0_), mode,
-                          &stats.vi_solves, &stats.solver_iterations, &why))
-    return Fail(IntegrationStatus::kStepFailure, "event: at t = " + Format(t0_) + ": " + why);
-  system_.Enter(mode, vi.z);
-  if (!system_.Solve(t0_, x0_, &why))
-    return Fail(IntegrationStatus::kStepFailure,
-                "event: mode " + Describe(mode) + " at t = " + Format(t0_) + ": " + why);
-  Sample(t0_, x0_, system_.u());
+  Eigen::VectorXd x = x0_;
+  if (!ChooseMode(t0_, x, vi, mode)) return false;
+  if (index_one_reason_.empty())
+    index_one_reason_ = reduced_selections_ > 0
+                            ? "u0 not strongly regular at t = " + Format(t0_) +
+                                  "; mode by the differentiation procedure (Theorem 5.3)"
+                            : "u0 not strongly regular at t = " + Format(t0_) +
+                                  "; mode by look-ahead along the flow";
+  std::copy(x.data(), x.data() + x.size(), y_.data());
+  Sample(t0_, x, system_.u());
   return true;
 }
 
-bool EventDrivenRun::HandleEvent(double t, const Eigen::VectorXd& x) {
+// Zeno: the gaps between the last mode changes shrink geometrically,
+// Δ_{k+1} ≈ r Δ_k with r < 1, so the switch times converge to
+// t* = t + Δ r/(1 − r); stop once t* is within zeno_window of the horizon.
+bool EventDrivenRun::Accumulating(double t, std::string& why) {
+  switch_times_.push_back(t);
+  const int gaps = kZenoGaps;
+  const int count = static_cast<int>(switch_times_.size());
+  if (count < gaps + 2) return false;
+  double ratio_sum = 0, ratio_min = 1e300, ratio_max = 0;
+  for (int k = count - gaps; k < count; ++k) {
+    const double previous = switch_times_[k - 1] - switch_times_[k - 2];
+    const double gap = switch_times_[k] - switch_times_[k - 1];
+    if (!(previous > 0)) return false;
+    const double ratio = gap / previous;
+    ratio_sum += ratio;
+    ratio_min = std::min(ratio_min, ratio);
+    ratio_max = std::max(ratio_max, ratio);
+  }
+  const double ratio = ratio_sum / gaps;
+  if (!(ratio < kZenoMaxRatio) || ratio_max - ratio_min > kZenoRatioSpread * ratio) return false;
+  const double last_gap = switch_times_[count - 1] - switch_times_[count - 2];
+  const double accumulation = t + last_gap * ratio / (1 - ratio);
+  if (accumulation - t > options_.zeno_window * (t_end_ - t0_)) return false;
+  std::ostringstream message;
+  message << "Zeno: " << count << " mode changes, the last " << gaps
+          << " gaps shrinking by a ratio of " << ratio << ", accumulate at t* = "
+          << std::setprecision(10) << accumulation << " (predicted)";
+  why = message.str();
+  return true;
+}
+
+bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   IntegrationStats& stats = trajectory_.stats;
   const BoxMode old_mode = system_.mode();
   // u of the old mode at the root only warm-starts the VI: no check needed.
@@ -316,23 +433,8 @@ bool EventDrivenRun::HandleEvent(double t, const Eigen::VectorXd& x) {
             << "): " << vi.message;
     return Fail(IntegrationStatus::kStepFailure, message.str());
   }
-  // Index one at the event (Sect. 5.3): where u is not strongly regular the
-  // modes need not be smooth and the solution may slide along the switching
-  // surface, so the mode would chatter. (A P-matrix ∂F/∂u implies it.)
-  const MatrixClassVerdict regular =
-      IsStronglyRegular(system_.MultiplierJacobian(t, x, vi.z), vi.index_sets);
-  if (!regular.holds) {
-    message << "not index one: u is not strongly regular (" << regular.reason
-            << "), so the mode would chatter";
-    return Fail(IntegrationStatus::kStepFailure, message.str());
-  }
-  BoxMode mode;
-  std::string why;
-  const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
-  if (delta > 0 &&
-      !system_.SelectMode(t, x, vi, delta, mode, &stats.vi_solves, &stats.solver_iterations, &why))
-    return Fail(IntegrationStatus::kStepFailure, message.str() + why);
-  if (delta <= 0) mode = old_mode;
+  BoxMode mode = old_mode;
+  if (t_end_ - t > 0 && !ChooseMode(t, x, vi, mode)) return false;
   // Chattering guards: roots must not pile up (Zeno), and a mode must not be
   // re-entered at the instant it was left — stop with a status, never loop.
   const double horizon = t_end_ - t0_;
@@ -345,7 +447,7 @@ bool EventDrivenRun::HandleEvent(double t, const Eigen::VectorXd& x) {
     message << "chattering: " << burst_ << " consecutive events each less than "
             << options_.min_event_spacing * horizon << " apart (Zeno behaviour or a mode left "
             << "as soon as entered)";
-    return Fail(IntegrationStatus::kStepFailure, message.str());
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
   // A root function that only touched zero (or vanishes identically, as F_j
   // of a degenerate component) leaves the mode as it is: no event.
@@ -355,7 +457,7 @@ bool EventDrivenRun::HandleEvent(double t, const Eigen::VectorXd& x) {
       modes_at_event_time_.end()) {
     message << "chattering: mode " << Describe(mode) << " (f free, l lower, u upper bound) was "
             << "left at this time and would be re-entered";
-    return Fail(IntegrationStatus::kStepFailure, message.str());
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
   modes_at_event_time_.push_back(mode);
   for (int j = 0; j < dvi_.m; ++j) {
@@ -367,14 +469,11 @@ bool EventDrivenRun::HandleEvent(double t, const Eigen::VectorXd& x) {
   }
   if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
     message << "more than max_events = " << options_.max_events << " events";
-    return Fail(IntegrationStatus::kStepFailure, message.str());
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
-
-  system_.Enter(mode, vi.z);
-  if (!system_.Solve(t, x, &why)) {
-    message << "mode " << Describe(mode) << ": " << why;
-    return Fail(IntegrationStatus::kStepFailure, message.str());
-  }
+  std::string zeno;
+  if (!same_time && Accumulating(t, zeno))
+    return Fail(IntegrationStatus::kEventAccumulation, message.str() + zeno);
   Sample(t, x, system_.u());
   return true;
 }
@@ -383,7 +482,6 @@ bool EventDrivenRun::IntegrateModes() {
   void* cvode = cvode_.get();
   data_.system = &system_;
   data_.x.resize(x0_.size());
-  std::copy(x0_.data(), x0_.data() + x0_.size(), y_.data());
   t_ = t0_;
   std::vector<int> directions(2 * dvi_.m, -1);  // the root functions are positive in the mode
   std::vector<int> roots(2 * dvi_.m);
@@ -401,6 +499,11 @@ bool EventDrivenRun::IntegrateModes() {
   if (dvi_.m > 0 &&
       (!Check(CVodeRootInit(cvode, 2 * dvi_.m, RootCallback), "CVodeRootInit") ||
        !Check(CVodeSetRootDirection(cvode, directions.data()), "CVodeSetRootDirection")))
+    return false;
+  // CVODE projects BDF steps only; under Adams the drift of reduced modes is
+  // measured, not corrected.
+  if (dvi_.m > 0 && options_.method == OdeMethod::kBdf &&
+      !Check(CVodeSetProjFn(cvode, ProjectionCallback), "CVodeSetProjFn"))
     return false;
   segment_open_ = true;
 
@@ -420,12 +523,13 @@ bool EventDrivenRun::IntegrateModes() {
     if (flag == CV_ROOT_RETURN) {
       SampleOutputs(t_);
       AddCvodeStats();
-      const Eigen::VectorXd x = y;
-      const Eigen::VectorXd u_left = system_.u();
+      Eigen::VectorXd x = y;
+      const Eigen::VectorXd x_left = x, u_left = system_.u();
       if (!HandleEvent(t_, x)) {
-        Sample(t_, x, u_left);
+        Sample(t_, x_left, u_left);
         return false;
       }
+      std::copy(x.data(), x.data() + x.size(), y_.data());
       // An event this close to t_end ends the run: CVODE cannot start a
       // step shorter than its minimum (CV_TOO_CLOSE), and x moves by O(gap).
       if (t_end_ - t_ <= kSameTimeFraction * (std::abs(t_end_) + t_end_ - t0_)) {
@@ -439,6 +543,9 @@ bool EventDrivenRun::IntegrateModes() {
       continue;
     }
     const bool at_end = flag == CV_TSTOP_RETURN || t_ >= t_end_;
+    if (system_.reduced())
+      trajectory_.stats.max_constraint_drift =
+          std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
     SampleOutputs(t_);
     if (at_end || options_.output_times.empty()) {
       const Eigen::VectorXd x = y;
@@ -465,19 +572,24 @@ Trajectory EventDrivenRun::Run() {
   stats.rhs_evals += data_.rhs_evals;
   stats.jacobian_evals += data_.jacobian_evals;
   stats.solver_iterations += system_.newton_iterations();
-  if (!trajectory_.times.empty())
-    trajectory_.intervals.push_back(
-        {t0_, trajectory_.times.back(), "event",
-         index_one_reason_.empty() ? "index one not established" : index_one_reason_});
+  if (!trajectory_.times.empty()) {
+    std::string reason = index_one_reason_.empty() ? "index one not established" : index_one_reason_;
+    if (look_ahead_selections_ > 0)
+      reason += "; " + std::to_string(look_ahead_selections_) +
+                " non-strongly-regular point(s) passed by look-ahead";
+    if (reduced_selections_ > 0)
+      reason += "; " + std::to_string(reduced_selections_) +
+                " mode(s) chosen by the differentiation procedure (Theorem 5.3)";
+    trajectory_.intervals.push_back({t0_, trajectory_.times.back(), "event", reason});
+  }
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return std::move(trajectory_);
 }
 
-}  // namespace
-
-Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
-                                double t_end, const EventDrivenOptions& options) {
+// affine: F is affine in u (an LCS), see BoxModeSystem.
+Trajectory Integrate(const Dvi& dvi, bool affine, const Eigen::VectorXd& x0, double t0,
+                     double t_end, const EventDrivenOptions& options) {
   dvi.Validate();
   options.Validate();
   DVI_THROW_UNLESS(dvi.K.IsBox(), "K: event-driven integration needs a box K (orthant, box, "
@@ -487,14 +599,21 @@ Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, doubl
     DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
-  EventDrivenRun run(dvi, x0, t0, t_end, options);
+  EventDrivenRun run(dvi, affine, x0, t0, t_end, options);
   return run.Run();
+}
+
+}  // namespace
+
+Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
+                                double t_end, const EventDrivenOptions& options) {
+  return Integrate(dvi, false, x0, t0, t_end, options);
 }
 
 Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const EventDrivenOptions& options) {
   lcs.Validate();
-  return IntegrateEventDriven(lcs.ToDvi(), x0, t0, t_end, options);
+  return Integrate(lcs.ToDvi(), true, x0, t0, t_end, options);
 }
 
 }  // namespace dvi

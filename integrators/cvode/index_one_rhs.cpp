@@ -53,7 +53,7 @@ struct IndexOneRhs::Impl {
         lower(dvi.K.BoxBounds().first),
         upper(dvi.K.BoxBounds().second),
         tolerance(solver.tolerance),
-        system(dvi, lower, upper, solver),
+        system(dvi, lower, upper, solver, false),
         u(Eigen::VectorXd::Zero(dvi.m)) {}
 
   void CheckState(const Eigen::VectorXd& x) const {

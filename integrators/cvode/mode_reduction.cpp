@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "mode_reduction.hpp"
+
+#include <algorithm>
+
+namespace dvi::internal {
+
+RowReduction ReduceRows(const Eigen::MatrixXd& Fu, const std::vector<int>& S) {
+  RowReduction reduction;
+  const int s = static_cast<int>(S.size());
+  if (s == 0) return reduction;
+  // Column j of Jᵀ is row S[j] of F's Jacobian on the columns S.
+  Eigen::MatrixXd J_transposed(s, s);
+  for (int j = 0; j < s; ++j)
+    for (int k = 0; k < s; ++k) J_transposed(k, j) = Fu(S[j], S[k]);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(J_transposed);
+  qr.setThreshold(kRankTolerance);
+  const int rank = static_cast<int>(qr.rank());
+  const auto& permutation = qr.colsPermutation().indices();
+  std::vector<int> kept_local, dependent_local;
+  for (int j = 0; j < s; ++j)
+    (j < rank ? kept_local : dependent_local).push_back(permutation(j));
+  std::sort(kept_local.begin(), kept_local.end());
+  std::sort(dependent_local.begin(), dependent_local.end());
+  for (const int j : kept_local) reduction.kept.push_back(S[j]);
+  for (const int j : dependent_local) reduction.differentiated.push_back(S[j]);
+  if (dependent_local.empty()) return reduction;
+
+  // M with J_dependent = M J_kept, by least squares on the independent rows
+  // (exact up to the rank tolerance).
+  const int r = static_cast<int>(kept_local.size());
+  const int d = static_cast<int>(dependent_local.size());
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(d, r);
+  if (r > 0) {
+    Eigen::MatrixXd kept_columns(s, r), dependent_columns(s, d);
+    for (int j = 0; j < r; ++j) kept_columns.col(j) = J_transposed.col(kept_local[j]);
+    for (int j = 0; j < d; ++j) dependent_columns.col(j) = J_transposed.col(dependent_local[j]);
+    M = kept_columns.colPivHouseholderQr().solve(dependent_columns).transpose();
+  }
+  reduction.P = Eigen::MatrixXd::Zero(d, Fu.rows());
+  for (int i = 0; i < d; ++i) {
+    reduction.P(i, reduction.differentiated[i]) = 1;
+    for (int j = 0; j < r; ++j) reduction.P(i, reduction.kept[j]) = -M(i, j);
+  }
+  return reduction;
+}
+
+}  // namespace dvi::internal

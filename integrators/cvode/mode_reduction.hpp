@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace dvi::internal {
+
+/// The row operations of the differentiation procedure ([Seed] Sect. 5.4,
+/// Theorem 5.3; Theorem 5.2 is the case of rows independent of u) on a set S
+/// of components of F whose rows J = ∂F_S/∂u_S are linearly dependent. The
+/// rows `kept` (α₁) are a maximal independent set of J; each other row
+/// i ∈ `differentiated` (α₂) gives the u_S-free combination
+///   Φ_i(t, x) = F_i − M_i F_kept,   i.e. Φ = P F with P = [−M  I] (the rows
+/// α₂ of P_αα), which is replaced by its derivative along the flow,
+///   Φ̇ = P (∂F/∂t + J_xF f(t, x, u))          ((5.7) differentiated),
+/// a row that now depends on u through f. P is computed once, at the point
+/// where the rows are split, and held fixed: exact for an LCS (constant D)
+/// and for rows of F that do not depend on u (Theorem 5.2).
+struct RowReduction {
+  std::vector<int> kept;
+  std::vector<int> differentiated;
+  /// |differentiated| × m; nonzero only in the columns S.
+  Eigen::MatrixXd P;
+
+  bool empty() const { return differentiated.empty(); }
+};
+
+/// Splits the rows S of Fu (m×m, ∂F/∂u at the current point) by a
+/// column-pivoted QR of Fu[S, S]ᵀ: a row is dependent when its pivot is below
+/// kRankTolerance times the largest.
+RowReduction ReduceRows(const Eigen::MatrixXd& Fu, const std::vector<int>& S);
+
+/// Relative rank threshold of ReduceRows. A row of F that does not depend on
+/// u has an exactly zero Jacobian row (exact or forward-difference Jacobian),
+/// while forward differences perturb a dependent combination of u-dependent
+/// rows by about √ε ≈ 1.5e-8 relative: 1e-7 separates both from couplings
+/// that matter.
+inline constexpr double kRankTolerance = 1e-7;
+
+}  // namespace dvi::internal
