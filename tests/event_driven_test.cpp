@@ -275,9 +275,8 @@ TEST(EventDriven, RejectsInvalidInput) {
                InvalidInputError);
   EXPECT_THROW(IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Zero(1), 1, 1),
                InvalidInputError);
-  Dvi ball = SaturatedDecay();
-  ball.K = ConvexSet::Ball(Eigen::VectorXd::Zero(1), 1);
-  EXPECT_THROW(IntegrateEventDriven(ball, Eigen::VectorXd::Zero(1), 0, 1), InvalidInputError);
+  EXPECT_THROW(IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Constant(1, NAN), 0, 1),
+               InvalidInputError);
 }
 
 }  // namespace

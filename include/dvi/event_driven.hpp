@@ -69,8 +69,12 @@ struct EventDrivenOptions {
   void Validate() const;
 };
 
-/// Integrates from (t0, x0) to t_end. K must be a box (orthant, box, whole
-/// space, or products of them). Inside a mode the VI reduces to
+/// Integrates from (t0, x0) to t_end. Any K: a box (orthant, box, whole
+/// space, products of them) directly; a polyhedron, a ball or a product with
+/// such parts through its KKT system, a box problem in (u, μ, ν) whose modes
+/// are the active sets of K's constraints (events kConstraintActive /
+/// kConstraintReleased, index = the constraint in the order of K's parts;
+/// the multipliers recorded are u). Inside a mode the VI reduces to
 /// F_j(t, x, u) = 0 on the free components, the others at their bounds; that
 /// system is solved by Newton from the last u, and the Jacobian of (5.2) is
 /// f_x + f_u·du/dx with du/dx from the implicit function theorem. Root
@@ -96,8 +100,7 @@ struct EventDrivenOptions {
 /// chattering (the event limits); kStepFailure for a VI that is not solved, a
 /// Newton failure in a mode, or a CVODE failure (its flag name); kMaxSteps for
 /// the step limit. Samples up to the failure are kept.
-/// @throws InvalidInputError on an invalid problem, x0, t0/t_end, options,
-/// or a K that is not a box.
+/// @throws InvalidInputError on an invalid problem, x0, t0/t_end or options.
 Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const EventDrivenOptions& options = {});
 /// The LCS (2.8) and its box generalization, through Lcs::ToDvi (exact,

@@ -55,6 +55,7 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
       lower_(std::move(lower)),
       upper_(std::move(upper)),
       solver_(solver),
+      affine_(affine),
       affine_orthant_(affine && (lower_.array() == 0).all() &&
                       (upper_.array() == std::numeric_limits<double>::infinity()).all()),
       mode_(dvi.m, BoundState::kFree),
@@ -190,6 +191,11 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     for (int i = 0; i < a; ++i) {
       u(free_[i]) -= step(i);
       u_norm = std::max(u_norm, std::abs(u(free_[i])));
+    }
+    // Affine in u (an LCS, also its reduced modes): one step is exact.
+    if (affine_ && u.allFinite()) {
+      u_ = u;
+      return true;
     }
     if (step.lpNorm<Eigen::Infinity>() <= kNewtonStepTolerance * (1 + u_norm)) {
       ModeEquations(t, x, u, residual, Gu, nullptr);

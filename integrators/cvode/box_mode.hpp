@@ -142,6 +142,7 @@ class BoxModeSystem {
   Eigen::VectorXd lower_;
   Eigen::VectorXd upper_;
   SolverOptions solver_;
+  bool affine_;
   bool affine_orthant_;
   BoxMode mode_;
   std::vector<int> free_;

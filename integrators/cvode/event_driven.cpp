@@ -16,6 +16,7 @@
 
 #include "box_mode.hpp"
 #include "check.hpp"
+#include "kkt_lifting.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "sundials_handles.hpp"
 
@@ -592,15 +593,20 @@ Trajectory Integrate(const Dvi& dvi, bool affine, const Eigen::VectorXd& x0, dou
                      double t_end, const EventDrivenOptions& options) {
   dvi.Validate();
   options.Validate();
-  DVI_THROW_UNLESS(dvi.K.IsBox(), "K: event-driven integration needs a box K (orthant, box, "
-                                  "whole space or products of them)");
   DVI_THROW_UNLESS(x0.size() == dvi.n, "x0 has " << x0.size() << " entries, expected " << dvi.n);
   for (int i = 0; i < x0.size(); ++i)
     DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
-  EventDrivenRun run(dvi, affine, x0, t0, t_end, options);
-  return run.Run();
+  if (dvi.K.IsBox()) {
+    EventDrivenRun run(dvi, affine, x0, t0, t_end, options);
+    return run.Run();
+  }
+  // Polyhedra, balls and products with them: the KKT system on a box, whose
+  // modes are the active sets of K's constraints.
+  const internal::KktLifting lifting = internal::LiftToBox(dvi);
+  EventDrivenRun run(lifting.dvi, affine && dvi.K.IsPolyhedral(), x0, t0, t_end, options);
+  return internal::Unlift(run.Run(), lifting);
 }
 
 }  // namespace

@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "kkt_lifting.hpp"
+
+#include <limits>
+#include <memory>
+#include <utility>
+
+namespace dvi::internal {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// One part of K on the block u[offset, offset + size): box bounds, linear
+// constraints G u ≤ h, E u = e, or a ball; its multipliers start at
+// inequality_offset in μ and equality_offset in ν.
+struct Part {
+  int offset = 0;
+  int size = 0;
+  bool is_ball = false;
+  Eigen::MatrixXd G;
+  Eigen::VectorXd h;
+  Eigen::MatrixXd E;
+  Eigen::VectorXd e;
+  Eigen::VectorXd center;
+  double radius = 0;
+  int inequality_offset = 0;
+  int equality_offset = 0;
+  int inequalities() const { return is_ball ? 1 : static_cast<int>(G.rows()); }
+};
+
+struct Structure {
+  int m = 0;
+  int inequalities = 0;
+  int equalities = 0;
+  Eigen::VectorXd lower;  // of z
+  Eigen::VectorXd upper;
+  std::vector<Part> parts;  // the non-box parts
+};
+
+Structure Analyse(const ConvexSet& K) {
+  Structure s;
+  s.m = K.dim();
+  std::vector<ConvexSet> sets =
+      K.kind() == ConvexSet::Kind::kProduct ? K.parts() : std::vector<ConvexSet>{K};
+  Eigen::VectorXd u_lower = Eigen::VectorXd::Constant(s.m, -kInfinity);
+  Eigen::VectorXd u_upper = Eigen::VectorXd::Constant(s.m, kInfinity);
+  int offset = 0;
+  for (const ConvexSet& set : sets) {
+    const int size = set.dim();
+    if (set.IsBox()) {
+      const auto [lower, upper] = set.BoxBounds();
+      u_lower.segment(offset, size) = lower;
+      u_upper.segment(offset, size) = upper;
+    } else {
+      Part part;
+      part.offset = offset;
+      part.size = size;
+      if (set.kind() == ConvexSet::Kind::kBall) {
+        part.is_ball = true;
+        part.center = set.center();
+        part.radius = set.radius();
+      } else {
+        ConvexSet::Inequalities inequalities = set.AsPolyhedron();
+        part.G = std::move(inequalities.G);
+        part.h = std::move(inequalities.h);
+        part.E = std::move(inequalities.E);
+        part.e = std::move(inequalities.e);
+      }
+      part.inequality_offset = s.inequalities;
+      part.equality_offset = s.equalities;
+      s.inequalities += part.inequalities();
+      s.equalities += static_cast<int>(part.E.rows());
+      s.parts.push_back(std::move(part));
+    }
+    offset += size;
+  }
+  const int dim = s.m + s.inequalities + s.equalities;
+  s.lower = Eigen::VectorXd::Constant(dim, -kInfinity);
+  s.upper = Eigen::VectorXd::Constant(dim, kInfinity);
+  s.lower.head(s.m) = u_lower;
+  s.upper.head(s.m) = u_upper;
+  s.lower.segment(s.m, s.inequalities).setZero();
+  return s;
+}
+
+// F̃ and its z-Jacobian on top of F(t, x, u) and F_u.
+void AddKktTerms(const Structure& s, const Eigen::VectorXd& z, Eigen::VectorXd& out,
+                 Eigen::MatrixXd* Jz) {
+  const int mu0 = s.m, nu0 = s.m + s.inequalities;
+  for (const Part& p : s.parts) {
+    const auto u = z.segment(p.offset, p.size);
+    if (p.is_ball) {
+      const double mu = z(mu0 + p.inequality_offset);
+      const Eigen::VectorXd d = u - p.center;
+      out.segment(p.offset, p.size) += mu * d;
+      out(mu0 + p.inequality_offset) = 0.5 * (p.radius * p.radius - d.squaredNorm());
+      if (Jz) {
+        Jz->block(p.offset, p.offset, p.size, p.size).diagonal().array() += mu;
+        Jz->block(p.offset, mu0 + p.inequality_offset, p.size, 1) = d;
+        Jz->block(mu0 + p.inequality_offset, p.offset, 1, p.size) = -d.transpose();
+      }
+      continue;
+    }
+    const int k = p.inequalities(), q = static_cast<int>(p.E.rows());
+    const auto mu = z.segment(mu0 + p.inequality_offset, k);
+    const auto nu = z.segment(nu0 + p.equality_offset, q);
+    out.segment(p.offset, p.size) += p.G.transpose() * mu + p.E.transpose() * nu;
+    out.segment(mu0 + p.inequality_offset, k) = p.h - p.G * u;
+    out.segment(nu0 + p.equality_offset, q) = p.E * u - p.e;
+    if (Jz) {
+      Jz->block(p.offset, mu0 + p.inequality_offset, p.size, k) = p.G.transpose();
+      Jz->block(p.offset, nu0 + p.equality_offset, p.size, q) = p.E.transpose();
+      Jz->block(mu0 + p.inequality_offset, p.offset, k, p.size) = -p.G;
+      Jz->block(nu0 + p.equality_offset, p.offset, q, p.size) = p.E;
+    }
+  }
+}
+
+}  // namespace
+
+KktLifting LiftToBox(const Dvi& dvi) {
+  auto s = std::make_shared<const Structure>(Analyse(dvi.K));
+  KktLifting lifting;
+  lifting.m = s->m;
+  lifting.inequalities = s->inequalities;
+  const int dim = static_cast<int>(s->lower.size());
+  Dvi& lifted = lifting.dvi;
+  lifted.n = dvi.n;
+  lifted.m = dim;
+  lifted.K = ConvexSet::Box(s->lower, s->upper);
+  const int m = s->m;
+  lifted.f = [f = dvi.f, m](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
+                            Eigen::VectorXd& out) { f(t, x, z.head(m), out); };
+  if (dvi.f_jacobian) {
+    lifted.f_jacobian = [J = dvi.f_jacobian, m](double t, const Eigen::VectorXd& x,
+                                                const Eigen::VectorXd& z, Eigen::MatrixXd& Jx,
+                                                Eigen::MatrixXd& Jz) {
+      Eigen::MatrixXd Ju(Jx.rows(), m);
+      J(t, x, z.head(m), Jx, Ju);
+      Jz.setZero();
+      Jz.leftCols(m) = Ju;
+    };
+  }
+  lifted.F = [F = dvi.F, s](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
+                            Eigen::VectorXd& out) {
+    Eigen::VectorXd head(s->m);
+    F(t, x, z.head(s->m), head);
+    out.setZero();
+    out.head(s->m) = head;
+    AddKktTerms(*s, z, out, nullptr);
+  };
+  if (dvi.F_jacobian) {
+    lifted.F_jacobian = [J = dvi.F_jacobian, s](double t, const Eigen::VectorXd& x,
+                                                const Eigen::VectorXd& z, Eigen::MatrixXd& Jx,
+                                                Eigen::MatrixXd& Jz) {
+      Eigen::MatrixXd Fx(s->m, x.size()), Fu(s->m, s->m);
+      J(t, x, z.head(s->m), Fx, Fu);
+      Jx.setZero();
+      Jx.topRows(s->m) = Fx;
+      Jz.setZero();
+      Jz.topLeftCorner(s->m, s->m) = Fu;
+      Eigen::VectorXd scratch = Eigen::VectorXd::Zero(z.size());
+      AddKktTerms(*s, z, scratch, &Jz);
+    };
+  }
+  if (dvi.F_time_derivative) {
+    lifted.F_time_derivative = [Ft = dvi.F_time_derivative, s](
+                                   double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
+                                   Eigen::VectorXd& out) {
+      Eigen::VectorXd head(s->m);
+      Ft(t, x, z.head(s->m), head);
+      out.setZero();
+      out.head(s->m) = head;
+    };
+  }
+  return lifting;
+}
+
+Trajectory Unlift(Trajectory lifted, const KktLifting& lifting) {
+  for (Eigen::VectorXd& z : lifted.multipliers) z = z.head(lifting.m).eval();
+  for (Event& event : lifted.events) {
+    if (event.index < lifting.m) continue;
+    // μ_k leaving 0 makes constraint k active; reaching 0 releases it (ν
+    // has no bounds, so no events).
+    event.kind = event.kind == EventKind::kLeftBound ? EventKind::kConstraintActive
+                                                     : EventKind::kConstraintReleased;
+    event.index -= lifting.m;
+  }
+  return lifted;
+}
+
+}  // namespace dvi::internal

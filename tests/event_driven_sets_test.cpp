@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: Apache-2.0
+// Event-driven integration beyond boxes: u in a ball or a polyhedron through
+// the KKT lifting (modes = active sets of K's constraints), and projected
+// dynamics on a ball through (2.10), an index-two DCP reduced by Theorem 5.2.
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dvi/event_driven.hpp"
+#include "dvi/projected_dynamics.hpp"
+#include "support/convergence.hpp"
+
+namespace dvi {
+namespace {
+
+using testing::FittedOrder;
+using testing::Linspace;
+using testing::MaxStateError;
+
+std::string Scientific(double value) {
+  std::ostringstream text;
+  text << std::scientific << value;
+  return text.str();
+}
+
+// x' = −u, u = Π_K(x) (F = u − x, strongly monotone) for a convex K.
+Dvi DecayThroughProjection(ConvexSet K) {
+  Dvi dvi;
+  dvi.n = K.dim();
+  dvi.m = K.dim();
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = -u;
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u - x;
+  };
+  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
+                      Eigen::MatrixXd& Ju) {
+    Jx = -Eigen::MatrixXd::Identity(Jx.rows(), Jx.cols());
+    Ju = Eigen::MatrixXd::Identity(Ju.rows(), Ju.cols());
+  };
+  dvi.K = std::move(K);
+  return dvi;
+}
+
+// Error against exact() over rtol = 1e-4 … 1e-8 and the fitted slope.
+template <typename Exact>
+double ToleranceSlope(const Dvi& dvi, const Eigen::VectorXd& x0, double t_end, Exact exact,
+                      std::vector<double>& errors) {
+  std::vector<double> tolerances;
+  for (const double rtol : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+    EventDrivenOptions options;
+    options.rtol = rtol;
+    options.atol = 1e-2 * rtol;
+    options.output_times = Linspace(0, t_end, 200);
+    const Trajectory trajectory = IntegrateEventDriven(dvi, x0, 0, t_end, options);
+    EXPECT_TRUE(trajectory.succeeded()) << trajectory.message;
+    tolerances.push_back(rtol);
+    errors.push_back(MaxStateError(trajectory, exact));
+  }
+  return FittedOrder(tolerances, errors);
+}
+
+// K the unit ball, x0 = 3·(0.6, 0.8): u = x/|x| while |x| > 1, so |x| = 3 − t
+// until t = 2, then u = x and |x| = e^{−(t − 2)}: the ball's constraint is
+// released at t = 2.
+TEST(EventDrivenSets, BallReleasesItsConstraintAtTheExactTime) {
+  const Dvi dvi = DecayThroughProjection(ConvexSet::Ball(Eigen::VectorXd::Zero(2), 1));
+  const Eigen::Vector2d direction(0.6, 0.8);
+  const auto exact = [&direction](double t) -> Eigen::VectorXd {
+    return direction * (t <= 2 ? 3 - t : std::exp(-(t - 2)));
+  };
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const Trajectory trajectory = IntegrateEventDriven(dvi, 3 * direction, 0, 4, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kConstraintReleased);
+  EXPECT_EQ(trajectory.events[0].index, 0);
+  const double event_error = std::abs(trajectory.events[0].time - 2);
+  EXPECT_LE(event_error, 1e-9);
+  EXPECT_LE(MaxStateError(trajectory, exact), 1e-8);
+  std::vector<double> errors;
+  const double slope = ToleranceSlope(dvi, 3 * direction, 4, exact, errors);
+  EXPECT_GE(slope, 0.8);
+  RecordProperty("event_time_error", Scientific(event_error));
+  RecordProperty("slope", Scientific(slope));
+  RecordProperty("error_at_rtol_1e-8", Scientific(errors.back()));
+}
+
+// K = {u1 + u2 ≤ 1}, x0 = (2, 2): on the face s = x1 + x2 = 4 − t and
+// x1 − x2 = 0 until s = 1 at t = 3, then u = x and x = ½(1, 1)e^{−(t − 3)}.
+TEST(EventDrivenSets, HalfPlaneReleasesItsFaceAtTheExactTime) {
+  const Dvi dvi = DecayThroughProjection(ConvexSet::Polyhedron(
+      Eigen::RowVector2d(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd(0, 2),
+      Eigen::VectorXd(0)));
+  const auto exact = [](double t) -> Eigen::VectorXd {
+    return Eigen::Vector2d::Constant(t <= 3 ? (4 - t) / 2 : 0.5 * std::exp(-(t - 3)));
+  };
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::Vector2d(2, 2), 0, 5, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kConstraintReleased);
+  EXPECT_LE(std::abs(trajectory.events[0].time - 3), 1e-9);
+  EXPECT_LE(MaxStateError(trajectory, exact), 1e-8);
+  std::vector<double> errors;
+  EXPECT_GE(ToleranceSlope(dvi, Eigen::Vector2d(2, 2), 5, exact, errors), 0.8);
+}
+
+// Projected dynamics x' ∈ a − N(x; unit disc), a = (1, 0), x0 = (0, ½), as the
+// DCP (2.10): x' = a − 2x u, 0 ≤ u ⊥ 1 − |x|² ≥ 0, index two (F is free of u)
+// and reduced by Theorem 5.2 on the circle. Inside x = (t, ½) until
+// t1 = √¾; then x = (cos φ, sin φ) with φ' = −sin φ (the tangential part of
+// a), i.e. tan(φ/2) = tan(π/12)·e^{−(t − t1)}.
+TEST(EventDrivenSets, ProjectedDynamicsOnABallSlidesAlongTheCircle) {
+  const ProjectedDynamics pds = ProjectedDynamics::Affine(
+      Eigen::MatrixXd::Zero(2, 2), Eigen::Vector2d(1, 0), ConvexSet::Ball(Eigen::VectorXd::Zero(2), 1));
+  const Dvi dvi = ProjectedDynamicsAsKkt(pds);
+  const double t1 = std::sqrt(0.75);
+  const auto exact = [t1](double t) -> Eigen::VectorXd {
+    if (t <= t1) return Eigen::Vector2d(t, 0.5);
+    const double phi = 2 * std::atan(std::tan(M_PI / 12) * std::exp(-(t - t1)));
+    return Eigen::Vector2d(std::cos(phi), std::sin(phi));
+  };
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::Vector2d(0, 0.5), 0, 4, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_LE(std::abs(trajectory.events[0].time - t1), 1e-9);
+  EXPECT_LE(MaxStateError(trajectory, exact), 1e-8);
+  EXPECT_LE(trajectory.stats.max_constraint_drift, 1e-10);
+  std::vector<double> errors;
+  const double slope = ToleranceSlope(dvi, Eigen::Vector2d(0, 0.5), 4, exact, errors);
+  EXPECT_GE(slope, 0.8);
+  RecordProperty("slope", Scientific(slope));
+  RecordProperty("drift", Scientific(trajectory.stats.max_constraint_drift));
+}
+
+}  // namespace
+}  // namespace dvi
