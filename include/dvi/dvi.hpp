@@ -13,6 +13,7 @@
 #include "dvi/lcs.hpp"
 #include "dvi/lemke.hpp"
 #include "dvi/matrix_classes.hpp"
+#include "dvi/mode_dae.hpp"
 #include "dvi/odeint_system.hpp"
 #include "dvi/polyhedral_vi.hpp"
 #include "dvi/projected_dynamics.hpp"

@@ -1,0 +1,494 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/mode_dae.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <exception>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include "../cvode/sundials_handles.hpp"
+#include "check.hpp"
+#include "ida_handles.hpp"
+#include "lcs_mode_dae.hpp"
+
+namespace dvi {
+
+void ModeDaeOptions::Validate() const {
+  DVI_THROW_UNLESS(
+      std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 && rtol + atol > 0,
+      "rtol, atol: " << rtol << ", " << atol << " must be finite, non-negative and not both zero");
+  DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
+  DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
+                   "h_max: " << h_max << " is negative or not finite");
+  for (std::size_t k = 0; k < output_times.size(); ++k) {
+    DVI_THROW_UNLESS(std::isfinite(output_times[k]),
+                     "output_times[" << k << "]: " << output_times[k] << " is not finite");
+    DVI_THROW_UNLESS(k == 0 || output_times[k] >= output_times[k - 1],
+                     "output_times[" << k << "]: " << output_times[k] << " is below output_times["
+                                     << k - 1 << "] = " << output_times[k - 1]);
+  }
+  DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
+  solver.Validate();
+}
+
+namespace {
+
+using internal::LcsMode;
+using internal::LcsModeDae;
+using internal::Placement;
+
+// Events closer than this (relative to |t| + horizon) happen at one time.
+constexpr double kSameTimeFraction = 1e-12;
+// More mode changes than this at one time is chattering, not a cascade.
+constexpr int kMaxSameTimeEvents = 32;
+// A multiplier within this many tolerances (of the integrator and of the
+// LCP solve) of a bound is at it.
+constexpr double kBoundFactor = 10;
+
+// What IDA's callbacks see. Exceptions never cross IDA's C frames: they are
+// stored and rethrown after IDASolve returns.
+struct CallbackData {
+  LcsModeDae* dae = nullptr;
+  bool sparse = true;
+  long residual_evals = 0;
+  long jacobian_evals = 0;
+  std::exception_ptr error;
+  std::string ida_message;
+};
+
+// IDA's convention: 0 success, < 0 unrecoverable.
+int ResidualCallback(realtype, N_Vector y, N_Vector yp, N_Vector res, void* user_data) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  try {
+    ++data.residual_evals;
+    data.dae->Residual(N_VGetArrayPointer(y), N_VGetArrayPointer(yp), N_VGetArrayPointer(res));
+    return 0;
+  } catch (...) {
+    data.error = std::current_exception();
+    return -1;
+  }
+}
+
+// ∂res/∂y + cj ∂res/∂y' into IDA's matrix: compressed columns for KLU (IDA
+// zeroes the matrix, pattern included, before each call), or dense.
+int JacobianCallback(realtype, realtype cj, N_Vector, N_Vector, N_Vector, SUNMatrix J,
+                     void* user_data, N_Vector, N_Vector, N_Vector) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  try {
+    ++data.jacobian_evals;
+    const SparseMatrix& jacobian = data.dae->Jacobian(cj);
+    const long columns = jacobian.cols();
+    if (data.sparse) {
+      if (SUNSparseMatrix_NNZ(J) < jacobian.nonZeros()) return -1;
+      sunindextype* pointers = SUNSparseMatrix_IndexPointers(J);
+      sunindextype* rows = SUNSparseMatrix_IndexValues(J);
+      std::copy(jacobian.outerIndexPtr(), jacobian.outerIndexPtr() + columns + 1, pointers);
+      std::copy(jacobian.innerIndexPtr(), jacobian.innerIndexPtr() + jacobian.nonZeros(), rows);
+      std::copy(jacobian.valuePtr(), jacobian.valuePtr() + jacobian.nonZeros(),
+                SUNSparseMatrix_Data(J));
+    } else {
+      SUNMatZero(J);
+      for (long k = 0; k < columns; ++k) {
+        double* column = SUNDenseMatrix_Column(J, k);
+        for (SparseMatrix::InnerIterator it(jacobian, k); it; ++it) column[it.row()] = it.value();
+      }
+    }
+    return 0;
+  } catch (...) {
+    data.error = std::current_exception();
+    return -1;
+  }
+}
+
+int RootCallback(realtype, N_Vector y, N_Vector, realtype* g, void* user_data) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  try {
+    data.dae->Roots(N_VGetArrayPointer(y), g);
+    return 0;
+  } catch (...) {
+    data.error = std::current_exception();
+    return -1;
+  }
+}
+
+void ErrorHandler(int, const char*, const char* function, char* message, void* user_data) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  data.ida_message = std::string(function) + ": " + message;
+}
+
+std::string Describe(const LcsMode& mode) {
+  std::string text;
+  for (const Placement placement : mode)
+    text += placement == Placement::kFree ? 'f' : placement == Placement::kLower ? 'l' : 'u';
+  return text;
+}
+
+// One run: the IDA objects, the mode's DAE and the trajectory being built.
+class ModeDaeRun {
+ public:
+  ModeDaeRun(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+             const ModeDaeOptions& options)
+      : options_(options),
+        t0_(t0),
+        t_end_(t_end),
+        x0_(x0),
+        dae_(lcs),
+        n_(lcs.n()),
+        m_(lcs.m()),
+        u_tolerance_(kBoundFactor * std::max(options.atol, options.solver.tolerance)) {
+    data_.dae = &dae_;
+    data_.sparse = options.sparse;
+    if (options.sparse)
+      klu_ = std::make_unique<internal::KluLinearSolver>(y_.get(), dae_.size(), 1, context_.get());
+    else
+      dense_ = std::make_unique<internal::DenseLinearSolver>(y_.get(), dae_.size(), context_.get());
+  }
+
+  Trajectory Run();
+
+ private:
+  bool Start();
+  bool Integrate();
+  bool HandleRoot(double t);
+  bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                  const std::vector<bool>& leaving, LcsMode& mode, Eigen::VectorXd& u);
+  bool EnterMode(double t, const LcsMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
+  bool Check(int flag, const char* call);
+  void Sample(double t);
+  void SampleOutputs(double before);
+  void CollectIdaStats();
+  long Steps() const;
+  bool Fail(IntegrationStatus status, const std::string& message);
+
+  const ModeDaeOptions& options_;
+  const double t0_;
+  const double t_end_;
+  const Eigen::VectorXd& x0_;
+  LcsModeDae dae_;
+  const int n_;
+  const int m_;
+  const double u_tolerance_;
+  Trajectory trajectory_;
+  std::size_t next_output_ = 0;
+  double t_ = 0;
+  bool initialized_ = false;
+
+  internal::SunContext context_;
+  internal::SerialVector y_{dae_.size(), context_.get()};
+  internal::SerialVector yp_{dae_.size(), context_.get()};
+  internal::SerialVector id_{dae_.size(), context_.get()};
+  internal::SerialVector dky_{dae_.size(), context_.get()};
+  std::unique_ptr<internal::KluLinearSolver> klu_;
+  std::unique_ptr<internal::DenseLinearSolver> dense_;
+  internal::IdaMemory ida_{context_.get()};
+  CallbackData data_;
+
+  double last_event_time_ = 0;
+  int same_time_events_ = 0;
+  std::vector<LcsMode> modes_at_event_time_;
+  long differentiated_modes_ = 0;  // modes with an index-two row differentiated
+};
+
+bool ModeDaeRun::Fail(IntegrationStatus status, const std::string& message) {
+  trajectory_.status = status;
+  trajectory_.message = message;
+  return false;
+}
+
+bool ModeDaeRun::Check(int flag, const char* call) {
+  if (data_.error) std::rethrow_exception(data_.error);
+  if (flag >= 0) return true;
+  std::ostringstream message;
+  message << "mode-dae: " << call << " failed at t = " << t_ << ": " << IDAGetReturnFlagName(flag);
+  if (!data_.ida_message.empty()) message << " (" << data_.ida_message << ")";
+  return Fail(IntegrationStatus::kStepFailure, message.str());
+}
+
+void ModeDaeRun::Sample(double t) {
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
+  trajectory_.times.push_back(t);
+  trajectory_.states.push_back(y.head(n_));
+  trajectory_.multipliers.push_back(y.tail(m_));
+}
+
+// Requested times before `before` from IDA's interpolant of the last step
+// (x and u alike: u is a smooth part of y inside a mode).
+void ModeDaeRun::SampleOutputs(double before) {
+  const auto& times = options_.output_times;
+  while (next_output_ < times.size() && times[next_output_] < before) {
+    const double t = times[next_output_++];
+    if (t <= t0_ || t >= t_end_) continue;
+    if (IDAGetDky(ida_.get(), t, 0, dky_.get()) != IDA_SUCCESS) continue;
+    const Eigen::Map<const Eigen::VectorXd> y(dky_.data(), dae_.size());
+    trajectory_.times.push_back(t);
+    trajectory_.states.push_back(y.head(n_));
+    trajectory_.multipliers.push_back(y.tail(m_));
+  }
+}
+
+// IDAReInit zeroes IDA's counters: add them to the run's before each.
+void ModeDaeRun::CollectIdaStats() {
+  if (!initialized_) return;
+  long steps = 0, error_test_failures = 0, convergence_failures = 0;
+  IDAGetNumSteps(ida_.get(), &steps);
+  IDAGetNumErrTestFails(ida_.get(), &error_test_failures);
+  IDAGetNumNonlinSolvConvFails(ida_.get(), &convergence_failures);
+  trajectory_.stats.steps += steps;
+  trajectory_.stats.rejected_steps += error_test_failures + convergence_failures;
+}
+
+long ModeDaeRun::Steps() const {
+  long steps = 0;
+  IDAGetNumSteps(ida_.get(), &steps);
+  return trajectory_.stats.steps + steps;
+}
+
+// Enters `mode` at (t, x, u): consistent values (x onto the differentiated
+// rows' constraints, u from (5.8)), a fresh KLU analysis of the mode's
+// pattern, and IDA (re)started there — BDF restarts at order one, as the
+// solution is only continuous across the event.
+bool ModeDaeRun::EnterMode(double t, const LcsMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u) {
+  dae_.Enter(mode);
+  std::string why;
+  if (!dae_.MakeConsistent(x, u, why)) {
+    std::ostringstream message;
+    message << "mode-dae: at t = " << t << ", mode "
+            << (m_ <= 64 ? Describe(mode) + " (f free, l lower, u upper bound)"
+                         : "of " + std::to_string(m_) + " components")
+            << ": " << why;
+    return Fail(IntegrationStatus::kNotIndexOne, message.str());
+  }
+  for (int j = 0; j < m_; ++j) {
+    if (mode[j] == Placement::kFree && dae_.zero_d_row(j)) {
+      ++differentiated_modes_;
+      break;
+    }
+  }
+  Eigen::VectorXd xdot;
+  dae_.StateDerivative(x, u, xdot);
+  Eigen::Map<Eigen::VectorXd> y(y_.data(), dae_.size()), yp(yp_.data(), dae_.size());
+  y << x, u;
+  yp << xdot, Eigen::VectorXd::Zero(m_);
+  trajectory_.stats.max_constraint_drift =
+      std::max(trajectory_.stats.max_constraint_drift, dae_.Drift(y_.data()));
+  t_ = t;
+  if (klu_ && !klu_->Reset(dae_.nonzeros()))
+    return Fail(IntegrationStatus::kStepFailure, "mode-dae: the KLU matrix cannot be resized");
+  if (initialized_) {
+    CollectIdaStats();
+    return Check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit") &&
+           Check(IDASetStopTime(ida_.get(), t_end_), "IDASetStopTime");
+  }
+  initialized_ = true;
+  void* ida = ida_.get();
+  SUNMatrix matrix = klu_ ? klu_->matrix() : dense_->matrix();
+  SUNLinearSolver solver = klu_ ? klu_->solver() : dense_->solver();
+  // x differential, u algebraic and out of the error test: u is only
+  // Lipschitz across events and fully determined by x inside a mode.
+  Eigen::Map<Eigen::VectorXd> id(id_.data(), dae_.size());
+  id << Eigen::VectorXd::Ones(n_), Eigen::VectorXd::Zero(m_);
+  std::vector<int> directions(2 * static_cast<std::size_t>(m_), -1);
+  return Check(IDAInit(ida, ResidualCallback, t, y_.get(), yp_.get()), "IDAInit") &&
+         Check(IDASetUserData(ida, &data_), "IDASetUserData") &&
+         Check(IDASetErrHandlerFn(ida, ErrorHandler, &data_), "IDASetErrHandlerFn") &&
+         Check(IDASStolerances(ida, options_.rtol, options_.atol), "IDASStolerances") &&
+         Check(IDASetLinearSolver(ida, solver, matrix), "IDASetLinearSolver") &&
+         Check(IDASetJacFn(ida, JacobianCallback), "IDASetJacFn") &&
+         Check(IDASetId(ida, id_.get()), "IDASetId") &&
+         Check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg") &&
+         Check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps") &&
+         Check(IDASetMaxStep(ida, options_.h_max), "IDASetMaxStep") &&
+         Check(IDASetStopTime(ida, t_end_), "IDASetStopTime") &&
+         Check(IDARootInit(ida, 2 * m_, m_ > 0 ? RootCallback : nullptr), "IDARootInit") &&
+         (m_ == 0 || (Check(IDASetRootDirection(ida, directions.data()), "IDASetRootDirection") &&
+                      Check(IDASetNoInactiveRootWarn(ida), "IDASetNoInactiveRootWarn")));
+}
+
+// The mode at (t, x): the modified LCP (Sect. 5.4) places every component
+// but the degenerate ones (β: at a bound with a zero row, or leaving one).
+// Those are tried free first; a free u_j that starts on its bound and moves
+// out of [l_j, ū_j] along the mode (the rate from the differentiated
+// u-rows) cannot be followed, so it goes back to its bound — the rate test
+// of a smooth solution of Sect. 5.3, taken one component at a time.
+bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                            const std::vector<bool>& leaving, LcsMode& mode, Eigen::VectorXd& u) {
+  std::vector<bool> degenerate;
+  std::string why;
+  if (!dae_.SelectMode(x, warm, leaving, options_.atol, options_.rtol, u_tolerance_,
+                       options_.solver, mode, u, degenerate, trajectory_.stats, why)) {
+    std::ostringstream message;
+    message << "mode-dae: at t = " << t << ": " << why;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  if (std::find(degenerate.begin(), degenerate.end(), true) == degenerate.end()) return true;
+  const LcsMode at_bound = mode;
+  for (int j = 0; j < m_; ++j)
+    if (degenerate[j]) mode[j] = Placement::kFree;
+  dae_.Enter(mode);
+  Eigen::VectorXd x_free = x, u_free = u, rate;
+  if (!dae_.MakeConsistent(x_free, u_free, why)) {
+    mode = at_bound;
+    return true;
+  }
+  dae_.MultiplierRate(x_free, u_free, rate);
+  const Eigen::VectorXd& lower = dae_.lower();
+  const Eigen::VectorXd& upper = dae_.upper();
+  for (int j = 0; j < m_; ++j) {
+    if (!degenerate[j]) continue;
+    const bool outward = at_bound[j] == Placement::kLower
+                             ? u_free(j) - lower(j) <= u_tolerance_ && rate(j) < 0
+                             : upper(j) - u_free(j) <= u_tolerance_ && rate(j) > 0;
+    if (outward) mode[j] = at_bound[j];
+  }
+  return true;
+}
+
+bool ModeDaeRun::Start() {
+  LcsMode mode;
+  Eigen::VectorXd u;
+  if (!ChooseMode(t0_, x0_, Eigen::VectorXd::Zero(m_), std::vector<bool>(m_, false), mode, u))
+    return false;
+  Eigen::VectorXd x = x0_;
+  if (!EnterMode(t0_, mode, x, u)) return false;
+  Sample(t0_);
+  return true;
+}
+
+// A root: the new mode from the modified LCP at the root's state. A root
+// function that only touched zero leaves the mode as it is (no event, IDA
+// goes on); a real change is recorded, guarded against chattering, and the
+// integration restarts from consistent values.
+bool ModeDaeRun::HandleRoot(double t) {
+  std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
+  if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo")) return false;
+  const LcsMode old_mode = dae_.mode();
+  std::vector<bool> leaving(m_, false);
+  for (int j = 0; j < m_; ++j)
+    leaving[j] = old_mode[j] != Placement::kFree && (roots[2 * j] != 0 || roots[2 * j + 1] != 0);
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
+  Eigen::VectorXd x = y.head(n_);
+  LcsMode mode;
+  Eigen::VectorXd u;
+  if (!ChooseMode(t, x, y.tail(m_), leaving, mode, u)) return false;
+  if (mode == old_mode) {
+    dae_.Enter(old_mode);
+    return true;
+  }
+  std::ostringstream message;
+  message << "mode-dae: event at t = " << t << ": ";
+  const double horizon = t_end_ - t0_;
+  const bool same_time = !trajectory_.events.empty() &&
+                         t - last_event_time_ <= kSameTimeFraction * (std::abs(t) + horizon);
+  same_time_events_ = same_time ? same_time_events_ + 1 : 1;
+  last_event_time_ = t;
+  if (!same_time) modes_at_event_time_.assign(1, old_mode);
+  const bool revisited = std::find(modes_at_event_time_.begin(), modes_at_event_time_.end(),
+                                   mode) != modes_at_event_time_.end();
+  if (revisited || same_time_events_ > kMaxSameTimeEvents) {
+    Sample(t);
+    message << "chattering: " << same_time_events_ << " mode changes at this instant"
+            << (revisited ? ", the last re-entering a mode it left" : "");
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
+  }
+  modes_at_event_time_.push_back(mode);
+  for (int j = 0; j < m_; ++j) {
+    if (mode[j] == old_mode[j]) continue;
+    const EventKind kind = mode[j] == Placement::kLower   ? EventKind::kReachedLower
+                           : mode[j] == Placement::kUpper ? EventKind::kReachedUpper
+                                                          : EventKind::kLeftBound;
+    trajectory_.events.push_back({t, kind, j});
+  }
+  if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
+    Sample(t);
+    message << "more than max_events = " << options_.max_events << " events";
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
+  }
+  if (!EnterMode(t, mode, x, u)) return false;
+  Sample(t);
+  return true;
+}
+
+bool ModeDaeRun::Integrate() {
+  IntegrationStats& stats = trajectory_.stats;
+  while (true) {
+    if (Steps() >= options_.max_steps) {
+      std::ostringstream message;
+      message << "mode-dae: max_steps = " << options_.max_steps << " reached at t = " << t_;
+      return Fail(IntegrationStatus::kMaxSteps, message.str());
+    }
+    double t_return = t_;
+    const int flag = IDASolve(ida_.get(), t_end_, &t_return, y_.get(), yp_.get(), IDA_ONE_STEP);
+    if (!Check(flag, "IDASolve")) return false;
+    t_ = t_return;
+    // Theorem 5.3 only keeps d/dt (C x + q)_α₂ = 0; (C x + q)_α₂ itself is
+    // held by BDF, which preserves linear invariants up to the Newton error.
+    stats.max_constraint_drift = std::max(stats.max_constraint_drift, dae_.Drift(y_.data()));
+    SampleOutputs(t_return);
+    const bool done = flag == IDA_TSTOP_RETURN || t_return >= t_end_;
+    if (flag == IDA_ROOT_RETURN) {
+      if (!HandleRoot(t_return)) return false;
+    } else if (options_.output_times.empty() && !done) {
+      Sample(t_return);
+    }
+    if (done) {
+      Sample(t_end_);
+      return true;
+    }
+  }
+}
+
+Trajectory ModeDaeRun::Run() {
+  const auto start = std::chrono::steady_clock::now();
+  const bool started = Start();
+  if (started) Integrate();
+  CollectIdaStats();
+  IntegrationStats& stats = trajectory_.stats;
+  stats.rhs_evals = data_.residual_evals;
+  stats.jacobian_evals = data_.jacobian_evals;
+  if (started) {
+    std::ostringstream reason;
+    reason << "LCS modes as DAEs on IDA (" << (options_.sparse ? "sparse KLU" : "dense")
+           << " Jacobian), n = " << n_ << ", m = " << m_ << "; " << differentiated_modes_
+           << " mode(s) with index-two rows differentiated (Theorem 5.3, P = I)";
+    trajectory_.intervals.push_back({t0_, trajectory_.final_time(), "event-ida", reason.str()});
+  }
+  stats.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return trajectory_;
+}
+
+}  // namespace
+
+Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                            const ModeDaeOptions& options) {
+  lcs.Validate();
+  options.Validate();
+  DVI_THROW_UNLESS(lcs.K.IsBox(),
+                   "K: IntegrateModeDae needs a box K (orthant, box, whole "
+                   "space or products of them)");
+  DVI_THROW_UNLESS(x0.size() == lcs.n(),
+                   "x0 has " << x0.size() << " entries, expected " << lcs.n());
+  for (int i = 0; i < x0.size(); ++i)
+    DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
+  DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
+                   "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
+  for (std::size_t k = 0; k < options.output_times.size(); ++k)
+    DVI_THROW_UNLESS(options.output_times[k] >= t0 && options.output_times[k] <= t_end,
+                     "output_times[" << k << "]: " << options.output_times[k]
+                                     << " is outside [t0, t_end] = [" << t0 << ", " << t_end
+                                     << "]");
+  ModeDaeRun run(lcs, x0, t0, t_end, options);
+  return run.Run();
+}
+
+}  // namespace dvi

@@ -1,0 +1,329 @@
+// SPDX-License-Identifier: Apache-2.0
+// Modes of an LCS as DAEs on IDA (mode_dae.hpp): index-two modes reduced by
+// Theorem 5.3, against exact solutions, time-stepping and each other.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "circuits/rc_diode_ladder.hpp"
+#include "dvi/mode_dae.hpp"
+#include "dvi/time_stepping.hpp"
+#include "support/convergence.hpp"
+#include "support/expect_throw.hpp"
+
+namespace dvi {
+namespace {
+
+using testing::ExpectThrowNaming;
+
+// x' = −1 + u, 0 ≤ u ⊥ x ≥ 0: D = 0, index two once x reaches 0 at t = 1;
+// then (5.7) differentiated gives u = 1 and x stays at 0.
+Lcs ScalarIndexTwo() {
+  return Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                    Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Zero(1, 1),
+                    Eigen::VectorXd::Constant(1, -1.0));
+}
+
+TEST(ModeDae, ScalarIndexTwoExactEventStateAndMultiplier) {
+  ModeDaeOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const Trajectory result =
+      IntegrateModeDae(ScalarIndexTwo(), Eigen::VectorXd::Ones(1), 0, 2, options);
+  ASSERT_TRUE(result.succeeded()) << result.message;
+  ASSERT_EQ(result.events.size(), 1u);
+  EXPECT_NEAR(result.events[0].time, 1.0, 1e-9);
+  EXPECT_EQ(result.events[0].kind, EventKind::kLeftBound);
+  EXPECT_EQ(result.events[0].index, 0);
+  EXPECT_DOUBLE_EQ(result.final_time(), 2.0);
+  int contact_samples = 0;
+  for (std::size_t k = 0; k < result.times.size(); ++k) {
+    const double t = result.times[k];
+    EXPECT_NEAR(result.states[k](0), std::max(1 - t, 0.0), 1e-9) << "t = " << t;
+    if (t > result.events[0].time) {
+      ++contact_samples;
+      EXPECT_NEAR(result.multipliers[k](0), 1.0, 1e-8) << "t = " << t;
+    } else if (t < result.events[0].time) {
+      EXPECT_EQ(result.multipliers[k](0), 0.0) << "t = " << t;
+    }
+  }
+  EXPECT_GT(contact_samples, 0);
+  EXPECT_LE(result.stats.max_constraint_drift, 1e-12);
+  ASSERT_EQ(result.intervals.size(), 1u);
+  EXPECT_EQ(result.intervals[0].name, "event-ida");
+  EXPECT_GT(result.stats.steps, 0);
+  EXPECT_GT(result.stats.jacobian_evals, 0);
+}
+
+// x1' = x2 + u, x2' = 1 − x1, 0 ≤ u ⊥ x1 ≥ 0, x0 = (3, 0): free rotation
+// x = (1 + 2 cos t, −2 sin t) until x1 = 0 at t1 = 2π/3; clamped (Theorem 5.3:
+// u = −x2, x2' = 1) until u = 0 at t2 = t1 + √3; then free again from the
+// origin, x = (1 − cos s, sin s), s = t − t2.
+struct TwoDimensionalExact {
+  const double t1 = 2 * M_PI / 3;
+  const double t2 = 2 * M_PI / 3 + std::sqrt(3.0);
+  Eigen::Vector2d State(double t) const {
+    if (t <= t1) return {1 + 2 * std::cos(t), -2 * std::sin(t)};
+    if (t <= t2) return {0, -std::sqrt(3.0) + (t - t1)};
+    return {1 - std::cos(t - t2), std::sin(t - t2)};
+  }
+  double Multiplier(double t) const { return t > t1 && t < t2 ? -State(t)(1) : 0; }
+};
+
+TEST(ModeDae, TwoDimensionalIndexTwoClampsAndReleasesAtExactTimes) {
+  Eigen::MatrixXd A(2, 2);
+  A << 0, 1, -1, 0;
+  const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
+                             Eigen::MatrixXd::Zero(1, 1), Eigen::Vector2d(0, 1));
+  const TwoDimensionalExact exact;
+  // BDF's global error over the rotation is ~20·rtol: measured release-time
+  // errors 1.8e-9 at rtol 1e-10, 4.5e-10 at rtol 1e-11 (atol 1e-12).
+  ModeDaeOptions options;
+  options.rtol = 1e-11;
+  options.atol = 1e-12;
+  options.output_times = testing::Linspace(0, exact.t2 + 3, 401);
+  const Trajectory result = IntegrateModeDae(lcs, Eigen::Vector2d(3, 0), 0, exact.t2 + 3, options);
+  ASSERT_TRUE(result.succeeded()) << result.message;
+  ASSERT_EQ(result.events.size(), 2u);
+  EXPECT_NEAR(result.events[0].time, exact.t1, 1e-9);
+  EXPECT_EQ(result.events[0].kind, EventKind::kLeftBound);
+  EXPECT_NEAR(result.events[1].time, exact.t2, 1e-9);
+  EXPECT_EQ(result.events[1].kind, EventKind::kReachedLower);
+  double state_error = 0, multiplier_error = 0;
+  for (std::size_t k = 0; k < result.times.size(); ++k) {
+    const double t = result.times[k];
+    state_error = std::max(state_error, (result.states[k] - exact.State(t)).cwiseAbs().maxCoeff());
+    if (t > exact.t1 && t < exact.t2)
+      multiplier_error =
+          std::max(multiplier_error, std::abs(result.multipliers[k](0) - exact.Multiplier(t)));
+  }
+  EXPECT_LT(state_error, 1e-9);
+  EXPECT_LT(multiplier_error, 1e-8);
+  EXPECT_LE(result.stats.max_constraint_drift, 1e-12);
+}
+
+// x' = −1 + u, u ∈ [0, ½] ⊥-box x + u (D = 1, index one): x = 1 − t until
+// t = 1, then u = −x with x = −1 + e^{−(t−1)} until u reaches ½ at
+// t = 1 + ln 2, then u = ½ and x = −½ − ½(t − 1 − ln 2).
+TEST(ModeDae, IndexOneBoxLeavesLowerAndReachesUpperAtExactTimes) {
+  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                       Eigen::VectorXd::Constant(1, -1.0));
+  lcs.K = ConvexSet::Box(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 0.5));
+  const double t_upper = 1 + std::log(2.0);
+  const auto exact_x = [&](double t) {
+    if (t <= 1) return 1 - t;
+    if (t <= t_upper) return -1 + std::exp(-(t - 1));
+    return -0.5 - 0.5 * (t - t_upper);
+  };
+  ModeDaeOptions options;
+  options.rtol = 1e-11;
+  options.atol = 1e-12;
+  options.output_times = testing::Linspace(0, 3, 301);
+  const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Ones(1), 0, 3, options);
+  ASSERT_TRUE(result.succeeded()) << result.message;
+  ASSERT_EQ(result.events.size(), 2u);
+  EXPECT_EQ(result.events[0].kind, EventKind::kLeftBound);
+  EXPECT_NEAR(result.events[0].time, 1.0, 1e-9);
+  EXPECT_EQ(result.events[1].kind, EventKind::kReachedUpper);
+  EXPECT_NEAR(result.events[1].time, t_upper, 1e-9);
+  double state_error = 0, multiplier_error = 0;
+  for (std::size_t k = 0; k < result.times.size(); ++k) {
+    const double t = result.times[k];
+    state_error = std::max(state_error, std::abs(result.states[k](0) - exact_x(t)));
+    const double exact_u = t <= 1 ? 0 : std::min(-exact_x(t), 0.5);
+    if (std::abs(t - 1) > 1e-6 && std::abs(t - t_upper) > 1e-6)
+      multiplier_error = std::max(multiplier_error, std::abs(result.multipliers[k](0) - exact_u));
+  }
+  EXPECT_LT(state_error, 1e-9);
+  EXPECT_LT(multiplier_error, 1e-9);
+}
+
+// The same LCS from x0 = 0: u0 = 0 with w = 0 is degenerate (β); the LCP
+// cannot place it, the rate test frees it (u' = 1 > 0): x = −1 + e^{−t}.
+TEST(ModeDae, DegenerateStartFollowsTheSmoothSolution) {
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                             Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                             Eigen::VectorXd::Constant(1, -1.0));
+  ModeDaeOptions options;
+  options.rtol = 1e-11;
+  options.atol = 1e-12;
+  const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Zero(1), 0, 2, options);
+  ASSERT_TRUE(result.succeeded()) << result.message;
+  EXPECT_TRUE(result.events.empty());
+  double error = 0;
+  for (std::size_t k = 0; k < result.times.size(); ++k)
+    error = std::max(error, std::abs(result.states[k](0) - (-1 + std::exp(-result.times[k]))));
+  EXPECT_LT(error, 1e-9);
+  EXPECT_NEAR(result.multipliers.back()(0), 1 - std::exp(-2.0), 1e-9);
+}
+
+// Dense and sparse (KLU) linear algebra run the same BDF steps: the node at
+// the current source clamps once, at the same time, and the states agree.
+TEST(ModeDae, SmallLadderDenseAndSparseAgree) {
+  circuits::RcDiodeLadderParameters parameters;
+  parameters.n = 20;
+  const Lcs lcs = circuits::RcDiodeLadder(parameters);
+  const Eigen::VectorXd x0 = circuits::RcDiodeLadderInitialState(parameters);
+  ModeDaeOptions options;
+  options.rtol = 1e-11;
+  options.atol = 1e-13;
+  options.output_times = testing::Linspace(0, 5e-3, 51);
+  const Trajectory sparse = IntegrateModeDae(lcs, x0, 0, 5e-3, options);
+  options.sparse = false;
+  const Trajectory dense = IntegrateModeDae(lcs, x0, 0, 5e-3, options);
+  ASSERT_TRUE(sparse.succeeded()) << sparse.message;
+  ASSERT_TRUE(dense.succeeded()) << dense.message;
+  ASSERT_EQ(sparse.events.size(), dense.events.size());
+  ASSERT_GE(sparse.events.size(), 1u);
+  EXPECT_EQ(sparse.events[0].index, parameters.n - 1);
+  EXPECT_EQ(sparse.events[0].kind, EventKind::kLeftBound);
+  EXPECT_NEAR(sparse.events[0].time, dense.events[0].time, 1e-10);
+  ASSERT_EQ(sparse.times.size(), dense.times.size());
+  double difference = 0;
+  for (std::size_t k = 0; k < sparse.times.size(); ++k)
+    difference = std::max(difference, (sparse.states[k] - dense.states[k]).cwiseAbs().maxCoeff());
+  EXPECT_LT(difference, 1e-10);
+}
+
+// n = 10⁴ through IDA + KLU against backward-Euler time-stepping (sparse
+// mixed (x, u) path): the difference is stepping's O(h) error — measured
+// 107·h V/s at h = 10⁻⁵ on [0, 10 ms] — so it halves with h (fitted order 1),
+// while IDA's own error at rtol 10⁻⁸ is 5.8·10⁻⁷ (measured against rtol
+// 10⁻¹¹; its event time is off by 3.8·10⁻¹⁰ s).
+TEST(ModeDae, LargeLadderMatchesTimeSteppingToItsFirstOrderError) {
+  circuits::RcDiodeLadderParameters parameters;
+  parameters.n = 10'000;
+  const Lcs lcs = circuits::RcDiodeLadder(parameters);
+  const Eigen::VectorXd x0 = circuits::RcDiodeLadderInitialState(parameters);
+  const double t_end = 1e-2;
+  ModeDaeOptions options;
+  options.output_times = testing::Linspace(0, t_end, 21);
+  const auto start = std::chrono::steady_clock::now();
+  const Trajectory ida = IntegrateModeDae(lcs, x0, 0, t_end, options);
+  const double ida_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(ida.succeeded()) << ida.message;
+  // The node at the current source clamps (x reaches 0 at 1.63688 ms for any
+  // n ≥ 100: the far nodes do not feel the source that soon) and stays
+  // clamped: one event.
+  ASSERT_EQ(ida.events.size(), 1u);
+  EXPECT_EQ(ida.events[0].index, parameters.n - 1);
+  EXPECT_NEAR(ida.events[0].time, 1.6369e-3, 1e-7);
+  EXPECT_LT(ida.stats.max_constraint_drift, 1e-15);
+  // w = x > 0 places every u at t0 without an LCP; the event solves one, of
+  // size one (the clamped node's (C B)_jj).
+  EXPECT_EQ(ida.stats.vi_solves, 1);
+  EXPECT_LT(ida_seconds, 10.0);  // 0.44 s measured in Release
+
+  std::vector<double> step_sizes, differences;
+  for (const double h : {2e-5, 1e-5, 5e-6}) {
+    TimeSteppingOptions stepping;
+    stepping.h = h;
+    stepping.output_times = options.output_times;
+    stepping.record_events = false;
+    const Trajectory reference = IntegrateTimeStepping(lcs, x0, 0, t_end, stepping);
+    ASSERT_TRUE(reference.succeeded()) << reference.message;
+    double difference = 0;
+    for (const double t : options.output_times)
+      difference =
+          std::max(difference, (reference.StateAt(t) - ida.StateAt(t)).cwiseAbs().maxCoeff());
+    step_sizes.push_back(h);
+    differences.push_back(difference);
+    EXPECT_NEAR(difference / h, 107, 10) << "h = " << h;
+  }
+  EXPECT_NEAR(testing::FittedOrder(step_sizes, differences), 1.0, 0.05);
+}
+
+Lcs SingularModeLcs() {
+  // Both rows of D are u1 + u2: the LCP has the symmetric solution u = (½, ½)
+  // with both components free, where the mode matrix (5.8) = D is singular.
+  return Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 2),
+                    Eigen::MatrixXd::Ones(2, 1), Eigen::MatrixXd::Ones(2, 2), Eigen::VectorXd(),
+                    Eigen::VectorXd::Constant(2, -1.0));
+}
+
+TEST(ModeDae, SingularModeMatrixIsAStatusWithAMessage) {
+  const Trajectory result = IntegrateModeDae(SingularModeLcs(), Eigen::VectorXd::Zero(1), 0, 1);
+  EXPECT_EQ(result.status, IntegrationStatus::kNotIndexOne);
+  EXPECT_NE(result.message.find("(5.8) is singular"), std::string::npos) << result.message;
+  EXPECT_NE(result.message.find("t = 0"), std::string::npos) << result.message;
+  EXPECT_NE(result.message.find("mode ff"), std::string::npos) << result.message;
+}
+
+TEST(ModeDae, LcpWithoutSolutionIsAStatusWithAMessage) {
+  // w = x − 1 < 0 with D = 0 and u ≥ 0 unbounded above: no u solves the LCP.
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                             Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Zero(1, 1),
+                             Eigen::VectorXd(), Eigen::VectorXd::Constant(1, -1.0));
+  const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Zero(1), 0, 1);
+  EXPECT_EQ(result.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(result.message.find("no solution"), std::string::npos) << result.message;
+}
+
+TEST(ModeDae, InvalidInputsNameTheirField) {
+  const Lcs lcs = ScalarIndexTwo();
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
+  Lcs ball = lcs;
+  ball.K = ConvexSet::Ball(Eigen::VectorXd::Zero(1), 1.0);
+  ExpectThrowNaming([&] { IntegrateModeDae(ball, x0, 0, 1); }, "K");
+  ExpectThrowNaming([&] { IntegrateModeDae(lcs, Eigen::VectorXd::Ones(2), 0, 1); }, "x0");
+  ExpectThrowNaming([&] { IntegrateModeDae(lcs, x0, 1, 1); }, "t_end");
+  const auto expect_option = [&](const ModeDaeOptions& options, const std::string& name) {
+    ExpectThrowNaming([&] { IntegrateModeDae(lcs, x0, 0, 1, options); }, name);
+  };
+  ModeDaeOptions options;
+  options.rtol = -1;
+  expect_option(options, "rtol");
+  options = {};
+  options.rtol = options.atol = 0;
+  expect_option(options, "atol");
+  options = {};
+  options.max_steps = 0;
+  expect_option(options, "max_steps");
+  options = {};
+  options.h_max = -1;
+  expect_option(options, "h_max");
+  options = {};
+  options.output_times = {0.5, 0.25};
+  expect_option(options, "output_times[1]");
+  options = {};
+  options.output_times = {2.0};
+  expect_option(options, "output_times[0]");
+  options = {};
+  options.max_events = 0;
+  expect_option(options, "max_events");
+  options = {};
+  options.solver.tolerance = 2;
+  expect_option(options, "tolerance");
+}
+
+TEST(ModeDae, LimitsEndTheRunWithAStatus) {
+  ModeDaeOptions options;
+  options.max_steps = 5;
+  Trajectory result = IntegrateModeDae(ScalarIndexTwo(), Eigen::VectorXd::Ones(1), 0, 2, options);
+  EXPECT_EQ(result.status, IntegrationStatus::kMaxSteps);
+  EXPECT_NE(result.message.find("max_steps = 5"), std::string::npos) << result.message;
+  EXPECT_EQ(result.stats.steps, 5);
+  options = {};
+  options.max_events = 1;
+  Eigen::MatrixXd A(2, 2);
+  A << 0, 1, -1, 0;
+  const Lcs rotation = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
+                                  Eigen::MatrixXd::Zero(1, 1), Eigen::Vector2d(0, 1));
+  result = IntegrateModeDae(rotation, Eigen::Vector2d(3, 0), 0, 6, options);
+  EXPECT_EQ(result.status, IntegrationStatus::kEventAccumulation);
+  EXPECT_NE(result.message.find("max_events = 1"), std::string::npos) << result.message;
+  // Stopped at the release, the second event, with the state reached there.
+  ASSERT_EQ(result.events.size(), 2u);
+  const double release = 2 * M_PI / 3 + std::sqrt(3.0);
+  EXPECT_NEAR(result.final_time(), release, 1e-6);
+  EXPECT_NEAR(result.states.back()(1), 0.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace dvi
