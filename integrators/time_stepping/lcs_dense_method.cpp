@@ -14,6 +14,10 @@
 namespace dvi::internal {
 namespace {
 
+// Modes tried before a complementarity solve: the last two also cover a mode
+// that alternates from step to step.
+constexpr std::size_t kRecentModes = 2;
+
 // Dense path, Sect. 9.2: x^{i+1} = W⁻¹r + hγ W⁻¹B u^{i+1} turns the step into
 // one VI in u alone, u^{i+1} ∈ SOL(K, qʰ + Dʰ ·) with the transfer matrix
 // Dʰ = D + hγ C W⁻¹ B and qʰ = q + C W⁻¹ r. W, W⁻¹B and Dʰ depend on h only,
@@ -36,7 +40,7 @@ class DenseLcsMethod : public LcsMethod {
     // (3.4) solves the VI at x^i with D itself; (7.2) at x^{i+1} with Dʰ.
     const Eigen::VectorXd q_step = lcs_.q + lcs_.C * (vi_at_old_state_ ? x : y);
     const Eigen::MatrixXd& M = vi_at_old_state_ ? D_ : matrices->Dh;
-    if (shape_.box && TryLastMode(M, q_step, *matrices, outcome)) {
+    if (shape_.box && TryRecentModes(M, q_step, *matrices, outcome)) {
       outcome.x = std::move(y);
       if (h != 0 && gamma_ != 0) outcome.x.noalias() += (h * gamma_) * (matrices->WinvB * outcome.u);
       return outcome;
@@ -59,60 +63,90 @@ class DenseLcsMethod : public LcsMethod {
     outcome.solved = true;
     outcome.u = std::move(result.z);
     outcome.w = std::move(result.w);
-    if (shape_.box) Mode(outcome, last_mode_);
+    if (shape_.box) {
+      std::vector<int> mode;
+      Mode(outcome, mode);
+      RememberMode(std::move(mode));
+    }
     outcome.x = std::move(y);
     if (h != 0 && gamma_ != 0) outcome.x.noalias() += (h * gamma_) * (matrices->WinvB * outcome.u);
     return outcome;
   }
 
  private:
+  // The LU of M_FF for one mode: its free components F, the others at
+  // their bounds.
+  struct ModeFactor {
+    explicit ModeFactor(int m) : free_lu(m) {}
+    std::vector<int> mode;  ///< Empty: nothing factored yet.
+    std::vector<int> free;
+    DenseLu free_lu;
+    bool factored = false;  ///< False when M_FF is singular (a PSD D).
+  };
   struct StepMatrices {
-    StepMatrices(int n, int m) : W_lu(n), free_lu(m) {}
+    StepMatrices(int n, int m) : W_lu(n), modes(kRecentModes, ModeFactor(m)) {}
     double h = 0;
     DenseLu W_lu;           ///< W = I − h(1−θ)A.
     Eigen::MatrixXd WinvB;  ///< W⁻¹B.
     Eigen::MatrixXd Dh;     ///< D + hγ C W⁻¹ B.
-    std::vector<int> mode;  ///< The mode whose free block free_lu holds (empty: none).
-    std::vector<int> free;  ///< Its free components.
-    DenseLu free_lu;        ///< LU of M_FF for that mode,
-    bool free_factored = false;  ///< unless M_FF is singular (a PSD D).
+    std::vector<ModeFactor> modes;  ///< Factors of the recent modes.
   };
 
   // The mode of the last solved step usually still holds (the diode bridge
-  // switches 64 times in 50 000 steps). Then the step's box VI is the linear
-  // system M_FF u_F = −(q + M_FB u_B) on the free components F, with the
-  // others at their bounds: one solve with a cached LU of M_FF instead of a
+  // switches 64 times in 50 000 steps), or the one before it: with γ = ½ at
+  // an index-two contact u^{i+1} keeps a part alternating with u^i, and so
+  // does the mode. Then the step's box VI is the linear system
+  // M_FF u_F = −(q + M_FB u_B) on the free components F, with the others at
+  // their bounds: one solve with a cached LU of M_FF instead of a
   // complementarity solve. Accepted only when the natural-map residual meets
   // the solver's tolerance, as any solver's answer must.
-  bool TryLastMode(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, StepMatrices& matrices,
-                   StepOutcome& outcome) {
-    if (last_mode_.empty()) return false;
-    const Eigen::Index m = q.size();
-    if (matrices.mode != last_mode_) {
-      matrices.free.clear();
-      for (Eigen::Index j = 0; j < m; ++j)
-        if (last_mode_[static_cast<size_t>(j)] == 0) matrices.free.push_back(static_cast<int>(j));
-      const int size = static_cast<int>(matrices.free.size());
-      auto block = matrices.free_lu.Matrix(size);
-      for (int a = 0; a < size; ++a)
-        for (int b = 0; b < size; ++b) block(a, b) = M(matrices.free[a], matrices.free[b]);
-      ++outcome.jacobian_evals;
-      matrices.free_factored = matrices.free_lu.Factor();
-      matrices.mode = last_mode_;
+  bool TryRecentModes(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, StepMatrices& matrices,
+                      StepOutcome& outcome) {
+    for (std::size_t k = 0; k < recent_modes_.size(); ++k) {
+      if (!TryMode(M, q, recent_modes_[k], matrices, outcome)) continue;
+      if (k > 0) std::swap(recent_modes_[0], recent_modes_[k]);
+      return true;
     }
-    if (!matrices.free_factored) return false;
+    return false;
+  }
+
+  bool TryMode(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const std::vector<int>& mode,
+               StepMatrices& matrices, StepOutcome& outcome) {
+    const Eigen::Index m = q.size();
+    ModeFactor* factor = nullptr;
+    for (ModeFactor& candidate : matrices.modes)
+      if (candidate.mode == mode) factor = &candidate;
+    if (factor == nullptr) {
+      // Replace the factor of a mode no longer among the recent ones.
+      factor = &matrices.modes.back();
+      for (ModeFactor& candidate : matrices.modes)
+        if (std::find(recent_modes_.begin(), recent_modes_.end(), candidate.mode) ==
+            recent_modes_.end())
+          factor = &candidate;
+      factor->free.clear();
+      for (Eigen::Index j = 0; j < m; ++j)
+        if (mode[static_cast<size_t>(j)] == 0) factor->free.push_back(static_cast<int>(j));
+      const int size = static_cast<int>(factor->free.size());
+      auto block = factor->free_lu.Matrix(size);
+      for (int a = 0; a < size; ++a)
+        for (int b = 0; b < size; ++b) block(a, b) = M(factor->free[a], factor->free[b]);
+      ++outcome.jacobian_evals;
+      factor->factored = factor->free_lu.Factor();
+      factor->mode = mode;
+    }
+    if (!factor->factored) return false;
     Eigen::VectorXd& u = outcome.u;
     u.resize(m);
     for (Eigen::Index j = 0; j < m; ++j) {
-      const int mode_j = last_mode_[static_cast<size_t>(j)];
+      const int mode_j = mode[static_cast<size_t>(j)];
       u[j] = mode_j < 0 ? shape_.lower[j] : (mode_j > 0 ? shape_.upper[j] : 0.0);
     }
     Eigen::VectorXd w = q + M * u;
-    const int size = static_cast<int>(matrices.free.size());
+    const int size = static_cast<int>(factor->free.size());
     Eigen::VectorXd u_free(size);
-    for (int a = 0; a < size; ++a) u_free[a] = -w[matrices.free[a]];
-    matrices.free_lu.Solve(u_free);
-    for (int a = 0; a < size; ++a) u[matrices.free[a]] = u_free[a];
+    for (int a = 0; a < size; ++a) u_free[a] = -w[factor->free[a]];
+    factor->free_lu.Solve(u_free);
+    for (int a = 0; a < size; ++a) u[factor->free[a]] = u_free[a];
     w = q + M * u;
     double residual = 0;
     for (Eigen::Index j = 0; j < m; ++j)
@@ -125,6 +159,14 @@ class DenseLcsMethod : public LcsMethod {
     outcome.residual = residual;
     outcome.w = std::move(w);
     return true;
+  }
+
+  // The mode of a step solved by SolveVi becomes the most recent one.
+  void RememberMode(std::vector<int> mode) {
+    const auto known = std::find(recent_modes_.begin(), recent_modes_.end(), mode);
+    if (known != recent_modes_.end()) recent_modes_.erase(known);
+    recent_modes_.insert(recent_modes_.begin(), std::move(mode));
+    if (recent_modes_.size() > kRecentModes) recent_modes_.pop_back();
   }
 
   // The cached matrices for h (most recently used first), or nullptr with
@@ -175,7 +217,8 @@ class DenseLcsMethod : public LcsMethod {
 
   Eigen::MatrixXd D_;
   std::list<StepMatrices> cache_;
-  std::vector<int> last_mode_;  ///< Mode of the last step solved by SolveVi (box K).
+  /// Modes of the last steps solved by SolveVi (box K), most recent first.
+  std::vector<std::vector<int>> recent_modes_;
 };
 
 }  // namespace
