@@ -9,14 +9,11 @@
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/dvi_problem.hpp"
 #include "dvi/solve_result.hpp"
+#include "box_mode_state.hpp"
 #include "dvi/solver_options.hpp"
 #include "mode_reduction.hpp"
 
 namespace dvi::internal {
-
-/// Where u_j sits in a mode of a box-constrained DVI.
-enum class BoundState : signed char { kFree, kLower, kUpper };
-using BoxMode = std::vector<BoundState>;
 
 /// The smooth ODE of one mode of u ∈ SOL([l, ū], F(t, x, ·)) ([Seed] (5.2)
 /// restricted to a fixed active set): the free components A solve

@@ -175,13 +175,6 @@ std::string Format(double value) {
   return text.str();
 }
 
-std::string Describe(const BoxMode& mode) {
-  std::string text;
-  for (const BoundState state : mode)
-    text += state == BoundState::kFree ? 'f' : state == BoundState::kLower ? 'l' : 'u';
-  return text;
-}
-
 // One run: the CVODE objects, the mode system and the trajectory being built.
 class EventDrivenRun {
  public:

@@ -51,12 +51,12 @@ LcsModeDae::LcsModeDae(const Lcs& lcs)
 
 bool LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
                             const std::vector<bool>& leaving, double atol, double rtol,
-                            double u_tolerance, const SolverOptions& options, LcsMode& mode,
+                            double u_tolerance, const SolverOptions& options, BoxMode& mode,
                             Eigen::VectorXd& u, std::vector<bool>& degenerate,
                             IntegrationStats& stats, std::string& why) const {
   const Eigen::VectorXd r = C_ * x + q_;
   const Eigen::VectorXd scale = C_.cwiseAbs() * x.cwiseAbs() + q_.cwiseAbs();
-  mode.assign(m_, Placement::kLower);
+  mode.assign(m_, BoundState::kLower);
   degenerate.assign(m_, false);
   u.resize(m_);
   std::vector<int> open;
@@ -77,7 +77,7 @@ bool LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& war
       why = text.str();
       return false;
     }
-    mode[j] = lower ? Placement::kLower : Placement::kUpper;
+    mode[j] = lower ? BoundState::kLower : BoundState::kUpper;
     u(j) = bound;
   }
   if (open.empty()) return true;
@@ -123,15 +123,15 @@ bool LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& war
     const double zero_tolerance = kZeroFactor * (atol + rtol * std::abs(offset(a)));
     const bool row_zero = std::abs(result.w(a)) <= zero_tolerance;
     if (z - lo(a) <= u_tolerance) {
-      mode[j] = Placement::kLower;
+      mode[j] = BoundState::kLower;
       u(j) = lo(a);
       degenerate[j] = leaving[j] || row_zero;
     } else if (hi(a) - z <= u_tolerance) {
-      mode[j] = Placement::kUpper;
+      mode[j] = BoundState::kUpper;
       u(j) = hi(a);
       degenerate[j] = leaving[j] || row_zero;
     } else {
-      mode[j] = Placement::kFree;
+      mode[j] = BoundState::kFree;
       u(j) = z;
     }
   }
@@ -141,9 +141,9 @@ bool LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& war
 void LcsModeDae::AppendURow(int j, std::vector<Eigen::Triplet<double>>& triplets,
                             double& offset) const {
   const int row = n_ + j;
-  if (mode_[j] != Placement::kFree) {
+  if (mode_[j] != BoundState::kFree) {
     triplets.emplace_back(row, row, 1.0);
-    offset = -(mode_[j] == Placement::kLower ? lower_(j) : upper_(j));
+    offset = -(mode_[j] == BoundState::kLower ? lower_(j) : upper_(j));
     return;
   }
   // Index one keeps w_j = 0; index two differentiates it (Theorem 5.3).
@@ -157,7 +157,7 @@ void LcsModeDae::AppendURow(int j, std::vector<Eigen::Triplet<double>>& triplets
   offset = index_two ? Cp_(j) : q_(j);
 }
 
-void LcsModeDae::Enter(const LcsMode& mode) {
+void LcsModeDae::Enter(const BoxMode& mode) {
   mode_ = mode;
   const int N = size();
   std::vector<Eigen::Triplet<double>> triplets = x_rows_;
@@ -166,7 +166,7 @@ void LcsModeDae::Enter(const LcsMode& mode) {
   differentiated_.clear();
   for (int j = 0; j < m_; ++j) {
     AppendURow(j, triplets, c_(n_ + j));
-    if (mode_[j] == Placement::kFree && zero_d_row_[j]) differentiated_.push_back(j);
+    if (mode_[j] == BoundState::kFree && zero_d_row_[j]) differentiated_.push_back(j);
   }
   J0_.resize(N, N);
   J0_.setFromTriplets(triplets.begin(), triplets.end());
@@ -263,15 +263,15 @@ void LcsModeDae::Roots(const double* y, double* g) const {
   const Eigen::VectorXd w = C_ * x + D_ * u + q_;
   for (int j = 0; j < m_; ++j) {
     switch (mode_[j]) {
-      case Placement::kFree:
+      case BoundState::kFree:
         g[2 * j] = std::isfinite(lower_(j)) ? u(j) - lower_(j) : 1.0;
         g[2 * j + 1] = std::isfinite(upper_(j)) ? upper_(j) - u(j) : 1.0;
         break;
-      case Placement::kLower:
+      case BoundState::kLower:
         g[2 * j] = w(j);
         g[2 * j + 1] = 1.0;
         break;
-      case Placement::kUpper:
+      case BoundState::kUpper:
         g[2 * j] = -w(j);
         g[2 * j + 1] = 1.0;
         break;

@@ -7,16 +7,13 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
+#include "box_mode_state.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/solver_options.hpp"
 #include "dvi/trajectory.hpp"
 #include "klu_solver.hpp"
 
 namespace dvi::internal {
-
-/// Where u_j sits in a mode of a box LCS.
-enum class Placement : signed char { kFree, kLower, kUpper };
-using LcsMode = std::vector<Placement>;
 
 /// One mode of a box LCS (2.8) as the semi-explicit DAE of mode_dae.hpp in
 /// y = (x, u) ∈ ℝⁿ⁺ᵐ, written as the linear residual
@@ -36,7 +33,7 @@ class LcsModeDae {
   int n() const { return n_; }
   int m() const { return m_; }
   int size() const { return n_ + m_; }
-  const LcsMode& mode() const { return mode_; }
+  const BoxMode& mode() const { return mode_; }
   const Eigen::VectorXd& lower() const { return lower_; }
   const Eigen::VectorXd& upper() const { return upper_; }
   /// Whether row j of D has no nonzero: its constraint is index two when free.
@@ -58,11 +55,11 @@ class LcsModeDae {
   /// infinite bound (the LCP has no solution).
   bool SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
                   const std::vector<bool>& leaving, double atol, double rtol, double u_tolerance,
-                  const SolverOptions& options, LcsMode& mode, Eigen::VectorXd& u,
+                  const SolverOptions& options, BoxMode& mode, Eigen::VectorXd& u,
                   std::vector<bool>& degenerate, IntegrationStats& stats, std::string& why) const;
 
   /// Builds J₀, c and the pattern of the mode.
-  void Enter(const LcsMode& mode);
+  void Enter(const BoxMode& mode);
   long nonzeros() const { return static_cast<long>(jacobian_.nonZeros()); }
 
   /// Consistent values for the mode: x moves by the least-norm correction
@@ -105,7 +102,7 @@ class LcsModeDae {
   Eigen::VectorXd Cp_;
   std::vector<bool> zero_d_row_;
 
-  LcsMode mode_;
+  BoxMode mode_;
   std::vector<int> differentiated_;  // free components with D_j· = 0 (α₂)
   SparseMatrix J0_;
   SparseMatrix jacobian_;

@@ -43,9 +43,9 @@ void ModeDaeOptions::Validate() const {
 
 namespace {
 
-using internal::LcsMode;
+using internal::BoxMode;
 using internal::LcsModeDae;
-using internal::Placement;
+using internal::BoundState;
 
 // Events closer than this (relative to |t| + horizon) happen at one time.
 constexpr double kSameTimeFraction = 1e-12;
@@ -126,13 +126,6 @@ void ErrorHandler(int, const char*, const char* function, char* message, void* u
   data.ida_message = std::string(function) + ": " + message;
 }
 
-std::string Describe(const LcsMode& mode) {
-  std::string text;
-  for (const Placement placement : mode)
-    text += placement == Placement::kFree ? 'f' : placement == Placement::kLower ? 'l' : 'u';
-  return text;
-}
-
 // One run: the IDA objects, the mode's DAE and the trajectory being built.
 class ModeDaeRun {
  public:
@@ -161,8 +154,8 @@ class ModeDaeRun {
   bool Integrate();
   bool HandleRoot(double t);
   bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                  const std::vector<bool>& leaving, LcsMode& mode, Eigen::VectorXd& u);
-  bool EnterMode(double t, const LcsMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
+                  const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u);
+  bool EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
   bool Check(int flag, const char* call);
   void Sample(double t);
   void SampleOutputs(double before);
@@ -195,7 +188,7 @@ class ModeDaeRun {
 
   double last_event_time_ = 0;
   int same_time_events_ = 0;
-  std::vector<LcsMode> modes_at_event_time_;
+  std::vector<BoxMode> modes_at_event_time_;
   long differentiated_modes_ = 0;  // modes with an index-two row differentiated
 };
 
@@ -257,7 +250,7 @@ long ModeDaeRun::Steps() const {
 // rows' constraints, u from (5.8)), a fresh KLU analysis of the mode's
 // pattern, and IDA (re)started there — BDF restarts at order one, as the
 // solution is only continuous across the event.
-bool ModeDaeRun::EnterMode(double t, const LcsMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u) {
+bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u) {
   dae_.Enter(mode);
   std::string why;
   if (!dae_.MakeConsistent(x, u, why)) {
@@ -269,7 +262,7 @@ bool ModeDaeRun::EnterMode(double t, const LcsMode& mode, Eigen::VectorXd& x, Ei
     return Fail(IntegrationStatus::kNotIndexOne, message.str());
   }
   for (int j = 0; j < m_; ++j) {
-    if (mode[j] == Placement::kFree && dae_.zero_d_row(j)) {
+    if (mode[j] == BoundState::kFree && dae_.zero_d_row(j)) {
       ++differentiated_modes_;
       break;
     }
@@ -321,7 +314,7 @@ bool ModeDaeRun::EnterMode(double t, const LcsMode& mode, Eigen::VectorXd& x, Ei
 // u-rows) cannot be followed, so it goes back to its bound — the rate test
 // of a smooth solution of Sect. 5.3, taken one component at a time.
 bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                            const std::vector<bool>& leaving, LcsMode& mode, Eigen::VectorXd& u) {
+                            const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u) {
   std::vector<bool> degenerate;
   std::string why;
   if (!dae_.SelectMode(x, warm, leaving, options_.atol, options_.rtol, u_tolerance_,
@@ -331,9 +324,9 @@ bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::Vec
     return Fail(IntegrationStatus::kStepFailure, message.str());
   }
   if (std::find(degenerate.begin(), degenerate.end(), true) == degenerate.end()) return true;
-  const LcsMode at_bound = mode;
+  const BoxMode at_bound = mode;
   for (int j = 0; j < m_; ++j)
-    if (degenerate[j]) mode[j] = Placement::kFree;
+    if (degenerate[j]) mode[j] = BoundState::kFree;
   dae_.Enter(mode);
   Eigen::VectorXd x_free = x, u_free = u, rate;
   if (!dae_.MakeConsistent(x_free, u_free, why)) {
@@ -345,7 +338,7 @@ bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::Vec
   const Eigen::VectorXd& upper = dae_.upper();
   for (int j = 0; j < m_; ++j) {
     if (!degenerate[j]) continue;
-    const bool outward = at_bound[j] == Placement::kLower
+    const bool outward = at_bound[j] == BoundState::kLower
                              ? u_free(j) - lower(j) <= u_tolerance_ && rate(j) < 0
                              : upper(j) - u_free(j) <= u_tolerance_ && rate(j) > 0;
     if (outward) mode[j] = at_bound[j];
@@ -354,7 +347,7 @@ bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::Vec
 }
 
 bool ModeDaeRun::Start() {
-  LcsMode mode;
+  BoxMode mode;
   Eigen::VectorXd u;
   if (!ChooseMode(t0_, x0_, Eigen::VectorXd::Zero(m_), std::vector<bool>(m_, false), mode, u))
     return false;
@@ -371,13 +364,13 @@ bool ModeDaeRun::Start() {
 bool ModeDaeRun::HandleRoot(double t) {
   std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
   if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo")) return false;
-  const LcsMode old_mode = dae_.mode();
+  const BoxMode old_mode = dae_.mode();
   std::vector<bool> leaving(m_, false);
   for (int j = 0; j < m_; ++j)
-    leaving[j] = old_mode[j] != Placement::kFree && (roots[2 * j] != 0 || roots[2 * j + 1] != 0);
+    leaving[j] = old_mode[j] != BoundState::kFree && (roots[2 * j] != 0 || roots[2 * j + 1] != 0);
   const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
   Eigen::VectorXd x = y.head(n_);
-  LcsMode mode;
+  BoxMode mode;
   Eigen::VectorXd u;
   if (!ChooseMode(t, x, y.tail(m_), leaving, mode, u)) return false;
   if (mode == old_mode) {
@@ -403,8 +396,8 @@ bool ModeDaeRun::HandleRoot(double t) {
   modes_at_event_time_.push_back(mode);
   for (int j = 0; j < m_; ++j) {
     if (mode[j] == old_mode[j]) continue;
-    const EventKind kind = mode[j] == Placement::kLower   ? EventKind::kReachedLower
-                           : mode[j] == Placement::kUpper ? EventKind::kReachedUpper
+    const EventKind kind = mode[j] == BoundState::kLower   ? EventKind::kReachedLower
+                           : mode[j] == BoundState::kUpper ? EventKind::kReachedUpper
                                                           : EventKind::kLeftBound;
     trajectory_.events.push_back({t, kind, j});
   }
