@@ -14,6 +14,7 @@
 #include "dvi/time_stepping.hpp"
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
+#include "support/expect_throw.hpp"
 
 namespace dvi {
 namespace {
@@ -239,20 +240,31 @@ TEST(ModeDae, LargeLadderMatchesTimeSteppingToItsFirstOrderError) {
   EXPECT_NEAR(testing::FittedOrder(step_sizes, differences), 1.0, 0.05);
 }
 
+// Two ideal diodes clamping the same state, x' = −1 + u1 + u2 with
+// 0 ≤ u ⊥ (x, x) ≥ 0 (D = 0), started on the constraint: both rows are index
+// two with the same constraint x = 0, so in the mode where both carry current
+// the constraints are dependent and (5.8) = C B = [[1, 1], [1, 1]] singular.
 Lcs SingularModeLcs() {
-  // Both rows of D are u1 + u2: the LCP has the symmetric solution u = (½, ½)
-  // with both components free, where the mode matrix (5.8) = D is singular.
-  return Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 2),
-                    Eigen::MatrixXd::Ones(2, 1), Eigen::MatrixXd::Ones(2, 2), Eigen::VectorXd(),
-                    Eigen::VectorXd::Constant(2, -1.0));
+  return Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 2),
+                    Eigen::MatrixXd::Ones(2, 1), Eigen::MatrixXd::Zero(2, 2),
+                    Eigen::VectorXd::Constant(1, -1.0));
 }
 
 TEST(ModeDae, SingularModeMatrixIsAStatusWithAMessage) {
   const Trajectory result = IntegrateModeDae(SingularModeLcs(), Eigen::VectorXd::Zero(1), 0, 1);
-  EXPECT_EQ(result.status, IntegrationStatus::kNotIndexOne);
-  EXPECT_NE(result.message.find("(5.8) is singular"), std::string::npos) << result.message;
-  EXPECT_NE(result.message.find("t = 0"), std::string::npos) << result.message;
-  EXPECT_NE(result.message.find("mode ff"), std::string::npos) << result.message;
+  EXPECT_EQ(result.status, IntegrationStatus::kNotIndexOne) << result.message;
+  EXPECT_NE(result.message.find("at t = 0, mode ff"), std::string::npos) << result.message;
+  EXPECT_NE(result.message.find("linearly dependent"), std::string::npos) << result.message;
+}
+
+// A coupled D (both rows u1 + u2) is outside Theorem 5.3 with P_αα = I.
+TEST(ModeDae, CoupledDIsRejectedNamingTheEntry) {
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 2),
+                             Eigen::MatrixXd::Ones(2, 1), Eigen::MatrixXd::Ones(2, 2),
+                             Eigen::VectorXd(), Eigen::VectorXd::Constant(2, -1.0));
+  EXPECT_FALSE(ModeDaeApplies(lcs));
+  testing::ExpectThrowNaming([&] { IntegrateModeDae(lcs, Eigen::VectorXd::Zero(1), 0, 1); },
+                             "Lcs.D(");
 }
 
 TEST(ModeDae, LcpWithoutSolutionIsAStatusWithAMessage) {

@@ -43,13 +43,21 @@ struct ModeDaeOptions {
   void Validate() const;
 };
 
-/// Integrates the LCS from (t0, x0) to t_end; K must be a box. Numerical
+/// Whether IntegrateModeDae takes the LCS: K a box and D diagonal. Theorem
+/// 5.3 with P_αα = I differentiates the free rows of D that vanish on the
+/// free columns; for a diagonal D those are exactly its zero rows in every
+/// mode (circuits of ideal diodes with or without series resistance). A
+/// coupled D needs the rank-revealing row operations of IntegrateEventDriven.
+bool ModeDaeApplies(const Lcs& lcs);
+
+/// Integrates the LCS from (t0, x0) to t_end; ModeDaeApplies(lcs). Numerical
 /// failures (a singular mode matrix (5.8), an LCP not solved at an event,
 /// IDA's own failures by flag name) end the run with a status and a message
 /// naming the time and the condition; samples up to there are kept.
 /// Trajectory::stats.max_constraint_drift is the largest |(C x + q)_α₂| seen
 /// at accepted steps.
-/// @throws InvalidInputError on an invalid LCS, x0, t0/t_end or options.
+/// @throws InvalidInputError on an invalid LCS, x0, t0/t_end or options, a
+/// K that is not a box or a D that is not diagonal (naming an entry).
 Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
                             const ModeDaeOptions& options = {});
 

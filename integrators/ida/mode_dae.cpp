@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ida/ida.h>
@@ -462,6 +463,23 @@ Trajectory ModeDaeRun::Run() {
 
 }  // namespace
 
+namespace {
+
+// The first off-diagonal nonzero of D as (row, column), or (−1, −1).
+std::pair<int, int> OffDiagonalEntry(const SparseMatrix& D) {
+  for (int k = 0; k < D.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(D, k); it; ++it)
+      if (it.row() != it.col() && it.value() != 0)
+        return {static_cast<int>(it.row()), static_cast<int>(it.col())};
+  return {-1, -1};
+}
+
+}  // namespace
+
+bool ModeDaeApplies(const Lcs& lcs) {
+  return lcs.K.IsBox() && OffDiagonalEntry(lcs.D).first < 0;
+}
+
 Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
                             const ModeDaeOptions& options) {
   lcs.Validate();
@@ -469,6 +487,10 @@ Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0
   DVI_THROW_UNLESS(lcs.K.IsBox(),
                    "K: IntegrateModeDae needs a box K (orthant, box, whole "
                    "space or products of them)");
+  const auto [row, column] = OffDiagonalEntry(lcs.D);
+  DVI_THROW_UNLESS(row < 0, "Lcs.D(" << row << ", " << column << ") = " << lcs.D.coeff(row, column)
+                                     << ": IntegrateModeDae needs a diagonal D (Theorem 5.3 with "
+                                        "P_αα = I); use IntegrateEventDriven for a coupled D");
   DVI_THROW_UNLESS(x0.size() == lcs.n(),
                    "x0 has " << x0.size() << " entries, expected " << lcs.n());
   for (int i = 0; i < x0.size(); ++i)
