@@ -2,6 +2,7 @@
 #pragma once
 
 /// Umbrella header of dvi: everything a user of the library needs.
+#include "dvi/auto_driver.hpp"
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/convex_set.hpp"
 #include "dvi/cvode_rhs.hpp"

@@ -12,6 +12,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "dvi/auto_driver.hpp"
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "plot.hpp"
@@ -117,18 +118,27 @@ bool UsedMethod(const Trajectory& trajectory, const std::string& name) {
                      [&](const MethodInterval& interval) { return interval.name == name; });
 }
 
+// "2 intervals" / "1 interval" of the method.
+std::string IntervalCount(const Trajectory& trajectory, const std::string& name) {
+  const auto count = std::count_if(
+      trajectory.intervals.begin(), trajectory.intervals.end(),
+      [&](const MethodInterval& interval) { return interval.name == name; });
+  return std::to_string(count) + (count == 1 ? " interval" : " intervals");
+}
+
 void PrintSummary(const Scene& scene, const Trajectory& trajectory,
                   const std::vector<std::string>& files, std::ostream& out) {
   const IntegrationStats& stats = trajectory.stats;
   out << (scene.name.empty() ? std::string("scene") : scene.name) << " (" << scene.type
       << ", n = " << scene.n << ", " << scene.output_multipliers
-      << " multiplier columns): " << ToString(trajectory.status) << "\n";
+      << " multiplier columns): " << ToString(trajectory.status) << " to t = "
+      << Short(trajectory.final_time()) << "\n";
   if (UsedMethod(trajectory, "event"))
-    out << "  event-driven (" << ToString(scene.event.method) << ") to t = "
-        << Short(trajectory.final_time()) << " with rtol = " << Short(scene.event.rtol)
+    out << "  event-driven (" << ToString(scene.event.method) << ") on "
+        << IntervalCount(trajectory, "event") << " with rtol = " << Short(scene.event.rtol)
         << ", atol = " << Short(scene.event.atol) << "\n";
   if (UsedMethod(trajectory, "stepping"))
-    out << "  time-stepping to t = " << Short(trajectory.final_time())
+    out << "  time-stepping on " << IntervalCount(trajectory, "stepping")
         << " with h = " << Short(scene.stepping.h) << ", theta = " << Short(scene.stepping.theta)
         << ", gamma = " << Short(scene.stepping.gamma) << "\n";
   out << "  " << stats.steps << " steps (" << stats.rejected_steps << " rejected), "
@@ -154,12 +164,58 @@ Trajectory IntegrateStepping(const Scene& scene, std::function<void(double t)> p
       scene.problem);
 }
 
+// Calls integrate(problem) with the scene's problem as an Lcs or a Dvi, the
+// forms event-driven integration takes: a filippov scene in f0/f1/h form as
+// the Dvi of its separable DVI (s ∈ SOL([−1, 1]ᵏ, −h)), the matrix form is
+// already the LCS (4.2). A pds scene has no such form.
+template <typename Integrate>
+Trajectory WithEventDrivenForm(const Scene& scene, Integrate integrate) {
+  return std::visit(
+      [&](const auto& problem) -> Trajectory {
+        using Problem = std::decay_t<decltype(problem)>;
+        if constexpr (std::is_same_v<Problem, FilippovSystem>) {
+          return integrate(problem.ToSeparable().ToDvi());
+        } else if constexpr (std::is_same_v<Problem, ProjectedDynamics>) {
+          throw InputError("method: " + EventDrivenMismatch(WhyNotEventDriven(scene)));
+        } else {
+          return integrate(problem);
+        }
+      },
+      scene.problem);
+}
+
 Trajectory IntegrateEvent(const Scene& scene) {
   EventDrivenOptions options = scene.event;
   options.output_times = OutputTimes(scene);
-  if (const Lcs* lcs = std::get_if<Lcs>(&scene.problem))
-    return IntegrateEventDriven(*lcs, scene.x0, 0.0, scene.horizon, options);
-  return IntegrateEventDriven(std::get<Dvi>(scene.problem), scene.x0, 0.0, scene.horizon, options);
+  return WithEventDrivenForm(scene, [&](const auto& problem) {
+    return IntegrateEventDriven(problem, scene.x0, 0.0, scene.horizon, options);
+  });
+}
+
+// dvi::IntegrateAuto on the scene; pds scenes, which it does not take, are
+// stepped throughout.
+Trajectory IntegrateAutomatically(const Scene& scene, std::function<void(double t)> progress) {
+  if (const std::string why = WhyNotEventDriven(scene); !why.empty()) {
+    Trajectory stepping = IntegrateStepping(scene, std::move(progress));
+    for (MethodInterval& interval : stepping.intervals)
+      interval.reason = "not event-driven, as " + why + "; " + interval.reason;
+    return stepping;
+  }
+  if (std::holds_alternative<FilippovSystem>(scene.problem) &&
+      scene.stepping.scheme == SteppingScheme::kSeparable)
+    throw InputError("method.scheme: \"7.2\" needs the separable form, but auto integrates a "
+                     "filippov scene in f0/f1/h form as a DVI (use \"3.3\", \"3.4\" or the "
+                     "method \"stepping\")");
+  AutoOptions options;
+  options.event = scene.event;
+  options.event.output_times = OutputTimes(scene);
+  options.stepping = scene.stepping;
+  options.stepping.progress = std::move(progress);
+  options.stepping_window = scene.stepping_window;
+  options.max_handovers = scene.max_handovers;
+  return WithEventDrivenForm(scene, [&](const auto& problem) {
+    return IntegrateAuto(problem, scene.x0, 0.0, scene.horizon, options);
+  });
 }
 
 }  // namespace
@@ -202,28 +258,7 @@ void ApplyOverrides(const RunCommand& command, Scene& scene) {
 Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress) {
   if (scene.method == "stepping") return IntegrateStepping(scene, std::move(progress));
   if (scene.method == "event") return IntegrateEvent(scene);
-  // auto: event-driven where it applies and the integrator finds index one
-  // at t = 0 (Theorem 5.1 or Sect. 5.3); time-stepping, which converges
-  // without index one (Sects. 7-8), everywhere else.
-  std::string why_stepping;
-  if (const std::string why = WhyNotEventDriven(scene); !why.empty()) {
-    why_stepping = "not event-driven, as " + why;
-  } else {
-    Trajectory event = IntegrateEvent(scene);
-    if (event.succeeded()) {
-      for (MethodInterval& interval : event.intervals)
-        interval.reason = "auto: event-driven, " + interval.reason;
-      return event;
-    }
-    why_stepping = event.times.empty()
-                       ? "event-driven refused at t = 0 (" + event.message + ")"
-                       : "event-driven stopped at t = " + Short(event.final_time()) + " (" +
-                             event.message + "), so time-stepping reran the whole horizon";
-  }
-  Trajectory stepping = IntegrateStepping(scene, std::move(progress));
-  for (MethodInterval& interval : stepping.intervals)
-    interval.reason = "auto: time-stepping, " + why_stepping + "; " + interval.reason;
-  return stepping;
+  return IntegrateAutomatically(scene, std::move(progress));
 }
 
 std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory) {
@@ -281,6 +316,7 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
                       {"jacobian_evals", stats.jacobian_evals},
                       {"solver_iterations", stats.solver_iterations},
                       {"max_residual", NumberToJson(stats.max_residual)},
+                      {"max_constraint_drift", NumberToJson(stats.max_constraint_drift)},
                       {"wall_seconds", stats.wall_seconds}};
   summary["x_final"] =
       VectorToJson(trajectory.states.empty() ? Eigen::VectorXd() : trajectory.states.back());

@@ -30,12 +30,11 @@ void ApplyOverrides(const RunCommand& command, Scene& scene);
 
 /// Integrates the scene by its method, sampling OutputTimes(scene) (plus
 /// the event times): "stepping" with dvi::IntegrateTimeStepping, "event"
-/// with dvi::IntegrateEventDriven (a refusal, e.g. not index one at t = 0,
-/// is the returned status). "auto" runs event-driven where WhyNotEventDriven
-/// allows it, and time-stepping over the whole horizon where it does not or
-/// where event-driven stops (refused at t = 0, or failed later, e.g.
-/// chattering); each interval's reason says which and why. `progress` is
-/// called by time-stepping only.
+/// with dvi::IntegrateEventDriven (a filippov scene in f0/f1/h form as the
+/// Dvi of its separable DVI; a refusal, e.g. events accumulating, is the
+/// returned status), "auto" with dvi::IntegrateAuto (pds scenes, which it
+/// does not take, stepped throughout); each interval's reason says which
+/// method ran and why. `progress` is called by time-stepping only.
 /// @throws InvalidInputError when the library rejects the problem or x0.
 Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress = {});
 

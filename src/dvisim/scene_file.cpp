@@ -2,6 +2,7 @@
 #include "scene_file.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -374,6 +375,19 @@ void ReadMethodFields(const json& method, Scene& scene) {
     event.method = ReadOdeMethod(*ode, Field(path, "ode"));
   if (const json* max_events = FindField(method, "max_events"))
     event.max_events = ReadCount(*max_events, Field(path, "max_events"));
+  if (const json* window = FindField(method, "stepping_window")) {
+    scene.stepping_window = ReadPositive(*window, Field(path, "stepping_window"));
+    if (scene.stepping_window > 1)
+      Fail(Field(path, "stepping_window"), "expected a number in (0, 1], got " + Describe(*window));
+  }
+  if (const json* max_handovers = FindField(method, "max_handovers")) {
+    const long count = ReadCount(*max_handovers, Field(path, "max_handovers"));
+    if (count > std::numeric_limits<int>::max())
+      Fail(Field(path, "max_handovers"), "expected at most " +
+                                             std::to_string(std::numeric_limits<int>::max()) +
+                                             ", got " + Describe(*max_handovers));
+    scene.max_handovers = static_cast<int>(count);
+  }
 }
 
 void ReadMethod(const json* method, Scene& scene) {
@@ -386,7 +400,8 @@ void ReadMethod(const json* method, Scene& scene) {
     RequireObject(*method, path);
     RejectUnknownFields(*method, path,
                         {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
-                         "h_max", "max_steps", "solver", "tol", "ode", "max_events"});
+                         "h_max", "max_steps", "solver", "tol", "ode", "max_events",
+                         "stepping_window", "max_handovers"});
     if (const json* name = FindField(*method, "name")) {
       if (!name->is_string())
         Fail(Field(path, "name"), "expected a string, got " + Describe(*name));
@@ -448,21 +463,16 @@ void ReadOutput(const json* output, Scene& scene) {
 }  // namespace
 
 std::string EventDrivenMismatch(const std::string& why) {
-  return "\"event\" needs an index-one DVI on a box (an lcs, dvi or box-dvi scene, Sect. 5); " +
+  return "\"event\" needs a DVI with a multiplier u (an lcs, dvi, box-dvi or filippov scene, "
+         "Sect. 5); " +
          why + " (use \"auto\" or \"stepping\")";
 }
 
 std::string WhyNotEventDriven(const Scene& scene) {
+  // Any K of an lcs or dvi: a box directly, other sets through their KKT
+  // system (event_driven.hpp).
   if (scene.type == "pds")
-    return "a pds scene is not index one: its VI is in x itself, x' ∈ −F(x) − N(x; K), with no "
-           "multiplier u for F to depend on";
-  if (scene.type == "filippov")
-    return "a filippov scene is not index one: s ∈ Sgn(h(x)) is set-valued on h = 0, where a "
-           "sliding solution's s is no function of x";
-  const ConvexSet& K = std::holds_alternative<Lcs>(scene.problem)
-                           ? std::get<Lcs>(scene.problem).K
-                           : std::get<Dvi>(scene.problem).K;
-  if (!K.IsBox()) return "its set K = " + K.Describe() + " is not a box";
+    return "a pds scene has no multiplier u: its VI is in x itself, x' ∈ −F(x) − N(x; K)";
   return "";
 }
 

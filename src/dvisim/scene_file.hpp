@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/lcs.hpp"
@@ -47,13 +48,17 @@ struct Scene {
   int output_multipliers = 0;  ///< u columns of trajectory.csv (s for filippov, ν for pds).
   Eigen::VectorXd x0;
   double horizon = 0;
-  /// "auto", "stepping" (IntegrateTimeStepping) or "event"
-  /// (IntegrateEventDriven); auto takes event where it applies and the
-  /// integrator finds index one at t = 0, stepping otherwise (and over the
-  /// whole horizon when event stops later).
+  /// "auto" (IntegrateAuto: event-driven where the state allows it,
+  /// time-stepping over the intervals where it does not; pds scenes are
+  /// stepped throughout), "stepping" (IntegrateTimeStepping) or "event"
+  /// (IntegrateEventDriven).
   std::string method = "auto";
   TimeSteppingOptions stepping;  ///< h, θ, γ and the extras, defaults resolved.
   EventDrivenOptions event;      ///< rtol, atol and the extras, defaults resolved.
+  /// auto's own options (AutoOptions): the time-stepping window relative
+  /// to the horizon, and the limit on hand-overs to time-stepping.
+  double stepping_window = AutoOptions().stepping_window;
+  int max_handovers = AutoOptions().max_handovers;
   SceneOutput output;
 };
 
@@ -63,8 +68,9 @@ struct Scene {
 std::vector<double> OutputTimes(const Scene& scene);
 
 /// Why event-driven integration does not apply to the scene's problem, ""
-/// when it does: it needs an lcs, dvi or box-dvi scene whose set is a box
-/// (index one then still depends on the state, which the integrator checks).
+/// when it does: it needs an lcs, dvi, box-dvi or filippov scene, whose
+/// multiplier u the modes are made of (whether a mode is index one or
+/// reducible depends on the state, which the integrator checks).
 std::string WhyNotEventDriven(const Scene& scene);
 /// The message for a request of "event" that WhyNotEventDriven refuses:
 /// what the method needs, `why`, and what to use instead.

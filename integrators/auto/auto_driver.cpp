@@ -1,0 +1,316 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/auto_driver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "check.hpp"
+#include "dvi/mode_dae.hpp"
+
+namespace dvi {
+
+void AutoOptions::Validate() const {
+  // The nested options name their own fields; the prefix says which set.
+  try {
+    event.Validate();
+  } catch (const InvalidInputError& error) {
+    throw InvalidInputError(std::string("AutoOptions.event.") + error.what());
+  }
+  TimeSteppingOptions stepping_checked = stepping;
+  stepping_checked.output_times.clear();  // ignored: event.output_times serve both
+  try {
+    stepping_checked.Validate();
+  } catch (const InvalidInputError& error) {
+    throw InvalidInputError(std::string("AutoOptions.stepping.") + error.what());
+  }
+  DVI_THROW_UNLESS(std::isfinite(stepping_window) && stepping_window > 0 && stepping_window <= 1,
+                   "AutoOptions.stepping_window: " << stepping_window << " is outside (0, 1]");
+  DVI_THROW_UNLESS(max_handovers > 0,
+                   "AutoOptions.max_handovers: " << max_handovers << " is not positive");
+}
+
+namespace {
+
+// An LCS this large (n + m) runs its event-driven intervals as mode DAEs on
+// IDA with KLU (mode_dae.hpp): the dense CVODE path costs O((n + m)³) per
+// Jacobian and mode selection, the sparse one about O(n + m) (100 clamps
+// x' = −k + u: 4.4 s on CVODE, 0.06 s on IDA).
+constexpr int kModeDaeMinSize = 200;
+// A Zeno sequence needs at least this many shrinking gaps between event
+// times: fewer do not tell a geometric sequence from a coincidence.
+constexpr int kMinZenoGaps = 6;
+// Consecutive gap ratios of a Zeno sequence lie within this factor of their
+// median: root-found event times carry errors near round-off, so while the
+// gaps are far above it a truly geometric sequence has ratios equal to many
+// digits; 10 % also accepts the slow drift of a nonlinear system's ratio.
+constexpr double kRatioSpread = 1.1;
+// Event times closer than this (relative to |t| + horizon) are one time:
+// several components of u switch at one crossing.
+constexpr double kSameTimeFraction = 1e-12;
+
+// Runs event-driven integration from (t, x) to the end; runs time-stepping
+// from (t_a, x_a) to t_b. Both sample `outputs`.
+using EventMethod =
+    std::function<Trajectory(double t, const Eigen::VectorXd& x, std::vector<double> outputs)>;
+using SteppingMethod = std::function<Trajectory(double t_a, const Eigen::VectorXd& x_a, double t_b,
+                                                std::vector<double> outputs)>;
+
+std::string Fixed(double value, int digits) {
+  std::ostringstream text;
+  text.precision(digits);
+  text << std::fixed << value;
+  return text.str();
+}
+
+std::string Short(double value) {
+  std::ostringstream text;
+  text.precision(8);
+  text << value;
+  return text.str();
+}
+
+// The requested times in [from, to] (from excluded when `open_start`),
+// strictly increasing, as time-stepping requires.
+std::vector<double> Clip(const std::vector<double>& times, double from, double to,
+                         bool open_start) {
+  std::vector<double> clipped;
+  for (const double t : times) {
+    if (t > to || t < from || (open_start && t == from)) continue;
+    if (clipped.empty() || t > clipped.back()) clipped.push_back(t);
+  }
+  return clipped;
+}
+
+// A geometric sequence of event times t_k (Zeno behaviour): the gaps
+// Δ_k = t_{k+1} − t_k shrink with a near-constant ratio r < 1, so they sum to
+// a finite accumulation time t* = t_last + Δ_last (r + r² + …)
+// = t_last + Δ_last·r/(1 − r).
+struct ZenoPrediction {
+  bool found = false;
+  int times = 0;  // distinct event times in the run
+  int gaps = 0;   // trailing gaps that fit the sequence
+  double ratio = 0;
+  double accumulation_time = 0;
+};
+
+ZenoPrediction PredictAccumulation(const std::vector<Event>& events, double same_time) {
+  std::vector<double> times;
+  for (const Event& event : events)
+    if (times.empty() || event.time - times.back() > same_time) times.push_back(event.time);
+  ZenoPrediction prediction;
+  prediction.times = static_cast<int>(times.size());
+  if (prediction.times < kMinZenoGaps + 1) return prediction;
+  std::vector<double> gaps(times.size() - 1);
+  for (std::size_t k = 0; k + 1 < times.size(); ++k) gaps[k] = times[k + 1] - times[k];
+  std::vector<double> ratios(gaps.size() - 1);
+  for (std::size_t k = 0; k + 1 < gaps.size(); ++k) ratios[k] = gaps[k + 1] / gaps[k];
+  // The median of the last kMinZenoGaps − 1 ratios is the reference; the
+  // sequence extends back while the ratios stay near it.
+  std::vector<double> last(ratios.end() - (kMinZenoGaps - 1), ratios.end());
+  std::nth_element(last.begin(), last.begin() + last.size() / 2, last.end());
+  const double reference = last[last.size() / 2];
+  if (!(reference < 1)) return prediction;
+  const auto fits = [&](double ratio) {
+    return ratio <= reference * kRatioSpread && ratio >= reference / kRatioSpread;
+  };
+  std::size_t first = ratios.size();
+  while (first > 0 && fits(ratios[first - 1])) --first;
+  const int fitted = static_cast<int>(ratios.size() - first);
+  if (fitted < kMinZenoGaps - 1) return prediction;
+  // The geometric mean of the fitted ratios, from the first and last gaps.
+  const double ratio = std::pow(gaps.back() / gaps[first], 1.0 / fitted);
+  if (!(ratio < 1)) return prediction;
+  prediction.found = true;
+  prediction.gaps = fitted + 1;
+  prediction.ratio = ratio;
+  prediction.accumulation_time = times.back() + gaps.back() * ratio / (1 - ratio);
+  return prediction;
+}
+
+// Appends a part of the run: samples (a junction sample at the same time is
+// replaced by the part's, whose u is the right limit), events, step records
+// and statistics.
+void Append(Trajectory& whole, Trajectory&& part) {
+  if (!part.times.empty()) {
+    while (!whole.times.empty() && whole.times.back() >= part.times.front()) {
+      whole.times.pop_back();
+      whole.states.pop_back();
+      whole.multipliers.pop_back();
+    }
+    whole.times.insert(whole.times.end(), part.times.begin(), part.times.end());
+    whole.states.insert(whole.states.end(), std::make_move_iterator(part.states.begin()),
+                        std::make_move_iterator(part.states.end()));
+    whole.multipliers.insert(whole.multipliers.end(),
+                             std::make_move_iterator(part.multipliers.begin()),
+                             std::make_move_iterator(part.multipliers.end()));
+  }
+  whole.events.insert(whole.events.end(), part.events.begin(), part.events.end());
+  whole.step_log.insert(whole.step_log.end(), part.step_log.begin(), part.step_log.end());
+  IntegrationStats& sum = whole.stats;
+  const IntegrationStats& add = part.stats;
+  sum.steps += add.steps;
+  sum.rejected_steps += add.rejected_steps;
+  sum.rhs_evals += add.rhs_evals;
+  sum.jacobian_evals += add.jacobian_evals;
+  sum.vi_solves += add.vi_solves;
+  sum.solver_iterations += add.solver_iterations;
+  sum.max_residual = std::max(sum.max_residual, add.max_residual);
+  sum.max_constraint_drift = std::max(sum.max_constraint_drift, add.max_constraint_drift);
+  whole.status = part.status;
+  whole.message = std::move(part.message);
+}
+
+// The method's own account of the part (index one by which test, the
+// stepping scheme), or `fallback`.
+std::string OwnReason(const Trajectory& part, const std::string& fallback) {
+  return part.intervals.empty() ? fallback : part.intervals.front().reason;
+}
+
+// The loop of the automatic driver: event-driven from the current state;
+// where it fails, time-stepping over a window (past the predicted
+// accumulation time of a Zeno sequence), then event-driven again.
+Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
+                 const Eigen::VectorXd& x0, double t0, double t_end, const AutoOptions& options) {
+  const double horizon = t_end - t0;
+  const double same_time = kSameTimeFraction * (std::abs(t_end) + horizon);
+  const double base_window = options.stepping_window * horizon;
+  const std::vector<double>& outputs = options.event.output_times;
+  Trajectory whole;
+  double t = t0;
+  Eigen::VectorXd x = x0;
+  double window = base_window;
+  int handovers = 0;
+  while (true) {
+    Trajectory run = event(t, x, Clip(outputs, t, t_end, false));
+    const bool succeeded = run.succeeded();
+    // The part the run integrated well: all of its samples (its last is the
+    // state where it stopped, located by CVODE / IDA).
+    const double t_a = run.times.empty() ? t : run.times.back();
+    const Eigen::VectorXd x_a = run.times.empty() ? x : run.states.back();
+    if (t_a > t) {
+      whole.intervals.push_back({t, t_a, "event",
+                                 (t > t0 ? "back to event-driven after time-stepping; " : "") +
+                                     OwnReason(run, "event-driven")});
+    }
+    const ZenoPrediction zeno =
+        succeeded ? ZenoPrediction() : PredictAccumulation(run.events, same_time);
+    const std::string failure = run.message;
+    // A retry that fails again before covering the window made no progress:
+    // the trouble is wider than the window, so the next one doubles.
+    if (t > t0) window = t_a - t < window ? 2 * window : base_window;
+    Append(whole, std::move(run));
+    if (succeeded || t_end - t_a <= same_time) return whole;
+
+    ++handovers;
+    std::string reason;
+    double t_b;
+    if (zeno.found) {
+      reason = "Zeno: " + std::to_string(zeno.times) + " event times, the last " +
+               std::to_string(zeno.gaps) + " gaps with ratio " + Fixed(zeno.ratio, 3) +
+               ", accumulation predicted at t* = " + Fixed(zeno.accumulation_time, 7) +
+               " (event-driven stopped at t = " + Short(t_a) + ": " + failure + ")";
+      t_b = std::min(t_end, std::max(zeno.accumulation_time, t_a) + window);
+    } else {
+      reason = "event-driven stopped at t = " + Short(t_a) + ": " + failure;
+      t_b = std::min(t_end, t_a + window);
+    }
+    if (handovers >= options.max_handovers) {
+      reason += "; max_handovers = " + std::to_string(options.max_handovers) +
+                " reached, so time-stepping to the end";
+      t_b = t_end;
+    }
+    Trajectory steps = stepping(t_a, x_a, t_b, Clip(outputs, t_a, t_b, true));
+    const bool stepped = steps.succeeded();
+    const double t_stepped = steps.times.empty() ? t_a : steps.times.back();
+    x = steps.times.empty() ? x_a : steps.states.back();
+    whole.intervals.push_back(
+        {t_a, t_stepped, "stepping", reason + "; " + OwnReason(steps, "time-stepping")});
+    Append(whole, std::move(steps));
+    if (!stepped || t_b >= t_end) return whole;
+    t = t_b;
+  }
+}
+
+void CheckStart(int n, const Eigen::VectorXd& x0, double t0, double t_end) {
+  DVI_THROW_UNLESS(x0.size() == n, "x0 has " << x0.size() << " entries, expected " << n);
+  for (Eigen::Index i = 0; i < x0.size(); ++i)
+    DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
+  DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
+                   "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
+}
+
+template <typename Problem>
+SteppingMethod SteppingOf(const Problem& problem, const AutoOptions& options) {
+  return [&problem, &options](double t_a, const Eigen::VectorXd& x_a, double t_b,
+                              std::vector<double> outputs) {
+    TimeSteppingOptions stepping = options.stepping;
+    stepping.output_times = std::move(outputs);
+    return IntegrateTimeStepping(problem, x_a, t_a, t_b, stepping);
+  };
+}
+
+// Times the whole call: the parts' own wall_seconds leave out the driver.
+template <typename Integrate>
+Trajectory Timed(Integrate integrate) {
+  const auto start = std::chrono::steady_clock::now();
+  Trajectory trajectory = integrate();
+  trajectory.stats.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return trajectory;
+}
+
+}  // namespace
+
+Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
+                         const AutoOptions& options) {
+  dvi.Validate();
+  options.Validate();
+  CheckStart(dvi.n, x0, t0, t_end);
+  return Timed([&] {
+    const SteppingMethod stepping = SteppingOf(dvi, options);
+    const EventMethod event = [&](double t, const Eigen::VectorXd& x, std::vector<double> outputs) {
+      EventDrivenOptions event_options = options.event;
+      event_options.output_times = std::move(outputs);
+      return IntegrateEventDriven(dvi, x, t, t_end, event_options);
+    };
+    return Drive(event, stepping, x0, t0, t_end, options);
+  });
+}
+
+Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                         const AutoOptions& options) {
+  lcs.Validate();
+  options.Validate();
+  CheckStart(lcs.n(), x0, t0, t_end);
+  return Timed([&] {
+    const SteppingMethod stepping = SteppingOf(lcs, options);
+    const EventDrivenOptions& from = options.event;
+    const bool mode_dae = from.solver.allow_sparse && lcs.n() + lcs.m() >= kModeDaeMinSize &&
+                          ModeDaeApplies(lcs);
+    const EventMethod event = [&](double t, const Eigen::VectorXd& x, std::vector<double> outputs) {
+      if (mode_dae) {
+        ModeDaeOptions dae;
+        dae.rtol = from.rtol;
+        dae.atol = from.atol;
+        dae.max_steps = from.max_steps;
+        dae.h_max = from.h_max;
+        dae.output_times = std::move(outputs);
+        dae.max_events = from.max_events;
+        dae.solver = from.solver;
+        return IntegrateModeDae(lcs, x, t, t_end, dae);
+      }
+      EventDrivenOptions event_options = from;
+      event_options.output_times = std::move(outputs);
+      return IntegrateEventDriven(lcs, x, t, t_end, event_options);
+    };
+    return Drive(event, stepping, x0, t0, t_end, options);
+  });
+}
+
+}  // namespace dvi

@@ -1,0 +1,353 @@
+// SPDX-License-Identifier: Apache-2.0
+// The automatic driver (method `auto`): event-driven integration where the
+// state allows it, time-stepping over Zeno and chattering intervals, the
+// intervals and their reasons, and the merge of the parts.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dvi/auto_driver.hpp"
+#include "dvi/filippov.hpp"
+#include "support/convergence.hpp"
+#include "support/expect_throw.hpp"
+#include "support/reference_dvis.hpp"
+
+namespace dvi {
+namespace {
+
+using testing::ExpectThrowNaming;
+using testing::Linspace;
+using testing::MaxStateError;
+
+std::string Scientific(double value) {
+  std::ostringstream text;
+  text << std::scientific << std::setprecision(3) << value;
+  return text.str();
+}
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Times strictly increasing, one state and multiplier per time, events in
+// time order, intervals adjacent and covering [t0, t_end].
+void ExpectWellFormed(const Trajectory& trajectory, double t0, double t_end) {
+  ASSERT_FALSE(trajectory.times.empty());
+  EXPECT_EQ(trajectory.times.front(), t0);
+  EXPECT_EQ(trajectory.times.back(), t_end);
+  EXPECT_EQ(trajectory.states.size(), trajectory.times.size());
+  EXPECT_EQ(trajectory.multipliers.size(), trajectory.times.size());
+  for (std::size_t k = 1; k < trajectory.times.size(); ++k)
+    ASSERT_LT(trajectory.times[k - 1], trajectory.times[k]) << "sample " << k;
+  for (std::size_t k = 1; k < trajectory.events.size(); ++k)
+    ASSERT_LE(trajectory.events[k - 1].time, trajectory.events[k].time) << "event " << k;
+  ASSERT_FALSE(trajectory.intervals.empty());
+  EXPECT_EQ(trajectory.intervals.front().from, t0);
+  EXPECT_EQ(trajectory.intervals.back().to, t_end);
+  for (std::size_t k = 1; k < trajectory.intervals.size(); ++k)
+    EXPECT_EQ(trajectory.intervals[k].from, trajectory.intervals[k - 1].to) << "interval " << k;
+}
+
+// Siconos' tutorial Filippov spiral x' = Bλ, λ ∈ −Sgn(x),
+// B = 2[[1, −(1+c)], [1+c, 1]], as x' = E sgn(x) with E = −B through (4.2).
+// With V = |x1| + |x2|, V' = −4 in every open quadrant (in the first,
+// x' = 2(c, −(2+c)); the others by symmetry), so from x0 = (3, 3) the
+// solution reaches the origin at exactly t* = V(x0)/4 = 1.5 and stays. Each
+// quarter turn takes Δ = V/(2(c+2)) and leaves V·c/(c+2): the switching
+// times form a geometric sequence with ratio c/(c+2) = 25/27 (Zeno).
+constexpr double kSpiralC = 25;
+constexpr double kSpiralArrival = 1.5;
+
+Lcs FilippovSpiral() {
+  Eigen::Matrix2d B;
+  B << 1, -(1 + kSpiralC), 1 + kSpiralC, 1;
+  return FilippovSignLcs(-2 * B);
+}
+
+// V(t) = max(6 − 4t, 0) from x0 = (3, 3).
+double SpiralLyapunov(double t) { return std::max(6 - 4 * t, 0.0); }
+
+AutoOptions SpiralOptions() {
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.stepping.h = 1e-4;
+  options.event.output_times = Linspace(0, 2, 401);
+  return options;
+}
+
+TEST(AutoDriver, EventDrivenAloneStopsBeforeTheSpiralsAccumulationWithAMessage) {
+  const auto start = std::chrono::steady_clock::now();
+  const Trajectory trajectory =
+      IntegrateEventDriven(FilippovSpiral(), Eigen::Vector2d(3, 3), 0, 2, SpiralOptions().event);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kEventAccumulation) << trajectory.message;
+  EXPECT_FALSE(trajectory.message.empty());
+  EXPECT_LT(trajectory.final_time(), kSpiralArrival);
+  EXPECT_GT(trajectory.events.size(), 20u);
+  EXPECT_LT(seconds, 1.0);
+  RecordProperty("message", trajectory.message);
+  RecordProperty("stopped_at", std::to_string(trajectory.final_time()));
+}
+
+TEST(AutoDriver, SpiralHandsTheZenoIntervalToTimeSteppingAndEndsAtTheOrigin) {
+  const AutoOptions options = SpiralOptions();
+  const Eigen::Vector2d x0(3, 3);
+  const Trajectory trajectory = IntegrateAuto(FilippovSpiral(), x0, 0, 2, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 2);
+  EXPECT_EQ(trajectory.intervals.front().name, "event");
+  const auto zeno = std::find_if(
+      trajectory.intervals.begin(), trajectory.intervals.end(), [](const MethodInterval& i) {
+        // The gaps' ratio is c/(c+2) to round-off, so t* comes out to
+        // the printed 7 digits.
+        return i.name == "stepping" && Contains(i.reason, "Zeno") &&
+               Contains(i.reason, "accumulation predicted at t* = 1.5000000");
+      });
+  ASSERT_NE(zeno, trajectory.intervals.end());
+  EXPECT_LT(zeno->from, kSpiralArrival);
+  // It ends a window past the predicted t* (measured 1.6e-11 from 1.5).
+  EXPECT_NEAR(zeno->to, kSpiralArrival + options.stepping_window * 2, 1e-9);
+  // Then event-driven integration again: the origin is a sliding mode of
+  // both switching lines, reduced by Theorem 5.3.
+  EXPECT_EQ(trajectory.intervals.back().name, "event");
+  EXPECT_EQ(trajectory.intervals.back().from, zeno->to);
+  // Time-stepping records the mode changes it steps through as events.
+  const auto stepped_events =
+      std::count_if(trajectory.events.begin(), trajectory.events.end(), [&](const Event& event) {
+        return event.time > zeno->from && event.time <= zeno->to;
+      });
+  EXPECT_GT(stepped_events, 0);
+  RecordProperty("zeno_reason", zeno->reason);
+  RecordProperty("zeno_interval_end", Scientific(zeno->to));
+  RecordProperty("stepped_events", std::to_string(stepped_events));
+
+  // After the arrival x stays at the origin: backward Euler lands on it
+  // (|x| ≤ 4h away from it, one step of the relay reaches it), and the
+  // event-driven sliding mode at x = 0 keeps x' = 0. Round-off only.
+  double after = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
+    if (trajectory.times[k] >= 1.55) after = std::max(after, trajectory.states[k].norm());
+  EXPECT_LE(after, 1e-12);
+  // Before it, V = |x1| + |x2| follows 6 − 4t to the accuracy of CVODE at
+  // rtol 1e-10 (global error about 10·rtol·|x|).
+  double lyapunov_error = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
+    if (trajectory.times[k] <= zeno->from)
+      lyapunov_error = std::max(lyapunov_error, std::abs(trajectory.states[k].lpNorm<1>() -
+                                                         SpiralLyapunov(trajectory.times[k])));
+  EXPECT_LE(lyapunov_error, 1e-9);
+
+  // Up to the hand-over the run is the event-driven one: the same call with
+  // the same options, so the samples are identical.
+  const Trajectory event_only = IntegrateEventDriven(FilippovSpiral(), x0, 0, 2, options.event);
+  double difference = 0;
+  for (const double t : Linspace(0, 1.2, 241))
+    difference = std::max(difference, (trajectory.StateAt(t) - event_only.StateAt(t)).norm());
+  EXPECT_EQ(difference, 0.0);
+  RecordProperty("max_norm_after_1.55", Scientific(after));
+  RecordProperty("lyapunov_error", Scientific(lyapunov_error));
+  RecordProperty("difference_to_event_only", Scientific(difference));
+}
+
+TEST(AutoDriver, IndexOneProblemRunsEventDrivenThroughout) {
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.event.output_times = Linspace(0, 5, 201);
+  const Trajectory trajectory =
+      IntegrateAuto(testing::SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 5);
+  ASSERT_EQ(trajectory.intervals.size(), 1u);
+  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "index one"))
+      << trajectory.intervals[0].reason;
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_NEAR(trajectory.events[0].time, 2.0, 1e-9);
+  EXPECT_LE(MaxStateError(trajectory, testing::SaturatedDecayExact), 1e-8);
+  EXPECT_TRUE(trajectory.step_log.empty());
+  EXPECT_GT(trajectory.stats.steps, 0);
+  EXPECT_GE(trajectory.stats.wall_seconds, 0.0);
+}
+
+// Event-driven runs limited to one CVODE step each (max_steps = 1) stop
+// with kMaxSteps after their first step (sampled: no output_times), so
+// every retry fails again without progress.
+AutoOptions OneStepEventRuns() {
+  AutoOptions options;
+  options.event.max_steps = 1;
+  options.stepping.h = 1e-3;
+  return options;
+}
+
+TEST(AutoDriver, EachRetryWithoutProgressDoublesTheSteppingWindow) {
+  const AutoOptions options = OneStepEventRuns();
+  const Trajectory trajectory =
+      IntegrateAuto(testing::SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 5);
+  std::vector<const MethodInterval*> stepping;
+  for (std::size_t k = 0; k < trajectory.intervals.size(); ++k) {
+    const MethodInterval& interval = trajectory.intervals[k];
+    // Event-driven and time-stepping alternate, starting with the former.
+    EXPECT_EQ(interval.name, k % 2 == 0 ? "event" : "stepping") << "interval " << k;
+    if (interval.name != "stepping") continue;
+    stepping.push_back(&interval);
+    EXPECT_TRUE(Contains(interval.reason, "max_steps = 1 reached")) << interval.reason;
+    EXPECT_TRUE(Contains(interval.reason, "scheme (3.3)")) << interval.reason;
+  }
+  // Windows 0.05, 0.1, 0.2, ... of the horizon 5: seven reach t = 5.
+  ASSERT_EQ(stepping.size(), 7u);
+  const double base = options.stepping_window * 5;
+  for (std::size_t k = 0; k + 1 < stepping.size(); ++k)
+    EXPECT_NEAR(stepping[k]->to - stepping[k]->from, base * std::pow(2.0, k), 1e-12) << k;
+  EXPECT_EQ(stepping.back()->to, 5.0);
+  // Backward Euler at h = 1e-3 over most of the horizon: first order, the
+  // error about 0.2·h (measured 1.84e-4), as a run stepped throughout.
+  const double error = MaxStateError(trajectory, testing::SaturatedDecayExact);
+  EXPECT_LE(error, 3e-4);
+  EXPECT_GT(trajectory.step_log.size(), 4000u);
+  RecordProperty("max_error", Scientific(error));
+}
+
+TEST(AutoDriver, MaxHandoversStepsToTheEndAndSaysSo) {
+  AutoOptions options = OneStepEventRuns();
+  options.max_handovers = 2;
+  const Trajectory trajectory =
+      IntegrateAuto(testing::SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 5);
+  ASSERT_EQ(trajectory.intervals.size(), 4u);
+  const MethodInterval& last = trajectory.intervals.back();
+  EXPECT_EQ(last.name, "stepping");
+  EXPECT_TRUE(Contains(last.reason, "max_handovers = 2 reached, so time-stepping to the end"))
+      << last.reason;
+  EXPECT_FALSE(Contains(trajectory.intervals[1].reason, "max_handovers"));
+  EXPECT_NEAR(trajectory.states.back()(0), testing::SaturatedDecayExact(5)(0), 3e-4);
+}
+
+// n = 100 independent clamps x_i' = −k_i + u_i, 0 ≤ u ⊥ x ≥ 0 (D = 0: index
+// two once x_i = 0): x_i = max(x0_i − k_i t, 0), and u_i = k_i from the
+// arrival x0_i/k_i on. n + m = 200 takes the mode-DAE path (IDA with KLU).
+TEST(AutoDriver, LargeSparseLcsRunsItsEventIntervalsAsModeDaes) {
+  constexpr int n = 100;
+  Eigen::VectorXd k(n), x0(n);
+  for (int i = 0; i < n; ++i) {
+    k(i) = 1 + i % 7;
+    x0(i) = 0.5 + 1.5 * ((i * 37) % n) / n;
+  }
+  SparseMatrix identity(n, n);
+  identity.setIdentity();
+  const Lcs lcs = Lcs::Sparse(SparseMatrix(n, n), identity, identity, SparseMatrix(n, n), -k);
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.event.output_times = Linspace(0, 2, 41);
+  const Trajectory trajectory = IntegrateAuto(lcs, x0, 0, 2, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 2);
+  ASSERT_EQ(trajectory.intervals.size(), 1u);
+  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "IDA")) << trajectory.intervals[0].reason;
+  // Each arrival is a root of a linear function: located to round-off.
+  ASSERT_EQ(trajectory.events.size(), static_cast<std::size_t>(n));
+  double time_error = 0;
+  for (const Event& event : trajectory.events)
+    time_error = std::max(time_error, std::abs(event.time - x0(event.index) / k(event.index)));
+  EXPECT_LE(time_error, 1e-12);
+  double x_error = 0, u_error = 0;
+  for (std::size_t s = 0; s < trajectory.times.size(); ++s) {
+    const double t = trajectory.times[s];
+    for (int i = 0; i < n; ++i) {
+      x_error =
+          std::max(x_error, std::abs(trajectory.states[s](i) - std::max(x0(i) - k(i) * t, 0.0)));
+      if (t > x0(i) / k(i))
+        u_error = std::max(u_error, std::abs(trajectory.multipliers[s](i) - k(i)));
+    }
+  }
+  EXPECT_LE(x_error, 1e-12);
+  EXPECT_LE(u_error, 1e-9);
+  RecordProperty("event_time_error", Scientific(time_error));
+  RecordProperty("x_error", Scientific(x_error));
+  RecordProperty("u_error", Scientific(u_error));
+}
+
+// x' = u, u ∈ SOL(B, u + x) with B the unit ball: u = Π_B(−x), so |x|
+// falls at unit rate to 1 (at t = 2 from x0 = (3, 0)), then x = e^{2−t}·(1, 0).
+// Event-driven on the ball's KKT system throughout: the constraint is
+// released at t = 2.
+TEST(AutoDriver, NonBoxSetRunsEventDrivenThroughItsKktSystem) {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 2;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u;
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u + x;
+  };
+  dvi.K = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1);
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.event.output_times = Linspace(0, 4, 401);
+  const Trajectory trajectory = IntegrateAuto(dvi, Eigen::Vector2d(3, 0), 0, 4, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 4);
+  ASSERT_EQ(trajectory.intervals.size(), 1u);
+  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kConstraintReleased);
+  EXPECT_NEAR(trajectory.events[0].time, 2, 1e-9);
+  const double error = MaxStateError(trajectory, [](double t) {
+    return Eigen::Vector2d(t <= 2 ? 3 - t : std::exp(2 - t), 0).eval();
+  });
+  EXPECT_LE(error, 1e-8);
+  RecordProperty("max_error", Scientific(error));
+}
+
+TEST(AutoDriver, ValidateNamesTheField) {
+  AutoOptions options;
+  options.stepping_window = 0;
+  ExpectThrowNaming([&] { options.Validate(); }, "AutoOptions.stepping_window: 0");
+  options.stepping_window = 1.5;
+  ExpectThrowNaming([&] { options.Validate(); }, "AutoOptions.stepping_window: 1.5");
+  options.stepping_window = std::nan("");
+  ExpectThrowNaming([&] { options.Validate(); }, "AutoOptions.stepping_window");
+  options = AutoOptions();
+  options.max_handovers = 0;
+  ExpectThrowNaming([&] { options.Validate(); }, "AutoOptions.max_handovers: 0");
+  options = AutoOptions();
+  options.event.rtol = -1;
+  ExpectThrowNaming([&] { options.Validate(); }, "AutoOptions.event.rtol");
+  options = AutoOptions();
+  options.stepping.h = 0;
+  ExpectThrowNaming([&] { options.Validate(); }, "AutoOptions.stepping.h: 0");
+  // Stepping's own output times are ignored, so they are not checked.
+  options = AutoOptions();
+  options.stepping.output_times = {1, 0};
+  options.Validate();
+
+  options = AutoOptions();
+  options.max_handovers = -3;
+  const Lcs lcs = FilippovSpiral();
+  ExpectThrowNaming([&] { IntegrateAuto(lcs, Eigen::Vector2d(3, 3), 0, 1, options); },
+                    "AutoOptions.max_handovers: -3");
+  ExpectThrowNaming([&] { IntegrateAuto(lcs, Eigen::Vector3d(3, 3, 3), 0, 1); },
+                    "x0 has 3 entries, expected 2");
+  ExpectThrowNaming([&] { IntegrateAuto(lcs, Eigen::Vector2d(3, 3), 1, 1); }, "t0, t_end: 1, 1");
+  ExpectThrowNaming(
+      [&] { IntegrateAuto(testing::SaturatedDecay(), Eigen::VectorXd::Constant(1, NAN), 0, 1); },
+      "x0(0) = nan");
+}
+
+}  // namespace
+}  // namespace dvi
