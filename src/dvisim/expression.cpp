@@ -452,17 +452,21 @@ ExpressionFunction::ExpressionFunction(const std::vector<std::string>& texts,
   for (const GiNaC::ex& g : expressions_)
     for (int j = 0; j < m_; ++j) derivatives.push_back(g.diff(variables.u(j)));
   jacobian_ = std::make_shared<const ExpressionTape>(derivatives, variables, path + "'");
-}
-
-std::vector<GiNaC::ex> ExpressionFunction::TimeDerivative() const {
-  std::vector<GiNaC::ex> derivatives;
+  std::vector<GiNaC::ex> time_derivatives;
   for (const GiNaC::ex& g : expressions_)
-    derivatives.push_back(g.diff(GiNaC::ex_to<GiNaC::symbol>(t_)));
-  return derivatives;
+    time_derivatives.push_back(g.diff(GiNaC::ex_to<GiNaC::symbol>(t_)));
+  time_derivative_ =
+      std::make_shared<const ExpressionTape>(time_derivatives, variables, path + " (d/dt)");
 }
 
 TimeStateFunction ExpressionFunction::Function() const {
   return [tape = value_, scratch = value_->NewScratch()](
+             double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+             Eigen::VectorXd& out) mutable { tape->Evaluate(t, x, u, out.data(), scratch); };
+}
+
+TimeStateFunction ExpressionFunction::TimeDerivative() const {
+  return [tape = time_derivative_, scratch = time_derivative_->NewScratch()](
              double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
              Eigen::VectorXd& out) mutable { tape->Evaluate(t, x, u, out.data(), scratch); };
 }

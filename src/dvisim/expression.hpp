@@ -91,12 +91,12 @@ class ExpressionFunction {
 
   int rows() const { return static_cast<int>(expressions_.size()); }
   const std::vector<GiNaC::ex>& expressions() const { return expressions_; }
-  /// ∂g/∂t, symbolically.
-  std::vector<GiNaC::ex> TimeDerivative() const;
-
   /// g(t, x, u) as a TimeStateFunction and its (Jx, Ju) as a TimeStateJacobian.
   TimeStateFunction Function() const;
   TimeStateJacobian Jacobian() const;
+  /// ∂g/∂t, differentiated symbolically: the F̃ of Theorems 5.2/5.3 needs it
+  /// for a time-dependent F.
+  TimeStateFunction TimeDerivative() const;
   /// For g(t, x) (the expressions must not use u): value and ∂g/∂x.
   TimeFunction StateFunction() const;
   TimeMatrixFunction StateJacobian() const;
@@ -111,6 +111,7 @@ class ExpressionFunction {
   int m_;
   std::shared_ptr<const ExpressionTape> value_;
   std::shared_ptr<const ExpressionTape> jacobian_;  ///< ∂g/∂x row-major, then ∂g/∂u row-major.
+  std::shared_ptr<const ExpressionTape> time_derivative_;
 };
 
 }  // namespace dvi::dvisim

@@ -169,6 +169,7 @@ void ReadDvi(const json& problem, const std::string& path, Scene& scene, bool bo
   dvi.f_jacobian = f.Jacobian();
   dvi.F = F.Function();
   dvi.F_jacobian = F.Jacobian();
+  dvi.F_time_derivative = F.TimeDerivative();
   if (box && !FindField(problem, "set"))
     Fail(path, "missing field \"set\" (type box-dvi needs a box)");
   dvi.K = ReadOptionalSet(problem, path, m);
