@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Builds work_precision_dae in Release (with -j1: the machine is shared), runs
+# it and draws issue 5's work-precision chart (max error against wall time,
+# one panel per problem) with gnuplot.
+#   bench/work_precision_dae.sh OUT_DIR [work_precision_dae options...]
+# e.g. bench/work_precision_dae.sh /tmp/wpdae --budget 2
+# writes OUT_DIR/work_precision_dae.{csv,md,png,svg} and goals.csv (the
+# tables on stdout too). BUILD_DIR (default /tmp/build-wpdae) selects the
+# build tree; progress and Siconos' own diagnostics (stderr) go to
+# OUT_DIR/work_precision_dae.log.
+set -euo pipefail
+if [[ $# -lt 1 ]]; then
+  echo "usage: $0 OUT_DIR [work_precision_dae options...]" >&2
+  exit 2
+fi
+# Siconos calls OpenBLAS (pthread build); one thread, as our integrators use.
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
+src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_dir=${BUILD_DIR:-/tmp/build-wpdae}
+out_dir=$1
+shift
+mkdir -p "$out_dir"
+# The anchor: Siconos' kernel (and numerics) from Debian, for this benchmark only.
+"$src_dir/scripts/install-deps.sh" libsiconos-kernel-dev libsiconos-numerics-dev
+cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS=OFF \
+  -DDVI_BUILD_TOOLS=OFF >/dev/null
+cmake --build "$build_dir" --target work_precision_dae -j1 >/dev/null
+if [[ ! -x "$build_dir/bench/work_precision_dae" ]]; then
+  echo "work_precision_dae was not built: Siconos kernel not found (see bench/README.md)" >&2
+  exit 1
+fi
+cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)
+csv="$out_dir/work_precision_dae.csv"
+goals="$out_dir/goals.csv"
+{
+  echo "# $(date -u +%F), $(nproc) cores ($cpu), Release build, commit $(git -C "$src_dir" rev-parse --short HEAD 2>/dev/null || echo '?'), load average at start $(cut -d' ' -f1-3 /proc/loadavg)"
+  "$build_dir/bench/work_precision_dae" --csv "$csv" --goals "$goals" "$@" \
+    2>"$out_dir/work_precision_dae.log"
+  echo "load average at end $(cut -d' ' -f1-3 /proc/loadavg)"
+} | tee "$out_dir/work_precision_dae.md"
+
+# One data file per (problem, method): wall seconds, max error on the grid,
+# max error on the grid and the exact solution's switch times.
+data_dir="$out_dir/data"
+rm -rf "$data_dir"
+mkdir -p "$data_dir"
+awk -F, -v dir="$data_dir" \
+  'NR > 1 && $10 == "ok" { print $7, $5, $6 > (dir "/" $1 "_" $2 ".dat") }' "$csv"
+
+methods="auto event stepping-theta0 stepping-theta0.5 siconos-theta0 siconos-theta0.5"
+# Same colour for the same scheme; Siconos dashed.
+declare -A style=(
+  [auto]="lc rgb 'black' lw 2 pt 7" [event]="lc rgb 'dark-green' pt 5"
+  [stepping-theta0]="lc rgb 'blue' pt 1" [stepping-theta0.5]="lc rgb 'red' pt 2"
+  [siconos-theta0]="lc rgb 'blue' dt 2 pt 6" [siconos-theta0.5]="lc rgb 'red' dt 2 pt 8")
+plot_panels() {  # $1: column of the error (2 grid, 3 grid + switches), $2: its name in goals.csv
+  for problem in wall sliding filippov2d bridge; do
+    # The goal's error level: the smallest error of time-stepping in the budget.
+    local target
+    target=$(awk -F, -v p="$problem" -v g="$2" '$1 == p && $2 == g { print $3 }' "$goals")
+    echo "unset arrow"
+    if [[ -n "$target" ]]; then
+      echo "set arrow from graph 0, first $target to graph 1, first $target nohead dt 2 lc rgb 'gray'"
+    fi
+    echo "set title '$problem ($2)'; set xlabel 'wall time [s]'; set ylabel 'max error'"
+    local plot="plot"
+    for method in $methods; do
+      local file="$data_dir/${problem}_${method}.dat"
+      [[ -s "$file" ]] && plot="$plot '$file' using 1:$1 with linespoints ${style[$method]} title '$method',"
+    done
+    echo "${plot%,}"
+  done
+}
+for extension in png svg; do
+  terminal="svg size 2000,1000"
+  [[ $extension == png ]] && terminal="pngcairo size 2000,1000"
+  {
+    echo "set terminal $terminal font ',10'"
+    echo "set output '$out_dir/work_precision_dae.$extension'"
+    echo "set logscale xy; set format x '10^{%T}'; set format y '10^{%T}'"
+    echo "set grid; set key top right font ',8'"
+    echo "set multiplot layout 2,4 title 'Issue 5 work-precision: max error vs wall time," \
+         "on the 1001-point grid (top) and with the switch times (bottom); dashed: the goal level'"
+    plot_panels 2 grid
+    plot_panels 3 "grid + switches"
+    echo "unset multiplot"
+  } | gnuplot
+done
+echo "chart: $out_dir/work_precision_dae.png, $out_dir/work_precision_dae.svg"
