@@ -97,6 +97,10 @@ Dvi Lcs::ToDvi() const {
     Jx = Eigen::MatrixXd(C_copy);
     Ju = Eigen::MatrixXd(D_copy);
   };
+  // Autonomous: the differentiation procedure (Theorem 5.3) needs no
+  // differences in t.
+  dvi.F_time_derivative = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                             Eigen::VectorXd& out) { out.setZero(); };
   return dvi;
 }
 

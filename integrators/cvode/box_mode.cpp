@@ -117,12 +117,11 @@ void BoxModeSystem::FTimeDerivative(double t, const Eigen::VectorXd& x, const Ei
 
 void BoxModeSystem::DifferentiatedRows(const RowReduction& reduction, double t,
                                        const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                                       Eigen::VectorXd& values, Eigen::MatrixXd& Gu,
-                                       Eigen::MatrixXd* Gx) const {
+                                       const Eigen::MatrixXd& Fx, Eigen::VectorXd& values,
+                                       Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const {
   Eigen::VectorXd Ft, xdot(n());
-  Eigen::MatrixXd Fx, Fu, fx, fu;
+  Eigen::MatrixXd fx, fu;
   FTimeDerivative(t, x, u, Ft);
-  FJacobians(t, x, u, Fx, Fu);
   SmallFJacobians(t, x, u, fx, fu);
   dvi_.f(t, x, u, xdot);
   // Φ̇ = P (∂F/∂t + J_xF ẋ): (5.7) differentiated, ẋ substituted from f.
@@ -140,8 +139,8 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
   Eigen::MatrixXd Fx, Fu, derived_u, derived_x;
   EvalF(t, x, u, F);
   FJacobians(t, x, u, Fx, Fu);
-  if (!reduction_.empty()) DifferentiatedRows(reduction_, t, x, u, derived, derived_u,
-                                              Gx ? &derived_x : nullptr);
+  if (!reduction_.empty())
+    DifferentiatedRows(reduction_, t, x, u, Fx, derived, derived_u, Gx ? &derived_x : nullptr);
   G.resize(a);
   Gu.resize(a, a);
   if (Gx) Gx->resize(a, n());
@@ -435,8 +434,9 @@ bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const 
   mcp.F = [&self, &reduction, t, &x](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
     self.EvalF(t, x, z, w);
     Eigen::VectorXd derived;
-    Eigen::MatrixXd derived_u;
-    self.DifferentiatedRows(reduction, t, x, z, derived, derived_u, nullptr);
+    Eigen::MatrixXd Fx, Fu, derived_u;
+    self.FJacobians(t, x, z, Fx, Fu);
+    self.DifferentiatedRows(reduction, t, x, z, Fx, derived, derived_u, nullptr);
     for (std::size_t k = 0; k < reduction.differentiated.size(); ++k)
       w(reduction.differentiated[k]) = derived(static_cast<int>(k));
   };
@@ -445,7 +445,7 @@ bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const 
     self.FJacobians(t, x, z, Jx, J);
     Eigen::VectorXd derived;
     Eigen::MatrixXd derived_u;
-    self.DifferentiatedRows(reduction, t, x, z, derived, derived_u, nullptr);
+    self.DifferentiatedRows(reduction, t, x, z, Jx, derived, derived_u, nullptr);
     for (std::size_t k = 0; k < reduction.differentiated.size(); ++k)
       J.row(reduction.differentiated[k]) = derived_u.row(static_cast<int>(k));
   };

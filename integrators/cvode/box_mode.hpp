@@ -123,10 +123,11 @@ class BoxModeSystem {
   void FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                        Eigen::VectorXd& Ft) const;
   /// The differentiated rows Φ̇ = P (F_t + F_x f) of a reduction at (t, x, u),
-  /// with Φ̇_u = P F_x f_u and (when Gx) Φ̇_x ≈ P F_x f_x.
+  /// given Fx = ∂F/∂x there, with Φ̇_u = P F_x f_u and (when Gx)
+  /// Φ̇_x ≈ P F_x f_x.
   void DifferentiatedRows(const RowReduction& reduction, double t, const Eigen::VectorXd& x,
-                          const Eigen::VectorXd& u, Eigen::VectorXd& values, Eigen::MatrixXd& Gu,
-                          Eigen::MatrixXd* Gx) const;
+                          const Eigen::VectorXd& u, const Eigen::MatrixXd& Fx,
+                          Eigen::VectorXd& values, Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const;
   /// The mode equations G(t, x, u) on the free components, G_u (a×a) and,
   /// when Gx is given, G_x (a×n).
   void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
