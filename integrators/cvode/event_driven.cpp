@@ -150,6 +150,10 @@ int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
 int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector err,
                        void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
+  if (!data.system->reduced()) {  // nothing to keep: every step of an index-one mode
+    N_VConst(0.0, corr);
+    return 0;
+  }
   try {
     Load(data, y);
     Eigen::VectorXd error;
