@@ -189,7 +189,7 @@ TEST(EventDriven, RefusesWhenNotIndexOne) {
   EXPECT_NE(trajectory.message.find("not strongly regular"), std::string::npos)
       << trajectory.message;
   EXPECT_NE(trajectory.message.find("Theorem 5.3"), std::string::npos) << trajectory.message;
-  EXPECT_NE(trajectory.message.find("modified VI is not solved"), std::string::npos)
+  EXPECT_NE(trajectory.message.find("modified LCP is not solved"), std::string::npos)
       << trajectory.message;
   EXPECT_EQ(trajectory.stats.steps, 0);
   RecordProperty("message", trajectory.message);

@@ -137,6 +137,79 @@ TEST(IndexReduction, TwoDimensionalIndexTwoLcs) {
   RecordProperty("drift", Scientific(trajectory.stats.max_constraint_drift));
 }
 
+// Index three: a unit mass resting on the ground, pushed by an oscillator.
+// x1 height, x2 velocity, x1' = x2, x2' = −1 + x3 + u, x3' = x4, x4' = −x3,
+// 0 ≤ u ⊥ x1 ≥ 0, x0 = (0, 0, −2, 0), so x3 = −2 cos t. D = 0 and C B = 0:
+// Φ = x1 gives Φ̇ = x2, still free of u, and the second pass (Sect. 5.4)
+// gives x2' = −1 + x3 + u = 0, u = 1 + 2 cos t, until u = 0 at t_l = 2π/3.
+// Then free flight, x2 = −(t − t_l) − 2 (sin t − sin t_l), until it lands
+// near t = 6.8.
+TEST(IndexReduction, RestingMassNeedsASecondPassThenLiftsOff) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(4, 4), B = Eigen::MatrixXd::Zero(4, 1),
+                  C = Eigen::MatrixXd::Zero(1, 4), D = Eigen::MatrixXd::Zero(1, 1);
+  A(0, 1) = 1;
+  A(1, 2) = 1;
+  A(2, 3) = 1;
+  A(3, 2) = -1;
+  B(1, 0) = 1;
+  C(0, 0) = 1;
+  const Eigen::Vector4d p(0, -1, 0, 0), x0(0, 0, -2, 0);
+  const double lift_off = 2 * M_PI / 3;
+  const auto exact = [lift_off](double t) {
+    Eigen::Vector4d x(0, 0, -2 * std::cos(t), 2 * std::sin(t));
+    if (t > lift_off) {
+      const double s = t - lift_off;
+      x(0) = -s * s / 2 + 2 * (std::cos(t) - std::cos(lift_off)) + 2 * std::sin(lift_off) * s;
+      x(1) = -s - 2 * (std::sin(t) - std::sin(lift_off));
+    }
+    return x;
+  };
+  EventDrivenOptions options = Tight();
+  options.output_times = testing::Linspace(0, 6, 601);
+  const Trajectory trajectory = IntegrateEventDriven(Lcs::Dense(A, B, C, D, p), x0, 0, 6, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kReachedLower);
+  const double event_error = std::abs(trajectory.events[0].time - lift_off);
+  EXPECT_LE(event_error, 1e-9);
+  const double state_error = MaxStateDeviation(trajectory, exact);
+  EXPECT_LE(state_error, 1e-8);
+  double multiplier_error = 0, resting_height = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    if (t >= lift_off) break;
+    multiplier_error =
+        std::max(multiplier_error, std::abs(trajectory.multipliers[k](0) - (1 + 2 * std::cos(t))));
+    resting_height = std::max(resting_height, trajectory.states[k].head<2>().cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(multiplier_error, 1e-8);
+  EXPECT_LE(resting_height, 1e-12);
+  EXPECT_LE(trajectory.stats.max_constraint_drift, 1e-12);
+  ASSERT_FALSE(trajectory.intervals.empty());
+  EXPECT_NE(trajectory.intervals[0].reason.find("Theorem 5.3"), std::string::npos)
+      << trajectory.intervals[0].reason;
+  RecordProperty("event_time_error", Scientific(event_error));
+  RecordProperty("state_error", Scientific(state_error));
+  RecordProperty("multiplier_error", Scientific(multiplier_error));
+  RecordProperty("drift", Scientific(trajectory.stats.max_constraint_drift));
+}
+
+// Landing with velocity needs an impulse: no locally smooth solution exists,
+// and the run stops at the impact with the passes it tried.
+TEST(IndexReduction, LandingWithVelocityIsRefusedAtTheImpact) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2, 2), B(2, 1), C(1, 2), D = Eigen::MatrixXd::Zero(1, 1);
+  A(0, 1) = 1;
+  B << 0, 1;
+  C << 1, 0;
+  // x1 = 1 − t²/2 lands at t = √2 with x2 = −√2.
+  const Trajectory trajectory = IntegrateEventDriven(
+      Lcs::Dense(A, B, C, D, Eigen::Vector2d(0, -1)), Eigen::Vector2d(1, 0), 0, 3, Tight());
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kNotIndexOne);
+  EXPECT_NEAR(trajectory.times.back(), std::sqrt(2.0), 1e-9);
+  EXPECT_NE(trajectory.message.find("pass 1: the modified LCP is not solved"), std::string::npos)
+      << trajectory.message;
+}
+
 // x' = −sgn(x) + a through (4.2), a = 0.3, x0 = 1: x = 1 − (1 − a)t until
 // t = 1/(1 − a), then sliding on x = 0 with the equivalent control
 // sgn = a, i.e. v = 1 − a (Theorem 5.2's modified problem: x' = a − 1 + v).

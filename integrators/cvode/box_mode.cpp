@@ -59,13 +59,23 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
       affine_orthant_(affine && (lower_.array() == 0).all() &&
                       (upper_.array() == std::numeric_limits<double>::infinity()).all()),
       mode_(dvi.m, BoundState::kFree),
-      u_(Eigen::VectorXd::Zero(dvi.m)) {}
+      u_(Eigen::VectorXd::Zero(dvi.m)) {
+  if (!affine_) return;
+  // An LCS: its matrices, read off once at (t, x, u) = 0.
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n()), u0 = Eigen::VectorXd::Zero(m());
+  EvalF(0, x0, u0, lcs_rows_.c);
+  FJacobians(0, x0, u0, lcs_rows_.C, lcs_rows_.M);
+  flow_.p.resize(n());
+  dvi_.f(0, x0, u0, flow_.p);
+  SmallFJacobians(0, x0, u0, flow_.A, flow_.B);
+}
 
 void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
   mode_ = mode;
   free_.clear();
   reduction_ = RowReduction();
   differentiated_row_.clear();
+  passes_ = 0;
   rows_split_ = false;
   u_ = u;
   for (int j = 0; j < m(); ++j) {
@@ -135,6 +145,18 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
                                   Eigen::VectorXd& G, Eigen::MatrixXd& Gu,
                                   Eigen::MatrixXd* Gx) const {
   const int a = static_cast<int>(free_.size());
+  if (affine_) {
+    G.resize(a);
+    Gu.resize(a, a);
+    if (Gx) Gx->resize(a, n());
+    for (int i = 0; i < a; ++i) {
+      const int row = free_[i];
+      G(i) = mode_rows_.c(row) + mode_rows_.C.row(row).dot(x) + mode_rows_.M.row(row).dot(u);
+      for (int k = 0; k < a; ++k) Gu(i, k) = mode_rows_.M(row, free_[k]);
+      if (Gx) Gx->row(i) = mode_rows_.C.row(row);
+    }
+    return;
+  }
   Eigen::VectorXd F(m()), derived;
   Eigen::MatrixXd Fx, Fu, derived_u, derived_x;
   EvalF(t, x, u, F);
@@ -157,14 +179,7 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
   if (free_.empty()) return true;
   const int a = static_cast<int>(free_.size());
   if (!rows_split_) {
-    // Theorem 5.3's row operations on the free components, once per mode.
-    Eigen::MatrixXd Fx, Fu;
-    FJacobians(t, x, u_, Fx, Fu);
-    reduction_ = ReduceRows(Fu, free_);
-    differentiated_row_.assign(a, -1);
-    for (int k = 0; k < static_cast<int>(reduction_.differentiated.size()); ++k)
-      differentiated_row_[std::find(free_.begin(), free_.end(), reduction_.differentiated[k]) -
-                          free_.begin()] = k;
+    SplitRows(t, x);
     rows_split_ = true;
   }
   Eigen::VectorXd u = u_, residual;
@@ -179,10 +194,19 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     }
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
     if (!lu.isInvertible()) {
-      if (why)
-        *why = reduced() ? "the matrix (5.8) of the reduced mode is singular (Theorem 5.3 fails; "
-                           "a further differentiation would be needed)"
-                         : "∂F/∂u on the free components is singular";
+      if (why) {
+        std::ostringstream message;
+        if (!reduced())
+          message << "∂F/∂u on the free components is singular";
+        else if (affine_)
+          message << "the matrix (5.8) of the reduced mode is singular after " << passes_
+                  << " passes of the differentiation procedure (Sect. 5.4)";
+        else
+          message << "the matrix (5.8) of the reduced mode is singular (Theorem 5.2 fails; a "
+                     "further pass of the differentiation procedure is implemented for an "
+                     "LCS only, Sect. 5.4)";
+        *why = message.str();
+      }
       return false;
     }
     const Eigen::VectorXd step = lu.solve(residual);
@@ -205,6 +229,27 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
   }
   if (why) *why = "Newton on the free components of the mode did not converge";
   return false;
+}
+
+void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
+  if (affine_) {
+    // Sect. 5.4 on the matrices, repeated while (5.8) is singular; an LCS
+    // in n states that needs more than n + 1 passes is not reducible.
+    mode_rows_ = lcs_rows_;
+    mode_constraints_ = AffineConstraints{Eigen::VectorXd(0), Eigen::MatrixXd(0, n())};
+    while (passes_ <= n() &&
+           DifferentiateDependentRows(flow_, free_, u_, mode_rows_, mode_constraints_))
+      ++passes_;
+    return;
+  }
+  // Theorem 5.2/5.3's row operations on the free components, once per mode.
+  Eigen::MatrixXd Fx, Fu;
+  FJacobians(t, x, u_, Fx, Fu);
+  reduction_ = ReduceRows(Fu, free_);
+  differentiated_row_.assign(free_.size(), -1);
+  for (int k = 0; k < static_cast<int>(reduction_.differentiated.size()); ++k)
+    differentiated_row_[std::find(free_.begin(), free_.end(), reduction_.differentiated[k]) -
+                        free_.begin()] = k;
 }
 
 void BoxModeSystem::Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const {
@@ -231,6 +276,11 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
 
 void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
                                 Eigen::MatrixXd* phi_x) const {
+  if (affine_) {
+    phi = mode_constraints_.c + mode_constraints_.C * x;
+    if (phi_x) *phi_x = mode_constraints_.C;
+    return;
+  }
   Eigen::VectorXd F(m());
   EvalF(t, x, u_, F);
   phi = reduction_.P * F;
@@ -412,6 +462,7 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
 bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
                                       BoxMode& mode, Eigen::VectorXd& u, long* vi_solves,
                                       long* iterations, std::string* why) const {
+  if (affine_) return SelectReducedLcsMode(x, vi, mode, u, vi_solves, iterations, why);
   const double tolerance = 1e3 * solver_.tolerance;
   // S = α ∪ β: the components where F vanishes at the VI solution.
   std::vector<int> S;
@@ -470,16 +521,67 @@ bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const 
     if (why) *why = message.str();
     return false;
   }
-  mode.assign(m(), BoundState::kFree);
+  mode = ModeOf(modified.z);
+  u = modified.z;
+  return true;
+}
+
+bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi,
+                                         BoxMode& mode, Eigen::VectorXd& u, long* vi_solves,
+                                         long* iterations, std::string* why) const {
+  const double tolerance = 1e3 * solver_.tolerance;
+  AffineRows rows = lcs_rows_;
+  AffineConstraints constraints{Eigen::VectorXd(0), Eigen::MatrixXd(0, n())};
+  SolveResult current = vi;
+  std::string failure;
+  for (int pass = 1; pass <= n() + 1; ++pass) {
+    // S = α ∪ β of the current LCP: the rows that vanish at its solution.
+    std::vector<int> S;
+    for (int j = 0; j < m(); ++j)
+      if (std::abs(current.w(j)) <= tolerance) S.push_back(j);
+    std::ostringstream message;
+    message << "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " << pass << ": ";
+    if (!DifferentiateDependentRows(flow_, S, current.z, rows, constraints)) {
+      message << "no row of the LCP is dependent where it vanishes"
+              << (pass == 1 ? "" : ", after " + failure);
+      if (why) *why = message.str();
+      return false;
+    }
+    // The modified LCS of Sect. 5.4 at x.
+    const SolveResult modified =
+        SolveBoxProblem(BoxMcp::Affine(rows.M, rows.c + rows.C * x, lower_, upper_), current.z);
+    ++*vi_solves;
+    *iterations += modified.iterations;
+    if (!modified.solved()) {
+      message << "the modified LCP is not solved (" << ToString(modified.status) << ", residual "
+              << modified.residual << ")";
+      if (why) *why = message.str();
+      return false;
+    }
+    const MatrixClassVerdict regular = IsStronglyRegular(rows.M, modified.index_sets);
+    if (regular.holds) {
+      mode = ModeOf(modified.z);
+      u = modified.z;
+      return true;
+    }
+    failure = message.str() + "its solution is not strongly regular (" + regular.reason + ")";
+    current = modified;
+  }
+  if (why) *why = failure;
+  return false;
+}
+
+BoxMode BoxModeSystem::ModeOf(const Eigen::VectorXd& z) const {
+  const double tolerance = 1e3 * solver_.tolerance;
+  BoxMode mode(m(), BoundState::kFree);
   for (int j = 0; j < m(); ++j) {
-    const double to_lower = modified.z(j) - lower_(j), to_upper = upper_(j) - modified.z(j);
+    const double to_lower = z(j) - lower_(j), to_upper = upper_(j) - z(j);
     if (to_lower <= tolerance && to_lower <= to_upper)
       mode[j] = BoundState::kLower;
     else if (to_upper <= tolerance)
       mode[j] = BoundState::kUpper;
   }
-  u = modified.z;
-  return true;
+  return mode;
 }
 
 }  // namespace dvi::internal

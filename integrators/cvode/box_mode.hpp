@@ -27,7 +27,9 @@ namespace dvi::internal {
 /// differentiation procedure of Theorems 5.2/5.3 (mode_reduction.hpp): G
 /// keeps the independent rows of F_A and replaces each dependent one by the
 /// derivative of its u-free combination Φ along the flow; G_u is then the
-/// matrix (5.8) and must be nonsingular. The original constraints Φ(t, x) = 0
+/// matrix (5.8) and must be nonsingular. For an LCS the mode's equations are
+/// matrices, and the pass is repeated while (5.8) is singular (index three
+/// and higher, Sect. 5.4). The original constraints Φ(t, x) = 0 of every pass
 /// are kept from drifting by projection (Project).
 ///
 /// Also the mode's validity as 2m root functions, all positive inside the mode:
@@ -36,9 +38,10 @@ namespace dvi::internal {
 /// The multiplier of the last evaluation warm-starts the next Newton solve.
 class BoxModeSystem {
  public:
-  /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: F is
-  /// affine in u (an LCS), so the VIs at events are LCPs where K is the
-  /// orthant, and Lemke backs up Newton at the degenerate points events sit on.
+  /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: the
+  /// DVI is an LCS (f and F affine in (x, u), time-invariant), so the VIs at
+  /// events are LCPs where K is the orthant (Lemke backs up Newton at the
+  /// degenerate points events sit on) and modes reduce by matrices.
   BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::VectorXd upper,
                 const SolverOptions& solver, bool affine);
 
@@ -49,7 +52,7 @@ class BoxModeSystem {
   /// the mode reduced if need be) at the next Solve, at its (t, x).
   void Enter(const BoxMode& mode, const Eigen::VectorXd& u);
   /// True when the current mode is reduced by differentiation.
-  bool reduced() const { return !reduction_.empty(); }
+  bool reduced() const { return passes_ > 0 || !reduction_.empty(); }
   /// The multiplier of the last successful Solve.
   const Eigen::VectorXd& u() const { return u_; }
   long newton_iterations() const { return newton_iterations_; }
@@ -104,8 +107,9 @@ class BoxModeSystem {
   /// differentiated along the flow, and the modified VI is solved. Its
   /// solution must be strongly regular — (5.8) nonsingular and the Schur
   /// complement (5.9) a P-matrix, Theorems 5.2/5.3 — and becomes the new
-  /// mode and u. False (with why) when no row is dependent, the modified VI is
-  /// not solved, or the conditions fail.
+  /// mode and u. For an LCS a modified LCP whose solution fails (5.8) is
+  /// reduced again (Sect. 5.4). False (with why) when no row is dependent,
+  /// the modified VI is not solved, or the conditions fail.
   bool SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
                          BoxMode& mode, Eigen::VectorXd& u, long* vi_solves, long* iterations,
                          std::string* why) const;
@@ -135,6 +139,16 @@ class BoxModeSystem {
   /// Φ(t, x) = P F(t, x, u_) and Φ_x = P F_x.
   void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
                    Eigen::MatrixXd* phi_x) const;
+  /// Splits the free rows of the mode just entered at (t, x, u_).
+  void SplitRows(double t, const Eigen::VectorXd& x);
+  /// SelectReducedMode for an LCS: passes on its matrices until the
+  /// modified LCP's solution is strongly regular.
+  bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode,
+                            Eigen::VectorXd& u, long* vi_solves, long* iterations,
+                            std::string* why) const;
+  /// The mode of a VI solution z: a component within tolerance of a bound
+  /// sits on it.
+  BoxMode ModeOf(const Eigen::VectorXd& z) const;
 
   const Dvi& dvi_;
   Eigen::VectorXd lower_;
@@ -149,6 +163,13 @@ class BoxModeSystem {
   // Per free component (in free_ order): its row of reduction_.P when its
   // equation is differentiated, else −1.
   std::vector<int> differentiated_row_;
+  // An LCS: its matrices, and the current mode's rows and constraints after
+  // passes_ passes of the differentiation procedure.
+  AffineFlow flow_;
+  AffineRows lcs_rows_;
+  AffineRows mode_rows_;
+  AffineConstraints mode_constraints_;
+  int passes_ = 0;
   Eigen::VectorXd u_;
   long newton_iterations_ = 0;
 };

@@ -45,4 +45,29 @@ RowReduction ReduceRows(const Eigen::MatrixXd& Fu, const std::vector<int>& S) {
   return reduction;
 }
 
+bool DifferentiateDependentRows(const AffineFlow& flow, const std::vector<int>& S,
+                                const Eigen::VectorXd& u, AffineRows& rows,
+                                AffineConstraints& constraints) {
+  const RowReduction reduction = ReduceRows(rows.M, S);
+  if (reduction.empty()) return false;
+  Eigen::VectorXd u_rest = u;
+  for (const int j : S) u_rest(j) = 0;
+  const Eigen::MatrixXd P_C = reduction.P * rows.C;
+  const int previous = static_cast<int>(constraints.c.size());
+  const int d = static_cast<int>(reduction.differentiated.size());
+  constraints.c.conservativeResize(previous + d);
+  constraints.C.conservativeResize(previous + d, rows.C.cols());
+  constraints.c.tail(d) = reduction.P * (rows.c + rows.M * u_rest);
+  constraints.C.bottomRows(d) = P_C;
+  const Eigen::VectorXd c = P_C * flow.p;
+  const Eigen::MatrixXd C = P_C * flow.A, M = P_C * flow.B;
+  for (int k = 0; k < d; ++k) {
+    const int i = reduction.differentiated[k];
+    rows.c(i) = c(k);
+    rows.C.row(i) = C.row(k);
+    rows.M.row(i) = M.row(k);
+  }
+  return true;
+}
+
 }  // namespace dvi::internal

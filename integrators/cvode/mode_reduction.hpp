@@ -32,6 +32,39 @@ struct RowReduction {
 /// kRankTolerance times the largest.
 RowReduction ReduceRows(const Eigen::MatrixXd& Fu, const std::vector<int>& S);
 
+/// An LCS (2.8) x' = p + A x + B u, w = q + C x + D u, as dense matrices:
+/// the data of every pass of the differentiation procedure.
+struct AffineFlow {
+  Eigen::VectorXd p;
+  Eigen::MatrixXd A, B;
+};
+
+/// The rows w = c + C x + M u of an LCS after some passes of the
+/// differentiation procedure (the modified LCS of Sect. 5.4; none: q, C, D).
+struct AffineRows {
+  Eigen::VectorXd c;
+  Eigen::MatrixXd C, M;
+};
+
+/// The u-free combinations Φ(x) = c + C x the passes met, stacked: the
+/// original constraints (5.7) a reduced mode must keep from drifting.
+struct AffineConstraints {
+  Eigen::VectorXd c;
+  Eigen::MatrixXd C;
+};
+
+/// One pass of Sect. 5.4 on the rows S of `rows`: ReduceRows splits them, and
+/// each dependent row becomes the derivative of its u-free combination
+///   Φ = P (c + C x + M u_rest)  (u_rest: u off S, at its bounds),
+///   Φ̇ = P C (p + A x + B u),
+/// exact for a time-invariant LCS; Φ is appended to constraints. The paper
+/// repeats the pass while the modified LCS has no strongly regular solution
+/// (the paragraph after Theorem 5.3): a mass resting on the ground needs two.
+/// False, with rows unchanged, when the rows S of M are independent.
+bool DifferentiateDependentRows(const AffineFlow& flow, const std::vector<int>& S,
+                                const Eigen::VectorXd& u, AffineRows& rows,
+                                AffineConstraints& constraints);
+
 /// Relative rank threshold of ReduceRows. A row of F that does not depend on
 /// u has an exactly zero Jacobian row (exact or forward-difference Jacobian),
 /// while forward differences perturb a dependent combination of u-dependent
