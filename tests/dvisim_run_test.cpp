@@ -32,6 +32,13 @@ bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
+// A pds scene on a set without the form (2.10) (a product with a ball),
+// open at the end for x0, horizon and method.
+constexpr char kPdsOnBallTimesBox[] =
+    R"({"problem": {"type": "pds", "A": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "c": [0, 0, 0],
+    "set": {"product": [{"ball": {"center": [0, 0], "radius": 1}},
+                        {"box": {"lower": [0], "upper": [1]}}]}})";
+
 std::string ParseError(const std::string& text) {
   try {
     ParseScene(text);
@@ -176,11 +183,11 @@ TEST(SceneFile, ErrorsNameTheField) {
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"name": "bvp"}})"),
             "method.name: \"bvp\" is not available in this version (use \"auto\", \"stepping\" "
             "or \"event\")");
-  EXPECT_EQ(ParseError(R"({"problem": {"type": "pds", "A": [[1]]}, "x0": [1], "horizon": 1,
+  EXPECT_EQ(ParseError(std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1,
     "method": "event"})"),
-            "method: \"event\" needs a DVI with a multiplier u (an lcs, dvi, box-dvi or filippov "
-            "scene, Sect. 5); a pds scene has no multiplier u: its VI is in x itself, "
-            "x' ∈ −F(x) − N(x; K) (use \"auto\" or \"stepping\")");
+            "method: \"event\" needs a DVI with a multiplier u (Sect. 5), or a pds scene in the "
+            "form (2.10); the pds scene's K = product(ball[2], box[1]) has no form (2.10): it "
+            "needs K polyhedral or a ball (use \"auto\" or \"stepping\")");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1,
     "method": {"stepping_window": 1.5}})"),
             "method.stepping_window: expected a number in (0, 1], got 1.5");
@@ -572,12 +579,12 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
        "problem.F[0]: unknown symbol \"y\""},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1})", "--method bvp",
        "--method: \"bvp\" is not available in this version"},
-      {R"({"problem": {"type": "pds", "A": [[1]]}, "x0": [1], "horizon": 1})", "--method event",
-       "--method: \"event\" needs a DVI with a multiplier u"},
-      {R"({"problem": {"type": "pds", "A": [[1]]}, "x0": [1], "horizon": 1,
+      {std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1})",
+       "--method event", "--method: \"event\" needs a DVI with a multiplier u"},
+      {std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1,
           "method": {"name": "event"}})",
-       "", "method.name: \"event\" needs a DVI with a multiplier u (an lcs, dvi, box-dvi or "
-           "filippov scene, Sect. 5); a pds scene has no multiplier u"},
+       "", "method.name: \"event\" needs a DVI with a multiplier u (Sect. 5), or a pds scene "
+           "in the form (2.10); the pds scene's K = product(ball[2], box[1]) has no form"},
       {R"({"problem": {"type": "filippov", "f0": ["0"], "f1": [["-1"]], "h": ["x1"]},
           "x0": [1], "horizon": 1, "method": {"name": "auto", "scheme": "7.2"}})",
        "", "method.scheme: \"7.2\" needs the separable form, but auto integrates a filippov "
@@ -737,7 +744,7 @@ TEST_F(DvisimRun, MethodEventOverridesTheFileAndPlotsTheRcDiodeClamp) {
             << ", i error " << i_error << "\n";
 }
 
-TEST_F(DvisimRun, AutoRunsEventDrivenWhereItCanAndStepsPdsScenesSayingWhy) {
+TEST_F(DvisimRun, AutoRunsEventDrivenWhereItCanAndStepsWhereItCannotSayingWhy) {
   const std::string kink = Write("kink.json", KinkScene(R"("auto")"));
   const RunOutcome event = Dvisim("run '" + kink + "' --out '" + Path("kink") + "'");
   ASSERT_EQ(event.exit_code, 0) << event.err;
@@ -750,15 +757,38 @@ TEST_F(DvisimRun, AutoRunsEventDrivenWhereItCanAndStepsPdsScenesSayingWhy) {
   EXPECT_NEAR(chosen["events"][0]["time"].get<double>(), 2.0, 1e-6);
   EXPECT_EQ(chosen["stats"]["max_constraint_drift"], 0.0);
 
+  // A pds scene on a box runs event-driven through (2.10): x1 = 2 − 1.5e^{−t}
+  // reaches 1 at ln 1.5, x2 = −0.5 + e^{−t} reaches 0 at ln 2, and then
+  // ν = −F(x) = (1, −0.5), the columns stepping reports too.
   const RunOutcome pds = RunExample("pds_box.json", "pds", "--method auto");
   ASSERT_EQ(pds.exit_code, 0) << pds.err;
-  const nlohmann::json stepped = ReadSummary("pds");
+  const nlohmann::json projected = ReadSummary("pds");
+  ASSERT_EQ(projected["method"].size(), 1u);
+  EXPECT_EQ(projected["method"][0]["name"], "event");
+  ASSERT_EQ(projected["events"].size(), 2u);
+  EXPECT_NEAR(projected["events"][0]["time"].get<double>(), std::log(1.5), 1e-7);
+  EXPECT_NEAR(projected["events"][1]["time"].get<double>(), std::log(2.0), 1e-7);
+  EXPECT_EQ(projected["x_final"], nlohmann::json::array({1.0, 0.0}));
+  const Csv csv = ReadCsv("pds");
+  ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "x2", "u1", "u2"}));
+  const std::vector<double>& last = csv.rows.back();
+  EXPECT_NEAR(last[3], 1.0, 1e-12);
+  EXPECT_NEAR(last[4], -0.5, 1e-12);
+
+  // On a product with a ball there is no (2.10): stepped throughout, saying why.
+  const RunOutcome ball = Dvisim(
+      "run '" +
+      Write("ball.json", std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1})") +
+      "' --out '" + Path("ball") + "'");
+  ASSERT_EQ(ball.exit_code, 0) << ball.err;
+  const nlohmann::json stepped = ReadSummary("ball");
   ASSERT_EQ(stepped["method"].size(), 1u);
   EXPECT_EQ(stepped["method"][0]["name"], "stepping");
   const std::string reason = stepped["method"][0]["reason"].get<std::string>();
-  EXPECT_TRUE(Contains(reason, "not event-driven, as a pds scene has no multiplier u")) << reason;
+  EXPECT_TRUE(Contains(reason, "not event-driven, as the pds scene's K = product(ball[2], box[1]) "
+                               "has no form (2.10)"))
+      << reason;
   EXPECT_TRUE(Contains(reason, "scheme (7.3)")) << reason;
-  EXPECT_EQ(stepped["h"], 1e-3);
   EXPECT_FALSE(stepped.contains("rtol"));
 
   // Index two at t = 0: the differentiation procedure (Theorem 5.3) reduces

@@ -15,6 +15,7 @@
 #include "dvi/auto_driver.hpp"
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
+#include "dvi/projected_dynamics.hpp"
 #include "plot.hpp"
 #include "solve_command.hpp"
 
@@ -167,7 +168,8 @@ Trajectory IntegrateStepping(const Scene& scene, std::function<void(double t)> p
 // Calls integrate(problem) with the scene's problem as an Lcs or a Dvi, the
 // forms event-driven integration takes: a filippov scene in f0/f1/h form as
 // the Dvi of its separable DVI (s ∈ SOL([−1, 1]ᵏ, −h)), the matrix form is
-// already the LCS (4.2). A pds scene has no such form.
+// already the LCS (4.2); a pds scene as (2.10), whose multipliers u are
+// reported as the normal-cone element ν = Jg(x)ᵀu, as stepping reports it.
 template <typename Integrate>
 Trajectory WithEventDrivenForm(const Scene& scene, Integrate integrate) {
   return std::visit(
@@ -176,7 +178,11 @@ Trajectory WithEventDrivenForm(const Scene& scene, Integrate integrate) {
         if constexpr (std::is_same_v<Problem, FilippovSystem>) {
           return integrate(problem.ToSeparable().ToDvi());
         } else if constexpr (std::is_same_v<Problem, ProjectedDynamics>) {
-          throw InputError("method: " + EventDrivenMismatch(WhyNotEventDriven(scene)));
+          Trajectory trajectory = integrate(ProjectedDynamicsAsKkt(problem));
+          for (std::size_t k = 0; k < trajectory.multipliers.size(); ++k)
+            trajectory.multipliers[k] = NormalConeElement(
+                problem, PdsForm::kKkt, trajectory.states[k], trajectory.multipliers[k]);
+          return trajectory;
         } else {
           return integrate(problem);
         }
@@ -192,8 +198,8 @@ Trajectory IntegrateEvent(const Scene& scene) {
   });
 }
 
-// dvi::IntegrateAuto on the scene; pds scenes, which it does not take, are
-// stepped throughout.
+// dvi::IntegrateAuto on the scene; pds scenes on a K without the form
+// (2.10) are stepped throughout.
 Trajectory IntegrateAutomatically(const Scene& scene, std::function<void(double t)> progress) {
   if (const std::string why = WhyNotEventDriven(scene); !why.empty()) {
     Trajectory stepping = IntegrateStepping(scene, std::move(progress));

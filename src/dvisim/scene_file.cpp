@@ -464,16 +464,19 @@ void ReadOutput(const json* output, Scene& scene) {
 }  // namespace
 
 std::string EventDrivenMismatch(const std::string& why) {
-  return "\"event\" needs a DVI with a multiplier u (an lcs, dvi, box-dvi or filippov scene, "
-         "Sect. 5); " +
+  return "\"event\" needs a DVI with a multiplier u (Sect. 5), or a pds scene in the form "
+         "(2.10); " +
          why + " (use \"auto\" or \"stepping\")";
 }
 
 std::string WhyNotEventDriven(const Scene& scene) {
   // Any K of an lcs or dvi: a box directly, other sets through their KKT
-  // system (event_driven.hpp).
-  if (scene.type == "pds")
-    return "a pds scene has no multiplier u: its VI is in x itself, x' ∈ −F(x) − N(x; K)";
+  // system (event_driven.hpp). A pds scene through (2.10), one multiplier
+  // per constraint g_i(x) ≤ 0 of K.
+  if (const auto* pds = std::get_if<ProjectedDynamics>(&scene.problem);
+      pds && !pds->K.IsPolyhedral() && pds->K.kind() != ConvexSet::Kind::kBall)
+    return "the pds scene's K = " + pds->K.Describe() +
+           " has no form (2.10): it needs K polyhedral or a ball";
   return "";
 }
 
