@@ -506,6 +506,35 @@ std::vector<FailureCase> FailureCases() {
                    "x' = −1 + u, 0 ≤ u ⊥ x, x0 = 0, T = 1: x ≡ 0 (u = 1)", contact,
                    Eigen::VectorXd::Zero(1), 1, at_rest, 0});
 
+  // Index three: a mass resting on the ground, pushed by an oscillator
+  // (tests/index_reduction_test.cpp): two passes of Sect. 5.4 give
+  // u = 1 + 2 cos t until lift-off at 2π/3, then free flight.
+  Eigen::MatrixXd rest_a = Eigen::MatrixXd::Zero(4, 4), rest_b = Eigen::MatrixXd::Zero(4, 1),
+                  rest_c = Eigen::MatrixXd::Zero(1, 4);
+  rest_a(0, 1) = 1;
+  rest_a(1, 2) = 1;
+  rest_a(2, 3) = 1;
+  rest_a(3, 2) = -1;
+  rest_b(1, 0) = 1;
+  rest_c(0, 0) = 1;
+  cases.push_back({"index three",
+                   "x1' = x2, x2' = −1 + x3 + u, (x3, x4) oscillator, 0 ≤ u ⊥ x1, "
+                   "x0 = (0, 0, −2, 0), T = 4: rests until 2π/3, then flies",
+                   Lcs::Dense(rest_a, rest_b, rest_c, zero, Eigen::Vector4d(0, -1, 0, 0)),
+                   Eigen::Vector4d(0, 0, -2, 0), 4,
+                   [](double t) {
+                     const double lift_off = 2 * M_PI / 3;
+                     Eigen::Vector4d x(0, 0, -2 * std::cos(t), 2 * std::sin(t));
+                     if (t > lift_off) {
+                       const double s = t - lift_off;
+                       x(0) = -s * s / 2 + 2 * (std::cos(t) - std::cos(lift_off)) +
+                              2 * std::sin(lift_off) * s;
+                       x(1) = -s - 2 * (std::sin(t) - std::sin(lift_off));
+                     }
+                     return Eigen::VectorXd(x);
+                   },
+                   0});
+
   Eigen::Matrix2d chain_a;
   chain_a << 0, 1, 0, 0;
   cases.push_back({"not reducible ((5.8) = CB = 0)",
