@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// Issue 5's work-precision chart: on the index-two wall contact, scalar and
-// planar Filippov sliding and Siconos' diode bridge (exact solutions,
+// Issue 5's work-precision chart: on the index-two wall contact (the issue's
+// 2-D index-two LCS with non-trivial A), scalar and planar Filippov sliding
+// and Siconos' diode bridge (exact solutions,
 // work_precision_dae_problems.hpp), the automatic driver and event-driven
 // integration (Sect. 5, modes reduced by Theorems 5.2/5.3) over rtol against
 // θ time-stepping (Sect. 7, scheme (7.2)) of dvi and of Siconos' kernel
@@ -9,7 +10,8 @@
 // those and the exact solution's switch times. Goal per problem: at the
 // smallest error any time-stepping run reaches within the budget, `auto` is
 // ≥ 100× faster than that run. Usage and method: bench/README.md.
-//   work_precision_dae --csv PATH --goals PATH [--budget SECONDS]
+//   work_precision_dae --csv PATH --goals PATH [--budget SECONDS] [--problem NAME]...
+// --problem (repeatable) limits the run to the named problems.
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -548,9 +550,30 @@ void PrintProblem(const DaeWorkPrecisionProblem& problem, const std::vector<Poin
   }
 }
 
+// The problems named by --problem, in the table's order; all when none is.
+std::vector<DaeWorkPrecisionProblem> SelectProblems(const std::vector<std::string>& names) {
+  std::vector<DaeWorkPrecisionProblem> problems = MakeDaeWorkPrecisionProblems();
+  if (names.empty()) return problems;
+  std::string known;
+  for (const DaeWorkPrecisionProblem& problem : problems) known += " " + problem.name;
+  for (const std::string& name : names) {
+    const bool found = std::any_of(problems.begin(), problems.end(),
+                                   [&name](const auto& problem) { return problem.name == name; });
+    if (!found) throw std::invalid_argument("--problem " + name + ": not one of" + known);
+  }
+  problems.erase(std::remove_if(problems.begin(), problems.end(),
+                                [&names](const auto& problem) {
+                                  return std::find(names.begin(), names.end(), problem.name) ==
+                                         names.end();
+                                }),
+                 problems.end());
+  return problems;
+}
+
 int Main(int argc, char** argv) {
   std::string csv_path, goals_path;
   double budget = 10;
+  std::vector<std::string> names;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
     if (arg == "--csv" && k + 1 < argc) {
@@ -559,6 +582,8 @@ int Main(int argc, char** argv) {
       goals_path = argv[++k];
     } else if (arg == "--budget" && k + 1 < argc) {
       budget = std::stod(argv[++k]);
+    } else if (arg == "--problem" && k + 1 < argc) {
+      names.push_back(argv[++k]);
     } else {
       throw std::invalid_argument("unknown argument " + arg);
     }
@@ -568,7 +593,7 @@ int Main(int argc, char** argv) {
   }
   if (!(budget > 0)) throw std::invalid_argument("--budget must be > 0");
 
-  const std::vector<DaeWorkPrecisionProblem> problems = MakeDaeWorkPrecisionProblems();
+  const std::vector<DaeWorkPrecisionProblem> problems = SelectProblems(names);
   std::vector<Point> points;
   for (const DaeWorkPrecisionProblem& problem : problems) {
     std::cerr << problem.name << "\n";
@@ -580,8 +605,11 @@ int Main(int argc, char** argv) {
         points.push_back(p);
     }
   }
-  const DaeWorkPrecisionProblem& bridge = problems.back();
-  const std::string lsodar = ProbeLsodar(bridge.lcs, bridge.x0, bridge.t_end);
+  const auto bridge = std::find_if(problems.begin(), problems.end(),
+                                   [](const auto& problem) { return problem.name == "bridge"; });
+  const std::string lsodar = bridge == problems.end()
+                                 ? "not run (bridge not selected)"
+                                 : ProbeLsodar(bridge->lcs, bridge->x0, bridge->t_end);
 
   std::cout << "Error: max of ‖x − x_exact‖∞ (bridge: |v − v_exact|) over " << kGridPoints
             << " equispaced times (grid), and over those and the exact solution's switch times "
@@ -643,7 +671,8 @@ int main(int argc, char** argv) {
     return dvi::bench::Main(argc, argv);
   } catch (const std::exception& error) {
     std::cerr << "work_precision_dae: " << error.what()
-              << "\nusage: work_precision_dae --csv PATH --goals PATH [--budget SECONDS]\n";
+              << "\nusage: work_precision_dae --csv PATH --goals PATH [--budget SECONDS] "
+                 "[--problem NAME]...\n";
     return 2;
   }
 }

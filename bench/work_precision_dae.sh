@@ -4,7 +4,9 @@
 # it and draws issue 5's work-precision chart (max error against wall time,
 # one panel per problem) with gnuplot.
 #   bench/work_precision_dae.sh OUT_DIR [work_precision_dae options...]
-# e.g. bench/work_precision_dae.sh /tmp/wpdae --budget 2
+# options: --budget SECONDS (default 10), --problem NAME (repeatable; wall,
+# sliding, filippov2d, bridge; default all), e.g.
+#   bench/work_precision_dae.sh /tmp/wpdae --budget 2 --problem wall
 # writes OUT_DIR/work_precision_dae.{csv,md,png,svg} and goals.csv (the
 # tables on stdout too). BUILD_DIR (default /tmp/build-wpdae) selects the
 # build tree; progress and Siconos' own diagnostics (stderr) go to
@@ -54,8 +56,11 @@ declare -A style=(
   [auto]="lc rgb 'black' lw 2 pt 7" [event]="lc rgb 'dark-green' pt 5"
   [stepping-theta0]="lc rgb 'blue' pt 1" [stepping-theta0.5]="lc rgb 'red' pt 2"
   [siconos-theta0]="lc rgb 'blue' dt 2 pt 6" [siconos-theta0.5]="lc rgb 'red' dt 2 pt 8")
+# The problems run (--problem may select some), in the table's order.
+problems=$(awk -F, 'NR > 1 && !seen[$1]++ { print $1 }' "$csv")
+panels=$(wc -w <<<"$problems")
 plot_panels() {  # $1: column of the error (2 grid, 3 grid + switches), $2: its name in goals.csv
-  for problem in wall sliding filippov2d bridge; do
+  for problem in $problems; do
     # The goal's error level: the smallest error of time-stepping in the budget.
     local target
     target=$(awk -F, -v p="$problem" -v g="$2" '$1 == p && $2 == g { print $3 }' "$goals")
@@ -69,18 +74,21 @@ plot_panels() {  # $1: column of the error (2 grid, 3 grid + switches), $2: its 
       local file="$data_dir/${problem}_${method}.dat"
       [[ -s "$file" ]] && plot="$plot '$file' using 1:$1 with linespoints ${style[$method]} title '$method',"
     done
+    # No successful run: an empty panel keeps the layout.
+    [[ $plot == plot ]] && plot="set multiplot next"
     echo "${plot%,}"
   done
 }
 for extension in png svg; do
-  terminal="svg size 2000,1000"
-  [[ $extension == png ]] && terminal="pngcairo size 2000,1000"
+  size="$((panels < 2 ? 1000 : 500 * panels)),1000"
+  terminal="svg size $size"
+  [[ $extension == png ]] && terminal="pngcairo size $size"
   {
     echo "set terminal $terminal font ',10'"
     echo "set output '$out_dir/work_precision_dae.$extension'"
     echo "set logscale xy; set format x '10^{%T}'; set format y '10^{%T}'"
     echo "set grid; set key top right font ',8'"
-    echo "set multiplot layout 2,4 title 'Issue 5 work-precision: max error vs wall time," \
+    echo "set multiplot layout 2,$panels title 'Issue 5 work-precision: max error vs wall time," \
          "on the 1001-point grid (top) and with the switch times (bottom); dashed: the goal level'"
     plot_panels 2 grid
     plot_panels 3 "grid + switches"

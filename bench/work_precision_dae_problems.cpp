@@ -12,7 +12,8 @@ namespace {
 
 // x1' = x2 + u, x2' = −x1 − x2, 0 ≤ u ⊥ x1 ≥ 0 (D = 0, CB = 1: index two,
 // reduced by Theorem 5.3). Free, x1'' + x1' + x1 = 0 from (1, 0) until x1
-// reaches 0 at ωt_c = 2π/3; then u = −x2 holds x1 = 0 and x2' = −x2.
+// reaches 0 at ωt_c = 2π/3; then u = −x2 holds x1 = 0 and x2' = −x2. The
+// LCS of tests/index_reduction_test.cpp's TwoDimensionalIndexTwoLcs.
 double WallContactTime() { return 4 * std::acos(-1.0) / (3 * std::sqrt(3.0)); }
 
 Eigen::VectorXd WallExact(double t) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The four LCSs of issue 5's work-precision chart (bench/README.md), each
-// with its exact solution: an index-two wall contact, scalar and planar
-// Filippov sliding, and Siconos' diode bridge.
+// with its exact solution: an index-two wall contact (the issue's "2-D
+// index-two LCS with non-trivial A"), scalar and planar Filippov sliding, and
+// Siconos' diode bridge.
 #pragma once
 
 #include <functional>
