@@ -32,6 +32,12 @@ enum class OdeMethod {
 /// "bdf", "adams".
 std::string_view ToString(OdeMethod method);
 
+/// The linear solver of CVODE's Newton iterations inside a mode.
+enum class LinearSolver {
+  kDense,  ///< Dense LU of the n×n iteration matrix: any DVI.
+  kKlu,    ///< Sparse LU (KLU) of it: an Lcs on a box K only.
+};
+
 struct EventDrivenOptions {
   /// CVODE's local error test: ‖err_i‖ ≤ rtol·|x_i| + atol, finite and ≥ 0,
   /// not both zero.
@@ -64,6 +70,14 @@ struct EventDrivenOptions {
   /// by semismooth Newton); its tolerance also accepts the mode's Newton
   /// solves of F_free(t, x, u) = 0.
   SolverOptions solver;
+  /// kKlu: for an LCS the mode's Jacobian is A − B_α G_u⁻¹ G_x (G the
+  /// free rows of w, differentiated ones in a reduced mode), formed from the
+  /// sparse matrices without any dense n×n one and factored by KLU — large
+  /// circuits with few diodes. It needs the Lcs overload with a box K: a
+  /// general Dvi gives no sparsity, and the KKT lifting of another K is
+  /// dense, so IntegrateEventDriven throws InvalidInputError naming
+  /// linear_solver there.
+  LinearSolver linear_solver = LinearSolver::kDense;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

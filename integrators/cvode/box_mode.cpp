@@ -50,7 +50,7 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
 }  // namespace
 
 BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::VectorXd upper,
-                             const SolverOptions& solver, bool affine)
+                             const SolverOptions& solver, bool affine, const Lcs* lcs)
     : dvi_(dvi),
       lower_(std::move(lower)),
       upper_(std::move(upper)),
@@ -61,13 +61,23 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
       mode_(dvi.m, BoundState::kFree),
       u_(Eigen::VectorXd::Zero(dvi.m)) {
   if (!affine_) return;
-  // An LCS: its matrices, read off once at (t, x, u) = 0.
+  if (lcs) {
+    flow_ = AffineFlow{lcs->p, lcs->A, lcs->B};
+    lcs_rows_ = AffineRows{lcs->q, lcs->C, Eigen::MatrixXd(lcs->D)};
+    return;
+  }
+  // An LCS known by its Dvi only (the KKT lifting of a polyhedral K): its
+  // matrices, read off once at (t, x, u) = 0.
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n()), u0 = Eigen::VectorXd::Zero(m());
+  Eigen::MatrixXd Fx, fx, fu;
   EvalF(0, x0, u0, lcs_rows_.c);
-  FJacobians(0, x0, u0, lcs_rows_.C, lcs_rows_.M);
+  FJacobians(0, x0, u0, Fx, lcs_rows_.M);
+  lcs_rows_.C = Fx.sparseView(1, 0);
   flow_.p.resize(n());
   dvi_.f(0, x0, u0, flow_.p);
-  SmallFJacobians(0, x0, u0, flow_.A, flow_.B);
+  SmallFJacobians(0, x0, u0, fx, fu);
+  flow_.A = fx.sparseView(1, 0);
+  flow_.B = fu.sparseView(1, 0);
 }
 
 void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
@@ -146,15 +156,15 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
                                   Eigen::MatrixXd* Gx) const {
   const int a = static_cast<int>(free_.size());
   if (affine_) {
+    const Eigen::VectorXd Cx = mode_rows_.C * x;
     G.resize(a);
     Gu.resize(a, a);
-    if (Gx) Gx->resize(a, n());
     for (int i = 0; i < a; ++i) {
       const int row = free_[i];
-      G(i) = mode_rows_.c(row) + mode_rows_.C.row(row).dot(x) + mode_rows_.M.row(row).dot(u);
+      G(i) = mode_rows_.c(row) + Cx(row) + mode_rows_.M.row(row).dot(u);
       for (int k = 0; k < a; ++k) Gu(i, k) = mode_rows_.M(row, free_[k]);
-      if (Gx) Gx->row(i) = mode_rows_.C.row(row);
     }
+    if (Gx) *Gx = Eigen::MatrixXd(FreeRows() * mode_rows_.C);
     return;
   }
   Eigen::VectorXd F(m()), derived;
@@ -236,7 +246,7 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     // Sect. 5.4 on the matrices, repeated while (5.8) is singular; an LCS
     // in n states that needs more than n + 1 passes is not reducible.
     mode_rows_ = lcs_rows_;
-    mode_constraints_ = AffineConstraints{Eigen::VectorXd(0), Eigen::MatrixXd(0, n())};
+    mode_constraints_ = AffineConstraints{Eigen::VectorXd(0), SparseMatrix(0, n())};
     while (passes_ <= n() &&
            DifferentiateDependentRows(flow_, free_, u_, mode_rows_, mode_constraints_))
       ++passes_;
@@ -274,8 +284,38 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   return true;
 }
 
+bool BoxModeSystem::SparseRhsJacobian(SparseMatrix& J) const {
+  // Explicit zeros on the diagonal: Eigen's sums keep them in the pattern.
+  SparseMatrix zero_diagonal(n(), n());
+  zero_diagonal.setIdentity();
+  zero_diagonal *= 0.0;
+  J = flow_.A + zero_diagonal;
+  if (free_.empty()) return true;
+  const int a = static_cast<int>(free_.size());
+  Eigen::MatrixXd Gu(a, a);
+  for (int i = 0; i < a; ++i)
+    for (int k = 0; k < a; ++k) Gu(i, k) = mode_rows_.M(free_[i], free_[k]);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
+  if (!lu.isInvertible()) return false;
+  // Implicit function theorem on G = c + C x + M u = 0 (its free rows):
+  // du_α/dx = −G_u⁻¹ G_x, with G_u⁻¹ small and dense, G_x = C_α sparse.
+  const SparseMatrix free_rows = FreeRows();
+  const SparseMatrix Gu_inverse = Eigen::MatrixXd(lu.inverse()).sparseView(1, 0);
+  const SparseMatrix du_dx = Gu_inverse * (free_rows * mode_rows_.C);
+  J -= (flow_.B * free_rows.transpose()) * du_dx;
+  J.makeCompressed();
+  return true;
+}
+
+SparseMatrix BoxModeSystem::FreeRows() const {
+  SparseMatrix select(static_cast<Eigen::Index>(free_.size()), m());
+  select.reserve(Eigen::VectorXi::Ones(m()));
+  for (int i = 0; i < static_cast<int>(free_.size()); ++i) select.insert(i, free_[i]) = 1;
+  return select;
+}
+
 void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
-                                Eigen::MatrixXd* phi_x) const {
+                                SparseMatrix* phi_x) const {
   if (affine_) {
     phi = mode_constraints_.c + mode_constraints_.C * x;
     if (phi_x) *phi_x = mode_constraints_.C;
@@ -287,7 +327,7 @@ void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::Vecto
   if (phi_x) {
     Eigen::MatrixXd Fx, Fu;
     FJacobians(t, x, u_, Fx, Fu);
-    *phi_x = reduction_.P * Fx;
+    *phi_x = Eigen::MatrixXd(reduction_.P * Fx).sparseView(1, 0);
   }
 }
 
@@ -303,11 +343,11 @@ void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd&
   correction = Eigen::VectorXd::Zero(n());
   if (!reduced()) return;
   Eigen::VectorXd phi;
-  Eigen::MatrixXd phi_x;
+  SparseMatrix phi_x;
   Constraints(t, x, phi, &phi_x);
   // Least-norm: Δx = −Φ_xᵀ (Φ_x Φ_xᵀ)⁻¹ Φ; Φ_x has full row rank when (5.8)
   // is nonsingular, since (5.8)'s dependent rows are Φ_x f_u.
-  const Eigen::LDLT<Eigen::MatrixXd> gram(phi_x * phi_x.transpose());
+  const Eigen::LDLT<Eigen::MatrixXd> gram(Eigen::MatrixXd(phi_x * phi_x.transpose()));
   correction = -phi_x.transpose() * gram.solve(phi);
   if (err) *err -= phi_x.transpose() * gram.solve(phi_x * *err);
 }
@@ -342,7 +382,10 @@ SolveResult BoxModeSystem::SolveVi(double t, const Eigen::VectorXd& x,
   mcp.upper = upper_;
   const Dvi& dvi = dvi_;
   mcp.F = [&dvi, t, &x](const Eigen::VectorXd& z, Eigen::VectorXd& w) { dvi.F(t, x, z, w); };
-  if (dvi_.F_jacobian) {
+  if (affine_) {
+    // ∂F/∂u is constant: no m×n ∂F/∂x alongside it per evaluation.
+    mcp.jacobian = [&M = lcs_rows_.M](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J = M; };
+  } else if (dvi_.F_jacobian) {
     mcp.jacobian = [&dvi, t, &x](const Eigen::VectorXd& z, Eigen::MatrixXd& J) {
       Eigen::MatrixXd Jx(dvi.m, dvi.n);
       dvi.F_jacobian(t, x, z, Jx, J);
@@ -364,6 +407,7 @@ SolveResult BoxModeSystem::SolveBoxProblem(const BoxMcp& mcp, const Eigen::Vecto
 
 Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorXd& x,
                                                   const Eigen::VectorXd& u) const {
+  if (affine_) return lcs_rows_.M;
   Eigen::MatrixXd Fx, Fu;
   FJacobians(t, x, u, Fx, Fu);
   return Fu;
@@ -531,7 +575,7 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
                                          long* iterations, std::string* why) const {
   const double tolerance = 1e3 * solver_.tolerance;
   AffineRows rows = lcs_rows_;
-  AffineConstraints constraints{Eigen::VectorXd(0), Eigen::MatrixXd(0, n())};
+  AffineConstraints constraints{Eigen::VectorXd(0), SparseMatrix(0, n())};
   SolveResult current = vi;
   std::string failure;
   for (int pass = 1; pass <= n() + 1; ++pass) {

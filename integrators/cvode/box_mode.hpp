@@ -8,6 +8,7 @@
 
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/dvi_problem.hpp"
+#include "dvi/lcs.hpp"
 #include "dvi/solve_result.hpp"
 #include "box_mode_state.hpp"
 #include "dvi/solver_options.hpp"
@@ -41,9 +42,12 @@ class BoxModeSystem {
   /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: the
   /// DVI is an LCS (f and F affine in (x, u), time-invariant), so the VIs at
   /// events are LCPs where K is the orthant (Lemke backs up Newton at the
-  /// degenerate points events sit on) and modes reduce by matrices.
+  /// degenerate points events sit on) and modes reduce by matrices. lcs:
+  /// the LCS that dvi is (Lcs::ToDvi, K a box), whose sparse matrices are
+  /// then taken as they are instead of densely from dvi's Jacobians, so
+  /// that no n×n dense matrix is formed. @pre lcs == nullptr or affine.
   BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::VectorXd upper,
-                const SolverOptions& solver, bool affine);
+                const SolverOptions& solver, bool affine, const Lcs* lcs = nullptr);
 
   int n() const { return dvi_.n; }
   int m() const { return dvi_.m; }
@@ -68,6 +72,14 @@ class BoxModeSystem {
   /// affine in x, as for an LCS): only CVODE's Newton convergence depends on
   /// it. @pre Solve(t, x) succeeded.
   bool RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J) const;
+  /// The same Jacobian for an LCS, sparse: A − B_α G_u⁻¹ G_x with G the mode
+  /// equations (the free rows of w, or (5.8)'s rows in a reduced mode),
+  /// constant inside the mode. Formed from sparse products and the dense
+  /// a×a G_u, never an n×n dense matrix; every diagonal entry is stored (a
+  /// zero if need be), so that CVODE's I − γJ keeps J's pattern, which KLU's
+  /// reused analysis needs. False when G_u is singular.
+  /// @pre affine; Solve succeeded in the current mode.
+  bool SparseRhsJacobian(SparseMatrix& J) const;
   /// The 2m root functions; @pre Solve(t, x) succeeded.
   void Roots(double t, const Eigen::VectorXd& x, double* g) const;
 
@@ -136,9 +148,11 @@ class BoxModeSystem {
   /// when Gx is given, G_x (a×n).
   void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                      Eigen::VectorXd& G, Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const;
-  /// Φ(t, x) = P F(t, x, u_) and Φ_x = P F_x.
+  /// Φ(t, x) = P F(t, x, u_) and Φ_x = P F_x (sparse: an LCS's is).
   void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
-                   Eigen::MatrixXd* phi_x) const;
+                   SparseMatrix* phi_x) const;
+  /// The a×m matrix that picks the free rows (a = |free_|).
+  SparseMatrix FreeRows() const;
   /// Splits the free rows of the mode just entered at (t, x, u_).
   void SplitRows(double t, const Eigen::VectorXd& x);
   /// SelectReducedMode for an LCS: passes on its matrices until the

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -13,7 +14,9 @@
 #include <cvode/cvode_ls.h>
 #include <cvode/cvode_proj.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
+#include "../ida/ida_handles.hpp"
 #include "box_mode.hpp"
 #include "check.hpp"
 #include "kkt_lifting.hpp"
@@ -37,6 +40,9 @@ void EventDrivenOptions::Validate() const {
                                   << " must be finite, non-negative and not both zero");
   DVI_THROW_UNLESS(method == OdeMethod::kBdf || method == OdeMethod::kAdams,
                    "method: " << static_cast<int>(method) << " is not an OdeMethod");
+  DVI_THROW_UNLESS(linear_solver == LinearSolver::kDense || linear_solver == LinearSolver::kKlu,
+                   "linear_solver: " << static_cast<int>(linear_solver)
+                                     << " is not a LinearSolver");
   DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
   DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
                    "h_max: " << h_max << " is negative or not finite");
@@ -83,6 +89,7 @@ struct CallbackData {
   Eigen::VectorXd x;
   Eigen::VectorXd xdot;
   Eigen::MatrixXd J;
+  SparseMatrix sparse_J;  // KLU: the current mode's (constant) Jacobian
   std::exception_ptr error;
   std::string cvode_message;
   long rhs_evals = 0;
@@ -112,8 +119,8 @@ int RhsCallback(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
   }
 }
 
-int JacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void* user_data, N_Vector,
-                     N_Vector, N_Vector) {
+int DenseJacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void* user_data,
+                          N_Vector, N_Vector, N_Vector) {
   auto& data = *static_cast<CallbackData*>(user_data);
   try {
     ++data.jacobian_evals;
@@ -130,6 +137,21 @@ int JacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void* user
     data.error = std::current_exception();
     return -1;
   }
+}
+
+// KLU: the mode's Jacobian, formed at its entry (EnterSparseJacobian),
+// copied into the compressed columns CVODE zeroed, pattern included.
+int SparseJacobianCallback(realtype, N_Vector, N_Vector, SUNMatrix Jac, void* user_data, N_Vector,
+                           N_Vector, N_Vector) {
+  auto& data = *static_cast<CallbackData*>(user_data);
+  ++data.jacobian_evals;
+  const SparseMatrix& J = data.sparse_J;
+  if (SUNSparseMatrix_NNZ(Jac) < J.nonZeros()) return -1;
+  std::copy(J.outerIndexPtr(), J.outerIndexPtr() + J.cols() + 1,
+            SUNSparseMatrix_IndexPointers(Jac));
+  std::copy(J.innerIndexPtr(), J.innerIndexPtr() + J.nonZeros(), SUNSparseMatrix_IndexValues(Jac));
+  std::copy(J.valuePtr(), J.valuePtr() + J.nonZeros(), SUNSparseMatrix_Data(Jac));
+  return 0;
 }
 
 int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
@@ -182,14 +204,22 @@ std::string Format(double value) {
 // One run: the CVODE objects, the mode system and the trajectory being built.
 class EventDrivenRun {
  public:
-  EventDrivenRun(const Dvi& dvi, bool affine, const Eigen::VectorXd& x0, double t0, double t_end,
-                 const EventDrivenOptions& options)
+  // lcs: the LCS that dvi is (K a box), for KLU.
+  EventDrivenRun(const Dvi& dvi, bool affine, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
+                 double t_end, const EventDrivenOptions& options)
       : dvi_(dvi),
         options_(options),
         t0_(t0),
         t_end_(t_end),
         x0_(x0),
-        system_(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver, affine) {}
+        system_(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver, affine,
+                lcs) {
+    // Only the chosen solver's matrix: a dense one is n² doubles.
+    if (options.linear_solver == LinearSolver::kKlu)
+      klu_ = std::make_unique<internal::KluLinearSolver>(y_.get(), x0.size(), 1, context_.get());
+    else
+      dense_ = std::make_unique<internal::DenseLinearSolver>(y_.get(), x0.size(), context_.get());
+  }
 
   Trajectory Run();
 
@@ -200,6 +230,7 @@ class EventDrivenRun {
                std::string& why);
   bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode);
   bool HandleEvent(double t, Eigen::VectorXd& x);
+  bool EnterSparseJacobian();
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u);
@@ -221,7 +252,8 @@ class EventDrivenRun {
   internal::SunContext context_;
   internal::SerialVector y_{x0_.size(), context_.get()};
   internal::SerialVector dky_{x0_.size(), context_.get()};
-  internal::DenseLinearSolver linear_solver_{y_.get(), x0_.size(), context_.get()};
+  std::unique_ptr<internal::DenseLinearSolver> dense_;
+  std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
                                context_.get()};
   CallbackData data_;
@@ -476,20 +508,36 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   return true;
 }
 
+// KLU: the Jacobian of the mode just entered, constant for an LCS, formed
+// once; its pattern is new, so KLU's symbolic analysis is redone.
+bool EventDrivenRun::EnterSparseJacobian() {
+  if (!klu_) return true;
+  if (!system_.SparseRhsJacobian(data_.sparse_J))
+    return Fail(IntegrationStatus::kStepFailure,
+                "event: mode " + Describe(system_.mode()) + " at t = " + Format(t_) +
+                    ": G_u is singular, no Jacobian for KLU");
+  if (!klu_->Reset(data_.sparse_J.nonZeros()))
+    return Fail(IntegrationStatus::kStepFailure, "event: the KLU matrix cannot be resized");
+  return true;
+}
+
 bool EventDrivenRun::IntegrateModes() {
   void* cvode = cvode_.get();
   data_.system = &system_;
   data_.x.resize(x0_.size());
   t_ = t0_;
+  if (!EnterSparseJacobian()) return false;
+  SUNMatrix matrix = klu_ ? klu_->matrix() : dense_->matrix();
+  SUNLinearSolver solver = klu_ ? klu_->solver() : dense_->solver();
   std::vector<int> directions(2 * dvi_.m, -1);  // the root functions are positive in the mode
   std::vector<int> roots(2 * dvi_.m);
   if (!Check(CVodeSetErrHandlerFn(cvode, ErrorHandler, &data_), "CVodeSetErrHandlerFn") ||
       !Check(CVodeInit(cvode, RhsCallback, t0_, y_.get()), "CVodeInit") ||
       !Check(CVodeSStolerances(cvode, options_.rtol, options_.atol), "CVodeSStolerances") ||
       !Check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData") ||
-      !Check(CVodeSetLinearSolver(cvode, linear_solver_.solver(), linear_solver_.matrix()),
-             "CVodeSetLinearSolver") ||
-      !Check(CVodeSetJacFn(cvode, JacobianCallback), "CVodeSetJacFn") ||
+      !Check(CVodeSetLinearSolver(cvode, solver, matrix), "CVodeSetLinearSolver") ||
+      !Check(CVodeSetJacFn(cvode, klu_ ? SparseJacobianCallback : DenseJacobianCallback),
+             "CVodeSetJacFn") ||
       !Check(CVodeSetMaxStep(cvode, options_.h_max), "CVodeSetMaxStep") ||
       !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
       !Check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn"))
@@ -534,7 +582,7 @@ bool EventDrivenRun::IntegrateModes() {
         if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
         return true;
       }
-      if (!Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
+      if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
           !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime"))
         return false;
       segment_open_ = true;
@@ -585,24 +633,31 @@ Trajectory EventDrivenRun::Run() {
   return std::move(trajectory_);
 }
 
-// affine: F is affine in u (an LCS), see BoxModeSystem.
-Trajectory Integrate(const Dvi& dvi, bool affine, const Eigen::VectorXd& x0, double t0,
+// lcs: the LCS that dvi is (F affine, see BoxModeSystem), or null.
+Trajectory Integrate(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
                      double t_end, const EventDrivenOptions& options) {
   dvi.Validate();
   options.Validate();
+  DVI_THROW_UNLESS(options.linear_solver == LinearSolver::kDense || lcs,
+                   "linear_solver: kKlu needs an Lcs, whose sparse matrices give the mode's "
+                   "Jacobian; a general Dvi gives no sparsity (use kDense)");
+  DVI_THROW_UNLESS(options.linear_solver == LinearSolver::kDense || dvi.K.IsBox(),
+                   "linear_solver: kKlu needs an Lcs on a box K, not " << dvi.K.Describe()
+                                                                      << " (its KKT lifting is "
+                                                                         "dense; use kDense)");
   DVI_THROW_UNLESS(x0.size() == dvi.n, "x0 has " << x0.size() << " entries, expected " << dvi.n);
   for (int i = 0; i < x0.size(); ++i)
     DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
   if (dvi.K.IsBox()) {
-    EventDrivenRun run(dvi, affine, x0, t0, t_end, options);
+    EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, options);
     return run.Run();
   }
   // Polyhedra, balls and products with them: the KKT system on a box, whose
   // modes are the active sets of K's constraints.
   const internal::KktLifting lifting = internal::LiftToBox(dvi);
-  EventDrivenRun run(lifting.dvi, affine && dvi.K.IsPolyhedral(), x0, t0, t_end, options);
+  EventDrivenRun run(lifting.dvi, lcs && dvi.K.IsPolyhedral(), nullptr, x0, t0, t_end, options);
   return internal::Unlift(run.Run(), lifting);
 }
 
@@ -610,13 +665,13 @@ Trajectory Integrate(const Dvi& dvi, bool affine, const Eigen::VectorXd& x0, dou
 
 Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const EventDrivenOptions& options) {
-  return Integrate(dvi, false, x0, t0, t_end, options);
+  return Integrate(dvi, nullptr, x0, t0, t_end, options);
 }
 
 Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const EventDrivenOptions& options) {
   lcs.Validate();
-  return Integrate(lcs.ToDvi(), true, x0, t0, t_end, options);
+  return Integrate(lcs.ToDvi(), &lcs, x0, t0, t_end, options);
 }
 
 }  // namespace dvi

@@ -2,8 +2,53 @@
 #include "mode_reduction.hpp"
 
 #include <algorithm>
+#include <vector>
 
 namespace dvi::internal {
+namespace {
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// The entries of matrix, row i moved to row_of[i] (dropped when < 0).
+void AppendEntries(const SparseMatrix& matrix, const std::vector<int>& row_of, Triplets& entries) {
+  for (Eigen::Index k = 0; k < matrix.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(matrix, k); it; ++it)
+      if (row_of[it.row()] >= 0) entries.emplace_back(row_of[it.row()], it.col(), it.value());
+}
+
+SparseMatrix FromEntries(const Triplets& entries, Eigen::Index rows, Eigen::Index cols) {
+  SparseMatrix result(rows, cols);
+  result.setFromTriplets(entries.begin(), entries.end());
+  return result;
+}
+
+// top with bottom's rows below it.
+SparseMatrix StackRows(const SparseMatrix& top, const SparseMatrix& bottom) {
+  const int height = static_cast<int>(top.rows());
+  std::vector<int> own(height), below(bottom.rows());
+  for (int i = 0; i < height; ++i) own[i] = i;
+  for (int k = 0; k < static_cast<int>(below.size()); ++k) below[k] = height + k;
+  Triplets entries;
+  entries.reserve(top.nonZeros() + bottom.nonZeros());
+  AppendEntries(top, own, entries);
+  AppendEntries(bottom, below, entries);
+  return FromEntries(entries, height + bottom.rows(), top.cols());
+}
+
+// matrix with its row rows[k] replaced by row k of replacement.
+SparseMatrix ReplaceRows(const SparseMatrix& matrix, const std::vector<int>& rows,
+                         const SparseMatrix& replacement) {
+  std::vector<int> own(matrix.rows());
+  for (int i = 0; i < static_cast<int>(own.size()); ++i) own[i] = i;
+  for (const int i : rows) own[i] = -1;
+  Triplets entries;
+  entries.reserve(matrix.nonZeros() + replacement.nonZeros());
+  AppendEntries(matrix, own, entries);
+  AppendEntries(replacement, rows, entries);
+  return FromEntries(entries, matrix.rows(), matrix.cols());
+}
+
+}  // namespace
 
 RowReduction ReduceRows(const Eigen::MatrixXd& Fu, const std::vector<int>& S) {
   RowReduction reduction;
@@ -52,21 +97,23 @@ bool DifferentiateDependentRows(const AffineFlow& flow, const std::vector<int>& 
   if (reduction.empty()) return false;
   Eigen::VectorXd u_rest = u;
   for (const int j : S) u_rest(j) = 0;
-  const Eigen::MatrixXd P_C = reduction.P * rows.C;
+  // Sparse products: P has few nonzeros per row and C, A, B are the
+  // circuit's, so no dense row of length n is formed.
+  const SparseMatrix P = reduction.P.sparseView(1, 0);
+  const SparseMatrix P_C = P * rows.C;
   const int previous = static_cast<int>(constraints.c.size());
   const int d = static_cast<int>(reduction.differentiated.size());
   constraints.c.conservativeResize(previous + d);
-  constraints.C.conservativeResize(previous + d, rows.C.cols());
   constraints.c.tail(d) = reduction.P * (rows.c + rows.M * u_rest);
-  constraints.C.bottomRows(d) = P_C;
+  constraints.C = StackRows(constraints.C, P_C);
   const Eigen::VectorXd c = P_C * flow.p;
-  const Eigen::MatrixXd C = P_C * flow.A, M = P_C * flow.B;
+  const Eigen::MatrixXd M = Eigen::MatrixXd(P_C * flow.B);
   for (int k = 0; k < d; ++k) {
     const int i = reduction.differentiated[k];
     rows.c(i) = c(k);
-    rows.C.row(i) = C.row(k);
     rows.M.row(i) = M.row(k);
   }
+  rows.C = ReplaceRows(rows.C, reduction.differentiated, P_C * flow.A);
   return true;
 }
 

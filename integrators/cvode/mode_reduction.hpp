@@ -5,6 +5,8 @@
 
 #include <Eigen/Dense>
 
+#include "dvi/complementarity_problem.hpp"
+
 namespace dvi::internal {
 
 /// The row operations of the differentiation procedure ([Seed] Sect. 5.4,
@@ -32,25 +34,28 @@ struct RowReduction {
 /// kRankTolerance times the largest.
 RowReduction ReduceRows(const Eigen::MatrixXd& Fu, const std::vector<int>& S);
 
-/// An LCS (2.8) x' = p + A x + B u, w = q + C x + D u, as dense matrices:
-/// the data of every pass of the differentiation procedure.
+/// An LCS (2.8) x' = p + A x + B u, w = q + C x + D u: the data of every
+/// pass of the differentiation procedure. The matrices in n are sparse, so
+/// that a large circuit never needs a dense n×n one.
 struct AffineFlow {
   Eigen::VectorXd p;
-  Eigen::MatrixXd A, B;
+  SparseMatrix A, B;
 };
 
 /// The rows w = c + C x + M u of an LCS after some passes of the
 /// differentiation procedure (the modified LCS of Sect. 5.4; none: q, C, D).
+/// M (m×m) is dense: rank decisions and the LCPs at events work on it.
 struct AffineRows {
   Eigen::VectorXd c;
-  Eigen::MatrixXd C, M;
+  SparseMatrix C;
+  Eigen::MatrixXd M;
 };
 
 /// The u-free combinations Φ(x) = c + C x the passes met, stacked: the
 /// original constraints (5.7) a reduced mode must keep from drifting.
 struct AffineConstraints {
   Eigen::VectorXd c;
-  Eigen::MatrixXd C;
+  SparseMatrix C;
 };
 
 /// One pass of Sect. 5.4 on the rows S of `rows`: ReduceRows splits them, and

@@ -1,0 +1,185 @@
+// SPDX-License-Identifier: Apache-2.0
+// Event-driven integration (event_driven.hpp) of a large RC ladder with a
+// few ideal diodes, CVODE's Newton systems factored densely or by KLU
+// (EventDrivenOptions::linear_solver), n = 10² … 10⁴: wall time, steps,
+// Jacobians, events, the largest difference between the two solvers, and the
+// fitted exponent of KLU's time against n. The dense solver runs only where
+// its n³ extrapolation from the previous n stays under --dense-limit s.
+//
+//   event_klu_scaling [--max-n N] [--t-end T] [--repeats R] [--dense-limit S]
+//
+// Prints a Markdown table.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "dvi/event_driven.hpp"
+
+namespace {
+
+struct Settings {
+  int max_n = 10'000;
+  double t_end = 0.5;  // the three diodes switch on at 3.0 ms, 161 ms and 356 ms
+  int repeats = 3;     // timings: the fastest of this many runs
+  double dense_limit = 60;
+};
+
+[[noreturn]] void Usage(const std::string& why) {
+  std::cerr << "event_klu_scaling: " << why
+            << "\nusage: event_klu_scaling [--max-n N] [--t-end T] [--repeats R]"
+               " [--dense-limit S]\n";
+  std::exit(2);
+}
+
+Settings Parse(int argc, char** argv) {
+  Settings settings;
+  for (int k = 1; k < argc; ++k) {
+    const std::string flag = argv[k];
+    if (k + 1 >= argc) Usage(flag + " needs a value");
+    const std::string value = argv[++k];
+    char* end = nullptr;
+    if (flag == "--max-n")
+      settings.max_n = static_cast<int>(std::strtol(value.c_str(), &end, 10));
+    else if (flag == "--t-end")
+      settings.t_end = std::strtod(value.c_str(), &end);
+    else if (flag == "--repeats")
+      settings.repeats = static_cast<int>(std::strtol(value.c_str(), &end, 10));
+    else if (flag == "--dense-limit")
+      settings.dense_limit = std::strtod(value.c_str(), &end);
+    else
+      Usage("unknown flag " + flag);
+    if (end == value.c_str() || *end != '\0') Usage(flag + ": not a number: " + value);
+  }
+  if (settings.max_n < 100) Usage("--max-n must be at least 100");
+  if (!(settings.t_end > 0)) Usage("--t-end must be positive");
+  if (settings.repeats < 1) Usage("--repeats must be at least 1");
+  return settings;
+}
+
+// An RC ladder (1 kΩ between neighbouring nodes, 1 µF to ground, 1 mA drawn
+// from the last node) with ideal diodes to ground at nodes n−1, n−4, n−9,
+// 0 ≤ u_k ⊥ x_node + offset_k ≥ 0 with offsets 0.5, 0.3, 0.1 V: each clamps
+// its node (D = 0, an index-two mode reduced by Sect. 5.4) in turn. The
+// same circuit as tests/event_driven_klu_test.cpp.
+dvi::Lcs DiodeLadder(int n) {
+  const std::vector<int> nodes = {n - 1, n - 4, n - 9};
+  const Eigen::Vector3d offsets(0.5, 0.3, 0.1);
+  const double R = 1e3, C = 1e-6, I = 1e-3, g = 1 / (R * C);
+  std::vector<Eigen::Triplet<double>> a, b, c;
+  for (int k = 0; k + 1 < n; ++k) {
+    a.emplace_back(k, k, -g);
+    a.emplace_back(k + 1, k + 1, -g);
+    a.emplace_back(k, k + 1, g);
+    a.emplace_back(k + 1, k, g);
+  }
+  for (int j = 0; j < 3; ++j) {
+    b.emplace_back(nodes[j], j, 1 / C);
+    c.emplace_back(j, nodes[j], 1);
+  }
+  dvi::SparseMatrix A(n, n), B(n, 3), Cw(3, n), D(3, 3);
+  A.setFromTriplets(a.begin(), a.end());
+  B.setFromTriplets(b.begin(), b.end());
+  Cw.setFromTriplets(c.begin(), c.end());
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
+  p(n - 1) = -I / C;
+  return dvi::Lcs::Sparse(A, B, Cw, D, p, offsets);
+}
+
+struct Run {
+  double seconds = NAN;  // fastest run
+  dvi::Trajectory trajectory;
+};
+
+Run Measure(const dvi::Lcs& lcs, dvi::LinearSolver solver, const Settings& settings) {
+  dvi::EventDrivenOptions options;
+  options.linear_solver = solver;
+  for (int k = 0; k <= 20; ++k) options.output_times.push_back(settings.t_end * k / 20);
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(lcs.n());
+  Run run;
+  for (int r = 0; r < settings.repeats; ++r) {
+    run.trajectory = dvi::IntegrateEventDriven(lcs, x0, 0, settings.t_end, options);
+    if (!run.trajectory.succeeded()) {
+      std::cerr << "n = " << lcs.n() << ": " << run.trajectory.message << "\n";
+      std::exit(1);
+    }
+    run.seconds = r == 0 ? run.trajectory.stats.wall_seconds
+                         : std::min(run.seconds, run.trajectory.stats.wall_seconds);
+  }
+  return run;
+}
+
+// Least-squares slope of log y against log x.
+double FittedExponent(const std::vector<double>& x, const std::vector<double>& y) {
+  const int count = static_cast<int>(x.size());
+  if (count < 2) return NAN;
+  double mean_x = 0, mean_y = 0;
+  for (int k = 0; k < count; ++k) {
+    mean_x += std::log(x[k]) / count;
+    mean_y += std::log(y[k]) / count;
+  }
+  double sxy = 0, sxx = 0;
+  for (int k = 0; k < count; ++k) {
+    sxy += (std::log(x[k]) - mean_x) * (std::log(y[k]) - mean_y);
+    sxx += (std::log(x[k]) - mean_x) * (std::log(x[k]) - mean_x);
+  }
+  return sxy / sxx;
+}
+
+std::string Number(double value, const char* format) {
+  if (std::isnan(value)) return "n/a";
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Settings settings = Parse(argc, argv);
+  std::cout << "RC ladder with 3 ideal diodes, event-driven (BDF, rtol 1e-8, atol 1e-10), "
+               "t ∈ [0, "
+            << settings.t_end << "] s, fastest of " << settings.repeats << " runs\n\n"
+            << "| n | KLU s | dense s | dense / KLU | steps | Jacobians | events | "
+               "max ‖x_KLU − x_dense‖∞ |\n"
+            << "|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  std::vector<double> ns, klu_seconds;
+  double dense_previous = NAN;
+  int n_previous = 0;
+  for (int n = 100; n <= settings.max_n; n *= 10) {
+    const dvi::Lcs lcs = DiodeLadder(n);
+    const Run klu = Measure(lcs, dvi::LinearSolver::kKlu, settings);
+    const double predicted = dense_previous * std::pow(static_cast<double>(n) / n_previous, 3);
+    Run dense;
+    double difference = NAN;
+    if (n_previous == 0 || predicted < settings.dense_limit) {
+      dense = Measure(lcs, dvi::LinearSolver::kDense, settings);
+      difference = 0;
+      for (int k = 0; k <= 20; ++k) {
+        const double t = settings.t_end * k / 20;
+        difference = std::max(difference, (klu.trajectory.StateAt(t) - dense.trajectory.StateAt(t))
+                                              .cwiseAbs()
+                                              .maxCoeff());
+      }
+      dense_previous = dense.seconds;
+      n_previous = n;
+    }
+    const dvi::IntegrationStats& stats = klu.trajectory.stats;
+    std::cout << "| " << n << " | " << Number(klu.seconds, "%.3f") << " | "
+              << (std::isnan(dense.seconds)
+                      ? "skipped (~" + Number(predicted, "%.0f") + " s predicted)"
+                      : Number(dense.seconds, "%.3f"))
+              << " | " << Number(dense.seconds / klu.seconds, "%.1f") << " | " << stats.steps
+              << " | " << stats.jacobian_evals << " | " << klu.trajectory.events.size() << " | "
+              << Number(difference, "%.1e") << " |" << std::endl;
+    ns.push_back(n);
+    klu_seconds.push_back(klu.seconds);
+  }
+  std::cout << "\nfitted exponent of KLU's time against n: "
+            << Number(FittedExponent(ns, klu_seconds), "%.3f") << "\n";
+  return 0;
+}
