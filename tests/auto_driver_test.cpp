@@ -178,6 +178,52 @@ TEST(AutoDriver, IndexOneProblemRunsEventDrivenThroughout) {
   EXPECT_GE(trajectory.stats.wall_seconds, 0.0);
 }
 
+// A mass dropped on the ground: x1' = x2, x2' = −1 + u, 0 ≤ u ⊥ x1 ≥ 0,
+// x0 = (0.5, 0). It lands at t = 1 with x2 = −1: an impact, no locally
+// smooth solution, so event-driven integration stops there. Time-stepping
+// takes the impact (backward Euler: inelastic, x2 = 0 after one step), and
+// event-driven integration resumes on the resting mass, an index-three
+// mode that two passes of Sect. 5.4 reduce: u = 1, x ≡ 0.
+TEST(AutoDriver, SteppingTakesAnImpactThenTheRestingMassRunsEventDriven) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2, 2), B(2, 1), C(1, 2), D = Eigen::MatrixXd::Zero(1, 1);
+  A(0, 1) = 1;
+  B << 0, 1;
+  C << 1, 0;
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.event.output_times = Linspace(0, 2, 201);
+  options.stepping.h = 1e-3;
+  const Trajectory trajectory = IntegrateAuto(Lcs::Dense(A, B, C, D, Eigen::Vector2d(0, -1)),
+                                              Eigen::Vector2d(0.5, 0), 0, 2, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 2);
+  ASSERT_EQ(trajectory.intervals.size(), 3u);
+  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_NEAR(trajectory.intervals[0].to, 1.0, 1e-9);
+  EXPECT_EQ(trajectory.intervals[1].name, "stepping");
+  EXPECT_TRUE(Contains(trajectory.intervals[1].reason, "not index one"))
+      << trajectory.intervals[1].reason;
+  EXPECT_EQ(trajectory.intervals[2].name, "event");
+  EXPECT_TRUE(Contains(trajectory.intervals[2].reason, "Theorem 5.3"))
+      << trajectory.intervals[2].reason;
+  const double resumed = trajectory.intervals[2].from;
+  double rest_error = 0, multiplier_error = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    if (t < 1) {
+      EXPECT_NEAR(trajectory.states[k](0), 0.5 - t * t / 2, 1e-9) << "t = " << t;
+    }
+    if (t <= resumed) continue;
+    rest_error = std::max(rest_error, trajectory.states[k].cwiseAbs().maxCoeff());
+    multiplier_error = std::max(multiplier_error, std::abs(trajectory.multipliers[k](0) - 1));
+  }
+  EXPECT_LE(rest_error, 1e-12);
+  EXPECT_LE(multiplier_error, 1e-12);
+  RecordProperty("resumed_at", Scientific(resumed));
+  RecordProperty("rest_error", Scientific(rest_error));
+}
+
 // Event-driven runs limited to one CVODE step each (max_steps = 1) stop
 // with kMaxSteps after their first step (sampled: no output_times), so
 // every retry fails again without progress.

@@ -334,12 +334,15 @@ bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const BoxMode& mode,
 
 // Selects and enters the mode to follow from (t, x), given the VI solution
 // vi there. A strongly regular u (Sect. 5.3) gives it directly, its
-// degenerate components by the look-ahead of SelectMode. Otherwise u(t, x)
-// may still be Lipschitz along the flow (Proposition 5.1: a bridge of ideal
-// diodes, a Filippov crossing), which the same look-ahead finds; when it is
-// not (index two: sliding, a diode that clamps a state), the differentiation
-// procedure of Theorems 5.2/5.3 selects the mode of the modified problem.
-// Neither: kNotIndexOne with every reason.
+// degenerate components by the look-ahead of SelectMode. Otherwise the
+// differentiation procedure of Theorems 5.2/5.3 decides first where it
+// applies (index two and higher: sliding, a diode that clamps a state, a
+// mass resting on the ground): its exact derivatives see what a look-ahead
+// of finite length cannot, a constraint that the flow would violate only
+// at second order. Where it does not apply, u(t, x) may still be Lipschitz
+// along the flow (Proposition 5.1: a bridge of ideal diodes, a Filippov
+// crossing), which the look-ahead finds. Neither: kNotIndexOne with every
+// reason.
 bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi,
                                 BoxMode& mode) {
   IntegrationStats& stats = trajectory_.stats;
@@ -347,6 +350,17 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   const MatrixClassVerdict regular =
       IsStronglyRegular(system_.MultiplierJacobian(t, x, vi.z), vi.index_sets);
   const Eigen::VectorXd x_event = x;
+  std::string reduced_why;
+  if (!regular.holds) {
+    Eigen::VectorXd u;
+    if (system_.SelectReducedMode(t, x, vi, mode, u, &stats.vi_solves, &stats.solver_iterations,
+                                  &reduced_why) &&
+        TryMode(t, x, mode, u, reduced_why)) {
+      ++reduced_selections_;
+      return true;
+    }
+    x = x_event;
+  }
   std::ostringstream message;
   message << "event: at t = " << t << ": ";
   std::string look_ahead_why;
@@ -361,17 +375,8 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
   x = x_event;
-  std::string reduced_why;
-  Eigen::VectorXd u;
-  if (system_.SelectReducedMode(t, x, vi, mode, u, &stats.vi_solves, &stats.solver_iterations,
-                                &reduced_why) &&
-      TryMode(t, x, mode, u, reduced_why)) {
-    ++reduced_selections_;
-    return true;
-  }
-  x = x_event;
   message << "not index one: u is not strongly regular (" << regular.reason
-          << "); the look-ahead fails (" << look_ahead_why << "); " << reduced_why;
+          << "); " << reduced_why << "; the look-ahead fails (" << look_ahead_why << ")";
   return Fail(IntegrationStatus::kNotIndexOne, message.str());
 }
 
