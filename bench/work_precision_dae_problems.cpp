@@ -48,6 +48,7 @@ std::vector<DaeWorkPrecisionProblem> MakeDaeWorkPrecisionProblems() {
   wall.title = "index two: x1' = x2 + u, x2' = −x1 − x2, 0 ≤ u ⊥ x1 ≥ 0, x0 = (1, 0), T = 6";
   wall.lcs = Lcs::Dense(wall_a, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
                         Eigen::MatrixXd::Zero(1, 1));
+  wall.method = OdeMethod::kAdams;  // not stiff: Adams reaches 1e-12 where BDF stops at 5e-11
   wall.x0 = Eigen::Vector2d(1, 0);
   wall.t_end = 6;
   wall.exact = WallExact;
