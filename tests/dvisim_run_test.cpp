@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -137,6 +138,16 @@ TEST(SceneFile, ReadsEventFieldsAndSharedFieldsReachBothIntegrators) {
   EXPECT_EQ(scene.stepping.max_steps, 99);
   EXPECT_EQ(scene.stepping.solver.tolerance, 1e-11);
   EXPECT_EQ(WhyNotEventDriven(scene), "");
+  EXPECT_EQ(plain.event.linear_solver, LinearSolver::kDense);
+  // KLU takes the sparse matrices of an lcs scene on a box, nothing else.
+  EXPECT_EQ(ParseError("{" + problem + R"(, "method": {"linear_solver": "klu"}})"),
+            "method.linear_solver: \"klu\" needs an lcs scene on a box set (the mode Jacobian "
+            "comes from its sparse matrices); this is a box-dvi scene");
+  EXPECT_EQ(ParseError("{" + problem + R"(, "method": {"linear_solver": "lu"}})"),
+            "method.linear_solver: expected \"dense\" or \"klu\", got \"lu\"");
+  const Scene sparse = ParseScene(R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]],
+    "C": [[1]], "D": [[1]]}, "x0": [1], "horizon": 1, "method": {"linear_solver": "klu"}})");
+  EXPECT_EQ(sparse.event.linear_solver, LinearSolver::kKlu);
 }
 
 TEST(SceneFile, MethodMayBeJustItsName) {
@@ -742,6 +753,28 @@ TEST_F(DvisimRun, MethodEventOverridesTheFileAndPlotsTheRcDiodeClamp) {
     EXPECT_GT(fs::file_size(Path("rc") + "/" + name), 1000u) << name;
   std::cout << "kink at rtol 1e-8: max error " << error << "; rc diode: v error " << v_error
             << ", i error " << i_error << "\n";
+
+  // The same clamp with CVODE's Newton systems on KLU: the same trajectory.
+  std::ifstream file(Example("rc_diode_event.json"));
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string dense_method = R"("method": { "name": "event", "rtol": 1e-9, "atol": 1e-12 })";
+  ASSERT_NE(text.find(dense_method), std::string::npos);
+  text.replace(text.find(dense_method), dense_method.size(),
+               R"("method": {"name": "event", "rtol": 1e-9, "atol": 1e-12, "linear_solver": "klu"})");
+  const RunOutcome klu =
+      Dvisim("run '" + Write("rc_klu.json", text) + "' --out '" + Path("rc_klu") + "'");
+  ASSERT_EQ(klu.exit_code, 0) << klu.err;
+  const nlohmann::json on_klu = ReadSummary("rc_klu");
+  EXPECT_EQ(on_klu["linear_solver"], "klu");
+  EXPECT_EQ(rc["linear_solver"], "dense");
+  EXPECT_NEAR(on_klu["events"][0]["time"].get<double>(), rc["events"][0]["time"].get<double>(),
+              1e-12);
+  const Csv klu_csv = ReadCsv("rc_klu");
+  ASSERT_EQ(klu_csv.rows.size(), csv.rows.size());
+  for (std::size_t k = 0; k < csv.rows.size(); ++k)
+    for (std::size_t c = 0; c < csv.rows[k].size(); ++c)
+      EXPECT_NEAR(klu_csv.rows[k][c], csv.rows[k][c], 1e-9 * (1 + std::abs(csv.rows[k][c])))
+          << "row " << k << ", column " << c;
 }
 
 TEST_F(DvisimRun, AutoRunsEventDrivenWhereItCanAndStepsWhereItCannotSayingWhy) {

@@ -330,6 +330,12 @@ OdeMethod ReadOdeMethod(const json& value, const std::string& path) {
   Fail(path, "expected \"bdf\" or \"adams\", got " + Describe(value));
 }
 
+LinearSolver ReadLinearSolver(const json& value, const std::string& path) {
+  if (value == "dense") return LinearSolver::kDense;
+  if (value == "klu") return LinearSolver::kKlu;
+  Fail(path, "expected \"dense\" or \"klu\", got " + Describe(value));
+}
+
 long ReadCount(const json& value, const std::string& path) {
   if (!value.is_number_integer() || value.get<long>() < 1)
     Fail(path, "expected an integer ≥ 1, got " + Describe(value));
@@ -376,6 +382,14 @@ void ReadMethodFields(const json& method, Scene& scene) {
     event.method = ReadOdeMethod(*ode, Field(path, "ode"));
   if (const json* max_events = FindField(method, "max_events"))
     event.max_events = ReadCount(*max_events, Field(path, "max_events"));
+  if (const json* linear_solver = FindField(method, "linear_solver")) {
+    event.linear_solver = ReadLinearSolver(*linear_solver, Field(path, "linear_solver"));
+    const Lcs* lcs = std::get_if<Lcs>(&scene.problem);
+    if (event.linear_solver == LinearSolver::kKlu && !(lcs && lcs->K.IsBox()))
+      Fail(Field(path, "linear_solver"),
+           "\"klu\" needs an lcs scene on a box set (the mode Jacobian comes from its sparse "
+           "matrices); this is a " + scene.type + " scene");
+  }
   if (const json* window = FindField(method, "stepping_window")) {
     scene.stepping_window = ReadPositive(*window, Field(path, "stepping_window"));
     if (scene.stepping_window > 1)
@@ -401,7 +415,7 @@ void ReadMethod(const json* method, Scene& scene) {
     RequireObject(*method, path);
     RejectUnknownFields(*method, path,
                         {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
-                         "h_max", "max_steps", "solver", "tol", "ode", "max_events",
+                         "h_max", "max_steps", "solver", "tol", "ode", "linear_solver", "max_events",
                          "stepping_window", "max_handovers"});
     if (const json* name = FindField(*method, "name")) {
       if (!name->is_string())
