@@ -18,9 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "circuits/rc_diode_ladder.hpp"
 #include "dvi/event_driven.hpp"
+#include "fitted_exponent.hpp"
 
 namespace {
+
+using dvi::bench::FittedExponent;
 
 struct Settings {
   int max_n = 10'000;
@@ -67,27 +71,10 @@ Settings Parse(int argc, char** argv) {
 // its node (D = 0, an index-two mode reduced by Sect. 5.4) in turn. The
 // same circuit as tests/event_driven_klu_test.cpp.
 dvi::Lcs DiodeLadder(int n) {
-  const std::vector<int> nodes = {n - 1, n - 4, n - 9};
-  const Eigen::Vector3d offsets(0.5, 0.3, 0.1);
-  const double R = 1e3, C = 1e-6, I = 1e-3, g = 1 / (R * C);
-  std::vector<Eigen::Triplet<double>> a, b, c;
-  for (int k = 0; k + 1 < n; ++k) {
-    a.emplace_back(k, k, -g);
-    a.emplace_back(k + 1, k + 1, -g);
-    a.emplace_back(k, k + 1, g);
-    a.emplace_back(k + 1, k, g);
-  }
-  for (int j = 0; j < 3; ++j) {
-    b.emplace_back(nodes[j], j, 1 / C);
-    c.emplace_back(j, nodes[j], 1);
-  }
-  dvi::SparseMatrix A(n, n), B(n, 3), Cw(3, n), D(3, 3);
-  A.setFromTriplets(a.begin(), a.end());
-  B.setFromTriplets(b.begin(), b.end());
-  Cw.setFromTriplets(c.begin(), c.end());
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
-  p(n - 1) = -I / C;
-  return dvi::Lcs::Sparse(A, B, Cw, D, p, offsets);
+  dvi::circuits::RcDiodeLadderParameters parameters;
+  parameters.n = n;
+  return dvi::circuits::RcLadderWithClamps(parameters, {n - 1, n - 4, n - 9},
+                                           Eigen::Vector3d(0.5, 0.3, 0.1));
 }
 
 struct Run {
@@ -111,23 +98,6 @@ Run Measure(const dvi::Lcs& lcs, dvi::LinearSolver solver, const Settings& setti
                          : std::min(run.seconds, run.trajectory.stats.wall_seconds);
   }
   return run;
-}
-
-// Least-squares slope of log y against log x.
-double FittedExponent(const std::vector<double>& x, const std::vector<double>& y) {
-  const int count = static_cast<int>(x.size());
-  if (count < 2) return NAN;
-  double mean_x = 0, mean_y = 0;
-  for (int k = 0; k < count; ++k) {
-    mean_x += std::log(x[k]) / count;
-    mean_y += std::log(y[k]) / count;
-  }
-  double sxy = 0, sxx = 0;
-  for (int k = 0; k < count; ++k) {
-    sxy += (std::log(x[k]) - mean_x) * (std::log(y[k]) - mean_y);
-    sxx += (std::log(x[k]) - mean_x) * (std::log(x[k]) - mean_x);
-  }
-  return sxy / sxx;
 }
 
 std::string Number(double value, const char* format) {

@@ -21,8 +21,11 @@
 #include "circuits/rc_diode_ladder.hpp"
 #include "dvi/mode_dae.hpp"
 #include "dvi/time_stepping.hpp"
+#include "fitted_exponent.hpp"
 
 namespace {
+
+using dvi::bench::FittedExponent;
 
 struct Settings {
   int max_n = 100'000;
@@ -80,23 +83,6 @@ Settings Parse(int argc, char** argv) {
     Usage("--t-end and --h must be positive with h ≤ t_end");
   if (settings.repeats < 1) Usage("--repeats must be at least 1");
   return settings;
-}
-
-// Least-squares slope of log y against log x.
-double FittedExponent(const std::vector<double>& x, const std::vector<double>& y) {
-  const int count = static_cast<int>(x.size());
-  if (count < 2) return NAN;
-  double mean_x = 0, mean_y = 0;
-  for (int k = 0; k < count; ++k) {
-    mean_x += std::log(x[k]) / count;
-    mean_y += std::log(y[k]) / count;
-  }
-  double sxy = 0, sxx = 0;
-  for (int k = 0; k < count; ++k) {
-    sxy += (std::log(x[k]) - mean_x) * (std::log(y[k]) - mean_y);
-    sxx += (std::log(x[k]) - mean_x) * (std::log(x[k]) - mean_x);
-  }
-  return sxy / sxx;
 }
 
 Row Measure(int n, const Settings& settings) {

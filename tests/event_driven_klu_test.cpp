@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "circuits/rc_diode_ladder.hpp"
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/mode_dae.hpp"
@@ -147,7 +148,6 @@ TEST(EventDrivenKlu, OneSidedSpringMatchesDenseAndExactSolution) {
 // switch on one after the other.
 struct Ladder {
   int n = 2000;
-  double R = 1e3, C = 1e-6, I = 1e-3;
   std::vector<int> nodes;
   std::vector<double> offsets;
 };
@@ -161,27 +161,12 @@ Ladder ThreeDiodeLadder(int n) {
 }
 
 Lcs LadderLcs(const Ladder& ladder) {
-  const int n = ladder.n, m = static_cast<int>(ladder.nodes.size());
-  const double g = 1 / (ladder.R * ladder.C);
-  std::vector<Eigen::Triplet<double>> a, b, c;
-  for (int k = 0; k + 1 < n; ++k) {
-    a.emplace_back(k, k, -g);
-    a.emplace_back(k + 1, k + 1, -g);
-    a.emplace_back(k, k + 1, g);
-    a.emplace_back(k + 1, k, g);
-  }
-  for (int j = 0; j < m; ++j) {
-    b.emplace_back(ladder.nodes[j], j, 1 / ladder.C);
-    c.emplace_back(j, ladder.nodes[j], 1);
-  }
-  SparseMatrix A(n, n), B(n, m), C(m, n), D(m, m);
-  A.setFromTriplets(a.begin(), a.end());
-  B.setFromTriplets(b.begin(), b.end());
-  C.setFromTriplets(c.begin(), c.end());
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
-  p(n - 1) = -ladder.I / ladder.C;
-  const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(ladder.offsets.data(), m);
-  return Lcs::Sparse(A, B, C, D, p, q);
+  circuits::RcDiodeLadderParameters parameters;
+  parameters.n = ladder.n;
+  return circuits::RcLadderWithClamps(
+      parameters, ladder.nodes,
+      Eigen::Map<const Eigen::VectorXd>(ladder.offsets.data(),
+                                        static_cast<Eigen::Index>(ladder.offsets.size())));
 }
 
 // The diodes switch on in order, and each clamped node stays at −offset.

@@ -8,10 +8,11 @@
 
 namespace dvi::circuits {
 
-// x' = p + A x + B u with A = −L/(RC), B = I/C, p = I_source e_n / C, and the
-// diodes 0 ≤ u ⊥ w = x ≥ 0 (C = I, D = 0, q = 0). L is the Laplacian of the
-// path through the n nodes (node k joined to k ± 1 by R).
-Lcs RcDiodeLadder(const RcDiodeLadderParameters& parameters) {
+namespace {
+
+// A = −L/(RC), L the Laplacian of the path through the n nodes (node k
+// joined to k ± 1 by R).
+SparseMatrix LadderMatrix(const RcDiodeLadderParameters& parameters) {
   const int n = parameters.n;
   if (n < 1)
     throw InvalidInputError("RcDiodeLadderParameters.n = " + std::to_string(n) + ", expected ≥ 1");
@@ -26,13 +27,52 @@ Lcs RcDiodeLadder(const RcDiodeLadderParameters& parameters) {
   }
   SparseMatrix A(n, n);
   A.setFromTriplets(a.begin(), a.end());
+  return A;
+}
+
+// p = I_source e_n / C.
+Eigen::VectorXd SourceVector(const RcDiodeLadderParameters& parameters) {
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(parameters.n);
+  p[parameters.n - 1] = parameters.I_source / parameters.C;
+  return p;
+}
+
+}  // namespace
+
+// x' = p + A x + B u with B = I/C, and the diodes 0 ≤ u ⊥ w = x ≥ 0
+// (C = I, D = 0, q = 0).
+Lcs RcDiodeLadder(const RcDiodeLadderParameters& parameters) {
+  SparseMatrix A = LadderMatrix(parameters);
+  const int n = parameters.n;
   SparseMatrix identity(n, n);
   identity.setIdentity();
   SparseMatrix B = identity / parameters.C;
   SparseMatrix D(n, n);
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
-  p[n - 1] = parameters.I_source / parameters.C;
-  return Lcs::Sparse(std::move(A), std::move(B), identity, std::move(D), std::move(p));
+  return Lcs::Sparse(std::move(A), std::move(B), identity, std::move(D), SourceVector(parameters));
+}
+
+// Diode j: B(nodes[j], j) = 1/C, w_j = x_{nodes[j]} + offsets[j].
+Lcs RcLadderWithClamps(const RcDiodeLadderParameters& parameters, const std::vector<int>& nodes,
+                       const Eigen::VectorXd& offsets) {
+  SparseMatrix A = LadderMatrix(parameters);
+  const int n = parameters.n, m = static_cast<int>(nodes.size());
+  if (offsets.size() != m)
+    throw InvalidInputError("RcLadderWithClamps: " + std::to_string(m) + " nodes but " +
+                            std::to_string(offsets.size()) + " offsets");
+  std::vector<Eigen::Triplet<double>> b, c;
+  for (int j = 0; j < m; ++j) {
+    if (nodes[j] < 0 || nodes[j] >= n)
+      throw InvalidInputError("RcLadderWithClamps: nodes[" + std::to_string(j) + "] = " +
+                              std::to_string(nodes[j]) + " is outside [0, " + std::to_string(n) +
+                              ")");
+    b.emplace_back(nodes[j], j, 1 / parameters.C);
+    c.emplace_back(j, nodes[j], 1);
+  }
+  SparseMatrix B(n, m), C(m, n), D(m, m);
+  B.setFromTriplets(b.begin(), b.end());
+  C.setFromTriplets(c.begin(), c.end());
+  return Lcs::Sparse(std::move(A), std::move(B), std::move(C), std::move(D),
+                     SourceVector(parameters), offsets);
 }
 
 Eigen::VectorXd RcDiodeLadderInitialState(const RcDiodeLadderParameters& parameters) {

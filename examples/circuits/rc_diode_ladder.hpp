@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Dense>
 
 #include "dvi/lcs.hpp"
@@ -22,6 +24,14 @@ struct RcDiodeLadderParameters {
 };
 
 Lcs RcDiodeLadder(const RcDiodeLadderParameters& parameters);
+/// The same ladder with ideal diodes at a few nodes only, each clamping its
+/// node at −offset: 0 ≤ u_j ⊥ x_{nodes[j]} + offsets[j] ≥ 0 (D = 0, each
+/// clamp an index-two mode). A large circuit with few diodes: event-driven
+/// integration on KLU (event_driven.hpp, linear_solver).
+/// @throws InvalidInputError on n < 1, sizes that differ or a node outside
+/// [0, n).
+Lcs RcLadderWithClamps(const RcDiodeLadderParameters& parameters, const std::vector<int>& nodes,
+                       const Eigen::VectorXd& offsets);
 /// A charged initial state: 1 V at every node.
 Eigen::VectorXd RcDiodeLadderInitialState(const RcDiodeLadderParameters& parameters);
 
