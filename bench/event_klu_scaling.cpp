@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "circuits/rc_diode_ladder.hpp"
 #include "dvi/event_driven.hpp"
 #include "fitted_exponent.hpp"
@@ -33,35 +35,25 @@ struct Settings {
   double dense_limit = 60;
 };
 
-[[noreturn]] void Usage(const std::string& why) {
-  std::cerr << "event_klu_scaling: " << why
-            << "\nusage: event_klu_scaling [--max-n N] [--t-end T] [--repeats R]"
-               " [--dense-limit S]\n";
-  std::exit(2);
-}
-
+// The command line, by CLI11: ranges checked, unknown flags refused.
 Settings Parse(int argc, char** argv) {
   Settings settings;
-  for (int k = 1; k < argc; ++k) {
-    const std::string flag = argv[k];
-    if (k + 1 >= argc) Usage(flag + " needs a value");
-    const std::string value = argv[++k];
-    char* end = nullptr;
-    if (flag == "--max-n")
-      settings.max_n = static_cast<int>(std::strtol(value.c_str(), &end, 10));
-    else if (flag == "--t-end")
-      settings.t_end = std::strtod(value.c_str(), &end);
-    else if (flag == "--repeats")
-      settings.repeats = static_cast<int>(std::strtol(value.c_str(), &end, 10));
-    else if (flag == "--dense-limit")
-      settings.dense_limit = std::strtod(value.c_str(), &end);
-    else
-      Usage("unknown flag " + flag);
-    if (end == value.c_str() || *end != '\0') Usage(flag + ": not a number: " + value);
+  CLI::App app("Event-driven integration of an RC ladder with 3 ideal diodes, CVODE on KLU "
+               "against dense",
+               "event_klu_scaling");
+  app.add_option("--max-n", settings.max_n, "largest ladder (10², 10³, … up to it)")
+      ->check(CLI::Range(100, 100'000'000));
+  app.add_option("--t-end", settings.t_end, "simulated time, s")->check(CLI::PositiveNumber);
+  app.add_option("--repeats", settings.repeats, "runs per point, the fastest kept")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--dense-limit", settings.dense_limit,
+                 "skip dense where its n³ extrapolation exceeds this, s")
+      ->check(CLI::NonNegativeNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    std::exit(app.exit(error));
   }
-  if (settings.max_n < 100) Usage("--max-n must be at least 100");
-  if (!(settings.t_end > 0)) Usage("--t-end must be positive");
-  if (settings.repeats < 1) Usage("--repeats must be at least 1");
   return settings;
 }
 
