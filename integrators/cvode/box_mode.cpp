@@ -192,6 +192,7 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     SplitRows(t, x);
     rows_split_ = true;
   }
+  if (affine_) return SolveLcsMode(x, why);
   Eigen::VectorXd u = u_, residual;
   Eigen::MatrixXd Gu;
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
@@ -204,19 +205,11 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     }
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
     if (!lu.isInvertible()) {
-      if (why) {
-        std::ostringstream message;
-        if (!reduced())
-          message << "∂F/∂u on the free components is singular";
-        else if (affine_)
-          message << "the matrix (5.8) of the reduced mode is singular after " << passes_
-                  << " passes of the differentiation procedure (Sect. 5.4)";
-        else
-          message << "the matrix (5.8) of the reduced mode is singular (Theorem 5.2 fails; a "
-                     "further pass of the differentiation procedure is implemented for an "
-                     "LCS only, Sect. 5.4)";
-        *why = message.str();
-      }
+      if (why)
+        *why = reduced() ? "the matrix (5.8) of the reduced mode is singular (Theorem 5.2 "
+                           "fails; a further pass of the differentiation procedure is "
+                           "implemented for an LCS only, Sect. 5.4)"
+                         : "∂F/∂u on the free components is singular";
       return false;
     }
     const Eigen::VectorXd step = lu.solve(residual);
@@ -224,11 +217,6 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     for (int i = 0; i < a; ++i) {
       u(free_[i]) -= step(i);
       u_norm = std::max(u_norm, std::abs(u(free_[i])));
-    }
-    // Affine in u (an LCS, also its reduced modes): one step is exact.
-    if (affine_ && u.allFinite()) {
-      u_ = u;
-      return true;
     }
     if (step.lpNorm<Eigen::Infinity>() <= kNewtonStepTolerance * (1 + u_norm)) {
       ModeEquations(t, x, u, residual, Gu, nullptr);
@@ -241,6 +229,31 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
   return false;
 }
 
+bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
+  ++newton_iterations_;
+  if (!mode_regular_) {
+    if (why) {
+      std::ostringstream message;
+      if (reduced())
+        message << "the matrix (5.8) of the reduced mode is singular after " << passes_
+                << " passes of the differentiation procedure (Sect. 5.4)";
+      else
+        message << "∂F/∂u on the free components is singular";
+      *why = message.str();
+    }
+    return false;
+  }
+  // G = c + C x + M u is affine in u: one Newton step from any u is exact.
+  residual_ = free_c_;
+  residual_.noalias() += free_C_ * x;
+  residual_.noalias() += free_M_ * u_;
+  step_ = mode_lu_.solve(residual_);
+  for (int i = 0; i < static_cast<int>(free_.size()); ++i) u_(free_[i]) -= step_(i);
+  if (u_.allFinite()) return true;
+  if (why) *why = "the mode's equations give a non-finite u";
+  return false;
+}
+
 void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
   if (affine_) {
     // Sect. 5.4 on the matrices, repeated while (5.8) is singular; an LCS
@@ -250,6 +263,21 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     while (passes_ <= n() &&
            DifferentiateDependentRows(flow_, free_, u_, mode_rows_, mode_constraints_))
       ++passes_;
+    // The free rows and G_u's factors, kept for every solve in the mode.
+    const int a = static_cast<int>(free_.size());
+    free_c_.resize(a);
+    free_M_.resize(a, m());
+    Eigen::MatrixXd Gu(a, a);
+    for (int i = 0; i < a; ++i) {
+      free_c_(i) = mode_rows_.c(free_[i]);
+      free_M_.row(i) = mode_rows_.M.row(free_[i]);
+      for (int k = 0; k < a; ++k) Gu(i, k) = mode_rows_.M(free_[i], free_[k]);
+    }
+    free_C_ = FreeRows() * mode_rows_.C;
+    mode_regular_ = Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
+    mode_lu_.compute(Gu);
+    residual_.resize(a);
+    step_.resize(a);
     return;
   }
   // Theorem 5.2/5.3's row operations on the free components, once per mode.
@@ -264,7 +292,14 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
 
 void BoxModeSystem::Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const {
   xdot.resize(n());
-  dvi_.f(t, x, u_, xdot);
+  if (!affine_) {
+    dvi_.f(t, x, u_, xdot);
+    return;
+  }
+  // p + A x + B u without temporaries: the hot path of an LCS.
+  xdot = flow_.p;
+  xdot.noalias() += flow_.A * x;
+  xdot.noalias() += flow_.B * u_;
 }
 
 bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J) const {

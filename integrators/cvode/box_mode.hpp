@@ -155,6 +155,8 @@ class BoxModeSystem {
   SparseMatrix FreeRows() const;
   /// Splits the free rows of the mode just entered at (t, x, u_).
   void SplitRows(double t, const Eigen::VectorXd& x);
+  /// Solve for an LCS: u_α from the mode's kept factors, no allocation.
+  bool SolveLcsMode(const Eigen::VectorXd& x, std::string* why);
   /// SelectReducedMode for an LCS: passes on its matrices until the
   /// modified LCP's solution is strongly regular.
   bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode,
@@ -184,6 +186,13 @@ class BoxModeSystem {
   AffineRows mode_rows_;
   AffineConstraints mode_constraints_;
   int passes_ = 0;
+  // An LCS mode's free rows G = c + C x + M u (a of them) and G_u's LU.
+  Eigen::VectorXd free_c_;
+  SparseMatrix free_C_;
+  Eigen::MatrixXd free_M_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> mode_lu_;
+  bool mode_regular_ = false;
+  Eigen::VectorXd residual_, step_;
   Eigen::VectorXd u_;
   long newton_iterations_ = 0;
 };
