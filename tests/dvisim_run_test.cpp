@@ -138,13 +138,13 @@ TEST(SceneFile, ReadsEventFieldsAndSharedFieldsReachBothIntegrators) {
   EXPECT_EQ(scene.stepping.max_steps, 99);
   EXPECT_EQ(scene.stepping.solver.tolerance, 1e-11);
   EXPECT_EQ(WhyNotEventDriven(scene), "");
-  EXPECT_EQ(plain.event.linear_solver, LinearSolver::kDense);
+  EXPECT_EQ(plain.event.linear_solver, LinearSolver::kAuto);
   // KLU takes the sparse matrices of an lcs scene on a box, nothing else.
   EXPECT_EQ(ParseError("{" + problem + R"(, "method": {"linear_solver": "klu"}})"),
             "method.linear_solver: \"klu\" needs an lcs scene on a box set (the mode Jacobian "
             "comes from its sparse matrices); this is a box-dvi scene");
   EXPECT_EQ(ParseError("{" + problem + R"(, "method": {"linear_solver": "lu"}})"),
-            "method.linear_solver: expected \"dense\" or \"klu\", got \"lu\"");
+            "method.linear_solver: expected \"auto\", \"dense\" or \"klu\", got \"lu\"");
   const Scene sparse = ParseScene(R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]],
     "C": [[1]], "D": [[1]]}, "x0": [1], "horizon": 1, "method": {"linear_solver": "klu"}})");
   EXPECT_EQ(sparse.event.linear_solver, LinearSolver::kKlu);
@@ -766,7 +766,7 @@ TEST_F(DvisimRun, MethodEventOverridesTheFileAndPlotsTheRcDiodeClamp) {
   ASSERT_EQ(klu.exit_code, 0) << klu.err;
   const nlohmann::json on_klu = ReadSummary("rc_klu");
   EXPECT_EQ(on_klu["linear_solver"], "klu");
-  EXPECT_EQ(rc["linear_solver"], "dense");
+  EXPECT_EQ(rc["linear_solver"], "auto");  // dense: one state
   EXPECT_NEAR(on_klu["events"][0]["time"].get<double>(), rc["events"][0]["time"].get<double>(),
               1e-12);
   const Csv klu_csv = ReadCsv("rc_klu");

@@ -205,6 +205,12 @@ TEST(EventDrivenKlu, LadderWithIdealDiodesMatchesDense) {
   EXPECT_LE(difference, 1e-9);
   RecordProperty("klu_vs_dense", Scientific(difference));
   RecordProperty("steps", std::to_string(klu.stats.steps));
+  // The default, kAuto, takes KLU at n = 500: the KLU run to the last bit,
+  // which the dense run is not.
+  const Trajectory automatic =
+      IntegrateEventDriven(lcs, x0, 0, t_end, Options(LinearSolver::kAuto, 1e-10, grid));
+  EXPECT_EQ(RelativeDifference(klu, automatic), 0);
+  EXPECT_GT(difference, 0);
 }
 
 // n = 2000, where the dense solver takes 13 s (n³ factorizations): KLU

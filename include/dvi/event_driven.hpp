@@ -34,9 +34,15 @@ std::string_view ToString(OdeMethod method);
 
 /// The linear solver of CVODE's Newton iterations inside a mode.
 enum class LinearSolver {
+  kAuto,   ///< kKlu for an Lcs on a box K with n ≥ kKluMinStates, else kDense.
   kDense,  ///< Dense LU of the n×n iteration matrix: any DVI.
   kKlu,    ///< Sparse LU (KLU) of it: an Lcs on a box K only.
 };
+/// "auto", "dense", "klu".
+std::string_view ToString(LinearSolver solver);
+/// Where kAuto takes KLU: at n = 100 an RC ladder with three diodes already
+/// runs 2.8× faster on KLU than dense (bench/README.md, event_klu_scaling).
+inline constexpr int kKluMinStates = 100;
 
 struct EventDrivenOptions {
   /// CVODE's local error test: ‖err_i‖ ≤ rtol·|x_i| + atol, finite and ≥ 0,
@@ -76,8 +82,9 @@ struct EventDrivenOptions {
   /// circuits with few diodes. It needs the Lcs overload with a box K: a
   /// general Dvi gives no sparsity, and the KKT lifting of another K is
   /// dense, so IntegrateEventDriven throws InvalidInputError naming
-  /// linear_solver there.
-  LinearSolver linear_solver = LinearSolver::kDense;
+  /// linear_solver there. kAuto (the default) takes KLU wherever it applies
+  /// from kKluMinStates states on.
+  LinearSolver linear_solver = LinearSolver::kAuto;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

@@ -33,6 +33,15 @@ std::string_view ToString(OdeMethod method) {
   return "unknown";
 }
 
+std::string_view ToString(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::kAuto: return "auto";
+    case LinearSolver::kDense: return "dense";
+    case LinearSolver::kKlu: return "klu";
+  }
+  return "unknown";
+}
+
 void EventDrivenOptions::Validate() const {
   DVI_THROW_UNLESS(std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 &&
                        rtol + atol > 0,
@@ -40,7 +49,8 @@ void EventDrivenOptions::Validate() const {
                                   << " must be finite, non-negative and not both zero");
   DVI_THROW_UNLESS(method == OdeMethod::kBdf || method == OdeMethod::kAdams,
                    "method: " << static_cast<int>(method) << " is not an OdeMethod");
-  DVI_THROW_UNLESS(linear_solver == LinearSolver::kDense || linear_solver == LinearSolver::kKlu,
+  DVI_THROW_UNLESS(linear_solver == LinearSolver::kAuto || linear_solver == LinearSolver::kDense ||
+                       linear_solver == LinearSolver::kKlu,
                    "linear_solver: " << static_cast<int>(linear_solver)
                                      << " is not a LinearSolver");
   DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
@@ -643,10 +653,10 @@ Trajectory Integrate(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, 
                      double t_end, const EventDrivenOptions& options) {
   dvi.Validate();
   options.Validate();
-  DVI_THROW_UNLESS(options.linear_solver == LinearSolver::kDense || lcs,
+  DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || lcs,
                    "linear_solver: kKlu needs an Lcs, whose sparse matrices give the mode's "
                    "Jacobian; a general Dvi gives no sparsity (use kDense)");
-  DVI_THROW_UNLESS(options.linear_solver == LinearSolver::kDense || dvi.K.IsBox(),
+  DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || dvi.K.IsBox(),
                    "linear_solver: kKlu needs an Lcs on a box K, not " << dvi.K.Describe()
                                                                       << " (its KKT lifting is "
                                                                          "dense; use kDense)");
@@ -656,7 +666,11 @@ Trajectory Integrate(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, 
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
   if (dvi.K.IsBox()) {
-    EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, options);
+    EventDrivenOptions resolved = options;
+    if (resolved.linear_solver == LinearSolver::kAuto)
+      resolved.linear_solver =
+          lcs && dvi.n >= kKluMinStates ? LinearSolver::kKlu : LinearSolver::kDense;
+    EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, resolved);
     return run.Run();
   }
   // Polyhedra, balls and products with them: the KKT system on a box, whose

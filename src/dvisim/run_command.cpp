@@ -307,7 +307,7 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
     summary["rtol"] = scene.event.rtol;
     summary["atol"] = scene.event.atol;
     summary["ode"] = std::string(ToString(scene.event.method));
-    summary["linear_solver"] = scene.event.linear_solver == LinearSolver::kKlu ? "klu" : "dense";
+    summary["linear_solver"] = std::string(ToString(scene.event.linear_solver));
   }
   nlohmann::ordered_json events = nlohmann::ordered_json::array();
   for (const Event& event : trajectory.events)

@@ -331,9 +331,9 @@ OdeMethod ReadOdeMethod(const json& value, const std::string& path) {
 }
 
 LinearSolver ReadLinearSolver(const json& value, const std::string& path) {
-  if (value == "dense") return LinearSolver::kDense;
-  if (value == "klu") return LinearSolver::kKlu;
-  Fail(path, "expected \"dense\" or \"klu\", got " + Describe(value));
+  for (const LinearSolver solver : {LinearSolver::kAuto, LinearSolver::kDense, LinearSolver::kKlu})
+    if (value.is_string() && value.get<std::string>() == ToString(solver)) return solver;
+  Fail(path, "expected \"auto\", \"dense\" or \"klu\", got " + Describe(value));
 }
 
 long ReadCount(const json& value, const std::string& path) {
