@@ -22,11 +22,12 @@
 
 #include "circuits/rc_diode_ladder.hpp"
 #include "dvi/event_driven.hpp"
-#include "fitted_exponent.hpp"
+#include "scaling_report.hpp"
 
 namespace {
 
 using dvi::bench::FittedExponent;
+using dvi::bench::Number;
 
 struct Settings {
   int max_n = 10'000;
@@ -90,13 +91,6 @@ Run Measure(const dvi::Lcs& lcs, dvi::LinearSolver solver, const Settings& setti
                          : std::min(run.seconds, run.trajectory.stats.wall_seconds);
   }
   return run;
-}
-
-std::string Number(double value, const char* format) {
-  if (std::isnan(value)) return "n/a";
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
 }
 
 }  // namespace

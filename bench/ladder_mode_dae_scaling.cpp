@@ -21,11 +21,12 @@
 #include "circuits/rc_diode_ladder.hpp"
 #include "dvi/mode_dae.hpp"
 #include "dvi/time_stepping.hpp"
-#include "fitted_exponent.hpp"
+#include "scaling_report.hpp"
 
 namespace {
 
 using dvi::bench::FittedExponent;
+using dvi::bench::Number;
 
 struct Settings {
   int max_n = 100'000;
@@ -126,13 +127,6 @@ Row Measure(int n, const Settings& settings) {
     row.stepping_seconds = reference.stats.wall_seconds;
   }
   return row;
-}
-
-std::string Number(double value, const char* format) {
-  if (std::isnan(value)) return "n/a";
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
 }
 
 }  // namespace

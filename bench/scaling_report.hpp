@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// The scaling benchmarks' fit: cost against problem size on log-log axes.
+// What the scaling benchmarks report: the fit of cost against problem size
+// on log-log axes, and numbers that may be missing.
 #pragma once
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 namespace dvi::bench {
@@ -22,6 +25,14 @@ inline double FittedExponent(const std::vector<double>& x, const std::vector<dou
     sxx += (std::log(x[k]) - mean_x) * (std::log(x[k]) - mean_x);
   }
   return sxy / sxx;
+}
+
+/// value by the printf format, or "n/a" for NaN (a run that was skipped).
+inline std::string Number(double value, const char* format) {
+  if (std::isnan(value)) return "n/a";
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
 }
 
 }  // namespace dvi::bench
