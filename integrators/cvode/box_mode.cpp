@@ -326,18 +326,11 @@ bool BoxModeSystem::SparseRhsJacobian(SparseMatrix& J) const {
   zero_diagonal *= 0.0;
   J = flow_.A + zero_diagonal;
   if (free_.empty()) return true;
-  const int a = static_cast<int>(free_.size());
-  Eigen::MatrixXd Gu(a, a);
-  for (int i = 0; i < a; ++i)
-    for (int k = 0; k < a; ++k) Gu(i, k) = mode_rows_.M(free_[i], free_[k]);
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
-  if (!lu.isInvertible()) return false;
+  if (!mode_regular_) return false;
   // Implicit function theorem on G = c + C x + M u = 0 (its free rows):
   // du_α/dx = −G_u⁻¹ G_x, with G_u⁻¹ small and dense, G_x = C_α sparse.
-  const SparseMatrix free_rows = FreeRows();
-  const SparseMatrix Gu_inverse = Eigen::MatrixXd(lu.inverse()).sparseView(1, 0);
-  const SparseMatrix du_dx = Gu_inverse * (free_rows * mode_rows_.C);
-  J -= (flow_.B * free_rows.transpose()) * du_dx;
+  const SparseMatrix Gu_inverse = Eigen::MatrixXd(mode_lu_.inverse()).sparseView(1, 0);
+  J -= (flow_.B * FreeRows().transpose()) * (Gu_inverse * free_C_);
   J.makeCompressed();
   return true;
 }
