@@ -224,6 +224,48 @@ TEST(AutoDriver, SteppingTakesAnImpactThenTheRestingMassRunsEventDriven) {
   RecordProperty("rest_error", Scientific(rest_error));
 }
 
+// The same resting mass as a general Dvi, which event-driven integration
+// cannot reduce twice (index_reduction_test.cpp): each event-driven
+// interval stops where its mode no longer holds, and time-stepping keeps
+// the mass on the ground.
+TEST(AutoDriver, RestingMassAsAGeneralDviStaysOnTheGround) {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out.resize(2);
+    out << x(1), -1 + u(0);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out.resize(1);
+    out << x(0);
+  };
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.stepping.h = 1e-4;
+  const Trajectory trajectory = IntegrateAuto(dvi, Eigen::Vector2d::Zero(), 0, 0.5, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, 0.5);
+  double lowest = 0, fastest = 0;
+  for (const Eigen::VectorXd& x : trajectory.states) {
+    lowest = std::min(lowest, x(0));
+    fastest = std::max(fastest, std::abs(x(1)));
+  }
+  EXPECT_GE(lowest, -1e-9);
+  // A fall of 1e-7, the degeneracy tolerance (1e3 × the VI's 1e-10) within
+  // which a mode still holds, reaches this speed.
+  EXPECT_LE(fastest, std::sqrt(2 * 1e-7));
+  ASSERT_GE(trajectory.intervals.size(), 2u);
+  EXPECT_EQ(trajectory.intervals[0].name, "stepping");
+  EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "no longer holds"))
+      << trajectory.intervals[0].reason;
+  RecordProperty("lowest", Scientific(lowest));
+  RecordProperty("fastest", Scientific(fastest));
+  RecordProperty("intervals", std::to_string(trajectory.intervals.size()));
+}
+
 // Event-driven runs limited to one CVODE step each (max_steps = 1) stop
 // with kMaxSteps after their first step (sampled: no output_times), so
 // every retry fails again without progress.

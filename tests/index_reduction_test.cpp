@@ -210,6 +210,38 @@ TEST(IndexReduction, LandingWithVelocityIsRefusedAtTheImpact) {
       << trajectory.message;
 }
 
+// The resting mass as a general Dvi (functors: no LCS matrices, so a second
+// pass of Sect. 5.4 is not available). The one pass fails, and the
+// look-ahead over δ = 1e-5·T sees the free-flight mode violate x1 ≥ 0 only
+// by δ² = 2.5e-11, within the VI tolerance: it takes that mode, whose root
+// function x1 starts at zero and falls without a sign change. The run must
+// stop with the reason instead of letting the mass fall through the ground,
+// and keep nothing of the wrong mode.
+TEST(IndexReduction, RestingMassAsAGeneralDviStopsInsteadOfFallingThrough) {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out.resize(2);
+    out << x(1), -1 + u(0);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out.resize(1);
+    out << x(0);
+  };
+  const Trajectory trajectory =
+      IntegrateEventDriven(dvi, Eigen::Vector2d::Zero(), 0, 0.5, Tight());
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kNotIndexOne);
+  EXPECT_NE(trajectory.message.find("entered at t = 0, no longer holds"), std::string::npos)
+      << trajectory.message;
+  EXPECT_NE(trajectory.message.find("no root was crossed"), std::string::npos)
+      << trajectory.message;
+  ASSERT_EQ(trajectory.times.size(), 1u);
+  EXPECT_EQ(trajectory.times[0], 0);
+  EXPECT_EQ(trajectory.states[0], Eigen::Vector2d::Zero());
+}
+
 // x' = −sgn(x) + a through (4.2), a = 0.3, x0 = 1: x = 1 − (1 − a)t until
 // t = 1/(1 − a), then sliding on x = 0 with the equivalent control
 // sgn = a, i.e. v = 1 − a (Theorem 5.2's modified problem: x' = a − 1 + v).

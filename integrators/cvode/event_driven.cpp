@@ -100,6 +100,9 @@ struct CallbackData {
   Eigen::VectorXd xdot;
   Eigen::MatrixXd J;
   SparseMatrix sparse_J;  // KLU: the current mode's (constant) Jacobian
+  // The root functions' last evaluation: its time and their least value.
+  double root_time = NAN;
+  double least_root = 0;
   std::exception_ptr error;
   std::string cvode_message;
   long rhs_evals = 0;
@@ -170,6 +173,8 @@ int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
     Load(data, y);
     if (!data.system->Solve(t, data.x)) return -1;
     data.system->Roots(t, data.x, g);
+    data.root_time = t;
+    data.least_root = *std::min_element(g, g + 2 * data.system->m());
     return 0;
   } catch (...) {
     data.error = std::current_exception();
@@ -241,6 +246,7 @@ class EventDrivenRun {
   bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode);
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
+  bool StillHolds();
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u);
@@ -258,6 +264,7 @@ class EventDrivenRun {
   std::string index_one_reason_;
   std::size_t next_output_ = 0;
   double t_ = 0;
+  double mode_start_ = 0;  // where the current mode was entered
 
   internal::SunContext context_;
   internal::SerialVector y_{x0_.size(), context_.get()};
@@ -536,11 +543,38 @@ bool EventDrivenRun::EnterSparseJacobian() {
   return true;
 }
 
+// A root function that starts a mode just below zero (within the
+// degeneracy tolerance Holds allows) and then falls has no sign change for
+// CVODE to find: the mode was not the one the solution follows (a
+// look-ahead decided within round-off). CVODE evaluates the roots at every
+// step's end; a mode found violated there stops the run with the reason,
+// and its samples are dropped back to its entry, the last state to trust.
+bool EventDrivenRun::StillHolds() {
+  if (data_.root_time != t_ || data_.least_root >= 0) return true;
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(y_.data(), x0_.size());
+  std::string why;
+  if (system_.Solve(t_, x, &why) && system_.Holds(t_, x, &why)) return true;
+  const auto kept = std::upper_bound(trajectory_.times.begin(), trajectory_.times.end(),
+                                     mode_start_) -
+                    trajectory_.times.begin();
+  trajectory_.times.resize(kept);
+  trajectory_.states.resize(kept);
+  trajectory_.multipliers.resize(kept);
+  std::ostringstream message;
+  message << "event: mode " << Describe(system_.mode()) << ", entered at t = " << mode_start_
+          << ", no longer holds at t = " << t_ << " and no root was crossed: " << why
+          << " (it started on the wrong side of a constraint, within the degeneracy "
+             "tolerance; the state at t = "
+          << mode_start_ << " is not index one)";
+  return Fail(IntegrationStatus::kNotIndexOne, message.str());
+}
+
 bool EventDrivenRun::IntegrateModes() {
   void* cvode = cvode_.get();
   data_.system = &system_;
   data_.x.resize(x0_.size());
   t_ = t0_;
+  mode_start_ = t0_;
   if (!EnterSparseJacobian()) return false;
   SUNMatrix matrix = klu_ ? klu_->matrix() : dense_->matrix();
   SUNLinearSolver solver = klu_ ? klu_->solver() : dense_->solver();
@@ -600,9 +634,11 @@ bool EventDrivenRun::IntegrateModes() {
       if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
           !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime"))
         return false;
+      mode_start_ = t_;
       segment_open_ = true;
       continue;
     }
+    if (!StillHolds()) return false;
     const bool at_end = flag == CV_TSTOP_RETURN || t_ >= t_end_;
     if (system_.reduced())
       trajectory_.stats.max_constraint_drift =
