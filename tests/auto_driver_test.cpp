@@ -229,18 +229,7 @@ TEST(AutoDriver, SteppingTakesAnImpactThenTheRestingMassRunsEventDriven) {
 // interval stops where its mode no longer holds, and time-stepping keeps
 // the mass on the ground.
 TEST(AutoDriver, RestingMassAsAGeneralDviStaysOnTheGround) {
-  Dvi dvi;
-  dvi.n = 2;
-  dvi.m = 1;
-  dvi.K = ConvexSet::Orthant(1);
-  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out.resize(2);
-    out << x(1), -1 + u(0);
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
-    out.resize(1);
-    out << x(0);
-  };
+  const Dvi dvi = testing::RestingMass();
   AutoOptions options;
   options.event.rtol = 1e-10;
   options.event.atol = 1e-12;

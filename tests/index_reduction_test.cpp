@@ -14,6 +14,7 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "support/convergence.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi {
 namespace {
@@ -218,18 +219,7 @@ TEST(IndexReduction, LandingWithVelocityIsRefusedAtTheImpact) {
 // stop with the reason instead of letting the mass fall through the ground,
 // and keep nothing of the wrong mode.
 TEST(IndexReduction, RestingMassAsAGeneralDviStopsInsteadOfFallingThrough) {
-  Dvi dvi;
-  dvi.n = 2;
-  dvi.m = 1;
-  dvi.K = ConvexSet::Orthant(1);
-  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out.resize(2);
-    out << x(1), -1 + u(0);
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
-    out.resize(1);
-    out << x(0);
-  };
+  const Dvi dvi = testing::RestingMass();
   const Trajectory trajectory =
       IntegrateEventDriven(dvi, Eigen::Vector2d::Zero(), 0, 0.5, Tight());
   EXPECT_EQ(trajectory.status, IntegrationStatus::kNotIndexOne);

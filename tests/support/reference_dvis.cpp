@@ -50,4 +50,20 @@ Dvi SaturatedOscillator() {
   return dvi;
 }
 
+Dvi RestingMass() {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out.resize(2);
+    out << x(1), -1 + u(0);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out.resize(1);
+    out << x(0);
+  };
+  return dvi;
+}
+
 }  // namespace dvi::testing

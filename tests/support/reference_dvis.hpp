@@ -29,4 +29,11 @@ Eigen::VectorXd SaturatedDecayExact(double t);
 /// form: tests compare against a tight run.
 Dvi SaturatedOscillator();
 
+/// A unit mass under gravity on the ground, as a general Dvi (functors, no
+/// LCS matrices):
+///   x1' = x2,  x2' = −1 + u,   0 ≤ u ⊥ x1 ≥ 0.
+/// At rest (x0 = 0) it is index three: u = 1 needs two passes of the
+/// differentiation procedure, which only an LCS gets (Sect. 5.4).
+Dvi RestingMass();
+
 }  // namespace dvi::testing
