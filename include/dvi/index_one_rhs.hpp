@@ -39,10 +39,17 @@ struct IndexOneRhsStats {
 /// The right-hand side of the index-one DVI as the implicit ODE (5.2)
 ///   x' = f(t, x, u(t, x)),   u(t, x) = SOL(K, F(t, x, ·)),
 /// for a plain ODE solver (odeint_system.hpp, cvode_rhs.hpp) or the caller's
-/// own loop. K must be a box. Index one (∂F/∂u uniformly P, Theorem 5.1, or
-/// u strongly regular, Sect. 5.3) makes u(t, x) unique and Lipschitz; it is
-/// the caller's assumption and is not checked here (IntegrateEventDriven
-/// checks it).
+/// own loop. Index one (∂F/∂u uniformly P, Theorem 5.1, or u strongly
+/// regular, Sect. 5.3) makes u(t, x) unique and Lipschitz; it is the caller's
+/// assumption and is not checked here (IntegrateEventDriven checks it).
+///
+/// K is any ConvexSet. When it has polyhedral or ball parts, u is computed
+/// through the KKT system of the VI, a box problem in z = (u, μ, ν) with
+/// μ ≥ 0 the multipliers of K's inequalities and ν those of its equalities
+/// (a ball ‖u − c‖ ≤ r is one inequality); LICQ and a strongly monotone F
+/// keep that solution strongly regular. Modes are then over z: mode_size()
+/// entries, μ_k free while inequality k is active and at its lower bound 0
+/// while it is not.
 ///
 /// u is found inside the current mode by Newton on the free components
 /// (F_A(t, x, u) = 0, the others at their bounds) from the last u. When that
@@ -58,8 +65,8 @@ struct IndexOneRhsStats {
 /// Not thread-safe: an evaluation updates the mode and the warm start.
 class IndexOneRhs {
  public:
-  /// @throws InvalidInputError when dvi is invalid (Dvi::Validate), K is not
-  /// a box, or solver is invalid.
+  /// @throws InvalidInputError when dvi is invalid (Dvi::Validate) or solver
+  /// is invalid.
   explicit IndexOneRhs(const Dvi& dvi, const SolverOptions& solver = {});
   /// The LCS (2.8) or its box generalization through Lcs::ToDvi.
   /// @throws InvalidInputError as Lcs::Validate, or as above.
@@ -72,6 +79,9 @@ class IndexOneRhs {
 
   int n() const;
   int m() const;
+  /// Entries of a mode: m for a box K, m plus K's inequalities and
+  /// equalities otherwise (the size of z).
+  int mode_size() const;
 
   /// xdot = f(t, x, u(t, x)), xdot resized to n. False, with message(), when
   /// u cannot be computed: the VI is not solved, or (frozen mode) Newton in
@@ -84,13 +94,13 @@ class IndexOneRhs {
   /// free components is singular. @throws InvalidInputError as Evaluate.
   bool Jacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J);
 
-  /// u at the last (t, x) where it was computed (Evaluate, Jacobian,
-  /// SelectMode); zero before any.
-  const Eigen::VectorXd& multiplier() const;
+  /// u (m entries) at the last (t, x) where it was computed (Evaluate,
+  /// Jacobian, SelectMode); zero before any.
+  Eigen::VectorXd multiplier() const;
   /// Why the last failed call failed.
   const std::string& message() const;
-  /// The current mode, m entries; empty before the first evaluation or
-  /// EnterMode.
+  /// The current mode, mode_size() entries; empty before the first
+  /// evaluation or EnterMode.
   const std::vector<MultiplierBound>& mode() const;
 
   /// Solves the full VI at (t, x) and enters its mode (a component within
@@ -98,10 +108,12 @@ class IndexOneRhs {
   /// message(), when the VI is not solved. @throws InvalidInputError as
   /// Evaluate.
   bool SelectMode(double t, const Eigen::VectorXd& x);
-  /// Enters mode with u as Newton's starting point (its bound components are
-  /// reset to the bounds). @throws InvalidInputError when mode or u does not
-  /// have m entries, u is not finite, or mode bounds a component at an
-  /// infinite bound.
+  /// Enters mode (mode_size() entries) with u as Newton's starting point
+  /// (its bound components are reset to the bounds): m entries, K's
+  /// multipliers then starting from their last values (0 before any), or
+  /// mode_size() entries, all of z.
+  /// @throws InvalidInputError when mode or u has another size, u is not
+  /// finite, or mode bounds a component at an infinite bound.
   void EnterMode(const std::vector<MultiplierBound>& mode, const Eigen::VectorXd& u);
   /// While frozen, Evaluate and Jacobian never re-select: they integrate the
   /// smooth extension of the current mode past its validity (for a caller

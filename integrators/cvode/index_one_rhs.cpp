@@ -7,6 +7,7 @@
 
 #include "box_mode.hpp"
 #include "check.hpp"
+#include "kkt_lifting.hpp"
 
 namespace dvi {
 namespace {
@@ -32,12 +33,12 @@ std::string Describe(const std::vector<MultiplierBound>& mode) {
   return text;
 }
 
-const Dvi& Validated(const Dvi& dvi, const SolverOptions& solver) {
+// The problem on a box: dvi itself, or the KKT system of its VI in
+// z = (u, μ, ν) when K has polyhedral or ball parts (kkt_lifting.hpp).
+Dvi OnABox(const Dvi& dvi, const SolverOptions& solver) {
   dvi.Validate();
   solver.Validate();
-  DVI_THROW_UNLESS(dvi.K.IsBox(), "K: IndexOneRhs needs a box K (orthant, box, whole space or "
-                                  "products of them)");
-  return dvi;
+  return dvi.K.IsBox() ? dvi : internal::LiftToBox(dvi).dvi;
 }
 
 Dvi ValidatedDvi(const Lcs& lcs) {
@@ -48,8 +49,9 @@ Dvi ValidatedDvi(const Lcs& lcs) {
 }  // namespace
 
 struct IndexOneRhs::Impl {
-  Impl(Dvi problem, const SolverOptions& solver)
+  Impl(Dvi problem, int u_size, const SolverOptions& solver)
       : dvi(std::move(problem)),
+        m(u_size),
         lower(dvi.K.BoxBounds().first),
         upper(dvi.K.BoxBounds().second),
         tolerance(solver.tolerance),
@@ -64,8 +66,10 @@ struct IndexOneRhs::Impl {
   bool Update(double t, const Eigen::VectorXd& x);
 
   // The Dvi is owned: BoxModeSystem keeps a reference to it, and an Lcs's
-  // Dvi is a temporary.
+  // Dvi and a lifted one are temporaries. Its multiplier is z, of which u is
+  // the first m components.
   const Dvi dvi;
+  const int m;
   const Eigen::VectorXd lower;
   const Eigen::VectorXd upper;
   const double tolerance;
@@ -144,7 +148,7 @@ bool IndexOneRhs::Impl::Update(double t, const Eigen::VectorXd& x) {
 }
 
 IndexOneRhs::IndexOneRhs(const Dvi& dvi, const SolverOptions& solver)
-    : impl_(std::make_unique<Impl>(Validated(dvi, solver), solver)) {}
+    : impl_(std::make_unique<Impl>(OnABox(dvi, solver), dvi.m, solver)) {}
 
 IndexOneRhs::IndexOneRhs(const Lcs& lcs, const SolverOptions& solver)
     : IndexOneRhs(ValidatedDvi(lcs), solver) {}
@@ -154,7 +158,8 @@ IndexOneRhs::IndexOneRhs(IndexOneRhs&&) noexcept = default;
 IndexOneRhs& IndexOneRhs::operator=(IndexOneRhs&&) noexcept = default;
 
 int IndexOneRhs::n() const { return impl_->dvi.n; }
-int IndexOneRhs::m() const { return impl_->dvi.m; }
+int IndexOneRhs::m() const { return impl_->m; }
+int IndexOneRhs::mode_size() const { return impl_->dvi.m; }
 
 bool IndexOneRhs::Evaluate(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) {
   Impl& impl = *impl_;
@@ -190,7 +195,7 @@ bool IndexOneRhs::Jacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& 
   return true;
 }
 
-const Eigen::VectorXd& IndexOneRhs::multiplier() const { return impl_->u; }
+Eigen::VectorXd IndexOneRhs::multiplier() const { return impl_->u.head(impl_->m); }
 const std::string& IndexOneRhs::message() const { return impl_->message; }
 
 const std::vector<MultiplierBound>& IndexOneRhs::mode() const { return impl_->mode; }
@@ -202,13 +207,19 @@ bool IndexOneRhs::SelectMode(double t, const Eigen::VectorXd& x) {
 
 void IndexOneRhs::EnterMode(const std::vector<MultiplierBound>& mode, const Eigen::VectorXd& u) {
   Impl& impl = *impl_;
-  const int m = impl.dvi.m;
-  DVI_THROW_UNLESS(static_cast<int>(mode.size()) == m,
-                   "mode has " << mode.size() << " entries, expected " << m);
-  DVI_THROW_UNLESS(u.size() == m, "u has " << u.size() << " entries, expected " << m);
-  BoxMode internal_mode(m);
-  for (int j = 0; j < m; ++j) {
+  const int size = impl.dvi.m;
+  DVI_THROW_UNLESS(static_cast<int>(mode.size()) == size,
+                   "mode has " << mode.size() << " entries, expected " << size);
+  DVI_THROW_UNLESS(u.size() == impl.m || u.size() == size,
+                   "u has " << u.size() << " entries, expected " << impl.m
+                            << (size == impl.m ? "" : " or " + std::to_string(size)));
+  for (int j = 0; j < u.size(); ++j)
     DVI_THROW_UNLESS(std::isfinite(u(j)), "u(" << j << ") = " << u(j) << " is not finite");
+  // K's multipliers μ, ν, when not given, start from their last values.
+  Eigen::VectorXd z = impl.u;
+  z.head(u.size()) = u;
+  BoxMode internal_mode(size);
+  for (int j = 0; j < size; ++j) {
     DVI_THROW_UNLESS(mode[j] == MultiplierBound::kFree || mode[j] == MultiplierBound::kLower ||
                          mode[j] == MultiplierBound::kUpper,
                      "mode[" << j << "]: " << static_cast<int>(mode[j])
@@ -219,7 +230,7 @@ void IndexOneRhs::EnterMode(const std::vector<MultiplierBound>& mode, const Eige
                      "mode[" << j << "]: at the upper bound, which is " << impl.upper(j));
     internal_mode[j] = ToInternal(mode[j]);
   }
-  impl.system.Enter(internal_mode, u);
+  impl.system.Enter(internal_mode, z);
   impl.mode = mode;
   impl.has_mode = true;
   impl.mode_solved = false;

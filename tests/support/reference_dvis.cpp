@@ -33,6 +33,36 @@ Eigen::VectorXd SaturatedDecayExact(double t) {
   return Eigen::VectorXd::Constant(1, t <= 2 ? 3 - t : std::exp(2 - t));
 }
 
+Dvi BallSpiral() {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 2;
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = -x(1) - u(0);
+    out(1) = x(0) - u(1);
+  };
+  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx << 0, -1, 1, 0;
+    Ju = -Eigen::Matrix2d::Identity();
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u - x;
+  };
+  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx = -Eigen::Matrix2d::Identity();
+    Ju = Eigen::Matrix2d::Identity();
+  };
+  dvi.K = ConvexSet::Ball(Eigen::VectorXd::Zero(2), 1);
+  return dvi;
+}
+
+Eigen::VectorXd BallSpiralExact(double t) {
+  const double r = t <= 2 ? 3 - t : std::exp(2 - t);
+  return Eigen::Vector2d(r * std::cos(t), r * std::sin(t));
+}
+
 Dvi SaturatedOscillator() {
   Dvi dvi;
   dvi.n = 3;

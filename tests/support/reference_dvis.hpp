@@ -7,7 +7,7 @@
 
 namespace dvi::testing {
 
-/// Reference index-one box DVIs shared by the integrators' tests and the
+/// Reference index-one DVIs shared by the integrators' tests and the
 /// work-precision benchmark.
 
 /// A DVI with one kink:
@@ -19,6 +19,17 @@ Dvi SaturatedDecay();
 
 /// x(t) of SaturatedDecay from x0 = 3 at t0 = 0.
 Eigen::VectorXd SaturatedDecayExact(double t);
+
+/// A spiral into the unit disc B with one kink, u in a ball:
+///   x' = Ω x − u,   u ∈ SOL(B, u − x),   Ω = [[0, −1], [1, 0]],
+/// so u = Π_B(x) (F strongly monotone). Ω x ⊥ x, so the angle grows at
+/// rate 1 while |x|' = −1 outside B (u = x/|x|) and |x|' = −|x| inside
+/// (u = x). Exact Jacobians.
+Dvi BallSpiral();
+
+/// x(t) of BallSpiral from x0 = (3, 0) at t0 = 0: r(t)(cos t, sin t) with
+/// r = 3 − t until the ball's constraint is released at t = 2, then e^{2−t}.
+Eigen::VectorXd BallSpiralExact(double t);
 
 /// A nonlinear 3-D DVI with many kinks: x1, x2 oscillate and drive u in and
 /// out of saturation on K = [−1, 1]³,
