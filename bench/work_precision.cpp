@@ -5,7 +5,7 @@
 // sizes, and an oracle that integrates each mode between known switch times.
 // Error = max over the output times of ‖x − x_exact‖∞. Prints the points, the
 // goal verdicts and writes every point to a CSV (README, last section).
-//   work_precision [--csv PATH] [--budget SECONDS]
+//   work_precision [--csv PATH] [--budget SECONDS] [--problem NAME]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -332,6 +332,7 @@ void WriteCsv(const std::vector<Point>& points, const std::string& path) {
 
 int Main(int argc, char** argv) {
   std::string csv_path = "work_precision.csv";
+  std::string only;
   double budget = 10;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
@@ -339,13 +340,25 @@ int Main(int argc, char** argv) {
       csv_path = argv[++k];
     } else if (arg == "--budget" && k + 1 < argc) {
       budget = std::atof(argv[++k]);
+    } else if (arg == "--problem" && k + 1 < argc) {
+      only = argv[++k];
     } else {
-      std::cerr << "usage: work_precision [--csv PATH] [--budget SECONDS]\n";
+      std::cerr << "usage: work_precision [--csv PATH] [--budget SECONDS] [--problem NAME]\n";
       return 2;
     }
   }
 
-  const std::vector<WorkPrecisionProblem> problems = MakeWorkPrecisionProblems(kOutputCount);
+  std::vector<WorkPrecisionProblem> problems = MakeWorkPrecisionProblems(kOutputCount);
+  if (!only.empty()) {
+    problems.erase(std::remove_if(problems.begin(), problems.end(),
+                                  [&only](const WorkPrecisionProblem& p) { return p.name != only; }),
+                   problems.end());
+    if (problems.empty()) {
+      std::cerr << "work_precision: --problem " << only
+                << ": no such problem (decay, diode, oscillator, ball)\n";
+      return 2;
+    }
+  }
   std::vector<Point> points;
   for (const WorkPrecisionProblem& problem : problems) {
     std::cerr << problem.name << "\n";

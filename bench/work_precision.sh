@@ -38,7 +38,8 @@ awk -F, -v dir="$data_dir" \
   'NR > 1 && $9 == "ok" { print $5, $6, $7 > (dir "/" $1 "_" $2 ".dat") }' "$csv"
 
 methods="event oracle cvode dopri5 rosenbrock4 stepping-theta0 stepping-theta0.5"
-problems="decay diode oscillator"
+problems=$(awk -F, 'NR > 1 && !seen[$1]++ { printf "%s ", $1 }' "$csv")
+columns=$(wc -w <<<"$problems")
 plot_panels() {  # $1: column of the cost (2 seconds, 3 RHS evaluations), $2: its label
   for problem in $problems; do
     echo "set title '$problem'; set xlabel 'max error'; set ylabel '$2'"
@@ -51,14 +52,14 @@ plot_panels() {  # $1: column of the cost (2 seconds, 3 RHS evaluations), $2: it
   done
 }
 for extension in png svg; do
-  terminal="svg size 1800,1000"
-  [[ $extension == png ]] && terminal="pngcairo size 1800,1000"
+  terminal="svg size $((600 * columns)),1000"
+  [[ $extension == png ]] && terminal="pngcairo size $((600 * columns)),1000"
   {
     echo "set terminal $terminal font ',10'"
     echo "set output '$out_dir/work_precision.$extension'"
     echo "set logscale xy; set format x '10^{%T}'; set format y '10^{%T}'"
     echo "set grid; set key top right font ',8'"
-    echo "set multiplot layout 2,3 title 'Work-precision: error vs wall time (top)" \
+    echo "set multiplot layout 2,$columns title 'Work-precision: error vs wall time (top)" \
          "and RHS evaluations (bottom)'"
     plot_panels 2 "wall time [s]"
     plot_panels 3 "RHS evaluations"

@@ -145,11 +145,13 @@ BaselineRun RunOracleCvode(const WorkPrecisionProblem& problem, double rtol, dou
   std::size_t next = 0;
   for (; next < times.size() && times[next] <= problem.t0; ++next)
     run.states.push_back(problem.x0);
+  // Newton's first start is the VI's u at x0 (u = 0 can make a KKT mode's
+  // Jacobian singular, e.g. on a ball); x is continuous at a switch, so u
+  // restarts from its last value there.
+  if (!rhs.SelectMode(problem.t0, problem.x0)) run.failure = rhs.message();
   for (std::size_t k = 0; k < problem.schedule.size() && run.failure.empty(); ++k) {
     const ModeSegment& segment = problem.schedule[k];
-    // x is continuous at a switch; u restarts from its last value.
-    rhs.EnterMode(segment.mode, rhs.mode().empty() ? Eigen::VectorXd::Zero(rhs.m()).eval()
-                                                   : rhs.multiplier());
+    rhs.EnterMode(segment.mode, rhs.multiplier());
     if (k == 0)
       cvode.SetStopTime(segment.to);
     else

@@ -61,6 +61,25 @@ WorkPrecisionProblem DiodeCircuit(int output_count) {
   return problem;
 }
 
+// testing::BallSpiral: u = Π_B(x) on the unit disc through the VI's KKT
+// system in z = (u, μ); the constraint is active (μ free) until it is
+// released at t = 2 (μ at its bound 0).
+WorkPrecisionProblem BallSpiral(int output_count) {
+  WorkPrecisionProblem problem;
+  problem.name = "ball";
+  problem.title = "x' = [[0,-1],[1,0]]x - u, u in SOL(unit disc, u - x), x0 = (3, 0), [0, 5]";
+  problem.reference = "exact";
+  problem.dvi = testing::BallSpiral();
+  problem.x0 = Eigen::Vector2d(3, 0);
+  problem.t_end = 5;
+  problem.output_times = testing::Linspace(0, 5, output_count);
+  for (const double t : problem.output_times) problem.exact.push_back(testing::BallSpiralExact(t));
+  constexpr MultiplierBound kFree = MultiplierBound::kFree;
+  problem.schedule = {{0, 2, {kFree, kFree, kFree}},
+                      {2, 5, {kFree, kFree, MultiplierBound::kLower}}};
+  return problem;
+}
+
 // testing::SaturatedOscillator, many kinks, against a tight event run.
 WorkPrecisionProblem SaturatedOscillator(int output_count) {
   WorkPrecisionProblem problem;
@@ -128,6 +147,7 @@ std::vector<WorkPrecisionProblem> MakeWorkPrecisionProblems(int output_count) {
   problems.push_back(SaturatedDecay(output_count));
   problems.push_back(DiodeCircuit(output_count));
   problems.push_back(SaturatedOscillator(output_count));
+  problems.push_back(BallSpiral(output_count));
   return problems;
 }
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The three index-one DVIs of the work-precision benchmark (README, last
+// The four index-one DVIs of the work-precision benchmark (README, last
 // section), each with its solution at the output times and its mode schedule
 // (the switch times the oracle integrates between).
 #pragma once
@@ -34,10 +34,11 @@ struct WorkPrecisionProblem {
   double t_end = 0;
   std::vector<double> output_times;
   std::vector<Eigen::VectorXd> exact;  ///< x at output_times.
-  std::vector<ModeSegment> schedule;   ///< Covers [t0, t_end] in order.
+  std::vector<ModeSegment> schedule;   ///< Covers [t0, t_end] in order; modes over
+                                       ///< IndexOneRhs::mode_size() entries.
 };
 
-/// The three problems, sampled at output_count equispaced times. The third
+/// The four problems, sampled at output_count equispaced times. The third
 /// one's reference and schedule come from an event run at rtol = 1e-13.
 /// @throws std::runtime_error when that reference run fails.
 std::vector<WorkPrecisionProblem> MakeWorkPrecisionProblems(int output_count);
