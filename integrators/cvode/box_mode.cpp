@@ -152,36 +152,47 @@ void BoxModeSystem::DifferentiatedRows(const RowReduction& reduction, double t,
 }
 
 void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                                  Eigen::VectorXd& G, Eigen::MatrixXd& Gu,
+                                  Eigen::VectorXd& G, Eigen::MatrixXd* Gu,
                                   Eigen::MatrixXd* Gx) const {
   const int a = static_cast<int>(free_.size());
   if (affine_) {
     const Eigen::VectorXd Cx = mode_rows_.C * x;
     G.resize(a);
-    Gu.resize(a, a);
+    if (Gu) Gu->resize(a, a);
     for (int i = 0; i < a; ++i) {
       const int row = free_[i];
       G(i) = mode_rows_.c(row) + Cx(row) + mode_rows_.M.row(row).dot(u);
-      for (int k = 0; k < a; ++k) Gu(i, k) = mode_rows_.M(row, free_[k]);
+      if (Gu)
+        for (int k = 0; k < a; ++k) (*Gu)(i, k) = mode_rows_.M(row, free_[k]);
     }
     if (Gx) *Gx = Eigen::MatrixXd(FreeRows() * mode_rows_.C);
     return;
   }
-  Eigen::VectorXd F(m()), derived;
-  Eigen::MatrixXd Fx, Fu, derived_u, derived_x;
-  EvalF(t, x, u, F);
-  FJacobians(t, x, u, Fx, Fu);
+  // F's Jacobians are needed for G_u and G_x, and by differentiated rows
+  // for their values (Φ̇ = P F_x f); a residual of undifferentiated rows
+  // needs F alone. The scratch keeps Newton from allocating per iteration.
+  EvalF(t, x, u, scratch_F_);
+  if (Gu || Gx || !reduction_.empty()) FJacobians(t, x, u, scratch_Fx_, scratch_Fu_);
+  Eigen::VectorXd derived;
+  Eigen::MatrixXd derived_u, derived_x;
   if (!reduction_.empty())
-    DifferentiatedRows(reduction_, t, x, u, Fx, derived, derived_u, Gx ? &derived_x : nullptr);
+    DifferentiatedRows(reduction_, t, x, u, scratch_Fx_, derived, derived_u,
+                       Gx ? &derived_x : nullptr);
   G.resize(a);
-  Gu.resize(a, a);
+  if (Gu) Gu->resize(a, a);
   if (Gx) Gx->resize(a, n());
   for (int i = 0; i < a; ++i) {
     const int row = differentiated_row_[i];
-    G(i) = row < 0 ? F(free_[i]) : derived(row);
-    for (int k = 0; k < a; ++k) Gu(i, k) = row < 0 ? Fu(free_[i], free_[k]) : derived_u(row, free_[k]);
-    if (Gx) Gx->row(i) = row < 0 ? Eigen::RowVectorXd(Fx.row(free_[i]))
-                                 : Eigen::RowVectorXd(derived_x.row(row));
+    G(i) = row < 0 ? scratch_F_(free_[i]) : derived(row);
+    if (Gu)
+      for (int k = 0; k < a; ++k)
+        (*Gu)(i, k) = row < 0 ? scratch_Fu_(free_[i], free_[k]) : derived_u(row, free_[k]);
+    if (Gx) {
+      if (row < 0)
+        Gx->row(i) = scratch_Fx_.row(free_[i]);
+      else
+        Gx->row(i) = derived_x.row(row);
+    }
   }
 }
 
@@ -193,17 +204,18 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     rows_split_ = true;
   }
   if (affine_) return SolveLcsMode(x, why);
-  Eigen::VectorXd u = u_, residual;
-  Eigen::MatrixXd Gu;
+  Eigen::VectorXd& u = newton_u_;
+  u = u_;
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     ++newton_iterations_;
-    ModeEquations(t, x, u, residual, Gu, nullptr);
-    if (!residual.allFinite()) break;
-    if (residual.lpNorm<Eigen::Infinity>() == 0) {
+    ModeEquations(t, x, u, residual_, &newton_Gu_, nullptr);
+    if (!residual_.allFinite()) break;
+    if (residual_.lpNorm<Eigen::Infinity>() == 0) {
       u_ = u;
       return true;
     }
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
+    Eigen::FullPivLU<Eigen::MatrixXd>& lu = newton_lu_;
+    lu.compute(newton_Gu_);
     if (!lu.isInvertible()) {
       if (why)
         *why = reduced() ? "the matrix (5.8) of the reduced mode is singular (Theorem 5.2 "
@@ -212,15 +224,15 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
                          : "∂F/∂u on the free components is singular";
       return false;
     }
-    const Eigen::VectorXd step = lu.solve(residual);
+    step_ = lu.solve(residual_);
     double u_norm = 0;
     for (int i = 0; i < a; ++i) {
-      u(free_[i]) -= step(i);
+      u(free_[i]) -= step_(i);
       u_norm = std::max(u_norm, std::abs(u(free_[i])));
     }
-    if (step.lpNorm<Eigen::Infinity>() <= kNewtonStepTolerance * (1 + u_norm)) {
-      ModeEquations(t, x, u, residual, Gu, nullptr);
-      if (!(residual.lpNorm<Eigen::Infinity>() <= solver_.tolerance)) break;
+    if (step_.lpNorm<Eigen::Infinity>() <= kNewtonStepTolerance * (1 + u_norm)) {
+      ModeEquations(t, x, u, residual_, nullptr, nullptr);
+      if (!(residual_.lpNorm<Eigen::Infinity>() <= solver_.tolerance)) break;
       u_ = u;
       return true;
     }
@@ -310,7 +322,7 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   const int a = static_cast<int>(free_.size());
   Eigen::VectorXd G;
   Eigen::MatrixXd Gu, Gx, fua(n(), a);
-  ModeEquations(t, x, u_, G, Gu, &Gx);
+  ModeEquations(t, x, u_, G, &Gu, &Gx);
   for (int i = 0; i < a; ++i) fua.col(i) = fu.col(free_[i]);
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
   if (!lu.isInvertible()) return false;

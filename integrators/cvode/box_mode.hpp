@@ -144,10 +144,10 @@ class BoxModeSystem {
   void DifferentiatedRows(const RowReduction& reduction, double t, const Eigen::VectorXd& x,
                           const Eigen::VectorXd& u, const Eigen::MatrixXd& Fx,
                           Eigen::VectorXd& values, Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const;
-  /// The mode equations G(t, x, u) on the free components, G_u (a×a) and,
-  /// when Gx is given, G_x (a×n).
+  /// The mode equations G(t, x, u) on the free components and, when given,
+  /// G_u (a×a) and G_x (a×n).
   void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                     Eigen::VectorXd& G, Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const;
+                     Eigen::VectorXd& G, Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const;
   /// Φ(t, x) = P F(t, x, u_) and Φ_x = P F_x (sparse: an LCS's is).
   void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
                    SparseMatrix* phi_x) const;
@@ -193,6 +193,13 @@ class BoxModeSystem {
   Eigen::PartialPivLU<Eigen::MatrixXd> mode_lu_;
   bool mode_regular_ = false;
   Eigen::VectorXd residual_, step_;
+  // Newton's iterate and G_u's factors on a nonlinear mode, and F with its
+  // Jacobians for ModeEquations: kept so that Newton does not allocate.
+  Eigen::VectorXd newton_u_;
+  Eigen::MatrixXd newton_Gu_;
+  Eigen::FullPivLU<Eigen::MatrixXd> newton_lu_;
+  mutable Eigen::VectorXd scratch_F_;
+  mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;
   long newton_iterations_ = 0;
 };
