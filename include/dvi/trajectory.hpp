@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "dvi/vector_samples.hpp"
+
 namespace dvi {
 
 /// How an integration ended. Only kSuccess reaches the final time.
@@ -86,8 +88,8 @@ struct Trajectory {
   std::string message;  ///< Why it stopped when status != kSuccess (time, step, residual).
 
   std::vector<double> times;               ///< Ascending sample times.
-  std::vector<Eigen::VectorXd> states;     ///< x at times[k].
-  std::vector<Eigen::VectorXd> multipliers;  ///< u at times[k] (the right limit at a switch).
+  VectorSamples states;       ///< x at times[k].
+  VectorSamples multipliers;  ///< u at times[k] (the right limit at a switch).
 
   std::vector<Event> events;
   std::vector<MethodInterval> intervals;
@@ -95,10 +97,8 @@ struct Trajectory {
   IntegrationStats stats;
 
   bool succeeded() const { return status == IntegrationStatus::kSuccess; }
-  int state_dim() const { return states.empty() ? 0 : static_cast<int>(states.front().size()); }
-  int multiplier_dim() const {
-    return multipliers.empty() ? 0 : static_cast<int>(multipliers.front().size());
-  }
+  int state_dim() const { return static_cast<int>(states.dim()); }
+  int multiplier_dim() const { return static_cast<int>(multipliers.dim()); }
   double final_time() const { return times.empty() ? 0 : times.back(); }
 
   /// x at time t, linear between samples (x̂ᴴ when every step is a sample).

@@ -137,18 +137,21 @@ ZenoPrediction PredictAccumulation(const std::vector<Event>& events, double same
 // replaced by the part's, whose u is the right limit), events, step records
 // and statistics.
 void Append(Trajectory& whole, Trajectory&& part) {
-  if (!part.times.empty()) {
+  if (whole.times.empty()) {
+    // The first part (the whole run when event-driven succeeds): its
+    // samples are taken over, not copied.
+    whole.times = std::move(part.times);
+    whole.states = std::move(part.states);
+    whole.multipliers = std::move(part.multipliers);
+  } else if (!part.times.empty()) {
     while (!whole.times.empty() && whole.times.back() >= part.times.front()) {
       whole.times.pop_back();
       whole.states.pop_back();
       whole.multipliers.pop_back();
     }
     whole.times.insert(whole.times.end(), part.times.begin(), part.times.end());
-    whole.states.insert(whole.states.end(), std::make_move_iterator(part.states.begin()),
-                        std::make_move_iterator(part.states.end()));
-    whole.multipliers.insert(whole.multipliers.end(),
-                             std::make_move_iterator(part.multipliers.begin()),
-                             std::make_move_iterator(part.multipliers.end()));
+    whole.states.append(part.states);
+    whole.multipliers.append(part.multipliers);
   }
   whole.events.insert(whole.events.end(), part.events.begin(), part.events.end());
   whole.step_log.insert(whole.step_log.end(), part.step_log.begin(), part.step_log.end());
@@ -192,7 +195,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     // The part the run integrated well: all of its samples (its last is the
     // state where it stopped, located by CVODE / IDA).
     const double t_a = run.times.empty() ? t : run.times.back();
-    const Eigen::VectorXd x_a = run.times.empty() ? x : run.states.back();
+    const Eigen::VectorXd x_a = run.times.empty() ? x : Eigen::VectorXd(run.states.back());
     if (t_a > t) {
       whole.intervals.push_back({t, t_a, "event",
                                  (t > t0 ? "back to event-driven after time-stepping; " : "") +
@@ -228,7 +231,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     Trajectory steps = stepping(t_a, x_a, t_b, Clip(outputs, t_a, t_b, true));
     const bool stepped = steps.succeeded();
     const double t_stepped = steps.times.empty() ? t_a : steps.times.back();
-    x = steps.times.empty() ? x_a : steps.states.back();
+    x = steps.times.empty() ? x_a : Eigen::VectorXd(steps.states.back());
     whole.intervals.push_back(
         {t_a, t_stepped, "stepping", reason + "; " + OwnReason(steps, "time-stepping")});
     Append(whole, std::move(steps));

@@ -229,6 +229,9 @@ class EventDrivenRun {
         x0_(x0),
         system_(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver, affine,
                 lcs) {
+    // CVodeGetDky sums the q + 1 Nordsieck columns into dky_ at every output
+    // time: in one fused loop instead of a scale and q axpys, the same sums.
+    N_VEnableLinearCombination_Serial(dky_.get(), SUNTRUE);
     // Only the chosen solver's matrix: a dense one is n² doubles.
     if (options.linear_solver == LinearSolver::kKlu)
       klu_ = std::make_unique<internal::KluLinearSolver>(y_.get(), x0.size(), 1, context_.get());
@@ -269,6 +272,7 @@ class EventDrivenRun {
   internal::SunContext context_;
   internal::SerialVector y_{x0_.size(), context_.get()};
   internal::SerialVector dky_{x0_.size(), context_.get()};
+  Eigen::VectorXd sample_x_;  // x at an output time, kept so that sampling does not allocate
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -317,9 +321,9 @@ void EventDrivenRun::SampleOutputs(double before) {
     // A time the step's interpolant cannot serve (outside it, or where the
     // mode's Newton fails) is left unsampled rather than guessed.
     if (CVodeGetDky(cvode_.get(), t, 0, dky_.get()) != CV_SUCCESS) continue;
-    const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
-    if (!system_.Solve(t, x)) continue;
-    Sample(t, x, system_.u());
+    sample_x_ = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
+    if (!system_.Solve(t, sample_x_)) continue;
+    Sample(t, sample_x_, system_.u());
   }
 }
 
@@ -663,6 +667,11 @@ bool EventDrivenRun::IntegrateModes() {
 
 Trajectory EventDrivenRun::Run() {
   const auto start = std::chrono::steady_clock::now();
+  // One sample per output time, the start and the end (events add a few).
+  const std::size_t samples = options_.output_times.size() + 2;
+  trajectory_.times.reserve(samples);
+  trajectory_.states.reserve(samples, x0_.size());
+  trajectory_.multipliers.reserve(samples, dvi_.m);
   if (Start()) IntegrateModes();
   if (segment_open_) AddCvodeStats();
   IntegrationStats& stats = trajectory_.stats;

@@ -177,7 +177,10 @@ KktLifting LiftToBox(const Dvi& dvi) {
 }
 
 Trajectory Unlift(Trajectory lifted, const KktLifting& lifting) {
-  for (Eigen::VectorXd& z : lifted.multipliers) z = z.head(lifting.m).eval();
+  VectorSamples u;
+  u.reserve(lifted.multipliers.size(), lifting.m);
+  for (const auto z : lifted.multipliers) u.push_back(z.head(lifting.m));
+  lifted.multipliers = std::move(u);
   for (Event& event : lifted.events) {
     if (event.index < lifting.m) continue;
     // μ_k leaving 0 makes constraint k active; reaching 0 releases it (ν

@@ -179,9 +179,12 @@ Trajectory WithEventDrivenForm(const Scene& scene, Integrate integrate) {
           return integrate(problem.ToSeparable().ToDvi());
         } else if constexpr (std::is_same_v<Problem, ProjectedDynamics>) {
           Trajectory trajectory = integrate(ProjectedDynamicsAsKkt(problem));
+          VectorSamples normals;
+          normals.reserve(trajectory.multipliers.size(), problem.n());
           for (std::size_t k = 0; k < trajectory.multipliers.size(); ++k)
-            trajectory.multipliers[k] = NormalConeElement(
-                problem, PdsForm::kKkt, trajectory.states[k], trajectory.multipliers[k]);
+            normals.push_back(NormalConeElement(problem, PdsForm::kKkt, trajectory.states[k],
+                                                trajectory.multipliers[k]));
+          trajectory.multipliers = std::move(normals);
           return trajectory;
         } else {
           return integrate(problem);
@@ -326,7 +329,8 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
                       {"max_constraint_drift", NumberToJson(stats.max_constraint_drift)},
                       {"wall_seconds", stats.wall_seconds}};
   summary["x_final"] =
-      VectorToJson(trajectory.states.empty() ? Eigen::VectorXd() : trajectory.states.back());
+      VectorToJson(trajectory.states.empty() ? Eigen::VectorXd()
+                                            : Eigen::VectorXd(trajectory.states.back()));
   return summary;
 }
 

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dvi/vector_samples.hpp"
+
+#include "check.hpp"
+
+namespace dvi {
+
+void VectorSamples::reserve(std::size_t count, Eigen::Index dim) {
+  const std::size_t values = count * static_cast<std::size_t>(dim);
+  if (values_.size() < values) values_.resize(values);
+}
+
+void VectorSamples::PushBackGrowing(const Eigen::Ref<const Eigen::VectorXd>& v) {
+  if (size_ == 0) dim_ = v.size();
+  DVI_THROW_UNLESS(v.size() == dim_, "VectorSamples::push_back: sample " << size_ << " has "
+                                                                         << v.size()
+                                                                         << " entries, expected "
+                                                                         << dim_);
+  // No room left (or a first sample): v may be one of the samples, which
+  // growing the buffer moves, so it is copied first.
+  const Eigen::VectorXd copy = v;
+  const std::size_t used = size_ * static_cast<std::size_t>(dim_);
+  const std::size_t needed = used + static_cast<std::size_t>(dim_);
+  if (values_.size() < needed) values_.resize(std::max(needed, 2 * values_.size()));
+  std::copy(copy.data(), copy.data() + dim_, values_.data() + used);
+  ++size_;
+}
+
+void VectorSamples::resize(std::size_t count) {
+  DVI_THROW_UNLESS(count <= size_, "VectorSamples::resize: count " << count
+                                                                    << " exceeds the size "
+                                                                    << size_);
+  size_ = count;
+  if (size_ == 0) dim_ = 0;
+}
+
+void VectorSamples::append(const VectorSamples& other) {
+  if (other.empty()) return;
+  if (size_ == 0) dim_ = other.dim_;
+  DVI_THROW_UNLESS(other.dim_ == dim_, "VectorSamples::append: samples of "
+                                           << other.dim_ << " entries, expected " << dim_);
+  const std::size_t used = size_ * static_cast<std::size_t>(dim_);
+  const std::size_t added = other.size_ * static_cast<std::size_t>(dim_);
+  if (values_.size() < used + added) values_.resize(used + added);
+  std::copy(other.values_.data(), other.values_.data() + added, values_.data() + used);
+  size_ += other.size_;
+}
+
+}  // namespace dvi
