@@ -118,8 +118,20 @@ void AddKktTerms(const Structure& s, const Eigen::VectorXd& z, Eigen::VectorXd& 
 
 }  // namespace
 
+// u and F's blocks for the lifted functions, kept between calls so that an
+// evaluation (several per Newton step) does not allocate. A lifted Dvi
+// belongs to one integration, which calls its functions one at a time.
+struct Scratch {
+  Eigen::VectorXd u;
+  Eigen::VectorXd head;
+  Eigen::MatrixXd Fx;
+  Eigen::MatrixXd Fu;
+  Eigen::VectorXd unused_values;  // F̃, which AddKktTerms writes with the Jacobian
+};
+
 KktLifting LiftToBox(const Dvi& dvi) {
   auto s = std::make_shared<const Structure>(Analyse(dvi.K));
+  auto scratch = std::make_shared<Scratch>();
   KktLifting lifting;
   lifting.m = s->m;
   lifting.inequalities = s->inequalities;
@@ -141,26 +153,29 @@ KktLifting LiftToBox(const Dvi& dvi) {
       Jz.leftCols(m) = Ju;
     };
   }
-  lifted.F = [F = dvi.F, s](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
-                            Eigen::VectorXd& out) {
-    Eigen::VectorXd head(s->m);
-    F(t, x, z.head(s->m), head);
+  lifted.F = [F = dvi.F, s, scratch](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
+                                     Eigen::VectorXd& out) {
+    scratch->u = z.head(s->m);
+    scratch->head.resize(s->m);
+    F(t, x, scratch->u, scratch->head);
     out.setZero();
-    out.head(s->m) = head;
+    out.head(s->m) = scratch->head;
     AddKktTerms(*s, z, out, nullptr);
   };
   if (dvi.F_jacobian) {
-    lifted.F_jacobian = [J = dvi.F_jacobian, s](double t, const Eigen::VectorXd& x,
-                                                const Eigen::VectorXd& z, Eigen::MatrixXd& Jx,
-                                                Eigen::MatrixXd& Jz) {
-      Eigen::MatrixXd Fx(s->m, x.size()), Fu(s->m, s->m);
-      J(t, x, z.head(s->m), Fx, Fu);
+    lifted.F_jacobian = [J = dvi.F_jacobian, s, scratch](
+                            double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
+                            Eigen::MatrixXd& Jx, Eigen::MatrixXd& Jz) {
+      scratch->u = z.head(s->m);
+      scratch->Fx.resize(s->m, x.size());
+      scratch->Fu.resize(s->m, s->m);
+      J(t, x, scratch->u, scratch->Fx, scratch->Fu);
       Jx.setZero();
-      Jx.topRows(s->m) = Fx;
+      Jx.topRows(s->m) = scratch->Fx;
       Jz.setZero();
-      Jz.topLeftCorner(s->m, s->m) = Fu;
-      Eigen::VectorXd scratch = Eigen::VectorXd::Zero(z.size());
-      AddKktTerms(*s, z, scratch, &Jz);
+      Jz.topLeftCorner(s->m, s->m) = scratch->Fu;
+      scratch->unused_values.setZero(z.size());
+      AddKktTerms(*s, z, scratch->unused_values, &Jz);
     };
   }
   if (dvi.F_time_derivative) {
