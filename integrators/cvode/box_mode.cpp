@@ -63,16 +63,17 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
   if (!affine_) return;
   if (lcs) {
     flow_ = AffineFlow{lcs->p, lcs->A, lcs->B};
-    lcs_rows_ = AffineRows{lcs->q, lcs->C, Eigen::MatrixXd(lcs->D)};
+    lcs_rows_ = AffineRows{lcs->q, lcs->C, lcs->D};
     return;
   }
   // An LCS known by its Dvi only (the KKT lifting of a polyhedral K): its
   // matrices, read off once at (t, x, u) = 0.
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n()), u0 = Eigen::VectorXd::Zero(m());
-  Eigen::MatrixXd Fx, fx, fu;
+  Eigen::MatrixXd Fx, Fu, fx, fu;
   EvalF(0, x0, u0, lcs_rows_.c);
-  FJacobians(0, x0, u0, Fx, lcs_rows_.M);
+  FJacobians(0, x0, u0, Fx, Fu);
   lcs_rows_.C = Fx.sparseView(1, 0);
+  lcs_rows_.M = Fu.sparseView(1, 0);
   flow_.p.resize(n());
   dvi_.f(0, x0, u0, flow_.p);
   SmallFJacobians(0, x0, u0, fx, fu);
@@ -156,16 +157,14 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
                                   Eigen::MatrixXd* Gx) const {
   const int a = static_cast<int>(free_.size());
   if (affine_) {
-    const Eigen::VectorXd Cx = mode_rows_.C * x;
-    G.resize(a);
-    if (Gu) Gu->resize(a, a);
-    for (int i = 0; i < a; ++i) {
-      const int row = free_[i];
-      G(i) = mode_rows_.c(row) + Cx(row) + mode_rows_.M.row(row).dot(u);
-      if (Gu)
-        for (int k = 0; k < a; ++k) (*Gu)(i, k) = mode_rows_.M(row, free_[k]);
+    G = free_c_;
+    G.noalias() += free_C_ * x;
+    G.noalias() += free_M_ * u;
+    if (Gu) {
+      Gu->resize(a, a);
+      for (int k = 0; k < a; ++k) Gu->col(k) = free_M_.col(free_[k]);
     }
-    if (Gx) *Gx = Eigen::MatrixXd(FreeRows() * mode_rows_.C);
+    if (Gx) *Gx = Eigen::MatrixXd(free_C_);
     return;
   }
   // F's Jacobians are needed for G_u and G_x, and by differentiated rows
@@ -277,15 +276,12 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
       ++passes_;
     // The free rows and G_u's factors, kept for every solve in the mode.
     const int a = static_cast<int>(free_.size());
-    free_c_.resize(a);
-    free_M_.resize(a, m());
+    const SparseMatrix pick = FreeRows();
+    free_c_ = pick * mode_rows_.c;
+    free_M_ = Eigen::MatrixXd(pick * mode_rows_.M);
     Eigen::MatrixXd Gu(a, a);
-    for (int i = 0; i < a; ++i) {
-      free_c_(i) = mode_rows_.c(free_[i]);
-      free_M_.row(i) = mode_rows_.M.row(free_[i]);
-      for (int k = 0; k < a; ++k) Gu(i, k) = mode_rows_.M(free_[i], free_[k]);
-    }
-    free_C_ = FreeRows() * mode_rows_.C;
+    for (int k = 0; k < a; ++k) Gu.col(k) = free_M_.col(free_[k]);
+    free_C_ = pick * mode_rows_.C;
     mode_regular_ = Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
     mode_lu_.compute(Gu);
     residual_.resize(a);
@@ -295,7 +291,7 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
   // Theorem 5.2/5.3's row operations on the free components, once per mode.
   Eigen::MatrixXd Fx, Fu;
   FJacobians(t, x, u_, Fx, Fu);
-  reduction_ = ReduceRows(Fu, free_);
+  reduction_ = ReduceRows(Fu.sparseView(1, 0), free_);
   differentiated_row_.assign(free_.size(), -1);
   for (int k = 0; k < static_cast<int>(reduction_.differentiated.size()); ++k)
     differentiated_row_[std::find(free_.begin(), free_.end(), reduction_.differentiated[k]) -
@@ -447,7 +443,7 @@ SolveResult BoxModeSystem::SolveBoxProblem(const BoxMcp& mcp, const Eigen::Vecto
 
 Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorXd& x,
                                                   const Eigen::VectorXd& u) const {
-  if (affine_) return lcs_rows_.M;
+  if (affine_) return Eigen::MatrixXd(lcs_rows_.M);
   Eigen::MatrixXd Fx, Fu;
   FJacobians(t, x, u, Fx, Fu);
   return Fu;
@@ -554,7 +550,7 @@ bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const 
     if (std::abs(vi.w(j)) <= tolerance) S.push_back(j);
   Eigen::MatrixXd Fx, Fu;
   FJacobians(t, x, vi.z, Fx, Fu);
-  const RowReduction reduction = ReduceRows(Fu, S);
+  const RowReduction reduction = ReduceRows(Fu.sparseView(1, 0), S);
   if (reduction.empty()) {
     if (why)
       *why = "the differentiation procedure does not apply: the rows of ∂F/∂u where F "
@@ -633,7 +629,8 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
     }
     // The modified LCS of Sect. 5.4 at x.
     const SolveResult modified =
-        SolveBoxProblem(BoxMcp::Affine(rows.M, rows.c + rows.C * x, lower_, upper_), current.z);
+        SolveBoxProblem(BoxMcp::Affine(Eigen::MatrixXd(rows.M), rows.c + rows.C * x, lower_, upper_),
+                        current.z);
     ++*vi_solves;
     *iterations += modified.iterations;
     if (!modified.solved()) {
@@ -642,7 +639,8 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
       if (why) *why = message.str();
       return false;
     }
-    const MatrixClassVerdict regular = IsStronglyRegular(rows.M, modified.index_sets);
+    const MatrixClassVerdict regular =
+        IsStronglyRegular(Eigen::MatrixXd(rows.M), modified.index_sets);
     if (regular.holds) {
       mode = ModeOf(modified.z);
       u = modified.z;
