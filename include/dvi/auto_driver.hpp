@@ -43,9 +43,9 @@ struct AutoOptions {
 /// @throws InvalidInputError on an invalid problem, x0, t0/t_end or options.
 Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
                          const AutoOptions& options = {});
-/// The LCS (2.8): with n + m ≥ 200 and ModeDaeApplies (a box K, a diagonal
-/// D) its event-driven intervals run on IDA with KLU (mode_dae.hpp), the
-/// others on CVODE.
+/// The LCS (2.8): with n + m ≥ 200 and ModeDaeApplies (a box K) its
+/// event-driven intervals run on IDA with KLU (mode_dae.hpp), the others on
+/// CVODE.
 Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
                          const AutoOptions& options = {});
 

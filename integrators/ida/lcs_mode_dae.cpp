@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <tuple>
 #include <utility>
 
@@ -21,153 +22,199 @@ constexpr double kZeroFactor = 10;
 LcsModeDae::LcsModeDae(const Lcs& lcs)
     : n_(lcs.n()),
       m_(lcs.m()),
-      A_(lcs.A),
-      B_(lcs.B),
-      C_(lcs.C),
-      D_(lcs.D),
-      p_(lcs.p),
-      q_(lcs.q),
-      C_rows_(lcs.C),
-      D_rows_(lcs.D),
-      zero_d_row_(lcs.m(), true) {
+      flow_{lcs.p, lcs.A, lcs.B},
+      lcs_rows_{lcs.q, lcs.C, lcs.D} {
   std::tie(lower_, upper_) = lcs.K.BoxBounds();
-  const SparseMatrix CA = C_ * A_;
-  const SparseMatrix CB = C_ * B_;
-  CA_rows_ = CA;
-  CB_rows_ = CB;
-  Cp_ = C_ * p_;
-  for (int k = 0; k < D_.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(D_, k); it; ++it)
-      if (it.value() != 0) zero_d_row_[it.row()] = false;
-  x_rows_.reserve(A_.nonZeros() + B_.nonZeros() + n_);
+  x_rows_.reserve(lcs.A.nonZeros() + lcs.B.nonZeros() + n_);
   for (int i = 0; i < n_; ++i) x_rows_.emplace_back(i, i, 0.0);
   for (int k = 0; k < n_; ++k)
-    for (SparseMatrix::InnerIterator it(A_, k); it; ++it)
+    for (SparseMatrix::InnerIterator it(lcs.A, k); it; ++it)
       x_rows_.emplace_back(it.row(), k, -it.value());
   for (int k = 0; k < m_; ++k)
-    for (SparseMatrix::InnerIterator it(B_, k); it; ++it)
+    for (SparseMatrix::InnerIterator it(lcs.B, k); it; ++it)
       x_rows_.emplace_back(it.row(), n_ + k, -it.value());
 }
 
-bool LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                            const std::vector<bool>& leaving, double atol, double rtol,
-                            double u_tolerance, const SolverOptions& options, BoxMode& mode,
-                            Eigen::VectorXd& u, std::vector<bool>& degenerate,
-                            IntegrationStats& stats, std::string& why) const {
-  const Eigen::VectorXd r = C_ * x + q_;
-  const Eigen::VectorXd scale = C_.cwiseAbs() * x.cwiseAbs() + q_.cwiseAbs();
-  mode.assign(m_, BoundState::kLower);
-  degenerate.assign(m_, false);
-  u.resize(m_);
-  std::vector<int> open;
-  std::vector<int> position(m_, -1);
-  for (int j = 0; j < m_; ++j) {
-    const double zero_tolerance = kZeroFactor * (atol + rtol * scale(j));
-    if (!zero_d_row_[j] || leaving[j] || std::abs(r(j)) <= zero_tolerance) {
-      position[j] = static_cast<int>(open.size());
-      open.push_back(j);
-      continue;
-    }
-    const bool lower = r(j) > 0;
-    const double bound = lower ? lower_(j) : upper_(j);
-    if (!std::isfinite(bound)) {
-      std::ostringstream text;
-      text << "the LCP has no solution: w_" << j << " = (C x + q)_" << j << " = " << r(j)
-           << " with D row " << j << " zero needs u_" << j << " at an infinite bound";
-      why = text.str();
-      return false;
-    }
-    mode[j] = lower ? BoundState::kLower : BoundState::kUpper;
-    u(j) = bound;
-  }
-  if (open.empty()) return true;
+namespace {
 
-  // The modified LCP of Sect. 5.4 in the open components, the others fixed.
-  const int size = static_cast<int>(open.size());
-  const Eigen::VectorXd flow = C_ * (A_ * x + p_);
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::VectorXd offset(size), lo(size), hi(size), start(size);
-  for (int a = 0; a < size; ++a) {
-    const int j = open[a];
-    const RowMatrix& rows = zero_d_row_[j] ? CB_rows_ : D_rows_;
-    offset(a) = zero_d_row_[j] ? flow(j) : r(j);
-    for (RowMatrix::InnerIterator it(rows, j); it; ++it) {
-      const int k = static_cast<int>(it.col());
-      if (position[k] >= 0)
-        triplets.emplace_back(a, position[k], it.value());
-      else
-        offset(a) += it.value() * u(k);
-    }
-    lo(a) = lower_(j);
-    hi(a) = upper_(j);
-    start(a) = std::clamp(warm.size() == m_ ? warm(j) : 0.0, lo(a), hi(a));
-    if (!std::isfinite(start(a))) start(a) = 0;
-  }
-  SparseMatrix M(size, size);
-  M.setFromTriplets(triplets.begin(), triplets.end());
-  const SolveResult result = Solve(BoxMcp::Affine(std::move(M), offset, lo, hi), options, start);
-  ++stats.vi_solves;
-  stats.solver_iterations += result.iterations;
-  stats.max_residual = std::max(stats.max_residual, result.residual);
-  if (!result.solved()) {
-    std::ostringstream text;
-    text << "the modified LCP of Sect. 5.4 (" << size << " components with w = 0 or D row "
-         << "nonzero) is not solved (" << ToString(result.status) << ", residual "
-         << result.residual << "): " << result.message;
-    why = text.str();
-    return false;
-  }
-  for (int a = 0; a < size; ++a) {
-    const int j = open[a];
-    const double z = result.z(a);
-    const double zero_tolerance = kZeroFactor * (atol + rtol * std::abs(offset(a)));
-    const bool row_zero = std::abs(result.w(a)) <= zero_tolerance;
-    if (z - lo(a) <= u_tolerance) {
-      mode[j] = BoundState::kLower;
-      u(j) = lo(a);
-      degenerate[j] = leaving[j] || row_zero;
-    } else if (hi(a) - z <= u_tolerance) {
-      mode[j] = BoundState::kUpper;
-      u(j) = hi(a);
-      degenerate[j] = leaving[j] || row_zero;
-    } else {
-      mode[j] = BoundState::kFree;
-      u(j) = z;
-    }
-  }
-  return true;
+// Whether row j of M has no nonzero, for every j.
+std::vector<bool> ZeroRows(const SparseMatrix& M) {
+  std::vector<bool> zero(M.rows(), true);
+  for (Eigen::Index k = 0; k < M.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(M, k); it; ++it)
+      if (it.value() != 0) zero[it.row()] = false;
+  return zero;
 }
 
-void LcsModeDae::AppendURow(int j, std::vector<Eigen::Triplet<double>>& triplets,
-                            double& offset) const {
-  const int row = n_ + j;
-  if (mode_[j] != BoundState::kFree) {
-    triplets.emplace_back(row, row, 1.0);
-    offset = -(mode_[j] == BoundState::kLower ? lower_(j) : upper_(j));
-    return;
+AffineConstraints NoConstraints(int n) { return {Eigen::VectorXd(0), SparseMatrix(0, n)}; }
+
+}  // namespace
+
+IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                                         const std::vector<bool>& leaving, double atol,
+                                         double rtol, double u_tolerance,
+                                         const SolverOptions& options, BoxMode& mode,
+                                         Eigen::VectorXd& u, std::vector<bool>& degenerate,
+                                         IntegrationStats& stats, std::string& why) const {
+  AffineRows rows = lcs_rows_;
+  AffineConstraints constraints = NoConstraints(n_);
+  u.resize(m_);
+  for (int j = 0; j < m_; ++j) {
+    u(j) = std::clamp(warm.size() == m_ ? warm(j) : 0.0, lower_(j), upper_(j));
+    if (!std::isfinite(u(j))) u(j) = 0;
   }
-  // Index one keeps w_j = 0; index two differentiates it (Theorem 5.3).
-  const bool index_two = zero_d_row_[j];
-  const RowMatrix& x_part = index_two ? CA_rows_ : C_rows_;
-  const RowMatrix& u_part = index_two ? CB_rows_ : D_rows_;
-  for (RowMatrix::InnerIterator it(x_part, j); it; ++it)
-    triplets.emplace_back(row, static_cast<int>(it.col()), it.value());
-  for (RowMatrix::InnerIterator it(u_part, j); it; ++it)
-    triplets.emplace_back(row, n_ + static_cast<int>(it.col()), it.value());
-  offset = index_two ? Cp_(j) : q_(j);
+  // An LCS in n states needs at most n + 1 passes (Sect. 5.4); each loop
+  // either differentiates rows or ends.
+  for (int pass = 0; pass <= n_ + 1; ++pass) {
+    const Eigen::VectorXd r = rows.c + rows.C * x;
+    const Eigen::VectorXd scale = rows.C.cwiseAbs() * x.cwiseAbs() + rows.c.cwiseAbs();
+    const std::vector<bool> zero_row = ZeroRows(rows.M);
+    const std::vector<bool> constant_row = ZeroRows(rows.C);
+    mode.assign(m_, BoundState::kLower);
+    degenerate.assign(m_, false);
+    std::vector<int> open, vanishing;
+    std::vector<int> position(m_, -1);
+    for (int j = 0; j < m_; ++j) {
+      const double zero_tolerance = kZeroFactor * (atol + rtol * scale(j));
+      if (!zero_row[j] || leaving[j] || std::abs(r(j)) <= zero_tolerance) {
+        position[j] = static_cast<int>(open.size());
+        open.push_back(j);
+        if (zero_row[j]) vanishing.push_back(j);
+        continue;
+      }
+      const bool lower = r(j) > 0;
+      const double bound = lower ? lower_(j) : upper_(j);
+      if (!std::isfinite(bound)) {
+        std::ostringstream text;
+        text << "the LCP has no solution: w_" << j << " = " << r(j) << " does not depend on u"
+             << (pass > 0 ? " after the differentiation procedure" : "") << " and needs u_" << j
+             << " at an infinite bound";
+        why = text.str();
+        return IntegrationStatus::kStepFailure;
+      }
+      mode[j] = lower ? BoundState::kLower : BoundState::kUpper;
+      u(j) = bound;
+    }
+    // Rows that vanish whatever u is: index two at least (Theorem 5.3),
+    // unless they vanish whatever x is too.
+    for (const int j : vanishing) {
+      if (!constant_row[j] || leaving[j]) continue;
+      std::ostringstream text;
+      text << "row " << j << " of the LCS vanishes identically"
+           << (pass > 0 ? " after " + std::to_string(pass) + " pass(es) of the differentiation "
+                          "procedure (Sect. 5.4)"
+                        : "")
+           << ": u_" << j << " is not unique (a multivalued solution)";
+      why = text.str();
+      return IntegrationStatus::kNotIndexOne;
+    }
+    if (!vanishing.empty()) {
+      DifferentiateDependentRows(flow_, vanishing, u, rows, constraints);
+      continue;
+    }
+    if (open.empty()) return IntegrationStatus::kSuccess;
+
+    // The box MCP of the open components' rows, the others fixed.
+    const int size = static_cast<int>(open.size());
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::VectorXd offset(size), lo(size), hi(size), start(size);
+    for (int a = 0; a < size; ++a) {
+      const int j = open[a];
+      offset(a) = r(j);
+      lo(a) = lower_(j);
+      hi(a) = upper_(j);
+      start(a) = u(j);
+    }
+    for (Eigen::Index k = 0; k < rows.M.outerSize(); ++k) {
+      for (SparseMatrix::InnerIterator it(rows.M, k); it; ++it) {
+        const int a = position[it.row()];
+        if (a < 0) continue;
+        if (position[k] >= 0)
+          triplets.emplace_back(a, position[k], it.value());
+        else
+          offset(a) += it.value() * u(k);
+      }
+    }
+    SparseMatrix M(size, size);
+    M.setFromTriplets(triplets.begin(), triplets.end());
+    const SolveResult result = Solve(BoxMcp::Affine(std::move(M), offset, lo, hi), options, start);
+    ++stats.vi_solves;
+    stats.solver_iterations += result.iterations;
+    stats.max_residual = std::max(stats.max_residual, result.residual);
+    if (!result.solved()) {
+      std::ostringstream text;
+      text << "the modified LCP of Sect. 5.4 (" << size << " components, after " << pass
+           << " passes) is not solved (" << ToString(result.status) << ", residual "
+           << result.residual << "): " << result.message;
+      why = text.str();
+      return IntegrationStatus::kStepFailure;
+    }
+    std::vector<int> S;  // α ∪ β: the rows that vanish at the solution
+    for (int a = 0; a < size; ++a) {
+      const int j = open[a];
+      const double z = result.z(a);
+      const double zero_tolerance = kZeroFactor * (atol + rtol * std::abs(offset(a)));
+      const bool row_zero = std::abs(result.w(a)) <= zero_tolerance;
+      if (row_zero) S.push_back(j);
+      if (z - lo(a) <= u_tolerance) {
+        mode[j] = BoundState::kLower;
+        u(j) = lo(a);
+        degenerate[j] = leaving[j] || row_zero;
+      } else if (hi(a) - z <= u_tolerance) {
+        mode[j] = BoundState::kUpper;
+        u(j) = hi(a);
+        degenerate[j] = leaving[j] || row_zero;
+      } else {
+        mode[j] = BoundState::kFree;
+        u(j) = z;
+      }
+    }
+    // A solution of a singular D_SS is one of many: the dependent rows
+    // are differentiated and the modified LCP decides (Theorem 5.3).
+    if (!DifferentiateDependentRows(flow_, S, u, rows, constraints))
+      return IntegrationStatus::kSuccess;
+  }
+  why = "the differentiation procedure (Sect. 5.4) leaves dependent rows after " +
+        std::to_string(n_ + 2) + " passes";
+  return IntegrationStatus::kNotIndexOne;
 }
 
 void LcsModeDae::Enter(const BoxMode& mode) {
   mode_ = mode;
+  std::vector<int> free;
+  Eigen::VectorXd at_bound = Eigen::VectorXd::Zero(m_);
+  for (int j = 0; j < m_; ++j) {
+    if (mode_[j] == BoundState::kFree)
+      free.push_back(j);
+    else
+      at_bound(j) = mode_[j] == BoundState::kLower ? lower_(j) : upper_(j);
+  }
+  AffineRows rows = lcs_rows_;
+  constraints_ = NoConstraints(n_);
+  passes_ = 0;
+  while (passes_ <= n_ && DifferentiateDependentRows(flow_, free, at_bound, rows, constraints_))
+    ++passes_;
+
   const int N = size();
   std::vector<Eigen::Triplet<double>> triplets = x_rows_;
   c_.resize(N);
-  c_.head(n_) = -p_;
-  differentiated_.clear();
+  c_.head(n_) = -flow_.p;
   for (int j = 0; j < m_; ++j) {
-    AppendURow(j, triplets, c_(n_ + j));
-    if (mode_[j] == BoundState::kFree && zero_d_row_[j]) differentiated_.push_back(j);
+    if (mode_[j] == BoundState::kFree) {
+      c_(n_ + j) = rows.c(j);
+    } else {
+      triplets.emplace_back(n_ + j, n_ + j, 1.0);
+      c_(n_ + j) = -at_bound(j);
+    }
   }
+  for (Eigen::Index k = 0; k < rows.C.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(rows.C, k); it; ++it)
+      if (mode_[it.row()] == BoundState::kFree)
+        triplets.emplace_back(n_ + it.row(), k, it.value());
+  for (Eigen::Index k = 0; k < rows.M.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(rows.M, k); it; ++it)
+      if (mode_[it.row()] == BoundState::kFree)
+        triplets.emplace_back(n_ + it.row(), n_ + k, it.value());
   J0_.resize(N, N);
   J0_.setFromTriplets(triplets.begin(), triplets.end());
   J0_.makeCompressed();
@@ -181,33 +228,24 @@ void LcsModeDae::Enter(const BoxMode& mode) {
       }
     }
   }
-  std::vector<Eigen::Triplet<double>> constraint;
-  q_differentiated_.resize(static_cast<int>(differentiated_.size()));
-  for (int a = 0; a < static_cast<int>(differentiated_.size()); ++a) {
-    const int j = differentiated_[a];
-    q_differentiated_(a) = q_(j);
-    for (RowMatrix::InnerIterator it(C_rows_, j); it; ++it)
-      constraint.emplace_back(a, static_cast<int>(it.col()), it.value());
-  }
-  C_differentiated_.resize(static_cast<int>(differentiated_.size()), n_);
-  C_differentiated_.setFromTriplets(constraint.begin(), constraint.end());
 }
 
 bool LcsModeDae::MakeConsistent(Eigen::VectorXd& x, Eigen::VectorXd& u, std::string& why) {
   std::ostringstream text;
-  if (!differentiated_.empty()) {
-    const SparseMatrix Ct = C_differentiated_.transpose();
-    SparseMatrix gram = C_differentiated_ * Ct;
+  if (constraints_.c.size() > 0) {
+    const SparseMatrix Ct = constraints_.C.transpose();
+    SparseMatrix gram = constraints_.C * Ct;
     gram.makeCompressed();
     KluSolver klu;
     if (!klu.Analyze(gram) || !klu.Factor(gram)) {
-      text << "the constraints (C x + q)_j = 0 of the " << differentiated_.size()
-           << " differentiated rows are linearly dependent (C_α₂ C_α₂ᵀ singular, KLU pivot "
-           << "ratio " << klu.pivot_ratio() << ")";
+      text << "the " << constraints_.c.size() << " u-free combinations Φ(x) = 0 of the "
+           << passes_ << " pass(es) of the differentiation procedure are linearly dependent "
+           << "(Φ_x Φ_xᵀ singular, KLU pivot ratio " << klu.pivot_ratio()
+           << "): u is not unique in this mode";
       why = text.str();
       return false;
     }
-    Eigen::VectorXd s = C_differentiated_ * x + q_differentiated_;
+    Eigen::VectorXd s = constraints_.c + constraints_.C * x;
     klu.Solve(s);
     x -= Ct * s;
   }
@@ -222,7 +260,8 @@ bool LcsModeDae::MakeConsistent(Eigen::VectorXd& x, Eigen::VectorXd& u, std::str
   u = -res.tail(m_);
   if (m_ == 0) return true;
   if (!mode_matrix_.Analyze(Gu) || !mode_matrix_.Factor(Gu)) {
-    text << "the mode matrix (5.8) is singular (KLU status " << mode_matrix_.status()
+    text << "the mode matrix (5.8) is singular after " << passes_
+         << " pass(es) of the differentiation procedure (KLU status " << mode_matrix_.status()
          << ", pivot ratio " << mode_matrix_.pivot_ratio() << ")";
     why = text.str();
     return false;
@@ -255,12 +294,12 @@ const SparseMatrix& LcsModeDae::Jacobian(double cj) {
 
 void LcsModeDae::StateDerivative(const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                  Eigen::VectorXd& xdot) const {
-  xdot = A_ * x + B_ * u + p_;
+  xdot = flow_.A * x + flow_.B * u + flow_.p;
 }
 
 void LcsModeDae::Roots(const double* y, double* g) const {
   const Eigen::Map<const Eigen::VectorXd> x(y, n_), u(y + n_, m_);
-  const Eigen::VectorXd w = C_ * x + D_ * u + q_;
+  const Eigen::VectorXd w = lcs_rows_.C * x + lcs_rows_.M * u + lcs_rows_.c;
   for (int j = 0; j < m_; ++j) {
     switch (mode_[j]) {
       case BoundState::kFree:
@@ -280,9 +319,9 @@ void LcsModeDae::Roots(const double* y, double* g) const {
 }
 
 double LcsModeDae::Drift(const double* y) const {
-  if (differentiated_.empty()) return 0;
+  if (constraints_.c.size() == 0) return 0;
   const Eigen::Map<const Eigen::VectorXd> x(y, n_);
-  return (C_differentiated_ * x + q_differentiated_).cwiseAbs().maxCoeff();
+  return (constraints_.c + constraints_.C * x).cwiseAbs().maxCoeff();
 }
 
 }  // namespace dvi::internal

@@ -190,7 +190,7 @@ class ModeDaeRun {
   double last_event_time_ = 0;
   int same_time_events_ = 0;
   std::vector<BoxMode> modes_at_event_time_;
-  long differentiated_modes_ = 0;  // modes with an index-two row differentiated
+  long reduced_modes_ = 0;  // modes entered with rows differentiated
 };
 
 bool ModeDaeRun::Fail(IntegrationStatus status, const std::string& message) {
@@ -262,12 +262,7 @@ bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Ei
             << ": " << why;
     return Fail(IntegrationStatus::kNotIndexOne, message.str());
   }
-  for (int j = 0; j < m_; ++j) {
-    if (mode[j] == BoundState::kFree && dae_.zero_d_row(j)) {
-      ++differentiated_modes_;
-      break;
-    }
-  }
+  if (dae_.passes() > 0) ++reduced_modes_;
   Eigen::VectorXd xdot;
   dae_.StateDerivative(x, u, xdot);
   Eigen::Map<Eigen::VectorXd> y(y_.data(), dae_.size()), yp(yp_.data(), dae_.size());
@@ -318,11 +313,13 @@ bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::Vec
                             const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u) {
   std::vector<bool> degenerate;
   std::string why;
-  if (!dae_.SelectMode(x, warm, leaving, options_.atol, options_.rtol, u_tolerance_,
-                       options_.solver, mode, u, degenerate, trajectory_.stats, why)) {
+  const IntegrationStatus selected =
+      dae_.SelectMode(x, warm, leaving, options_.atol, options_.rtol, u_tolerance_,
+                      options_.solver, mode, u, degenerate, trajectory_.stats, why);
+  if (selected != IntegrationStatus::kSuccess) {
     std::ostringstream message;
     message << "mode-dae: at t = " << t << ": " << why;
-    return Fail(IntegrationStatus::kStepFailure, message.str());
+    return Fail(selected, message.str());
   }
   if (std::find(degenerate.begin(), degenerate.end(), true) == degenerate.end()) return true;
   const BoxMode at_bound = mode;
@@ -424,7 +421,7 @@ bool ModeDaeRun::Integrate() {
     const int flag = IDASolve(ida_.get(), t_end_, &t_return, y_.get(), yp_.get(), IDA_ONE_STEP);
     if (!Check(flag, "IDASolve")) return false;
     t_ = t_return;
-    // Theorem 5.3 only keeps d/dt (C x + q)_α₂ = 0; (C x + q)_α₂ itself is
+    // Theorem 5.3 only keeps d/dt Φ(x) = 0; Φ(x) itself is
     // held by BDF, which preserves linear invariants up to the Newton error.
     stats.max_constraint_drift = std::max(stats.max_constraint_drift, dae_.Drift(y_.data()));
     SampleOutputs(t_return);
@@ -452,8 +449,8 @@ Trajectory ModeDaeRun::Run() {
   if (started) {
     std::ostringstream reason;
     reason << "LCS modes as DAEs on IDA (" << (options_.sparse ? "sparse KLU" : "dense")
-           << " Jacobian), n = " << n_ << ", m = " << m_ << "; " << differentiated_modes_
-           << " mode(s) with index-two rows differentiated (Theorem 5.3, P = I)";
+           << " Jacobian), n = " << n_ << ", m = " << m_ << "; " << reduced_modes_
+           << " mode(s) reduced by differentiating dependent rows (Theorem 5.3)";
     trajectory_.intervals.push_back({t0_, trajectory_.final_time(), "event-ida", reason.str()});
   }
   stats.wall_seconds =
@@ -463,21 +460,8 @@ Trajectory ModeDaeRun::Run() {
 
 }  // namespace
 
-namespace {
-
-// The first off-diagonal nonzero of D as (row, column), or (−1, −1).
-std::pair<int, int> OffDiagonalEntry(const SparseMatrix& D) {
-  for (int k = 0; k < D.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(D, k); it; ++it)
-      if (it.row() != it.col() && it.value() != 0)
-        return {static_cast<int>(it.row()), static_cast<int>(it.col())};
-  return {-1, -1};
-}
-
-}  // namespace
-
 bool ModeDaeApplies(const Lcs& lcs) {
-  return lcs.K.IsBox() && OffDiagonalEntry(lcs.D).first < 0;
+  return lcs.K.IsBox();
 }
 
 Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
@@ -487,10 +471,6 @@ Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0
   DVI_THROW_UNLESS(lcs.K.IsBox(),
                    "K: IntegrateModeDae needs a box K (orthant, box, whole "
                    "space or products of them)");
-  const auto [row, column] = OffDiagonalEntry(lcs.D);
-  DVI_THROW_UNLESS(row < 0, "Lcs.D(" << row << ", " << column << ") = " << lcs.D.coeff(row, column)
-                                     << ": IntegrateModeDae needs a diagonal D (Theorem 5.3 with "
-                                        "P_αα = I); use IntegrateEventDriven for a coupled D");
   DVI_THROW_UNLESS(x0.size() == lcs.n(),
                    "x0 has " << x0.size() << " entries, expected " << lcs.n());
   for (int i = 0; i < x0.size(); ++i)
