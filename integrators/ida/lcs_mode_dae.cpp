@@ -63,6 +63,20 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
     u(j) = std::clamp(warm.size() == m_ ? warm(j) : 0.0, lower_(j), upper_(j));
     if (!std::isfinite(u(j))) u(j) = 0;
   }
+  // The first MCP's mode, kept when its vanishing rows are differentiated:
+  // should the passes after it fail (rows of the β set that leave w = 0
+  // make the modified LCP unsolvable), it is the proposal, and the caller's
+  // check of the mode and its look-ahead decide.
+  bool proposed = false;
+  BoxMode proposal_mode;
+  Eigen::VectorXd proposal_u;
+  std::vector<bool> proposal_degenerate;
+  const auto propose = [&]() {
+    mode = proposal_mode;
+    u = proposal_u;
+    degenerate = proposal_degenerate;
+    return IntegrationStatus::kSuccess;
+  };
   // An LCS in n states needs at most n + 1 passes (Sect. 5.4); each loop
   // either differentiates rows or ends.
   for (int pass = 0; pass <= n_ + 1; ++pass) {
@@ -142,6 +156,7 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
     stats.solver_iterations += result.iterations;
     stats.max_residual = std::max(stats.max_residual, result.residual);
     if (!result.solved()) {
+      if (proposed) return propose();
       std::ostringstream text;
       text << "the modified LCP of Sect. 5.4 (" << size << " components, after " << pass
            << " passes) is not solved (" << ToString(result.status) << ", residual "
@@ -171,9 +186,16 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
     }
     // A solution of a singular D_SS is one of many: the dependent rows
     // are differentiated and the modified LCP decides (Theorem 5.3).
+    if (!proposed) {
+      proposal_mode = mode;
+      proposal_u = u;
+      proposal_degenerate = degenerate;
+    }
     if (!DifferentiateDependentRows(flow_, S, u, rows, constraints))
       return IntegrationStatus::kSuccess;
+    proposed = true;
   }
+  if (proposed) return propose();
   why = "the differentiation procedure (Sect. 5.4) leaves dependent rows after " +
         std::to_string(n_ + 2) + " passes";
   return IntegrationStatus::kNotIndexOne;
@@ -267,6 +289,36 @@ bool LcsModeDae::MakeConsistent(Eigen::VectorXd& x, Eigen::VectorXd& u, std::str
     return false;
   }
   mode_matrix_.Solve(u);
+  return true;
+}
+
+bool LcsModeDae::Holds(const Eigen::VectorXd& x, const Eigen::VectorXd& u, double atol,
+                       double rtol, double u_tolerance, std::string& why) const {
+  const AffineRows& rows = lcs_rows_;
+  const Eigen::VectorXd w = rows.c + rows.C * x + rows.M * u;
+  const Eigen::VectorXd scale =
+      rows.c.cwiseAbs() + rows.C.cwiseAbs() * x.cwiseAbs() + rows.M.cwiseAbs() * u.cwiseAbs();
+  std::ostringstream text;
+  for (int j = 0; j < m_; ++j) {
+    const double w_tolerance = kZeroFactor * (atol + rtol * scale(j));
+    switch (mode_[j]) {
+      case BoundState::kFree:
+        if (u(j) < lower_(j) - u_tolerance || u(j) > upper_(j) + u_tolerance)
+          text << "u_" << j << " = " << u(j) << " leaves [" << lower_(j) << ", " << upper_(j)
+               << "]";
+        break;
+      case BoundState::kLower:
+        if (w(j) < -w_tolerance) text << "w_" << j << " = " << w(j) << " < 0 at the lower bound";
+        break;
+      case BoundState::kUpper:
+        if (w(j) > w_tolerance) text << "w_" << j << " = " << w(j) << " > 0 at the upper bound";
+        break;
+    }
+    if (text.tellp() > 0) {
+      why = text.str();
+      return false;
+    }
+  }
   return true;
 }
 

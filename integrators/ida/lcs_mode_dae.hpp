@@ -76,6 +76,12 @@ class LcsModeDae {
   /// the matrix (5.8), one KLU factorization. False with why when either
   /// matrix is singular.
   bool MakeConsistent(Eigen::VectorXd& x, Eigen::VectorXd& u, std::string& why);
+  /// Whether the mode holds at consistent (x, u): a free u_j within
+  /// u_tolerance of [l_j, ū_j], a bound one with w_j = (C x + D u + q)_j of
+  /// the sign that holds it there, to 10·(atol + rtol·scale) as in
+  /// SelectMode. False names the first violation in why.
+  bool Holds(const Eigen::VectorXd& x, const Eigen::VectorXd& u, double atol, double rtol,
+             double u_tolerance, std::string& why) const;
   /// du/dt along the mode at consistent (x, u): the u-rows differentiated,
   /// G_u u' = −G_x x', with the factorization of the last MakeConsistent.
   void MultiplierRate(const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& udot);

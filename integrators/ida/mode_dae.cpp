@@ -20,6 +20,7 @@
 #include "../cvode/sundials_handles.hpp"
 #include "check.hpp"
 #include "ida_handles.hpp"
+#include "../time_stepping/lcs_method.hpp"
 #include "lcs_mode_dae.hpp"
 
 namespace dvi {
@@ -50,6 +51,9 @@ using internal::BoundState;
 
 // Events closer than this (relative to |t| + horizon) happen at one time.
 constexpr double kSameTimeFraction = 1e-12;
+// The look-ahead step at a mode the modified LCP cannot place, as a fraction
+// of the horizon (the CVODE path's, event_driven.cpp).
+constexpr double kLookAheadFraction = 1e-5;
 // More mode changes than this at one time is chattering, not a cascade.
 constexpr int kMaxSameTimeEvents = 32;
 // A multiplier within this many tolerances (of the integrator and of the
@@ -132,7 +136,8 @@ class ModeDaeRun {
  public:
   ModeDaeRun(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
              const ModeDaeOptions& options)
-      : options_(options),
+      : lcs_(lcs),
+        options_(options),
         t0_(t0),
         t_end_(t_end),
         x0_(x0),
@@ -156,6 +161,13 @@ class ModeDaeRun {
   bool HandleRoot(double t);
   bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
                   const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u);
+  bool ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                   const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u);
+  bool ModeHolds(const BoxMode& mode, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                 std::string& why);
+  bool LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, BoxMode& mode,
+                     Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead, std::string& why);
+  std::string DescribeMode(const BoxMode& mode) const;
   bool EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
   bool Check(int flag, const char* call);
   void Sample(double t);
@@ -164,6 +176,7 @@ class ModeDaeRun {
   long Steps() const;
   bool Fail(IntegrationStatus status, const std::string& message);
 
+  const Lcs& lcs_;
   const ModeDaeOptions& options_;
   const double t0_;
   const double t_end_;
@@ -191,6 +204,8 @@ class ModeDaeRun {
   int same_time_events_ = 0;
   std::vector<BoxMode> modes_at_event_time_;
   long reduced_modes_ = 0;  // modes entered with rows differentiated
+  long look_ahead_selections_ = 0;  // modes the look-ahead chose
+  std::unique_ptr<internal::OneStepMethod> look_ahead_;  // made at its first use
 };
 
 bool ModeDaeRun::Fail(IntegrationStatus status, const std::string& message) {
@@ -256,10 +271,7 @@ bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Ei
   std::string why;
   if (!dae_.MakeConsistent(x, u, why)) {
     std::ostringstream message;
-    message << "mode-dae: at t = " << t << ", mode "
-            << (m_ <= 64 ? Describe(mode) + " (f free, l lower, u upper bound)"
-                         : "of " + std::to_string(m_) + " components")
-            << ": " << why;
+    message << "mode-dae: at t = " << t << ", mode " << DescribeMode(mode) << ": " << why;
     return Fail(IntegrationStatus::kNotIndexOne, message.str());
   }
   if (dae_.passes() > 0) ++reduced_modes_;
@@ -303,14 +315,87 @@ bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Ei
                       Check(IDASetNoInactiveRootWarn(ida), "IDASetNoInactiveRootWarn")));
 }
 
+// The mode at (t, x) the modified LCP proposes, then checked: it must hold
+// at its own consistent values. Where it does not (degenerate components
+// whose rates interact, a D that is not a P-matrix, Proposition 5.1), the
+// mode is read off one backward-Euler step of length δ along the flow, the
+// look-ahead of the CVODE path, and must hold at the step's end: at the
+// event itself its signs are still within the root finder's error of zero.
+// Neither holds: kNotIndexOne with both violations.
+bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                            const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u) {
+  if (!ProposeMode(t, x, warm, leaving, mode, u)) return false;
+  std::string proposed_why, ahead_why;
+  if (ModeHolds(mode, x, u, proposed_why)) return true;
+  BoxMode ahead;
+  Eigen::VectorXd x_ahead, u_ahead;
+  if (LookAheadMode(t, x, u, ahead, x_ahead, u_ahead, ahead_why) &&
+      ModeHolds(ahead, x_ahead, u_ahead, ahead_why)) {
+    mode = ahead;
+    ++look_ahead_selections_;
+    return true;
+  }
+  std::ostringstream message;
+  message << "mode-dae: at t = " << t << ": the modified LCP's mode " << DescribeMode(mode)
+          << " does not hold (" << proposed_why << "); the look-ahead's "
+          << (ahead.empty() ? "step" : "mode " + DescribeMode(ahead)) << " neither ("
+          << ahead_why << ")";
+  return Fail(IntegrationStatus::kNotIndexOne, message.str());
+}
+
+bool ModeDaeRun::ModeHolds(const BoxMode& mode, const Eigen::VectorXd& x,
+                           const Eigen::VectorXd& u, std::string& why) {
+  dae_.Enter(mode);
+  Eigen::VectorXd x_mode = x, u_mode = u;
+  return dae_.MakeConsistent(x_mode, u_mode, why) &&
+         dae_.Holds(x_mode, u_mode, options_.atol, options_.rtol, u_tolerance_, why);
+}
+
+// One backward-Euler step ((7.2), θ = 0, γ = 1) of length δ from (t, x) to
+// (x_ahead, u_ahead), and the mode of u_ahead through the natural map.
+bool ModeDaeRun::LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                               BoxMode& mode, Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead,
+                               std::string& why) {
+  const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
+  if (!look_ahead_) {
+    TimeSteppingOptions stepping;
+    stepping.solver = options_.solver;
+    look_ahead_ = options_.sparse ? internal::MakeSparseLcsMethod(lcs_, stepping)
+                                  : internal::MakeDenseLcsMethod(lcs_, stepping);
+  }
+  internal::StepOutcome step = look_ahead_->Step(t, delta, x, u);
+  trajectory_.stats.vi_solves += step.vi_solves;
+  trajectory_.stats.solver_iterations += step.iterations;
+  if (!step.solved) {
+    why = step.failure;
+    return false;
+  }
+  std::vector<int> bounds;
+  look_ahead_->Mode(step, bounds);
+  mode.resize(m_);
+  for (int j = 0; j < m_; ++j)
+    mode[j] = bounds[j] < 0   ? BoundState::kLower
+              : bounds[j] > 0 ? BoundState::kUpper
+                              : BoundState::kFree;
+  x_ahead = std::move(step.x);
+  u_ahead = std::move(step.u);
+  return true;
+}
+
+std::string ModeDaeRun::DescribeMode(const BoxMode& mode) const {
+  return m_ <= 64 ? Describe(mode) + " (f free, l lower, u upper bound)"
+                  : "of " + std::to_string(m_) + " components";
+}
+
 // The mode at (t, x): the modified LCP (Sect. 5.4) places every component
 // but the degenerate ones (β: at a bound with a zero row, or leaving one).
 // Those are tried free first; a free u_j that starts on its bound and moves
 // out of [l_j, ū_j] along the mode (the rate from the differentiated
 // u-rows) cannot be followed, so it goes back to its bound — the rate test
 // of a smooth solution of Sect. 5.3, taken one component at a time.
-bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                            const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u) {
+bool ModeDaeRun::ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                             const std::vector<bool>& leaving, BoxMode& mode,
+                             Eigen::VectorXd& u) {
   std::vector<bool> degenerate;
   std::string why;
   const IntegrationStatus selected =
@@ -451,6 +536,8 @@ Trajectory ModeDaeRun::Run() {
     reason << "LCS modes as DAEs on IDA (" << (options_.sparse ? "sparse KLU" : "dense")
            << " Jacobian), n = " << n_ << ", m = " << m_ << "; " << reduced_modes_
            << " mode(s) reduced by differentiating dependent rows (Theorem 5.3)";
+    if (look_ahead_selections_ > 0)
+      reason << "; " << look_ahead_selections_ << " mode(s) chosen by look-ahead along the flow";
     trajectory_.intervals.push_back({t0_, trajectory_.final_time(), "event-ida", reason.str()});
   }
   stats.wall_seconds =
