@@ -14,6 +14,9 @@
 namespace dvi::internal {
 namespace {
 
+// Entries up to which an LCS mode's u(x) is kept as a dense affine map.
+constexpr long kDenseMapEntries = 4096;
+
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 // Newton in a mode stops once its step is this far below the iterate: the
 // RHS of (5.2) must be smooth to round-off for CVODE's error estimates.
@@ -254,15 +257,25 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
     }
     return false;
   }
+  if (map_.size() > 0) {
+    step_ = map_offset_;
+    step_.noalias() += map_ * x;
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i) u_(free_[i]) = step_(i);
+  } else {
+    SolveLcsModeByLu(x);
+  }
+  if (u_.allFinite()) return true;
+  if (why) *why = "the mode's equations give a non-finite u";
+  return false;
+}
+
+void BoxModeSystem::SolveLcsModeByLu(const Eigen::VectorXd& x) {
   // G = c + C x + M u is affine in u: one Newton step from any u is exact.
   residual_ = free_c_;
   residual_.noalias() += free_C_ * x;
   residual_.noalias() += free_M_ * u_;
   step_ = mode_lu_.solve(residual_);
   for (int i = 0; i < static_cast<int>(free_.size()); ++i) u_(free_[i]) -= step_(i);
-  if (u_.allFinite()) return true;
-  if (why) *why = "the mode's equations give a non-finite u";
-  return false;
 }
 
 void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
@@ -286,6 +299,17 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     mode_lu_.compute(Gu);
     residual_.resize(a);
     step_.resize(a);
+    // u_α is affine in x inside the mode, u_α = k + K x, with
+    // K = −G_u⁻¹ C_α and k = −G_u⁻¹ (c_α + M_α u at its bounds): formed
+    // when small, so that u costs one small product per evaluation (and per
+    // output time); a large circuit keeps the sparse C_α and the LU.
+    map_.resize(0, 0);
+    if (mode_regular_ && static_cast<long>(a) * n() <= kDenseMapEntries) {
+      Eigen::VectorXd u_bounds = u_;
+      for (const int j : free_) u_bounds(j) = 0;
+      map_offset_ = -mode_lu_.solve(free_c_ + free_M_ * u_bounds);
+      map_ = -mode_lu_.solve(Eigen::MatrixXd(free_C_));
+    }
     return;
   }
   // Theorem 5.2/5.3's row operations on the free components, once per mode.

@@ -155,8 +155,10 @@ class BoxModeSystem {
   SparseMatrix FreeRows() const;
   /// Splits the free rows of the mode just entered at (t, x, u_).
   void SplitRows(double t, const Eigen::VectorXd& x);
-  /// Solve for an LCS: u_α from the mode's kept factors, no allocation.
+  /// Solve for an LCS: u_α from the mode's affine map or its kept
+  /// factors, no allocation.
   bool SolveLcsMode(const Eigen::VectorXd& x, std::string* why);
+  void SolveLcsModeByLu(const Eigen::VectorXd& x);
   /// SelectReducedMode for an LCS: passes on its matrices until the
   /// modified LCP's solution is strongly regular.
   bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode,
@@ -191,6 +193,9 @@ class BoxModeSystem {
   SparseMatrix free_C_;
   Eigen::MatrixXd free_M_;
   Eigen::PartialPivLU<Eigen::MatrixXd> mode_lu_;
+  // u_α = map_offset_ + map_ x when the mode is small (map_ empty otherwise).
+  Eigen::MatrixXd map_;
+  Eigen::VectorXd map_offset_;
   bool mode_regular_ = false;
   Eigen::VectorXd residual_, step_;
   // Newton's iterate and G_u's factors on a nonlinear mode, and F with its
