@@ -5,12 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
 #include "check.hpp"
+#include "dvi/kkt_vi.hpp"
 #include "dvi/lemke.hpp"
-#include "dvi/polyhedral_vi.hpp"
 #include "dvi/projected_gauss_seidel.hpp"
 #include "dvi/projection_method.hpp"
 #include "dvi/semismooth_newton.hpp"
@@ -156,7 +157,7 @@ SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
     case SolverMethod::kKkt:
       return Named(
           SolverMethod::kKkt,
-          SolvePolyhedralVi(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start));
+          SolveKktVi(Vi::Affine(lcp.M, lcp.q, ConvexSet::Orthant(m)), options, warm_start));
     case SolverMethod::kAuto:
       break;
   }
@@ -195,9 +196,9 @@ SolveResult SolveSparseLcp(const SparseLcp& lcp, const SolverOptions& options,
       return Named(SolverMethod::kExtragradient,
                    SolveExtragradient(OrthantVi(lcp.M, lcp.q), options, warm_start));
     case SolverMethod::kKkt:
-      return Named(SolverMethod::kKkt, SolvePolyhedralVi(Vi::Affine(Eigen::MatrixXd(lcp.M), lcp.q,
-                                                                    ConvexSet::Orthant(m)),
-                                                         options, warm_start));
+      return Named(SolverMethod::kKkt,
+                   SolveKktVi(Vi::Affine(Eigen::MatrixXd(lcp.M), lcp.q, ConvexSet::Orthant(m)),
+                              options, warm_start));
     case SolverMethod::kAuto:
       break;
   }
@@ -240,7 +241,7 @@ SolveResult SolveMcp(const BoxMcp& mcp, const SolverOptions& options,
       vi.F = mcp.F;
       vi.jacobian = mcp.jacobian;
       return Named(options.method, options.method == SolverMethod::kKkt
-                                       ? SolvePolyhedralVi(vi, options, warm_start)
+                                       ? SolveKktVi(vi, options, warm_start)
                                        : SolveExtragradient(vi, options, warm_start));
     }
     case SolverMethod::kNewton:
@@ -248,6 +249,21 @@ SolveResult SolveMcp(const BoxMcp& mcp, const SolverOptions& options,
       break;
   }
   return Named(SolverMethod::kNewton, SolveNewton(mcp, options, warm_start));
+}
+
+// The projection method as a fallback attempt: Π_K of a polyhedron throws
+// when it finds K empty, which ends the attempt as a failure.
+SolveResult ExtragradientAttempt(const Vi& vi, const SolverOptions& options,
+                                 const Eigen::VectorXd& start) {
+  try {
+    return Named(SolverMethod::kExtragradient, SolveExtragradient(vi, options, start));
+  } catch (const std::runtime_error& error) {
+    SolveResult failed;
+    failed.method = std::string(ToString(SolverMethod::kExtragradient));
+    failed.message = std::string("projection onto K failed: ") + error.what();
+    failed.residual = kInf;
+    return failed;
+  }
 }
 
 SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
@@ -266,14 +282,11 @@ SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
     case SolverMethod::kNewton: {
       if (!K.IsBox())
         ThrowNotApplicable(options.method, Describe(K),
-                           "semismooth Newton needs a box-like K (use kkt for a polyhedron)");
+                           "semismooth Newton needs a box-like K (use kkt for any other K)");
       return Named(SolverMethod::kNewton, SolveNewton(BoxMcpOfVi(vi), options, warm_start));
     }
-    case SolverMethod::kKkt: {
-      if (!K.IsPolyhedral())
-        ThrowNotApplicable(options.method, Describe(K), "the KKT form needs a polyhedral K");
-      return Named(SolverMethod::kKkt, SolvePolyhedralVi(vi, options, warm_start));
-    }
+    case SolverMethod::kKkt:
+      return Named(SolverMethod::kKkt, SolveKktVi(vi, options, warm_start));
     case SolverMethod::kExtragradient:
       return Named(SolverMethod::kExtragradient, SolveExtragradient(vi, options, warm_start));
     case SolverMethod::kAuto:
@@ -282,10 +295,20 @@ SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
   if (K.IsBox()) {
     return Named(SolverMethod::kNewton, SolveNewton(BoxMcpOfVi(vi), options, warm_start));
   }
-  if (K.IsPolyhedral()) {
-    return Named(SolverMethod::kKkt, SolvePolyhedralVi(vi, options, warm_start));
-  }
-  return Named(SolverMethod::kExtragradient, SolveExtragradient(vi, options, warm_start));
+  // Newton on the KKT system converges quadratically, ending far below the
+  // tolerance; where it stalls (F not monotone off K, nearly dependent
+  // constraints, a wrong Jacobian) the projection method, which needs only F
+  // and converges for any monotone F, goes on from the point KKT reached.
+  AttemptLog log;
+  SolveResult kkt = Named(SolverMethod::kKkt, SolveKktVi(vi, options, warm_start));
+  if (IsDecisive(kkt)) return kkt;
+  const Eigen::VectorXd start =
+      kkt.z.size() == vi.dim() && kkt.z.allFinite() ? kkt.z : warm_start;
+  log.Add(std::move(kkt));
+  SolveResult extragradient = ExtragradientAttempt(vi, options, start);
+  if (IsDecisive(extragradient)) return log.Decisive(std::move(extragradient));
+  log.Add(std::move(extragradient));
+  return std::move(log).Best();
 }
 
 }  // namespace

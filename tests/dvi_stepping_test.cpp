@@ -242,8 +242,8 @@ TEST(DviStepping, PolyhedralKTakesTheSameStepsAsTheBox) {
 
 // x' = u, u ∈ SOL(unit disc, u + x) in ℝ²: u = Π(−x), the kink problem
 // along the ray of x0 = 3·(0.8, 0.6). K is neither box nor polyhedron: the
-// step's VI on ℝ² × K goes to the projection method.
-TEST(DviStepping, BallKUsesTheProjectionMethodAndIsFirstOrder) {
+// step's VI on ℝ² × K goes through its KKT system with the ball's constraint.
+TEST(DviStepping, BallKIsFirstOrder) {
   Dvi dvi;
   dvi.n = 2;
   dvi.m = 2;
@@ -268,6 +268,74 @@ TEST(DviStepping, BallKUsesTheProjectionMethodAndIsFirstOrder) {
     }
   }
   EXPECT_NEAR(MeasuredOrder("ball_k", step_sizes, errors), 1.0, kFirstOrderSlack);
+}
+
+// The ball spiral of reference_dvis.hpp, x' = Ω x − u, u = Π_B(x), written
+// separably (f = Ω x, B = −I, G = −x, F(u) = u) for (7.2) with θ = γ = ½:
+// u is continuous (only u' jumps, at t = 2), so the scheme is second order.
+SeparableDvi SeparableBallSpiral() {
+  SeparableDvi s;
+  s.n = 2;
+  s.m = 2;
+  s.f = [](double, const Eigen::VectorXd& x, Eigen::VectorXd& out) { out << -x[1], x[0]; };
+  s.f_jacobian = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& J) { J << 0, -1, 1, 0; };
+  s.B = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& B) { B = -Eigen::Matrix2d::Identity(); };
+  s.G = [](double, const Eigen::VectorXd& x, Eigen::VectorXd& out) { out = -x; };
+  s.G_jacobian = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& J) {
+    J = -Eigen::Matrix2d::Identity();
+  };
+  s.F = [](const Eigen::VectorXd& u, Eigen::VectorXd& out) { out = u; };
+  s.F_jacobian = [](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J.setIdentity(); };
+  s.K = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0);
+  return s;
+}
+
+std::string Listed(const std::vector<double>& values) {
+  std::ostringstream text;
+  for (const double value : values) text << value << " ";
+  return text.str();
+}
+
+// Each step's VI on ℝ² × B goes through its KKT system, where Newton's
+// quadratic convergence ends far below the residual tolerance 1e-10. The
+// projection method, linear, stops just below it and leaves an error floor
+// of order tolerance·T/h that grows as h shrinks: it made the errors
+// 8.4e-6, 2.2e-6, 6.5e-7, 3.7e-7 here (order 1.5). Measured now: order 2.00,
+// finest error 1.31e-7.
+TEST(SeparableStepping, BallSpiralThetaGammaHalfIsSecondOrder) {
+  const std::vector<double> step_sizes = {0.004, 0.002, 0.001, 0.0005};
+  std::vector<double> errors;
+  for (const double h : step_sizes) {
+    TimeSteppingOptions options = Options(h, SteppingScheme::kSeparable, 0.5);
+    options.gamma = 0.5;
+    const Trajectory trajectory =
+        IntegrateTimeStepping(SeparableBallSpiral(), Eigen::Vector2d(3, 0), 0, 4, options);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    errors.push_back(MaxStateError(trajectory, testing::BallSpiralExact));
+  }
+  EXPECT_GE(MeasuredOrder("ball_spiral_separable", step_sizes, errors), 1.8)
+      << "errors " << Listed(errors);
+  EXPECT_LT(errors.back(), 1.5e-7) << "errors " << Listed(errors);
+}
+
+// (3.3) evaluates f at u^{i+1}, so even θ = ½ is first order on the ball
+// spiral (error ≈ 0.54 h over [0, 4]). Over [0, 0.06], with the ball's
+// constraint active, the first order persists down to h = 3e-6 (measured:
+// order 1.00, finest error 8.9e-8); the projection method's error floor
+// made these errors 9.4e-7, 7.7e-7, 1.0e-6, 1.8e-6.
+TEST(DviStepping, BallSpiralThetaHalfStaysFirstOrderAtTinySteps) {
+  const std::vector<double> step_sizes = {2.4e-5, 1.2e-5, 6e-6, 3e-6};
+  std::vector<double> errors;
+  for (const double h : step_sizes) {
+    const Trajectory trajectory =
+        IntegrateTimeStepping(testing::BallSpiral(), Eigen::Vector2d(3, 0), 0, 0.06,
+                              Options(h, SteppingScheme::kViAtNewState, 0.5));
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    errors.push_back(MaxStateError(trajectory, testing::BallSpiralExact));
+  }
+  EXPECT_NEAR(MeasuredOrder("ball_spiral_theta_half", step_sizes, errors), 1.0, kFirstOrderSlack)
+      << "errors " << Listed(errors);
+  EXPECT_LT(errors.back(), 1e-7) << "errors " << Listed(errors);
 }
 
 TEST(SeparableStepping, StepDoublingMeetsTheToleranceWithTheSecondOrderEstimate) {

@@ -259,14 +259,42 @@ TEST(Solve, PolyhedralViAutoUsesKkt) {
   EXPECT_FALSE(result.has_index_sets);
 }
 
-TEST(Solve, BallViAutoUsesExtragradient) {
-  // Projection of c = (3, 4) onto the unit ball: (0.6, 0.8).
-  const SolveResult result = Solve(Vi::Affine(Eigen::MatrixXd::Identity(2, 2),
-                                              -Eigen::Vector2d(3, 4),
-                                              ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0)));
+// Projection of c = (3, 4) onto the unit ball: (0.6, 0.8).
+Vi BallProjection() {
+  return Vi::Affine(Eigen::MatrixXd::Identity(2, 2), -Eigen::Vector2d(3, 4),
+                    ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0));
+}
+
+TEST(Solve, BallViAutoUsesKkt) {
+  const SolveResult result = Solve(BallProjection());
+  EXPECT_EQ(result.method, "kkt");
+  ASSERT_TRUE(result.solved()) << result.message;
+  // Newton on the KKT system ends at round-off, not at the tolerance.
+  EXPECT_LE(result.residual, 1e-12);
+  EXPECT_LE((result.z - Eigen::Vector2d(0.6, 0.8)).lpNorm<Eigen::Infinity>(), 1e-12);
+  EXPECT_FALSE(result.has_index_sets);
+}
+
+TEST(Solve, BallViExplicitExtragradient) {
+  SolverOptions options;
+  options.method = SolverMethod::kExtragradient;
+  const SolveResult result = Solve(BallProjection(), options);
   EXPECT_EQ(result.method, "extragradient");
   ExpectSolvedNear(result, Eigen::Vector2d(0.6, 0.8));
-  EXPECT_FALSE(result.has_index_sets);
+}
+
+// A Jacobian that is wrong (here zero) misleads Newton on the KKT system;
+// the projection method only evaluates F and finishes the job, and the
+// message tells what KKT did first.
+TEST(Solve, BallViAutoFallsBackToExtragradientWhenKktFails) {
+  Vi vi;
+  vi.K = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0);
+  vi.F = [](const Eigen::VectorXd& z, Eigen::VectorXd& w) { w = z - Eigen::Vector2d(3, 4); };
+  vi.jacobian = [](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J.setZero(2, 2); };
+  const SolveResult result = Solve(vi);
+  EXPECT_EQ(result.method, "extragradient");
+  ExpectSolvedNear(result, Eigen::Vector2d(0.6, 0.8));
+  EXPECT_TRUE(Contains(result.message, "(after kkt: KKT system not solved")) << result.message;
 }
 
 TEST(Solve, MethodsThatDoNotApplyThrowNamingMethodAndProblem) {
@@ -292,8 +320,6 @@ TEST(Solve, MethodsThatDoNotApplyThrowNamingMethodAndProblem) {
   expect_throw([&] { Solve(ball, options); }, "pgs", "ball");
   options.method = SolverMethod::kNewton;
   expect_throw([&] { Solve(ball, options); }, "newton", "ball");
-  options.method = SolverMethod::kKkt;
-  expect_throw([&] { Solve(ball, options); }, "kkt", "ball");
 }
 
 TEST(Solve, InvalidInputThrows) {

@@ -14,8 +14,9 @@ namespace dvi {
 /// - sparse LCP: PGS when M is symmetric with positive diagonal, else sparse
 ///   Newton; Lemke on the densified problem as the last resort for m ≤ 2000;
 /// - box MCP: semismooth Newton;
-/// - VI on a box-like K: the box MCP; on a polyhedral K: the KKT MCP; on any
-///   other K: the projection method.
+/// - VI on a box-like K: the box MCP; on any other K (polyhedra, balls,
+///   products): the KKT MCP (SolveKktVi), then the projection method from the
+///   best point KKT reached if it does not reach the tolerance.
 /// Asking for a method that does not apply (PGS on a VI, Lemke on an MCP)
 /// throws InvalidInputError naming both.
 /// The result always carries residual and, for box-like problems, index sets.

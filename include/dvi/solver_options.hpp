@@ -11,7 +11,7 @@ enum class SolverMethod {
   kPgs,            ///< Projected Gauss–Seidel (LCP with positive diagonal).
   kNewton,         ///< Semismooth Newton on Fischer–Burmeister (box MCP).
   kExtragradient,  ///< Projection method with adaptive step (VI on any K).
-  kKkt,            ///< Polyhedral VI through its KKT mixed complementarity system.
+  kKkt,            ///< VI on any K through its KKT mixed complementarity system.
 };
 
 /// "auto", "lemke", "pgs", "newton", "extragradient", "kkt".

@@ -21,8 +21,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 using internal::StepOutcome;
 
 // The VI of one step in z = (x, u) ∈ ℝ^free × K: a box MCP when K is a box
-// (x free), else a VI on the product set (KKT path for a polyhedron, the
-// projection method otherwise; see Solve).
+// (x free), else a VI on the product set (its KKT system for any non-box K,
+// the projection method as the fallback; see Solve).
 class StackedVi {
  public:
   StackedVi(int free_dim, const ConvexSet& K) : free_dim_(free_dim), K_(K) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "dvi/polyhedral_vi.hpp"
+#include "dvi/kkt_vi.hpp"
 
 #include <cmath>
 #include <limits>
@@ -31,12 +31,12 @@ ConvexSet Simplex(int n) {
                                Eigen::MatrixXd::Ones(1, n), Eigen::VectorXd::Ones(1));
 }
 
-TEST(PolyhedralVi, ProjectionOntoTheSimplexMatchesTheSortingFormula) {
+TEST(KktVi, ProjectionOntoTheSimplexMatchesTheSortingFormula) {
   // Sorting a = (0.5, 1.2, −0.3, 0.1) gives the threshold θ = (1.2 + 0.5 − 1)/2
   // = 0.35 (the third entry, 0.1, falls below (1.8 − 1)/3), so
   // Π(a) = max(a − θ, 0) = (0.15, 0.85, 0, 0).
   const Eigen::Vector4d a(0.5, 1.2, -0.3, 0.1);
-  const SolveResult r = SolvePolyhedralVi(ProjectionVi(a, Simplex(4)));
+  const SolveResult r = SolveKktVi(ProjectionVi(a, Simplex(4)));
   ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
   EXPECT_EQ(r.method, "kkt");
   EXPECT_LE(r.residual, kResidualTolerance);
@@ -55,8 +55,8 @@ ConvexSet TwoCuts() {
                                Eigen::VectorXd(0));
 }
 
-TEST(PolyhedralVi, ProjectionOntoAGeneralPolyhedronMatchesTheHandComputedOne) {
-  const SolveResult r = SolvePolyhedralVi(ProjectionVi(Eigen::Vector3d(2, 0, 0), TwoCuts()));
+TEST(KktVi, ProjectionOntoAGeneralPolyhedronMatchesTheHandComputedOne) {
+  const SolveResult r = SolveKktVi(ProjectionVi(Eigen::Vector3d(2, 0, 0), TwoCuts()));
   ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
   EXPECT_LE(r.residual, kResidualTolerance);
   EXPECT_LE((r.z - Eigen::Vector3d(11.0 / 12, 5.0 / 12, -1.0 / 3)).lpNorm<Eigen::Infinity>(),
@@ -64,7 +64,7 @@ TEST(PolyhedralVi, ProjectionOntoAGeneralPolyhedronMatchesTheHandComputedOne) {
   EXPECT_FALSE(r.has_index_sets);
 }
 
-TEST(PolyhedralVi, ProductWithABoxKeepsTheBoxAsBounds) {
+TEST(KktVi, ProductWithABoxKeepsTheBoxAsBounds) {
   // Blockwise: the two cuts as above, and the box [0, 1]² clips (1.5, −0.5).
   const ConvexSet K = ConvexSet::Product(
       {TwoCuts(), ConvexSet::Box(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1))});
@@ -72,7 +72,7 @@ TEST(PolyhedralVi, ProductWithABoxKeepsTheBoxAsBounds) {
   a << 2, 0, 0, 1.5, -0.5;
   Eigen::VectorXd expected(5);
   expected << 11.0 / 12, 5.0 / 12, -1.0 / 3, 1, 0;
-  const SolveResult r = SolvePolyhedralVi(ProjectionVi(a, K));
+  const SolveResult r = SolveKktVi(ProjectionVi(a, K));
   ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
   EXPECT_LE((r.z - expected).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
   // The clipped components sit exactly on their bounds (bounds, not rows).
@@ -80,9 +80,9 @@ TEST(PolyhedralVi, ProductWithABoxKeepsTheBoxAsBounds) {
   EXPECT_EQ(r.z(4), 0.0);
 }
 
-TEST(PolyhedralVi, BoxLikeSetGetsIndexSets) {
+TEST(KktVi, BoxLikeSetGetsIndexSets) {
   const ConvexSet K = ConvexSet::Box(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1));
-  const SolveResult r = SolvePolyhedralVi(ProjectionVi(Eigen::Vector3d(0.5, 2, -1), K));
+  const SolveResult r = SolveKktVi(ProjectionVi(Eigen::Vector3d(0.5, 2, -1), K));
   ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
   EXPECT_LE((r.z - Eigen::Vector3d(0.5, 1, 0)).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
   ASSERT_TRUE(r.has_index_sets);
@@ -148,10 +148,10 @@ void ExpectKktConditions(const ConvexSet& K, const Eigen::VectorXd& z, const Eig
   for (Eigen::Index k = 0; k < na; ++k) EXPECT_GE(multipliers(k), -kKktTolerance) << "row " << active[k];
 }
 
-TEST(PolyhedralVi, NonlinearMonotoneMapSatisfiesResidualAndKkt) {
+TEST(KktVi, NonlinearMonotoneMapSatisfiesResidualAndKkt) {
   const ConvexSet K = FourDimensionalPolyhedron();
   for (bool with_jacobian : {true, false}) {
-    const SolveResult r = SolvePolyhedralVi(NonlinearMonotoneVi(K, with_jacobian));
+    const SolveResult r = SolveKktVi(NonlinearMonotoneVi(K, with_jacobian));
     ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
     EXPECT_LE(r.residual, kResidualTolerance);
     EXPECT_LE(r.iterations, 30);
@@ -159,48 +159,164 @@ TEST(PolyhedralVi, NonlinearMonotoneMapSatisfiesResidualAndKkt) {
   }
 }
 
-TEST(PolyhedralVi, WarmStartAtTheSolutionSolvesImmediately) {
+TEST(KktVi, WarmStartAtTheSolutionSolvesImmediately) {
   const ConvexSet K = FourDimensionalPolyhedron();
   const Vi vi = NonlinearMonotoneVi(K, true);
-  const SolveResult cold = SolvePolyhedralVi(vi);
+  const SolveResult cold = SolveKktVi(vi);
   ASSERT_TRUE(cold.solved()) << cold.message;
-  const SolveResult warm = SolvePolyhedralVi(vi, {}, cold.z);
+  const SolveResult warm = SolveKktVi(vi, {}, cold.z);
   ASSERT_TRUE(warm.solved()) << warm.message;
   // Only the multipliers start from zero; the primal part is already right.
   EXPECT_LT(warm.iterations, cold.iterations);
   EXPECT_LE((warm.z - cold.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
 }
 
-TEST(PolyhedralVi, EmptyPolyhedronIsNotReportedSolved) {
+TEST(KktVi, EmptyPolyhedronIsNotReportedSolved) {
   // z ≥ 0 and z₁ + z₂ ≤ −1 cannot both hold; nothing short of a Farkas
   // certificate proves it, so the KKT solve must fail and say K may be empty.
   Eigen::MatrixXd G(3, 2);
   G << -1, 0, 0, -1, 1, 1;
   const ConvexSet K = ConvexSet::Polyhedron(G, Eigen::Vector3d(0, 0, -1), Eigen::MatrixXd(0, 2),
                                             Eigen::VectorXd(0));
-  const SolveResult r = SolvePolyhedralVi(ProjectionVi(Eigen::Vector2d(1, 1), K));
+  const SolveResult r = SolveKktVi(ProjectionVi(Eigen::Vector2d(1, 1), K));
   EXPECT_NE(r.status, SolveStatus::kSolved);
   EXPECT_NE(r.status, SolveStatus::kInfeasible);
   EXPECT_NE(r.message.find("K may be empty"), std::string::npos) << r.message;
 }
 
-TEST(PolyhedralVi, CrossingBoundsProveThePolyhedronEmpty) {
+TEST(KktVi, CrossingBoundsProveThePolyhedronEmpty) {
   // z₁ ≥ 1 and z₁ ≤ 0 as rows of G: the bounds read off them cross.
   Eigen::MatrixXd G(2, 2);
   G << -1, 0, 1, 0;
   const ConvexSet K = ConvexSet::Polyhedron(G, Eigen::Vector2d(-1, 0), Eigen::MatrixXd(0, 2),
                                             Eigen::VectorXd(0));
-  const SolveResult r = SolvePolyhedralVi(ProjectionVi(Eigen::Vector2d(0, 0), K));
+  const SolveResult r = SolveKktVi(ProjectionVi(Eigen::Vector2d(0, 0), K));
   EXPECT_EQ(r.status, SolveStatus::kInfeasible);
   EXPECT_NE(r.message.find("K is empty"), std::string::npos) << r.message;
 }
 
-TEST(PolyhedralVi, RejectsNonPolyhedralSetsAndBadWarmStarts) {
-  const ConvexSet ball = ConvexSet::Ball(Eigen::Vector2d(0, 0), 1.0);
-  EXPECT_THROW(SolvePolyhedralVi(ProjectionVi(Eigen::Vector2d(2, 0), ball)), InvalidInputError);
-  EXPECT_THROW(SolvePolyhedralVi(ProjectionVi(Eigen::Vector3d(2, 0, 0), TwoCuts()), {},
-                                 Eigen::VectorXd::Zero(2)),
+TEST(KktVi, RejectsBadWarmStarts) {
+  EXPECT_THROW(SolveKktVi(ProjectionVi(Eigen::Vector3d(2, 0, 0), TwoCuts()), {},
+                          Eigen::VectorXd::Zero(2)),
                InvalidInputError);
+}
+
+// ---------------------------------------------------------------------------
+// Balls: the constraint (‖z − c‖² − r²)/2 ≤ 0 with its multiplier.
+
+// Newton on the ball's KKT system converges quadratically: every solve below
+// takes at most this many steps (measured: 0 to 7).
+constexpr int kBallIterations = 10;
+// The ball's projection and KKT solve are exact up to a few roundings.
+constexpr double kBallResidual = 1e-12;
+
+const Eigen::Vector3d kCenter(1, -2, 0.5);
+
+TEST(KktVi, ProjectionOntoABallIsExact) {
+  const ConvexSet ball = ConvexSet::Ball(kCenter, 2.0);
+  // Outside: v − c = (3, 0, 4) has length 5, so z = c + (2/5)(3, 0, 4).
+  const Eigen::Vector3d outside = kCenter + Eigen::Vector3d(3, 0, 4);
+  const SolveResult active = SolveKktVi(ProjectionVi(outside, ball));
+  ASSERT_EQ(active.status, SolveStatus::kSolved) << active.message;
+  EXPECT_EQ(active.method, "kkt");
+  EXPECT_LE(active.residual, kBallResidual);
+  EXPECT_LE((active.z - (kCenter + Eigen::Vector3d(1.2, 0, 1.6))).lpNorm<Eigen::Infinity>(),
+            kBallResidual);
+  EXPECT_LE(active.iterations, kBallIterations);
+  EXPECT_FALSE(active.has_index_sets);
+  // Inside: v itself.
+  const Eigen::Vector3d inside = kCenter + Eigen::Vector3d(0.5, -0.5, 1);
+  const SolveResult free = SolveKktVi(ProjectionVi(inside, ball));
+  ASSERT_EQ(free.status, SolveStatus::kSolved) << free.message;
+  EXPECT_LE((free.z - inside).lpNorm<Eigen::Infinity>(), kBallResidual);
+  EXPECT_LE(free.iterations, kBallIterations);
+}
+
+// F(z) = (‖z − c‖² + 1)(z − c) − a, the gradient of the strongly convex
+// ¼‖z − c‖⁴ + ½‖z − c‖² − aᵀz. By symmetry z = c + s·a/‖a‖ with
+// s³ + s = ‖a‖ = 10, i.e. s = 2, when that is inside the ball; on a ball of
+// radius r < 2 it is z = c + r·a/‖a‖.
+Vi CubicVi(const ConvexSet& K, bool with_jacobian) {
+  const Eigen::Vector3d a(6, 0, 8);
+  Vi vi;
+  vi.K = K;
+  vi.F = [a](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
+    const Eigen::Vector3d d = z - kCenter;
+    w = (d.squaredNorm() + 1) * d - a;
+  };
+  if (with_jacobian) {
+    vi.jacobian = [](const Eigen::VectorXd& z, Eigen::MatrixXd& J) {
+      const Eigen::Vector3d d = z - kCenter;
+      J = (d.squaredNorm() + 1) * Eigen::Matrix3d::Identity() + 2 * d * d.transpose();
+    };
+  }
+  return vi;
+}
+
+TEST(KktVi, NonlinearMonotoneMapOnABallMatchesTheClosedForm) {
+  const Eigen::Vector3d direction(0.6, 0, 0.8);
+  for (const bool with_jacobian : {true, false}) {
+    // Radius 1: active, z = c + direction, with multiplier 8 (F = −8·direction).
+    const SolveResult active =
+        SolveKktVi(CubicVi(ConvexSet::Ball(kCenter, 1.0), with_jacobian));
+    ASSERT_EQ(active.status, SolveStatus::kSolved) << active.message;
+    EXPECT_LE(active.residual, kBallResidual);
+    EXPECT_LE((active.z - (kCenter + direction)).lpNorm<Eigen::Infinity>(), kBallResidual);
+    EXPECT_LE((active.w + 8 * direction).lpNorm<Eigen::Infinity>(), 1e-11);
+    EXPECT_LE(active.iterations, kBallIterations);
+    // Radius 3: the unconstrained root s = 2 lies inside.
+    const SolveResult free = SolveKktVi(CubicVi(ConvexSet::Ball(kCenter, 3.0), with_jacobian));
+    ASSERT_EQ(free.status, SolveStatus::kSolved) << free.message;
+    EXPECT_LE(free.residual, kBallResidual);
+    EXPECT_LE((free.z - (kCenter + 2 * direction)).lpNorm<Eigen::Infinity>(), kBallResidual);
+    EXPECT_LE(free.iterations, kBallIterations);
+  }
+}
+
+// K = ℝ²₊ × B(0, 2) ⊂ ℝ⁵ and F(z) = M z + q with M = I + S, S skew coupling
+// the blocks (strongly monotone, so the solution is unique). q is chosen so
+// that z* = (1, 0, 1.2, 1.6, 0) solves it: w* = (0, 2) on the orthant
+// (z₁ > 0 = w₁, z₂ = 0 < w₂) and −λ(z* − c) with λ = 0.5 on the ball.
+TEST(KktVi, ProductOfOrthantAndBallMatchesTheConstructedSolution) {
+  const ConvexSet K =
+      ConvexSet::Product({ConvexSet::Orthant(2), ConvexSet::Ball(Eigen::Vector3d::Zero(), 2.0)});
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(5, 5);
+  S(0, 2) = 1;
+  S(1, 3) = -0.5;
+  S(2, 4) = 2;
+  S(3, 0) = 0.25;
+  S = S - S.transpose().eval();
+  const Eigen::MatrixXd M = Eigen::MatrixXd::Identity(5, 5) + S;
+  Eigen::VectorXd z_star(5), w_star(5);
+  z_star << 1, 0, 1.2, 1.6, 0;
+  w_star << 0, 2, -0.6, -0.8, 0;
+  const SolveResult r = SolveKktVi(Vi::Affine(M, w_star - M * z_star, K));
+  ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
+  EXPECT_LE(r.residual, kBallResidual);
+  EXPECT_LE((r.z - z_star).lpNorm<Eigen::Infinity>(), kBallResidual);
+  EXPECT_LE((r.w - w_star).lpNorm<Eigen::Infinity>(), kBallResidual);
+  // The orthant stays bounds of the MCP: z₂ sits exactly on 0.
+  EXPECT_EQ(r.z(1), 0.0);
+  EXPECT_LE(r.iterations, kBallIterations);
+  EXPECT_FALSE(r.has_index_sets);
+}
+
+TEST(KktVi, BallOfRadiusZeroIsItsCenter) {
+  const ConvexSet K =
+      ConvexSet::Product({ConvexSet::Orthant(1), ConvexSet::Ball(Eigen::Vector2d(0.5, -1), 0.0)});
+  const SolveResult r = SolveKktVi(ProjectionVi(Eigen::Vector3d(2, 3, 4), K));
+  ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
+  EXPECT_EQ(r.z, Eigen::Vector3d(2, 0.5, -1));
+}
+
+TEST(KktVi, BallWarmStartAtTheSolutionSolvesInFewerSteps) {
+  const Vi vi = CubicVi(ConvexSet::Ball(kCenter, 1.0), true);
+  const SolveResult cold = SolveKktVi(vi);
+  ASSERT_TRUE(cold.solved()) << cold.message;
+  const SolveResult warm = SolveKktVi(vi, {}, cold.z);
+  ASSERT_TRUE(warm.solved()) << warm.message;
+  EXPECT_LT(warm.iterations, cold.iterations);
+  EXPECT_LE((warm.z - cold.z).lpNorm<Eigen::Infinity>(), kBallResidual);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "dvi/polyhedral_vi.hpp"
+#include "dvi/kkt_vi.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "check.hpp"
@@ -118,6 +119,61 @@ SplitPolyhedron Split(const ConvexSet::Inequalities& K, int n) {
   return split;
 }
 
+// One ball ‖z_B − c‖ ≤ r (r > 0) of K on the block z[offset, offset + size).
+struct BallBlock {
+  int offset = 0;
+  int size = 0;
+  Eigen::VectorXd center;
+  double radius = 0;
+};
+
+// K as its balls plus the rows of all its other parts, written on the columns
+// of z in the order of ConvexSet::AsPolyhedron (a polyhedral K gives exactly
+// its AsPolyhedron()). A ball of radius 0 is the point {c}: kept as
+// `points`, which become bounds.
+struct Decomposition {
+  ConvexSet::Inequalities rows;
+  std::vector<BallBlock> balls;
+  std::vector<BallBlock> points;
+};
+
+Decomposition Decompose(const ConvexSet& K) {
+  const int n = K.dim();
+  const std::vector<ConvexSet> leaves =
+      K.kind() == ConvexSet::Kind::kProduct ? K.parts() : std::vector<ConvexSet>{K};
+  Decomposition out;
+  std::vector<std::pair<int, ConvexSet::Inequalities>> polyhedral;  // column offset, rows
+  Eigen::Index inequalities = 0;
+  Eigen::Index equalities = 0;
+  int offset = 0;
+  for (const ConvexSet& leaf : leaves) {
+    if (leaf.kind() == ConvexSet::Kind::kBall) {
+      BallBlock ball{offset, leaf.dim(), leaf.center(), leaf.radius()};
+      (ball.radius > 0 ? out.balls : out.points).push_back(std::move(ball));
+    } else {
+      polyhedral.emplace_back(offset, leaf.AsPolyhedron());
+      inequalities += polyhedral.back().second.G.rows();
+      equalities += polyhedral.back().second.E.rows();
+    }
+    offset += leaf.dim();
+  }
+  out.rows.G = Eigen::MatrixXd::Zero(inequalities, n);
+  out.rows.h.resize(inequalities);
+  out.rows.E = Eigen::MatrixXd::Zero(equalities, n);
+  out.rows.e.resize(equalities);
+  Eigen::Index inequality_row = 0;
+  Eigen::Index equality_row = 0;
+  for (const auto& [column, part] : polyhedral) {
+    out.rows.G.block(inequality_row, column, part.G.rows(), part.G.cols()) = part.G;
+    out.rows.h.segment(inequality_row, part.h.size()) = part.h;
+    out.rows.E.block(equality_row, column, part.E.rows(), part.E.cols()) = part.E;
+    out.rows.e.segment(equality_row, part.e.size()) = part.e;
+    inequality_row += part.G.rows();
+    equality_row += part.E.rows();
+  }
+  return out;
+}
+
 // Shared by the KKT map and its Jacobian (std::function needs copyable
 // callables); all buffers are sized once.
 struct KktWorkspace {
@@ -126,6 +182,7 @@ struct KktWorkspace {
   Eigen::VectorXd h;
   Eigen::MatrixXd E;
   Eigen::VectorXd e;
+  std::vector<BallBlock> balls;
   Eigen::VectorXd z;        // primal part of the MCP variable
   Eigen::VectorXd w;        // F(z)
   Eigen::MatrixXd JF;       // ∂F/∂z
@@ -133,19 +190,34 @@ struct KktWorkspace {
   Eigen::VectorXd w_shift;
 };
 
-// F̃(z, λ, μ) = (F(z) + Gᵀλ + Eᵀμ, h − G z, e − E z): with z in its bounds,
-// λ ≥ 0 and μ free this is the KKT system of the header as a box MCP. The
-// signs of the last two blocks make F̃'s Jacobian [J Gᵀ Eᵀ; −G 0 0; −E 0 0],
-// monotone whenever F is.
+// The MCP variable is x = (z, λ_G, λ_balls, μ): p = rows of G, r = balls,
+// q = rows of E.
+struct Sizes {
+  Eigen::Index n, p, r, q;
+};
+
+Sizes SizesOf(const KktWorkspace& ws) {
+  return {ws.z.size(), ws.G.rows(), static_cast<Eigen::Index>(ws.balls.size()), ws.E.rows()};
+}
+
+// F̃(z, λ, μ) = (F(z) + Gᵀλ_G + Σ λ_B (z_B − c_B) + Eᵀμ, h − G z, −g(z), e − E z):
+// with z in its bounds, λ ≥ 0 and μ free this is the KKT system of the header
+// as a box MCP, the ball rows as in the KKT lifting of integrators/cvode. The
+// signs make F̃'s Jacobian [J + Σ λ_B I_B, Gᵀ, ∇g, Eᵀ; −G; −∇gᵀ; −E] (zero
+// lower right), monotone whenever F is and λ ≥ 0.
 void EvaluateKkt(KktWorkspace& ws, const Eigen::VectorXd& x, Eigen::VectorXd& out) {
-  const Eigen::Index n = ws.z.size();
-  const Eigen::Index p = ws.G.rows();
-  const Eigen::Index q = ws.E.rows();
+  const auto [n, p, r, q] = SizesOf(ws);
   ws.z = x.head(n);
   ws.vi->F(ws.z, ws.w);
   out.head(n) = ws.w;
   out.head(n).noalias() += ws.G.transpose() * x.segment(n, p);
   out.head(n).noalias() += ws.E.transpose() * x.tail(q);
+  for (Eigen::Index b = 0; b < r; ++b) {
+    const BallBlock& ball = ws.balls[static_cast<std::size_t>(b)];
+    const auto d = ws.z.segment(ball.offset, ball.size) - ball.center;
+    out.segment(ball.offset, ball.size) += x(n + p + b) * d;
+    out(n + p + b) = 0.5 * (ball.radius * ball.radius - d.squaredNorm());
+  }
   out.segment(n, p) = ws.h;
   out.segment(n, p).noalias() -= ws.G * ws.z;
   out.tail(q) = ws.e;
@@ -153,9 +225,7 @@ void EvaluateKkt(KktWorkspace& ws, const Eigen::VectorXd& x, Eigen::VectorXd& ou
 }
 
 void EvaluateKktJacobian(KktWorkspace& ws, const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
-  const Eigen::Index n = ws.z.size();
-  const Eigen::Index p = ws.G.rows();
-  const Eigen::Index q = ws.E.rows();
+  const auto [n, p, r, q] = SizesOf(ws);
   ws.z = x.head(n);
   if (ws.vi->jacobian) {
     ws.vi->jacobian(ws.z, ws.JF);
@@ -173,27 +243,33 @@ void EvaluateKktJacobian(KktWorkspace& ws, const Eigen::VectorXd& x, Eigen::Matr
   J.setZero();
   J.topLeftCorner(n, n) = ws.JF;
   J.block(0, n, n, p) = ws.G.transpose();
-  J.block(0, n + p, n, q) = ws.E.transpose();
+  J.block(0, n + p + r, n, q) = ws.E.transpose();
   J.block(n, 0, p, n) = -ws.G;
-  J.block(n + p, 0, q, n) = -ws.E;
+  J.block(n + p + r, 0, q, n) = -ws.E;
+  for (Eigen::Index b = 0; b < r; ++b) {
+    const BallBlock& ball = ws.balls[static_cast<std::size_t>(b)];
+    const auto d = ws.z.segment(ball.offset, ball.size) - ball.center;
+    J.block(ball.offset, ball.offset, ball.size, ball.size).diagonal().array() += x(n + p + b);
+    J.block(ball.offset, n + p + b, ball.size, 1) = d;
+    J.block(n + p + b, ball.offset, 1, ball.size) = -d.transpose();
+  }
 }
 
 }  // namespace
 
-SolveResult SolvePolyhedralVi(const Vi& vi, const SolverOptions& options,
-                              const Eigen::VectorXd& warm_start) {
+SolveResult SolveKktVi(const Vi& vi, const SolverOptions& options,
+                       const Eigen::VectorXd& warm_start) {
   const Clock::time_point start = Clock::now();
   options.Validate();
   vi.Validate();
-  DVI_THROW_UNLESS(vi.K.IsPolyhedral(),
-                   "SolvePolyhedralVi needs a polyhedral K, got " << vi.K.Describe());
   const int n = vi.dim();
   DVI_THROW_UNLESS(warm_start.size() == 0 || warm_start.size() == n,
                    "warm_start has " << warm_start.size() << " entries, expected 0 or " << n);
 
   SolveResult result;
   result.method = "kkt";
-  SplitPolyhedron split = Split(vi.K.AsPolyhedron(), n);
+  Decomposition parts = Decompose(vi.K);
+  SplitPolyhedron split = Split(parts.rows, n);
   if (!split.empty_reason.empty()) {
     result.status = SolveStatus::kInfeasible;
     result.message = "K is empty: " + split.empty_reason.substr(0, split.empty_reason.size() - 2);
@@ -204,8 +280,14 @@ SolveResult SolvePolyhedralVi(const Vi& vi, const SolverOptions& options,
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
   }
+  // No row of G or E touches a ball's block, so its point bounds stand alone.
+  for (const BallBlock& point : parts.points) {
+    split.lower.segment(point.offset, point.size) = point.center;
+    split.upper.segment(point.offset, point.size) = point.center;
+  }
 
   const int p = static_cast<int>(split.G.rows());
+  const int r = static_cast<int>(parts.balls.size());
   const int q = static_cast<int>(split.E.rows());
   auto ws = std::make_shared<KktWorkspace>();
   ws->vi = &vi;
@@ -213,6 +295,7 @@ SolveResult SolvePolyhedralVi(const Vi& vi, const SolverOptions& options,
   ws->h = std::move(split.h);
   ws->E = std::move(split.E);
   ws->e = std::move(split.e);
+  ws->balls = std::move(parts.balls);
   ws->z.resize(n);
   ws->w.resize(n);
   ws->JF.resize(n, n);
@@ -220,16 +303,16 @@ SolveResult SolvePolyhedralVi(const Vi& vi, const SolverOptions& options,
   ws->w_shift.resize(n);
 
   BoxMcp kkt;
-  kkt.lower.resize(n + p + q);
-  kkt.upper.resize(n + p + q);
-  kkt.lower << split.lower, Eigen::VectorXd::Zero(p), Eigen::VectorXd::Constant(q, -kInf);
-  kkt.upper << split.upper, Eigen::VectorXd::Constant(p + q, kInf);
+  kkt.lower.resize(n + p + r + q);
+  kkt.upper.resize(n + p + r + q);
+  kkt.lower << split.lower, Eigen::VectorXd::Zero(p + r), Eigen::VectorXd::Constant(q, -kInf);
+  kkt.upper << split.upper, Eigen::VectorXd::Constant(p + r + q, kInf);
   kkt.F = [ws](const Eigen::VectorXd& x, Eigen::VectorXd& out) { EvaluateKkt(*ws, x, out); };
   kkt.jacobian = [ws](const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
     EvaluateKktJacobian(*ws, x, J);
   };
 
-  Eigen::VectorXd start_point = Eigen::VectorXd::Zero(n + p + q);
+  Eigen::VectorXd start_point = Eigen::VectorXd::Zero(n + p + r + q);
   if (warm_start.size() == n) start_point.head(n) = warm_start;
   const SolveResult kkt_result = SolveNewton(kkt, options, start_point);
 
