@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 #include <iomanip>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -254,6 +255,9 @@ class EventDrivenRun {
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u);
   void SampleOutputs(double before);
+  /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step; false if CVODE
+  /// refuses one.
+  bool ReadTaylor(double t_n, int q);
   void AddCvodeStats();
   bool Fail(IntegrationStatus status, const std::string& message);
 
@@ -273,6 +277,7 @@ class EventDrivenRun {
   internal::SerialVector y_{x0_.size(), context_.get()};
   internal::SerialVector dky_{x0_.size(), context_.get()};
   Eigen::VectorXd sample_x_;  // x at an output time, kept so that sampling does not allocate
+  Eigen::MatrixXd taylor_;    // the last step's interpolant, by ReadTaylor
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -310,21 +315,56 @@ void EventDrivenRun::Sample(double t, const Eigen::VectorXd& x, const Eigen::Vec
   trajectory_.multipliers.push_back(u);
 }
 
-// Dense output of the current step (CVodeGetDky) at the requested times
-// before `before` (a time equal to it is in the next step too); u there from
-// the mode, which is smooth inside the step.
+// Dense output of the current step at the requested times before `before`
+// (a time equal to it is in the next step too); u there from the mode, which
+// is smooth inside the step. CVODE's interpolant is the step's Nordsieck
+// polynomial, Σ_k y⁽ᵏ⁾(t_n) (t − t_n)ᵏ/k!, k ≤ q: with more output times in
+// the step than its q + 1 coefficients, these are read once (CVodeGetDky at
+// t_n) and the polynomial is evaluated by Horner, the same values without a
+// CVodeGetDky call (a sum over q + 1 N_Vectors) per time.
 void EventDrivenRun::SampleOutputs(double before) {
   const auto& times = options_.output_times;
-  while (next_output_ < times.size() && times[next_output_] < before) {
-    const double t = times[next_output_++];
+  std::size_t end = next_output_;
+  while (end < times.size() && times[end] < before) ++end;
+  if (end == next_output_) return;
+  void* cvode = cvode_.get();
+  double t_n = 0, h_u = 0;
+  int q = 0;
+  CVodeGetCurrentTime(cvode, &t_n);
+  CVodeGetLastStep(cvode, &h_u);
+  CVodeGetLastOrder(cvode, &q);
+  const bool by_polynomial = static_cast<int>(end - next_output_) > q + 1 && ReadTaylor(t_n, q);
+  // CVodeGetDky's own bound of the step, with its slack.
+  const double step_start =
+      t_n - h_u - 100 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + std::abs(h_u));
+  for (; next_output_ < end; ++next_output_) {
+    const double t = times[next_output_];
     if (t <= t0_ || t >= t_end_) continue;
     // A time the step's interpolant cannot serve (outside it, or where the
     // mode's Newton fails) is left unsampled rather than guessed.
-    if (CVodeGetDky(cvode_.get(), t, 0, dky_.get()) != CV_SUCCESS) continue;
-    sample_x_ = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
+    if (by_polynomial) {
+      if (t < step_start) continue;
+      const double s = t - t_n;
+      sample_x_ = taylor_.col(q);
+      for (int k = q - 1; k >= 0; --k) sample_x_ = taylor_.col(k) + s * sample_x_;
+    } else {
+      if (CVodeGetDky(cvode, t, 0, dky_.get()) != CV_SUCCESS) continue;
+      sample_x_ = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
+    }
     if (!system_.Solve(t, sample_x_)) continue;
     Sample(t, sample_x_, system_.u());
   }
+}
+
+bool EventDrivenRun::ReadTaylor(double t_n, int q) {
+  taylor_.resize(x0_.size(), q + 1);
+  double factorial = 1;
+  for (int k = 0; k <= q; ++k) {
+    if (k > 1) factorial *= k;
+    if (CVodeGetDky(cvode_.get(), t_n, k, dky_.get()) != CV_SUCCESS) return false;
+    taylor_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size()) / factorial;
+  }
+  return true;
 }
 
 void EventDrivenRun::AddCvodeStats() {
