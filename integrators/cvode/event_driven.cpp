@@ -81,6 +81,7 @@ namespace {
 using internal::BoundState;
 using internal::BoxMode;
 using internal::BoxModeSystem;
+using internal::GuardedCallback;
 
 // Look-ahead length at a degenerate event, relative to the horizon.
 constexpr double kLookAheadFraction = 1e-5;
@@ -119,7 +120,7 @@ void Load(CallbackData& data, N_Vector y) {
 // a Newton failure in the mode), < 0 fatal.
 int RhsCallback(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
-  try {
+  return GuardedCallback(data.error, [&] {
     ++data.rhs_evals;
     Load(data, y);
     if (!data.system->Solve(t, data.x)) return 1;
@@ -127,16 +128,13 @@ int RhsCallback(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
     if (!data.xdot.allFinite()) return 1;
     std::copy(data.xdot.data(), data.xdot.data() + data.xdot.size(), N_VGetArrayPointer(ydot));
     return 0;
-  } catch (...) {
-    data.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 int DenseJacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void* user_data,
                           N_Vector, N_Vector, N_Vector) {
   auto& data = *static_cast<CallbackData*>(user_data);
-  try {
+  return GuardedCallback(data.error, [&] {
     ++data.jacobian_evals;
     Load(data, y);
     if (!data.system->Solve(t, data.x)) return 1;
@@ -147,10 +145,7 @@ int DenseJacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void*
       for (long i = 0; i < n; ++i) column[i] = data.J(i, k);
     }
     return 0;
-  } catch (...) {
-    data.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 // KLU: the mode's Jacobian, formed at its entry (EnterSparseJacobian),
@@ -170,17 +165,14 @@ int SparseJacobianCallback(realtype, N_Vector, N_Vector, SUNMatrix Jac, void* us
 
 int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
-  try {
+  return GuardedCallback(data.error, [&] {
     Load(data, y);
     if (!data.system->Solve(t, data.x)) return -1;
     data.system->Roots(t, data.x, g);
     data.root_time = t;
     data.least_root = *std::min_element(g, g + 2 * data.system->m());
     return 0;
-  } catch (...) {
-    data.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 // Keeps a reduced mode on its original constraints Φ(t, x) = 0 (Theorems
@@ -192,7 +184,7 @@ int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector
     N_VConst(0.0, corr);
     return 0;
   }
-  try {
+  return GuardedCallback(data.error, [&] {
     Load(data, y);
     Eigen::VectorXd error;
     if (err) error = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(err), data.x.size());
@@ -200,10 +192,7 @@ int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector
     std::copy(data.xdot.data(), data.xdot.data() + data.xdot.size(), N_VGetArrayPointer(corr));
     if (err) std::copy(error.data(), error.data() + error.size(), N_VGetArrayPointer(err));
     return 0;
-  } catch (...) {
-    data.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 void ErrorHandler(int, const char*, const char* function, char* message, void* user_data) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <exception>
+
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
@@ -8,6 +10,19 @@
 #include <sundials/sundials_matrix.h>
 
 namespace dvi::internal {
+
+/// Runs the body of a SUNDIALS callback. Exceptions must not cross
+/// SUNDIALS' C frames: one is stored in `error`, for the caller to rethrow
+/// once the solver returns, and the callback reports -1 (unrecoverable).
+template <typename Body>
+int GuardedCallback(std::exception_ptr& error, Body&& body) {
+  try {
+    return body();
+  } catch (...) {
+    error = std::current_exception();
+    return -1;
+  }
+}
 
 /// Owning handles for the SUNDIALS objects of one CVODE run, freed in reverse
 /// order of creation by the members' declaration order at the use site.

@@ -48,6 +48,7 @@ namespace {
 using internal::BoxMode;
 using internal::LcsModeDae;
 using internal::BoundState;
+using internal::GuardedCallback;
 
 // Events closer than this (relative to |t| + horizon) happen at one time.
 constexpr double kSameTimeFraction = 1e-12;
@@ -74,14 +75,11 @@ struct CallbackData {
 // IDA's convention: 0 success, < 0 unrecoverable.
 int ResidualCallback(realtype, N_Vector y, N_Vector yp, N_Vector res, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
-  try {
+  return GuardedCallback(data.error, [&] {
     ++data.residual_evals;
     data.dae->Residual(N_VGetArrayPointer(y), N_VGetArrayPointer(yp), N_VGetArrayPointer(res));
     return 0;
-  } catch (...) {
-    data.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 // ∂res/∂y + cj ∂res/∂y' into IDA's matrix: compressed columns for KLU (IDA
@@ -89,7 +87,7 @@ int ResidualCallback(realtype, N_Vector y, N_Vector yp, N_Vector res, void* user
 int JacobianCallback(realtype, realtype cj, N_Vector, N_Vector, N_Vector, SUNMatrix J,
                      void* user_data, N_Vector, N_Vector, N_Vector) {
   auto& data = *static_cast<CallbackData*>(user_data);
-  try {
+  return GuardedCallback(data.error, [&] {
     ++data.jacobian_evals;
     const SparseMatrix& jacobian = data.dae->Jacobian(cj);
     const long columns = jacobian.cols();
@@ -109,21 +107,15 @@ int JacobianCallback(realtype, realtype cj, N_Vector, N_Vector, N_Vector, SUNMat
       }
     }
     return 0;
-  } catch (...) {
-    data.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 int RootCallback(realtype, N_Vector y, N_Vector, realtype* g, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
-  try {
+  return GuardedCallback(data.error, [&] {
     data.dae->Roots(N_VGetArrayPointer(y), g);
     return 0;
-  } catch (...) {
-    data.error = std::current_exception();
-    return -1;
-  }
+  });
 }
 
 void ErrorHandler(int, const char*, const char* function, char* message, void* user_data) {
