@@ -198,6 +198,11 @@ class ModeDaeRun {
   long reduced_modes_ = 0;  // modes entered with rows differentiated
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
   std::unique_ptr<internal::OneStepMethod> look_ahead_;  // made at its first use
+  // The consistent values of ChooseMode's last check, and whether that
+  // check was of the chosen mode at the event's x. A successful ChooseMode
+  // leaves the DAE in the chosen mode.
+  Eigen::VectorXd checked_x_, checked_u_;
+  bool checked_at_x_ = false;
 };
 
 bool ModeDaeRun::Fail(IntegrationStatus status, const std::string& message) {
@@ -259,13 +264,20 @@ long ModeDaeRun::Steps() const {
 // pattern, and IDA (re)started there — BDF restarts at order one, as the
 // solution is only continuous across the event.
 bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u) {
-  dae_.Enter(mode);
-  std::string why;
-  if (!dae_.MakeConsistent(x, u, why)) {
-    std::ostringstream message;
-    message << "mode-dae: at t = " << t << ", mode " << DescribeMode(mode) << ": " << why;
-    return Fail(IntegrationStatus::kNotIndexOne, message.str());
+  if (checked_at_x_ && dae_.mode() == mode) {
+    // ChooseMode's check entered this mode at this x already.
+    x = checked_x_;
+    u = checked_u_;
+  } else {
+    if (dae_.mode() != mode) dae_.Enter(mode);
+    std::string why;
+    if (!dae_.MakeConsistent(x, u, why)) {
+      std::ostringstream message;
+      message << "mode-dae: at t = " << t << ", mode " << DescribeMode(mode) << ": " << why;
+      return Fail(IntegrationStatus::kNotIndexOne, message.str());
+    }
   }
+  checked_at_x_ = false;
   if (dae_.passes() > 0) ++reduced_modes_;
   Eigen::VectorXd xdot;
   dae_.StateDerivative(x, u, xdot);
@@ -316,9 +328,13 @@ bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Ei
 // Neither holds: kNotIndexOne with both violations.
 bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
                             const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u) {
+  checked_at_x_ = false;
   if (!ProposeMode(t, x, warm, leaving, mode, u)) return false;
   std::string proposed_why, ahead_why;
-  if (ModeHolds(mode, x, u, proposed_why)) return true;
+  if (ModeHolds(mode, x, u, proposed_why)) {
+    checked_at_x_ = true;
+    return true;
+  }
   BoxMode ahead;
   Eigen::VectorXd x_ahead, u_ahead;
   if (LookAheadMode(t, x, u, ahead, x_ahead, u_ahead, ahead_why) &&
@@ -338,9 +354,10 @@ bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::Vec
 bool ModeDaeRun::ModeHolds(const BoxMode& mode, const Eigen::VectorXd& x,
                            const Eigen::VectorXd& u, std::string& why) {
   dae_.Enter(mode);
-  Eigen::VectorXd x_mode = x, u_mode = u;
-  return dae_.MakeConsistent(x_mode, u_mode, why) &&
-         dae_.Holds(x_mode, u_mode, options_.atol, options_.rtol, u_tolerance_, why);
+  checked_x_ = x;
+  checked_u_ = u;
+  return dae_.MakeConsistent(checked_x_, checked_u_, why) &&
+         dae_.Holds(checked_x_, checked_u_, options_.atol, options_.rtol, u_tolerance_, why);
 }
 
 // One backward-Euler step ((7.2), θ = 0, γ = 1) of length δ from (t, x) to
@@ -448,10 +465,7 @@ bool ModeDaeRun::HandleRoot(double t) {
   BoxMode mode;
   Eigen::VectorXd u;
   if (!ChooseMode(t, x, y.tail(m_), leaving, mode, u)) return false;
-  if (mode == old_mode) {
-    dae_.Enter(old_mode);
-    return true;
-  }
+  if (mode == old_mode) return true;  // ChooseMode left the DAE in it
   std::ostringstream message;
   message << "mode-dae: event at t = " << t << ": ";
   const double horizon = t_end_ - t0_;
