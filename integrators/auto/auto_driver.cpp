@@ -75,15 +75,14 @@ std::string Short(double value) {
   return text.str();
 }
 
-// The requested times in [from, to] (from excluded when `open_start`),
-// strictly increasing, as time-stepping requires.
+// The requested times (non-decreasing, as validated) in [from, to], from
+// excluded when `open_start`, strictly increasing, as time-stepping requires.
 std::vector<double> Clip(const std::vector<double>& times, double from, double to,
                          bool open_start) {
-  std::vector<double> clipped;
-  for (const double t : times) {
-    if (t > to || t < from || (open_start && t == from)) continue;
-    if (clipped.empty() || t > clipped.back()) clipped.push_back(t);
-  }
+  const auto first = open_start ? std::upper_bound(times.begin(), times.end(), from)
+                                : std::lower_bound(times.begin(), times.end(), from);
+  std::vector<double> clipped(first, std::upper_bound(first, times.end(), to));
+  clipped.erase(std::unique(clipped.begin(), clipped.end()), clipped.end());
   return clipped;
 }
 
