@@ -383,7 +383,7 @@ void ConvexSet::Data::ProjectInto(const Eigen::Ref<const Eigen::VectorXd>& v,
 void ConvexSet::Data::ProjectOntoPolyhedron(const Eigen::Ref<const Eigen::VectorXd>& v,
                                             Eigen::Ref<Eigen::VectorXd> out) const {
   if (!empty_reason.empty()) {
-    throw std::runtime_error("polyhedron appears empty: " + empty_reason);
+    throw EmptySetError("the polyhedron is empty: " + empty_reason);
   }
   const Eigen::Index m = dim;
   const Eigen::Index p = unit_G.rows();
@@ -431,10 +431,12 @@ void ConvexSet::Data::ProjectOntoPolyhedron(const Eigen::Ref<const Eigen::Vector
   const SolveResult lemke = SolveLemke(dual, options);
   if (!lemke.solved()) {
     std::ostringstream message;
-    message << "polyhedron appears empty: the projection's KKT system has no solution "
-            << "(Newton: " << ToString(newton.status) << ", residual " << newton.residual
-            << "; Lemke on the dual: " << ToString(lemke.status) << ", " << lemke.message << ")";
-    throw std::runtime_error(message.str());
+    message << "the projection's KKT system has no solution (Newton: " << ToString(newton.status)
+            << ", residual " << newton.residual << "; Lemke on the dual: "
+            << ToString(lemke.status) << ", " << lemke.message << ")";
+    if (lemke.status == SolveStatus::kInfeasible)
+      throw EmptySetError("the polyhedron is empty: " + message.str());
+    throw std::runtime_error("projection onto the polyhedron failed: " + message.str());
   }
   out = particular + scale * (null_basis * (y0 - reduced_G.transpose() * lemke.z));
 }

@@ -323,8 +323,14 @@ SolveResult SolveKktVi(const Vi& vi, const SolverOptions& options,
   bool projection_failed = false;
   try {
     result.residual = NaturalResidual(vi.K, result.z, result.w);
+  } catch (const EmptySetError& empty) {
+    // No z lies in K, so the VI has no solution: a proof, not a failure.
+    result.status = SolveStatus::kInfeasible;
+    result.residual = kInf;
+    result.message = std::string("K is empty, so the VI has no solution: ") + empty.what();
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return result;
   } catch (const std::runtime_error&) {
-    // Π_K throws only when it finds K empty.
     projection_failed = true;
     result.residual = kInf;
   }
@@ -347,7 +353,7 @@ SolveResult SolveKktVi(const Vi& vi, const SolverOptions& options,
     result.status = kkt_result.status == SolveStatus::kMaxIterations ? SolveStatus::kMaxIterations
                                                                       : SolveStatus::kFailed;
     result.message = "KKT system not solved (" + kkt_result.message + "); K may be empty" +
-                     (projection_failed ? " (its projection failed)" : "") +
+                     (projection_failed ? " (its projection failed without a proof)" : "") +
                      " or F not monotone on K";
   }
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <utility>
 
 #include "check.hpp"
@@ -59,7 +60,16 @@ SolveResult SolveExtragradient(const Vi& vi, const SolverOptions& options,
   SolveResult result;
   result.method = "extragradient";
 
-  Eigen::VectorXd z = K.Project(warm_start.size() == m ? warm_start : Eigen::VectorXd::Zero(m));
+  Eigen::VectorXd z;
+  try {
+    z = K.Project(warm_start.size() == m ? warm_start : Eigen::VectorXd::Zero(m));
+  } catch (const EmptySetError& empty) {
+    result.status = SolveStatus::kInfeasible;
+    result.residual = std::numeric_limits<double>::infinity();
+    result.message = std::string("K is empty, so the VI has no solution: ") + empty.what();
+    result.seconds = Seconds(clock_start);
+    return result;
+  }
   Eigen::VectorXd Fz(m);
   Eigen::VectorXd z_hat(m);
   Eigen::VectorXd F_hat(m);

@@ -498,26 +498,26 @@ TEST(ConvexSet, FactoriesAndMembersRejectInvalidInput) {
   ExpectThrowMentioning<InvalidInputError>([&] { orthant.radius(); }, "not a ball");
 }
 
-TEST(ConvexSet, ProjectingOntoAnEmptyPolyhedronThrows) {
+TEST(ConvexSet, ProjectingOntoAnEmptyPolyhedronThrowsEmptySetError) {
   // 1 ≤ u₀ ≤ −1: the KKT system has no solution.
   Eigen::MatrixXd G(2, 2);
   G << -1, 0, 1, 0;
   const ConvexSet crossed = ConvexSet::Polyhedron(G, (Eigen::VectorXd(2) << -1, -1).finished(),
                                                   Eigen::MatrixXd(0, 2), Eigen::VectorXd(0));
-  ExpectThrowMentioning<std::runtime_error>([&] { crossed.Project(Eigen::VectorXd::Zero(2)); },
-                                            "polyhedron appears empty");
+  ExpectThrowMentioning<EmptySetError>([&] { crossed.Project(Eigen::VectorXd::Zero(2)); },
+                                       "the polyhedron is empty");
   // 0ᵀu ≤ −1.
   const ConvexSet zero_row =
       ConvexSet::Polyhedron(Eigen::MatrixXd::Zero(1, 2), Eigen::VectorXd::Constant(1, -1.0),
                             Eigen::MatrixXd(0, 2), Eigen::VectorXd(0));
-  ExpectThrowMentioning<std::runtime_error>([&] { zero_row.Project(Eigen::VectorXd::Zero(2)); },
-                                            "row 0 of G is zero");
+  ExpectThrowMentioning<EmptySetError>([&] { zero_row.Project(Eigen::VectorXd::Zero(2)); },
+                                       "row 0 of G is zero");
   // u₀ + u₁ = 0 and u₀ + u₁ = 1.
   const ConvexSet inconsistent =
       ConvexSet::Polyhedron(Eigen::MatrixXd(0, 2), Eigen::VectorXd(0), Eigen::MatrixXd::Ones(2, 2),
                             (Eigen::VectorXd(2) << 0, 1).finished());
-  ExpectThrowMentioning<std::runtime_error>([&] { inconsistent.Project(Eigen::VectorXd::Zero(2)); },
-                                            "inconsistent");
+  ExpectThrowMentioning<EmptySetError>([&] { inconsistent.Project(Eigen::VectorXd::Zero(2)); },
+                                       "inconsistent");
 }
 
 }  // namespace

@@ -171,17 +171,18 @@ TEST(KktVi, WarmStartAtTheSolutionSolvesImmediately) {
   EXPECT_LE((warm.z - cold.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
 }
 
-TEST(KktVi, EmptyPolyhedronIsNotReportedSolved) {
-  // z ≥ 0 and z₁ + z₂ ≤ −1 cannot both hold; nothing short of a Farkas
-  // certificate proves it, so the KKT solve must fail and say K may be empty.
+TEST(KktVi, EmptyPolyhedronIsProvenEmptyByTheProjectionsDualRay) {
+  // z ≥ 0 and z₁ + z₂ ≤ −1 cannot both hold. The KKT system has no
+  // solution; the natural residual's projection then solves the dual LCP,
+  // whose secondary ray is the Farkas certificate that K is empty.
   Eigen::MatrixXd G(3, 2);
   G << -1, 0, 0, -1, 1, 1;
   const ConvexSet K = ConvexSet::Polyhedron(G, Eigen::Vector3d(0, 0, -1), Eigen::MatrixXd(0, 2),
                                             Eigen::VectorXd(0));
   const SolveResult r = SolveKktVi(ProjectionVi(Eigen::Vector2d(1, 1), K));
-  EXPECT_NE(r.status, SolveStatus::kSolved);
-  EXPECT_NE(r.status, SolveStatus::kInfeasible);
-  EXPECT_NE(r.message.find("K may be empty"), std::string::npos) << r.message;
+  EXPECT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+  EXPECT_NE(r.message.find("K is empty"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("secondary ray"), std::string::npos) << r.message;
 }
 
 TEST(KktVi, CrossingBoundsProveThePolyhedronEmpty) {

@@ -297,6 +297,43 @@ TEST(Solve, BallViAutoFallsBackToExtragradientWhenKktFails) {
   EXPECT_TRUE(Contains(result.message, "(after kkt: KKT system not solved")) << result.message;
 }
 
+// An affine VI that is not monotone, M = −I on the half-plane z₁ + z₂ ≥ 0
+// with q = (0.1, −0.2): KKT's Newton stagnates, and the projection method,
+// which has no guarantee without monotonicity, is not started; the message
+// gives the eigenvalue that shows it.
+TEST(Solve, NonMonotoneAffineViIsNotHandedToTheProjectionMethod) {
+  const ConvexSet K = ConvexSet::Polyhedron((Eigen::MatrixXd(1, 2) << -1, -1).finished(),
+                                            Eigen::VectorXd::Zero(1), Eigen::MatrixXd(0, 2),
+                                            Eigen::VectorXd(0));
+  const SolveResult result =
+      Solve(Vi::Affine(-Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(0.1, -0.2), K));
+  EXPECT_FALSE(result.solved());
+  EXPECT_EQ(result.method, "kkt");
+  EXPECT_TRUE(Contains(result.message,
+                       "extragradient: not tried: F is not monotone, smallest eigenvalue of "
+                       "(M + Mᵀ)/2 is -1 <"))
+      << result.message;
+}
+
+// z ≥ 0 and z₁ + z₂ ≤ −1, every row with two entries: Lemke's secondary ray
+// on the projection's dual proves K empty, so the VI has no solution.
+TEST(Solve, PolyhedralViOnAnEmptySetIsInfeasible) {
+  Eigen::MatrixXd G(3, 2);
+  G << -1, -1, 1, 1, 0.5, -1;
+  const ConvexSet K = ConvexSet::Polyhedron(G, Eigen::Vector3d(-1, 0, 5), Eigen::MatrixXd(0, 2),
+                                            Eigen::VectorXd(0));
+  const Vi vi = Vi::Affine(Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(1, 1), K);
+  const SolveResult result = Solve(vi);
+  EXPECT_EQ(result.status, SolveStatus::kInfeasible) << result.message;
+  EXPECT_TRUE(Contains(result.message, "K is empty")) << result.message;
+  EXPECT_TRUE(Contains(result.message, "secondary ray")) << result.message;
+  SolverOptions extragradient;
+  extragradient.method = SolverMethod::kExtragradient;
+  const SolveResult projected = Solve(vi, extragradient);
+  EXPECT_EQ(projected.status, SolveStatus::kInfeasible) << projected.message;
+  EXPECT_TRUE(Contains(projected.message, "K is empty")) << projected.message;
+}
+
 TEST(Solve, MethodsThatDoNotApplyThrowNamingMethodAndProblem) {
   const BoxMcp mcp = BoxMcp::Affine(Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(1, 1),
                                     Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1));

@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "dvi/error.hpp"
+
 namespace dvi {
 
 /// A closed convex set K ⊆ ℝᵐ of [Seed] (2.2): the nonnegative orthant, a box
@@ -52,7 +54,8 @@ class ConvexSet {
   /// Π_K(v) = argmin_{u ∈ K} ‖u − v‖₂. Closed form for orthant, box and ball,
   /// blockwise for products; for a polyhedron the dual QP (an MCP in the
   /// multipliers) is solved to tol. @throws InvalidInputError on a size
-  /// mismatch, std::runtime_error if the polyhedron is empty.
+  /// mismatch, EmptySetError if the polyhedron is proven empty,
+  /// std::runtime_error if its projection fails without that proof.
   Eigen::VectorXd Project(const Eigen::VectorXd& v) const;
 
   /// Whether K is a box (orthant, box, or a product of only those); then

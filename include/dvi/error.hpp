@@ -16,4 +16,13 @@ class InvalidInputError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// Thrown by ConvexSet::Project when K is proven empty: a zero row of G with
+/// h_k < 0, equalities E u = e with e outside the range of E, or Lemke's
+/// secondary ray on the projection's dual LCP [Cottle–Pang–Stone 1992, Thm
+/// 4.4.13]. The solvers turn it into the status infeasible.
+class EmptySetError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace dvi

@@ -12,7 +12,9 @@ namespace dvi {
 /// (backtracking so that τ‖F(z) − F(ẑ)‖ ≤ ν‖z − ẑ‖) [Facchinei–Pang 2003,
 /// §12.1]. Converges for monotone, Lipschitz F whenever SOL(K, F) ≠ ∅.
 /// warm_start (empty: Π_K(0)) is the first iterate.
-/// @throws InvalidInputError from Validate(), or a wrong-size warm_start.
+/// Status infeasible when K is proven empty (EmptySetError from Π_K).
+/// @throws InvalidInputError from Validate(), or a wrong-size warm_start;
+/// std::runtime_error if a projection onto a polyhedron fails otherwise.
 SolveResult SolveExtragradient(const Vi& vi, const SolverOptions& options = {},
                                const Eigen::VectorXd& warm_start = Eigen::VectorXd());
 

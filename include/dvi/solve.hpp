@@ -16,7 +16,9 @@ namespace dvi {
 /// - box MCP: semismooth Newton;
 /// - VI on a box-like K: the box MCP; on any other K (polyhedra, balls,
 ///   products): the KKT MCP (SolveKktVi), then the projection method from the
-///   best point KKT reached if it does not reach the tolerance.
+///   best point KKT reached if it does not reach the tolerance, unless F is
+///   affine and not monotone (then the projection method has no guarantee);
+///   infeasible when K is proven empty (EmptySetError).
 /// Asking for a method that does not apply (PGS on a VI, Lemke on an MCP)
 /// throws InvalidInputError naming both.
 /// The result always carries residual and, for box-like problems, index sets.
