@@ -869,6 +869,40 @@ TEST_F(DvisimRun, EventAndAutoRunADiscSceneThroughItsKktSystem) {
   std::cout << "disc scene, event at rtol 1e-10: max error " << error << "\n";
 }
 
+// examples/scenes/particle_on_circle.json: a nonlinear index-three contact
+// (GiNaC expressions, exact Jacobians) reduced by two passes of Sect. 5.4.
+// On the unit circle the particle keeps |v|² = 2g(cos θ0 − cos θ) with
+// cos θ = x2, and it leaves where the normal force u vanishes,
+// cos θ_d = (2/3) cos θ0; from there it flies with u = 0.
+TEST_F(DvisimRun, ParticleOnACircleSceneLeavesWhereItsNormalForceVanishes) {
+  const RunOutcome run = RunExample("particle_on_circle.json", "circle");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = ReadSummary("circle");
+  ASSERT_EQ(summary["method"].size(), 1u);
+  EXPECT_EQ(summary["method"][0]["name"], "event");
+  EXPECT_TRUE(Contains(summary["method"][0]["reason"], "differentiation procedure"))
+      << summary["method"][0]["reason"];
+  ASSERT_EQ(summary["events"].size(), 1u);
+  EXPECT_EQ(summary["events"][0]["kind"], "reached-lower");
+  const double t_d = summary["events"][0]["time"].get<double>();
+  const Csv csv = ReadCsv("circle");
+  ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "x2", "x3", "x4", "u1"}));
+  ExpectRowsAreTimesSamplesAndEvents(csv, summary, Samples(201, 1));
+  const double g = 9.81, cos0 = std::cos(0.3);
+  double detach_error = 1, energy_error = 0, flight_force = 0;
+  for (const auto& row : csv.rows) {
+    const double v2 = row[3] * row[3] + row[4] * row[4];
+    if (row[0] <= t_d) energy_error = std::max(energy_error, std::abs(v2 - 2 * g * (cos0 - row[2])));
+    if (row[0] == t_d) detach_error = std::abs(row[2] - 2.0 / 3 * cos0);
+    if (row[0] > t_d) flight_force = std::max(flight_force, std::abs(row[5]));
+  }
+  EXPECT_LE(detach_error, 1e-9);
+  EXPECT_LE(energy_error, 1e-7);
+  EXPECT_EQ(flight_force, 0);
+  std::cout << "particle on a circle: leaves at t = " << t_d << ", cos θ error " << detach_error
+            << ", energy error " << energy_error << "\n";
+}
+
 // examples/scenes/filippov_spiral.json: Siconos' Zeno spiral reaches the
 // origin at t* = 1.5 (V = |x1| + |x2| = 6 − 4t) after infinitely many
 // switches; auto steps over the accumulation and ends at the origin.

@@ -211,25 +211,164 @@ TEST(IndexReduction, LandingWithVelocityIsRefusedAtTheImpact) {
       << trajectory.message;
 }
 
-// The resting mass as a general Dvi (functors: no LCS matrices, so a second
-// pass of Sect. 5.4 is not available). The one pass fails, and the
-// look-ahead over δ = 1e-5·T sees the free-flight mode violate x1 ≥ 0 only
-// by δ² = 2.5e-11, within the VI tolerance: it takes that mode, whose root
-// function x1 starts at zero and falls without a sign change. The run must
-// stop with the reason instead of letting the mass fall through the ground,
-// and keep nothing of the wrong mode.
-TEST(IndexReduction, RestingMassAsAGeneralDviStopsInsteadOfFallingThrough) {
+// The resting mass as a general Dvi (functors, forward-difference
+// Jacobians): F = x1 and its first derivative x2 are u-free, so the mode
+// needs the second pass, here by differences of the first pass's rows. It
+// rests: x ≡ 0 with u ≡ 1.
+TEST(IndexReduction, RestingMassAsAGeneralDviRestsByTwoPasses) {
   const Dvi dvi = testing::RestingMass();
+  EventDrivenOptions options = Tight();
+  options.output_times = testing::Linspace(0, 2, 21);
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::Vector2d::Zero(), 0, 2, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  EXPECT_TRUE(trajectory.events.empty());
+  double state_error = 0, multiplier_error = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    state_error = std::max(state_error, trajectory.states[k].lpNorm<Eigen::Infinity>());
+    multiplier_error = std::max(multiplier_error, std::abs(trajectory.multipliers[k](0) - 1));
+  }
+  EXPECT_LE(state_error, 1e-12);
+  EXPECT_LE(multiplier_error, 1e-9);
+  RecordProperty("state_error", Scientific(state_error));
+  RecordProperty("multiplier_error", Scientific(multiplier_error));
+}
+
+// A particle on the outside of a frictionless circle of radius R under
+// gravity, x = (q, v):
+//   q' = v,  v' = −g e_y + u ∇φ(q),  0 ≤ u ⊥ φ(q) = |q|² − R² ≥ 0,
+// a nonlinear F of index three: φ and φ̇ = 2q·v are u-free, φ̈ = 2|v|² −
+// 2g q_y + 4|q|² u is not. Released at rest at angle θ0 from the top, it
+// slides with u = (g cos θ − |v|²/R)/(2R) (its normal force), |v|² =
+// 2gR(cos θ0 − cos θ), and leaves the circle where u reaches 0:
+// cos θ_d = (2/3) cos θ0, at the time of the pendulum θ'' = (g/R) sin θ;
+// then it flies on the parabola from there.
+constexpr double kGravity = 9.81;
+constexpr double kRadius = 1.0;
+
+Dvi ParticleOnACircle() {
+  Dvi dvi;
+  dvi.n = 4;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out << x(2), x(3), 2 * u(0) * x(0), -kGravity + 2 * u(0) * x(1);
+  };
+  dvi.f_jacobian = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx.setZero();
+    Jx(0, 2) = Jx(1, 3) = 1;
+    Jx(2, 0) = Jx(3, 1) = 2 * u(0);
+    Ju << 0, 0, 2 * x(0), 2 * x(1);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out(0) = x(0) * x(0) + x(1) * x(1) - kRadius * kRadius;
+  };
+  dvi.F_jacobian = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx << 2 * x(0), 2 * x(1), 0, 0;
+    Ju.setZero();
+  };
+  return dvi;
+}
+
+// t(θ) = ∫ dϑ / √((2g/R)(cos θ0 − cos ϑ)) over [θ0, θ], with ϑ = θ0 + s²
+// removing the endpoint singularity; composite Simpson in s.
+double PendulumTime(double theta0, double theta) {
+  const double k = 2 * kGravity / kRadius;
+  const auto integrand = [&](double s) {
+    if (s == 0) return 2 / std::sqrt(k * std::sin(theta0));
+    // cos θ0 − cos(θ0 + s²) without cancellation.
+    return 2 * s / std::sqrt(k * 2 * std::sin(theta0 + s * s / 2) * std::sin(s * s / 2));
+  };
+  const int intervals = 20000;
+  const double end = std::sqrt(theta - theta0), h = end / intervals;
+  double sum = integrand(0) + integrand(end);
+  for (int i = 1; i < intervals; ++i) sum += (i % 2 ? 4 : 2) * integrand(i * h);
+  return sum * h / 3;
+}
+
+TEST(IndexReduction, ParticleLeavesACircleWhereItsNormalForceVanishesByTwoPasses) {
+  const double theta0 = 0.3, cos_d = 2.0 / 3 * std::cos(theta0), theta_d = std::acos(cos_d);
+  const double t_d = PendulumTime(theta0, theta_d), T = 1;
+  const double speed_d = std::sqrt(2 * kGravity * kRadius * (std::cos(theta0) - cos_d));
+  const Eigen::Vector4d x_d(kRadius * std::sin(theta_d), kRadius * cos_d, speed_d * cos_d,
+                            -speed_d * std::sin(theta_d));
+  const auto exact = [&](double t) -> Eigen::Vector4d {
+    const double s = t - t_d;
+    return Eigen::Vector4d(x_d(0) + x_d(2) * s, x_d(1) + x_d(3) * s - kGravity * s * s / 2,
+                           x_d(2), x_d(3) - kGravity * s);
+  };
+  EventDrivenOptions options = Tight();
+  options.output_times = testing::Linspace(0, T, 201);
+  const Trajectory trajectory = IntegrateEventDriven(
+      ParticleOnACircle(),
+      Eigen::Vector4d(kRadius * std::sin(theta0), kRadius * std::cos(theta0), 0, 0), 0, T,
+      options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kReachedLower);
+  const double event_error = std::abs(trajectory.events[0].time - t_d);
+  EXPECT_LE(event_error, 1e-9);
+  double radius_error = 0, energy_error = 0, multiplier_error = 0, flight_error = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    const auto x = trajectory.states[k];
+    if (t < trajectory.events[0].time) {
+      // On the circle (projected), with the energy of the release (to the
+      // integration's accuracy) and u its normal force.
+      const double cos_theta = x(1) / kRadius, v2 = x(2) * x(2) + x(3) * x(3);
+      radius_error = std::max(radius_error, std::abs(x.head<2>().norm() - kRadius));
+      energy_error = std::max(energy_error, std::abs(v2 / 2 + kGravity * x(1) -
+                                                     kGravity * kRadius * std::cos(theta0)));
+      multiplier_error = std::max(
+          multiplier_error, std::abs(trajectory.multipliers[k](0) -
+                                     (kGravity * cos_theta - v2 / kRadius) / (2 * kRadius)));
+    } else if (t > t_d + 1e-6) {
+      flight_error = std::max(flight_error, (x - exact(t)).lpNorm<Eigen::Infinity>());
+      EXPECT_EQ(trajectory.multipliers[k](0), 0);
+    }
+  }
+  EXPECT_LE(radius_error, 1e-10);  // samples: the interpolant between projected steps
+  EXPECT_LE(energy_error, 1e-7);
+  EXPECT_LE(multiplier_error, 1e-9);
+  EXPECT_LE(flight_error, 1e-8);
+  EXPECT_LE(trajectory.stats.max_constraint_drift, 1e-12);
+  ASSERT_FALSE(trajectory.intervals.empty());
+  EXPECT_NE(trajectory.intervals[0].reason.find("differentiation procedure"), std::string::npos)
+      << trajectory.intervals[0].reason;
+  RecordProperty("event_time_error", Scientific(event_error));
+  RecordProperty("radius_error", Scientific(radius_error));
+  RecordProperty("energy_error", Scientific(energy_error));
+  RecordProperty("multiplier_error", Scientific(multiplier_error));
+  RecordProperty("flight_error", Scientific(flight_error));
+}
+
+// x1‴ = −1 + u with 0 ≤ u ⊥ x1 ≥ 0 at rest on x1 = 0 needs three passes; a
+// nonlinear F gets two. The look-ahead over δ = 1e-5·T then sees the
+// free-fall mode violate x1 ≥ 0 only by δ³/6, within the VI tolerance, and
+// takes it; its root function x1 starts at zero and falls without a sign
+// change. The run must stop with the reason instead of falling through,
+// and keep nothing of the wrong mode.
+TEST(IndexReduction, ThirdNonlinearPassStopsInsteadOfFallingThrough) {
+  Dvi dvi;
+  dvi.n = 3;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out << x(1), x(2), -1 + u(0);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out(0) = x(0);
+  };
   const Trajectory trajectory =
-      IntegrateEventDriven(dvi, Eigen::Vector2d::Zero(), 0, 0.5, Tight());
+      IntegrateEventDriven(dvi, Eigen::Vector3d::Zero(), 0, 1, Tight());
   EXPECT_EQ(trajectory.status, IntegrationStatus::kNotIndexOne);
   EXPECT_NE(trajectory.message.find("entered at t = 0, no longer holds"), std::string::npos)
       << trajectory.message;
   EXPECT_NE(trajectory.message.find("no root was crossed"), std::string::npos)
       << trajectory.message;
   ASSERT_EQ(trajectory.times.size(), 1u);
-  EXPECT_EQ(trajectory.times[0], 0);
-  EXPECT_EQ(trajectory.states[0], Eigen::Vector2d::Zero());
+  EXPECT_EQ(trajectory.states[0], Eigen::Vector3d::Zero());
 }
 
 // x' = −sgn(x) + a through (4.2), a = 0.3, x0 = 1: x = 1 − (1 − a)t until

@@ -110,10 +110,12 @@ struct EventDrivenOptions {
 /// selects it: the rows of ∂F/∂u on the components where F vanishes are split
 /// by a rank-revealing QR, each dependent row's u-free combination Φ is
 /// differentiated along the flow, and the modified VI must have a strongly
-/// regular solution ((5.8) nonsingular, (5.9) a P-matrix). Such a mode is
-/// integrated as the index-one system with the rows Φ̇ = 0, and kept on
-/// Φ = 0 by CVODE's projection after each BDF step (under Adams the drift is
-/// only measured: IntegrationStats::max_constraint_drift).
+/// regular solution ((5.8) nonsingular, (5.9) a P-matrix); if it has not,
+/// the pass repeats (Sect. 5.4: an LCS as often as it takes, a nonlinear F
+/// twice, index three). Such a mode is integrated as the index-one system
+/// with the rows Φ̇ = 0, and kept on Φ = 0 by CVODE's projection after each
+/// BDF step (under Adams the drift is only measured:
+/// IntegrationStats::max_constraint_drift).
 ///
 /// Statuses: kNotIndexOne when neither route gives a mode (the message names
 /// each failed condition, at t0 before any step); kEventAccumulation for Zeno

@@ -24,6 +24,12 @@ constexpr double kNewtonStepTolerance = 16 * kEpsilon;
 constexpr int kMaxNewtonIterations = 50;
 // Fixed-point iterations of the look-ahead step at an event.
 constexpr int kMaxLookAheadIterations = 6;
+// Passes of the differentiation procedure on a nonlinear F. The first uses
+// F's Jacobians, the second central differences of the first's rows
+// (O(ε^{2/3}) relative); a third would difference those differences
+// (O(ε^{1/3}), 6e-6), too coarse for a mode's equations. Two reach index
+// three: a position constraint of second-order dynamics.
+constexpr int kMaxNonlinearPasses = 2;
 
 // Forward differences of g(t, x, u) in x and u (rows = g's dimension), with
 // the usual √ε relative increment.
@@ -87,8 +93,7 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
 void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
   mode_ = mode;
   free_.clear();
-  reduction_ = RowReduction();
-  differentiated_row_.clear();
+  reductions_.clear();
   passes_ = 0;
   rows_split_ = false;
   u_ = u;
@@ -139,20 +144,71 @@ void BoxModeSystem::FTimeDerivative(double t, const Eigen::VectorXd& x, const Ei
   Ft = (Ft - base) / step;
 }
 
-void BoxModeSystem::DifferentiatedRows(const RowReduction& reduction, double t,
-                                       const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                                       const Eigen::MatrixXd& Fx, Eigen::VectorXd& values,
-                                       Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const {
-  Eigen::VectorXd Ft, xdot(n());
-  Eigen::MatrixXd fx, fu;
-  FTimeDerivative(t, x, u, Ft);
-  SmallFJacobians(t, x, u, fx, fu);
+void BoxModeSystem::PassRows(const std::vector<RowReduction>& reductions, int k, double t,
+                             const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                             Eigen::VectorXd& G, Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const {
+  if (k == 0) {
+    EvalF(t, x, u, G);
+    if (Gu || Gx) {
+      Eigen::MatrixXd Fx, Fu;
+      FJacobians(t, x, u, Fx, Fu);
+      if (Gu) *Gu = std::move(Fu);
+      if (Gx) *Gx = std::move(Fx);
+    }
+    return;
+  }
+  PassRows(reductions, k - 1, t, x, u, G, Gu, Gx);
+  const RowReduction& pass = reductions[k - 1];
+  Eigen::VectorXd xdot(n());
   dvi_.f(t, x, u, xdot);
-  // Φ̇ = P (∂F/∂t + J_xF ẋ): (5.7) differentiated, ẋ substituted from f.
-  const Eigen::MatrixXd P_Fx = reduction.P * Fx;
-  values = reduction.P * Ft + P_Fx * xdot;
-  Gu = P_Fx * fu;
-  if (Gx) *Gx = P_Fx * fx;
+  Eigen::MatrixXd fx, fu;
+  if (Gu || Gx) SmallFJacobians(t, x, u, fx, fu);
+  // The rate ∂G/∂t dt + ∂G/∂x dx of the previous rows G = G^{k−1}: F's own
+  // derivatives on the first pass (Theorem 5.2), differences after it.
+  Eigen::MatrixXd Fx;
+  Eigen::VectorXd Ft;
+  if (k == 1) {
+    Eigen::MatrixXd Fu;
+    FJacobians(t, x, u, Fx, Fu);
+    FTimeDerivative(t, x, u, Ft);
+  }
+  const auto rate = [&](double dt, const Eigen::VectorXd& dx) -> Eigen::VectorXd {
+    if (k == 1) return dt * Ft + Fx * dx;
+    return CentralRate(reductions, k - 1, t, x, u, dt, dx);
+  };
+  // Φ̇ = P (∂G/∂t + ∂G/∂x f): (5.7) differentiated, ẋ substituted from f.
+  const Eigen::VectorXd values = pass.P * rate(1, xdot);
+  const int d = static_cast<int>(pass.differentiated.size());
+  Eigen::MatrixXd rows_u(d, m()), rows_x(d, n());
+  if (Gu)
+    for (int j = 0; j < m(); ++j) rows_u.col(j) = pass.P * rate(0, fu.col(j));
+  if (Gx)
+    for (int i = 0; i < n(); ++i) rows_x.col(i) = pass.P * rate(0, fx.col(i));
+  for (int r = 0; r < d; ++r) {
+    const int row = pass.differentiated[r];
+    G(row) = values(r);
+    if (Gu) Gu->row(row) = rows_u.row(r);
+    if (Gx) Gx->row(row) = rows_x.row(r);
+  }
+}
+
+Eigen::VectorXd BoxModeSystem::CentralRate(const std::vector<RowReduction>& reductions, int k,
+                                           double t, const Eigen::VectorXd& x,
+                                           const Eigen::VectorXd& u, double dt,
+                                           const Eigen::VectorXd& dx) const {
+  const double size = std::max(std::abs(dt), dx.lpNorm<Eigen::Infinity>());
+  if (size == 0) return Eigen::VectorXd::Zero(m());
+  // The fourth-order five-point stencil with s ∝ ε^{1/5}, which balances
+  // its O(s⁴) truncation against round-off / s: O(ε^{4/5}) ≈ 3e-13
+  // relative, where the two-point one leaves O(ε^{2/3}) ≈ 4e-11.
+  const double s =
+      std::pow(kEpsilon, 0.2) * std::max(1.0, x.lpNorm<Eigen::Infinity>()) / size;
+  Eigen::VectorXd rate = Eigen::VectorXd::Zero(m()), G;
+  for (const auto& [offset, weight] : {std::pair{2.0, -1.0}, {1.0, 8.0}, {-1.0, -8.0}, {-2.0, 1.0}}) {
+    PassRows(reductions, k, t + offset * s * dt, x + (offset * s) * dx, u, G, nullptr, nullptr);
+    rate += weight * G;
+  }
+  return rate / (12 * s);
 }
 
 void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
@@ -170,31 +226,24 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
     if (Gx) *Gx = Eigen::MatrixXd(free_C_);
     return;
   }
-  // F's Jacobians are needed for G_u and G_x, and by differentiated rows
-  // for their values (Φ̇ = P F_x f); a residual of undifferentiated rows
-  // needs F alone. The scratch keeps Newton from allocating per iteration.
-  EvalF(t, x, u, scratch_F_);
-  if (Gu || Gx || !reduction_.empty()) FJacobians(t, x, u, scratch_Fx_, scratch_Fu_);
-  Eigen::VectorXd derived;
-  Eigen::MatrixXd derived_u, derived_x;
-  if (!reduction_.empty())
-    DifferentiatedRows(reduction_, t, x, u, scratch_Fx_, derived, derived_u,
-                       Gx ? &derived_x : nullptr);
+  // A residual needs F alone, G_u and G_x its Jacobians; a reduced mode's
+  // rows come from its passes. The scratch keeps Newton in an unreduced mode
+  // from allocating per iteration.
+  if (reductions_.empty()) {
+    EvalF(t, x, u, scratch_F_);
+    if (Gu || Gx) FJacobians(t, x, u, scratch_Fx_, scratch_Fu_);
+  } else {
+    PassRows(reductions_, static_cast<int>(reductions_.size()), t, x, u, scratch_F_,
+             Gu ? &scratch_Fu_ : nullptr, Gx ? &scratch_Fx_ : nullptr);
+  }
   G.resize(a);
   if (Gu) Gu->resize(a, a);
   if (Gx) Gx->resize(a, n());
   for (int i = 0; i < a; ++i) {
-    const int row = differentiated_row_[i];
-    G(i) = row < 0 ? scratch_F_(free_[i]) : derived(row);
+    G(i) = scratch_F_(free_[i]);
     if (Gu)
-      for (int k = 0; k < a; ++k)
-        (*Gu)(i, k) = row < 0 ? scratch_Fu_(free_[i], free_[k]) : derived_u(row, free_[k]);
-    if (Gx) {
-      if (row < 0)
-        Gx->row(i) = scratch_Fx_.row(free_[i]);
-      else
-        Gx->row(i) = derived_x.row(row);
-    }
+      for (int k = 0; k < a; ++k) (*Gu)(i, k) = scratch_Fu_(free_[i], free_[k]);
+    if (Gx) Gx->row(i) = scratch_Fx_.row(free_[i]);
   }
 }
 
@@ -208,22 +257,34 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
   if (affine_) return SolveLcsMode(x, why);
   Eigen::VectorXd& u = newton_u_;
   u = u_;
+  double previous_norm = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     ++newton_iterations_;
     ModeEquations(t, x, u, residual_, &newton_Gu_, nullptr);
     if (!residual_.allFinite()) break;
-    if (residual_.lpNorm<Eigen::Infinity>() == 0) {
+    const double norm = residual_.lpNorm<Eigen::Infinity>();
+    // Zero, or within the tolerance and no longer decreasing: the floor of
+    // the equations' own round-off (differenced rows of a second pass end
+    // there before Newton's step reaches round-off).
+    if (norm == 0 || (norm >= previous_norm && norm <= solver_.tolerance)) {
       u_ = u;
       return true;
     }
+    previous_norm = norm;
     Eigen::FullPivLU<Eigen::MatrixXd>& lu = newton_lu_;
     lu.compute(newton_Gu_);
     if (!lu.isInvertible()) {
-      if (why)
-        *why = reduced() ? "the matrix (5.8) of the reduced mode is singular (Theorem 5.2 "
-                           "fails; a further pass of the differentiation procedure is "
-                           "implemented for an LCS only, Sect. 5.4)"
-                         : "∂F/∂u on the free components is singular";
+      if (why) {
+        std::ostringstream message;
+        if (reduced())
+          message << "the matrix (5.8) of the reduced mode is singular after "
+                  << reductions_.size() << " pass(es) of the differentiation procedure "
+                  << "(Theorem 5.2, Sect. 5.4; a nonlinear F is differentiated at most "
+                  << kMaxNonlinearPasses << " times)";
+        else
+          message << "∂F/∂u on the free components is singular";
+        *why = message.str();
+      }
       return false;
     }
     step_ = lu.solve(residual_);
@@ -312,14 +373,16 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     }
     return;
   }
-  // Theorem 5.2/5.3's row operations on the free components, once per mode.
-  Eigen::MatrixXd Fx, Fu;
-  FJacobians(t, x, u_, Fx, Fu);
-  reduction_ = ReduceRows(Fu.sparseView(1, 0), free_);
-  differentiated_row_.assign(free_.size(), -1);
-  for (int k = 0; k < static_cast<int>(reduction_.differentiated.size()); ++k)
-    differentiated_row_[std::find(free_.begin(), free_.end(), reduction_.differentiated[k]) -
-                        free_.begin()] = k;
+  // Theorem 5.2/5.3's row operations on the free components, once per mode,
+  // repeated while the rows stay dependent (Sect. 5.4).
+  while (static_cast<int>(reductions_.size()) < kMaxNonlinearPasses) {
+    Eigen::VectorXd G;
+    Eigen::MatrixXd Gu;
+    PassRows(reductions_, static_cast<int>(reductions_.size()), t, x, u_, G, &Gu, nullptr);
+    RowReduction reduction = ReduceRows(Gu.sparseView(1, 0), free_);
+    if (reduction.empty()) break;
+    reductions_.push_back(std::move(reduction));
+  }
 }
 
 void BoxModeSystem::Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const {
@@ -381,14 +444,33 @@ void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::Vecto
     if (phi_x) *phi_x = mode_constraints_.C;
     return;
   }
-  Eigen::VectorXd F(m());
-  EvalF(t, x, u_, F);
-  phi = reduction_.P * F;
-  if (phi_x) {
-    Eigen::MatrixXd Fx, Fu;
-    FJacobians(t, x, u_, Fx, Fu);
-    *phi_x = Eigen::MatrixXd(reduction_.P * Fx).sparseView(1, 0);
+  // Φ_k = P_k G^{k−1}, stacked over the passes; the x-derivative of a
+  // later pass's Φ by central differences (G^{k−1}'s rows hold derivatives
+  // of F, whose own x-derivatives are not given).
+  int rows = 0;
+  for (const RowReduction& pass : reductions_) rows += static_cast<int>(pass.P.rows());
+  phi.resize(rows);
+  Eigen::MatrixXd dense_x(rows, n());
+  int row = 0;
+  for (int k = 0; k < static_cast<int>(reductions_.size()); ++k) {
+    const SparseMatrix& P = reductions_[k].P;
+    const int d = static_cast<int>(P.rows());
+    Eigen::VectorXd G;
+    Eigen::MatrixXd Gx;
+    PassRows(reductions_, k, t, x, u_, G, nullptr, phi_x && k == 0 ? &Gx : nullptr);
+    phi.segment(row, d) = P * G;
+    if (phi_x) {
+      if (k == 0) {
+        dense_x.middleRows(row, d) = P * Gx;
+      } else {
+        for (int i = 0; i < n(); ++i)
+          dense_x.block(row, i, d, 1) =
+              P * CentralRate(reductions_, k, t, x, u_, 0, Eigen::VectorXd::Unit(n(), i));
+      }
+    }
+    row += d;
   }
+  if (phi_x) *phi_x = dense_x.sparseView(1, 0);
 }
 
 double BoxModeSystem::ConstraintDrift(double t, const Eigen::VectorXd& x) const {
@@ -473,15 +555,22 @@ Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorX
   return Fu;
 }
 
-bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why) const {
+bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,
+                          double state_error) const {
   std::vector<double> g(2 * m());
   Roots(t, x, g.data());
   const double tolerance = 1e3 * solver_.tolerance;
+  Eigen::MatrixXd Fx, Fu;
+  if (state_error > 0) FJacobians(t, x, u_, Fx, Fu);
   for (int k = 0; k < 2 * m(); ++k) {
-    if (g[k] >= -tolerance) continue;
+    const int j = k / 2;
+    // A bound row's F moves by up to |∂F_j/∂x|₁ times the state's error.
+    const double slack = state_error > 0 && mode_[j] != BoundState::kFree
+                             ? Fx.row(j).lpNorm<1>() * state_error
+                             : 0.0;
+    if (g[k] >= -tolerance - slack) continue;
     if (why) {
       std::ostringstream message;
-      const int j = k / 2;
       message << "u_" << j
               << (mode_[j] == BoundState::kFree ? " would leave its bounds (" : " at its bound has F of the wrong sign (")
               << g[k] << ")";
@@ -568,66 +657,66 @@ bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const 
                                       long* iterations, std::string* why) const {
   if (affine_) return SelectReducedLcsMode(x, vi, mode, u, vi_solves, iterations, why);
   const double tolerance = 1e3 * solver_.tolerance;
-  // S = α ∪ β: the components where F vanishes at the VI solution.
-  std::vector<int> S;
-  for (int j = 0; j < m(); ++j)
-    if (std::abs(vi.w(j)) <= tolerance) S.push_back(j);
-  Eigen::MatrixXd Fx, Fu;
-  FJacobians(t, x, vi.z, Fx, Fu);
-  const RowReduction reduction = ReduceRows(Fu.sparseView(1, 0), S);
-  if (reduction.empty()) {
-    if (why)
-      *why = "the differentiation procedure does not apply: the rows of ∂F/∂u where F "
-             "vanishes are linearly independent";
-    return false;
+  std::vector<RowReduction> reductions;
+  SolveResult current = vi;
+  std::string failure;
+  for (int pass = 1; pass <= kMaxNonlinearPasses; ++pass) {
+    // S = α ∪ β of the current VI: the components where its rows vanish.
+    std::vector<int> S;
+    for (int j = 0; j < m(); ++j)
+      if (std::abs(current.w(j)) <= tolerance) S.push_back(j);
+    Eigen::VectorXd G;
+    Eigen::MatrixXd Gu;
+    PassRows(reductions, pass - 1, t, x, current.z, G, &Gu, nullptr);
+    RowReduction reduction = ReduceRows(Gu.sparseView(1, 0), S);
+    std::ostringstream message;
+    message << "differentiation procedure (Theorem 5.2, Sect. 5.4), pass " << pass << ": ";
+    if (reduction.empty()) {
+      message << "the rows of ∂F/∂u where F vanishes are linearly independent"
+              << (pass == 1 ? "" : ", after " + failure);
+      if (why) *why = message.str();
+      return false;
+    }
+    message << reduction.differentiated.size() << " dependent row(s); ";
+    reductions.push_back(std::move(reduction));
+    // The modified VI of Sect. 5.4: the dependent rows replaced by Φ̇.
+    BoxMcp mcp;
+    mcp.lower = lower_;
+    mcp.upper = upper_;
+    const BoxModeSystem& self = *this;
+    mcp.F = [&self, &reductions, pass, t, &x](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
+      self.PassRows(reductions, pass, t, x, z, w, nullptr, nullptr);
+    };
+    mcp.jacobian = [&self, &reductions, pass, t, &x](const Eigen::VectorXd& z,
+                                                     Eigen::MatrixXd& J) {
+      Eigen::VectorXd w;
+      self.PassRows(reductions, pass, t, x, z, w, &J, nullptr);
+    };
+    const SolveResult modified = SolveBoxProblem(mcp, current.z);
+    ++*vi_solves;
+    *iterations += modified.iterations;
+    if (!modified.solved()) {
+      message << "the modified VI is not solved (" << ToString(modified.status) << ", residual "
+              << modified.residual << ")";
+      if (why) *why = message.str();
+      return false;
+    }
+    Eigen::MatrixXd J;
+    mcp.jacobian(modified.z, J);
+    const MatrixClassVerdict regular = IsStronglyRegular(J, modified.index_sets);
+    if (regular.holds) {
+      mode = ModeOf(modified.z);
+      u = modified.z;
+      return true;
+    }
+    failure = message.str() + "its solution is not strongly regular, (5.8) singular or (5.9) " +
+              "not a P-matrix (" + regular.reason + ")";
+    current = modified;
   }
-  // The modified VI of Sect. 5.4 (5.6): the dependent rows replaced by Φ̇.
-  BoxMcp mcp;
-  mcp.lower = lower_;
-  mcp.upper = upper_;
-  const BoxModeSystem& self = *this;
-  mcp.F = [&self, &reduction, t, &x](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
-    self.EvalF(t, x, z, w);
-    Eigen::VectorXd derived;
-    Eigen::MatrixXd Fx, Fu, derived_u;
-    self.FJacobians(t, x, z, Fx, Fu);
-    self.DifferentiatedRows(reduction, t, x, z, Fx, derived, derived_u, nullptr);
-    for (std::size_t k = 0; k < reduction.differentiated.size(); ++k)
-      w(reduction.differentiated[k]) = derived(static_cast<int>(k));
-  };
-  mcp.jacobian = [&self, &reduction, t, &x](const Eigen::VectorXd& z, Eigen::MatrixXd& J) {
-    Eigen::MatrixXd Jx;
-    self.FJacobians(t, x, z, Jx, J);
-    Eigen::VectorXd derived;
-    Eigen::MatrixXd derived_u;
-    self.DifferentiatedRows(reduction, t, x, z, Jx, derived, derived_u, nullptr);
-    for (std::size_t k = 0; k < reduction.differentiated.size(); ++k)
-      J.row(reduction.differentiated[k]) = derived_u.row(static_cast<int>(k));
-  };
-  const SolveResult modified = SolveBoxProblem(mcp, vi.z);
-  ++*vi_solves;
-  *iterations += modified.iterations;
-  std::ostringstream message;
-  message << "differentiation procedure (Theorem 5.3) on " << reduction.differentiated.size()
-          << " dependent row(s): ";
-  if (!modified.solved()) {
-    message << "the modified VI is not solved (" << ToString(modified.status) << ", residual "
-            << modified.residual << ")";
-    if (why) *why = message.str();
-    return false;
-  }
-  Eigen::MatrixXd J;
-  mcp.jacobian(modified.z, J);
-  const MatrixClassVerdict regular = IsStronglyRegular(J, modified.index_sets);
-  if (!regular.holds) {
-    message << "its solution is not strongly regular, (5.8) singular or (5.9) not a P-matrix ("
-            << regular.reason << ")";
-    if (why) *why = message.str();
-    return false;
-  }
-  mode = ModeOf(modified.z);
-  u = modified.z;
-  return true;
+  if (why)
+    *why = failure + "; a nonlinear F is differentiated at most " +
+           std::to_string(kMaxNonlinearPasses) + " times";
+  return false;
 }
 
 bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi,

@@ -28,10 +28,12 @@ namespace dvi::internal {
 /// differentiation procedure of Theorems 5.2/5.3 (mode_reduction.hpp): G
 /// keeps the independent rows of F_A and replaces each dependent one by the
 /// derivative of its u-free combination Φ along the flow; G_u is then the
-/// matrix (5.8) and must be nonsingular. For an LCS the mode's equations are
-/// matrices, and the pass is repeated while (5.8) is singular (index three
-/// and higher, Sect. 5.4). The original constraints Φ(t, x) = 0 of every pass
-/// are kept from drifting by projection (Project).
+/// matrix (5.8) and must be nonsingular. The pass is repeated while (5.8) is
+/// singular (Sect. 5.4): for an LCS on the matrices, as often as it takes;
+/// for a nonlinear F twice at most (index three: a particle held on a curved
+/// surface), the second by differences of the first's rows. The original
+/// constraints Φ(t, x) = 0 of every pass are kept from drifting by
+/// projection (Project).
 ///
 /// Also the mode's validity as 2m root functions, all positive inside the mode:
 /// a free u_j gives u_j − l_j and ū_j − u_j, a lower-bound one F_j, an upper-
@@ -56,7 +58,7 @@ class BoxModeSystem {
   /// the mode reduced if need be) at the next Solve, at its (t, x).
   void Enter(const BoxMode& mode, const Eigen::VectorXd& u);
   /// True when the current mode is reduced by differentiation.
-  bool reduced() const { return passes_ > 0 || !reduction_.empty(); }
+  bool reduced() const { return passes_ > 0 || !reductions_.empty(); }
   /// The multiplier of the last successful Solve.
   const Eigen::VectorXd& u() const { return u_; }
   long newton_iterations() const { return newton_iterations_; }
@@ -111,16 +113,19 @@ class BoxModeSystem {
                   std::string* why) const;
   /// Whether the current mode holds at (t, x) after Solve: every root
   /// function ≥ −tolerance (a free u within its bounds, a bound component's
-  /// F of the right sign). False names the first violation in why.
-  bool Holds(double t, const Eigen::VectorXd& x, std::string* why) const;
+  /// F of the right sign), a bound F also within what an error of
+  /// state_error in x (∞-norm) moves it. False names the first violation.
+  bool Holds(double t, const Eigen::VectorXd& x, std::string* why,
+             double state_error = 0) const;
   /// The mode at (t, x) by the differentiation procedure (Sect. 5.4): the
   /// components S where F vanishes at the VI solution vi are split into
   /// independent and dependent rows, the dependent u-free combinations are
   /// differentiated along the flow, and the modified VI is solved. Its
   /// solution must be strongly regular — (5.8) nonsingular and the Schur
   /// complement (5.9) a P-matrix, Theorems 5.2/5.3 — and becomes the new
-  /// mode and u. For an LCS a modified LCP whose solution fails (5.8) is
-  /// reduced again (Sect. 5.4). False (with why) when no row is dependent,
+  /// mode and u. A modified VI whose solution is not strongly regular is
+  /// reduced again (Sect. 5.4; a nonlinear F twice at most). False (with
+  /// why) when no row is dependent,
   /// the modified VI is not solved, or the conditions fail.
   bool SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
                          BoxMode& mode, Eigen::VectorXd& u, long* vi_solves, long* iterations,
@@ -138,12 +143,21 @@ class BoxModeSystem {
   /// ∂F/∂t: the given function, else forward differences.
   void FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                        Eigen::VectorXd& Ft) const;
-  /// The differentiated rows Φ̇ = P (F_t + F_x f) of a reduction at (t, x, u),
-  /// given Fx = ∂F/∂x there, with Φ̇_u = P F_x f_u and (when Gx)
-  /// Φ̇_x ≈ P F_x f_x.
-  void DifferentiatedRows(const RowReduction& reduction, double t, const Eigen::VectorXd& x,
-                          const Eigen::VectorXd& u, const Eigen::MatrixXd& Fx,
-                          Eigen::VectorXd& values, Eigen::MatrixXd& Gu, Eigen::MatrixXd* Gx) const;
+  /// G^k of the differentiation procedure repeated ([Seed] Sect. 5.4): F
+  /// (k = 0) with the dependent rows of passes 1…k each replaced by the
+  /// derivative of its u-free combination along the flow,
+  /// Φ̇ = P (∂G^{k−1}/∂t + ∂G^{k−1}/∂x f). Pass 1 takes F's Jacobians
+  /// (Theorem 5.2), a later pass central differences of G^{k−1} (CentralRate).
+  /// Gu = ∂G^k/∂u, its differentiated rows P ∂G^{k−1}/∂x f_u (the rows of
+  /// (5.8)); Gx ≈ ∂G^k/∂x, those rows P ∂G^{k−1}/∂x f_x (second derivatives
+  /// dropped: only CVODE's Newton sees it). m rows.
+  void PassRows(const std::vector<RowReduction>& reductions, int k, double t,
+                const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& G,
+                Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const;
+  /// ∂G^k/∂t dt + ∂G^k/∂x dx at (t, x, u) by central differences.
+  Eigen::VectorXd CentralRate(const std::vector<RowReduction>& reductions, int k, double t,
+                              const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                              const Eigen::VectorXd& dx) const;
   /// The mode equations G(t, x, u) on the free components and, when given,
   /// G_u (a×a) and G_x (a×n).
   void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
@@ -176,11 +190,10 @@ class BoxModeSystem {
   bool affine_orthant_;
   BoxMode mode_;
   std::vector<int> free_;
-  RowReduction reduction_;
-  bool rows_split_ = false;  // reduction_ computed for the current mode
-  // Per free component (in free_ order): its row of reduction_.P when its
-  // equation is differentiated, else −1.
-  std::vector<int> differentiated_row_;
+  // A nonlinear F: the passes of the differentiation procedure the current
+  // mode needs, in order (none when F_u[A, A] is nonsingular).
+  std::vector<RowReduction> reductions_;
+  bool rows_split_ = false;  // the mode's reductions computed
   // An LCS: its matrices, and the current mode's rows and constraints after
   // passes_ passes of the differentiation procedure.
   AffineFlow flow_;

@@ -505,8 +505,18 @@ bool EventDrivenRun::Accumulating(double t, std::string& why) {
 bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   IntegrationStats& stats = trajectory_.stats;
   const BoxMode old_mode = system_.mode();
+  const Eigen::VectorXd x_root = x;
   // u of the old mode at the root only warm-starts the VI: no check needed.
   system_.Solve(t, x);
+  // The root of a reduced mode lies on its constraints Φ = 0 up to the
+  // interpolant's error (CVODE projects steps, not the points between):
+  // put it back, or a VI in u-free rows (an index-three contact) has no
+  // solution at the slightly infeasible state.
+  if (system_.reduced()) {
+    Eigen::VectorXd correction;
+    system_.Project(t, x, correction, nullptr);
+    x += correction;
+  }
   const SolveResult vi = system_.SolveVi(t, x, system_.u());
   ++stats.vi_solves;
   stats.solver_iterations += vi.iterations;
@@ -520,6 +530,10 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   }
   BoxMode mode = old_mode;
   if (t_end_ - t > 0 && !ChooseMode(t, x, vi, mode)) return false;
+  // A root that leaves mode and state as they are (a grazing contact, a
+  // degenerate component) is no event: CVODE restarts from it and does not
+  // report it again there, so such roots cannot pile up at one time.
+  if (mode == old_mode && x == x_root) return true;
   // Chattering guards: roots must not pile up (Zeno), and a mode must not be
   // re-entered at the instant it was left — stop with a status, never loop.
   const double horizon = t_end_ - t0_;
@@ -586,7 +600,11 @@ bool EventDrivenRun::StillHolds() {
   if (data_.root_time != t_ || data_.least_root >= 0) return true;
   const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(y_.data(), x0_.size());
   std::string why;
-  if (system_.Solve(t_, x, &why) && system_.Holds(t_, x, &why)) return true;
+  // A bound row that only grazes its constraint (leaving a curved surface
+  // tangentially) sits within the integration error of it: that much of
+  // the wrong sign is the tolerance CVODE was given, not a wrong mode.
+  const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol;
+  if (system_.Solve(t_, x, &why) && system_.Holds(t_, x, &why, state_error)) return true;
   const auto kept = std::upper_bound(trajectory_.times.begin(), trajectory_.times.end(),
                                      mode_start_) -
                     trajectory_.times.begin();
@@ -650,9 +668,9 @@ bool EventDrivenRun::IntegrateModes() {
     t_ = t_reached;
     if (flag == CV_ROOT_RETURN) {
       SampleOutputs(t_);
-      AddCvodeStats();
       Eigen::VectorXd x = y;
       const Eigen::VectorXd x_left = x, u_left = system_.u();
+      AddCvodeStats();
       if (!HandleEvent(t_, x)) {
         Sample(t_, x_left, u_left);
         return false;

@@ -44,7 +44,7 @@ Dvi SaturatedOscillator();
 /// LCS matrices):
 ///   x1' = x2,  x2' = −1 + u,   0 ≤ u ⊥ x1 ≥ 0.
 /// At rest (x0 = 0) it is index three: u = 1 needs two passes of the
-/// differentiation procedure, which only an LCS gets (Sect. 5.4).
+/// differentiation procedure (Sect. 5.4). No Jacobians.
 Dvi RestingMass();
 
 }  // namespace dvi::testing
