@@ -233,43 +233,13 @@ TEST(IndexReduction, RestingMassAsAGeneralDviRestsByTwoPasses) {
   RecordProperty("multiplier_error", Scientific(multiplier_error));
 }
 
-// A particle on the outside of a frictionless circle of radius R under
-// gravity, x = (q, v):
-//   q' = v,  v' = −g e_y + u ∇φ(q),  0 ≤ u ⊥ φ(q) = |q|² − R² ≥ 0,
-// a nonlinear F of index three: φ and φ̇ = 2q·v are u-free, φ̈ = 2|v|² −
-// 2g q_y + 4|q|² u is not. Released at rest at angle θ0 from the top, it
-// slides with u = (g cos θ − |v|²/R)/(2R) (its normal force), |v|² =
-// 2gR(cos θ0 − cos θ), and leaves the circle where u reaches 0:
+// The particle of testing::ParticleOnACircle, released at rest at angle θ0
+// from the top, slides with u = (g cos θ − |v|²/R)/(2R) (its normal force),
+// |v|² = 2gR(cos θ0 − cos θ), and leaves the circle where u reaches 0:
 // cos θ_d = (2/3) cos θ0, at the time of the pendulum θ'' = (g/R) sin θ;
 // then it flies on the parabola from there.
-constexpr double kGravity = 9.81;
-constexpr double kRadius = 1.0;
-
-Dvi ParticleOnACircle() {
-  Dvi dvi;
-  dvi.n = 4;
-  dvi.m = 1;
-  dvi.K = ConvexSet::Orthant(1);
-  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out << x(2), x(3), 2 * u(0) * x(0), -kGravity + 2 * u(0) * x(1);
-  };
-  dvi.f_jacobian = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx.setZero();
-    Jx(0, 2) = Jx(1, 3) = 1;
-    Jx(2, 0) = Jx(3, 1) = 2 * u(0);
-    Ju << 0, 0, 2 * x(0), 2 * x(1);
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
-    out(0) = x(0) * x(0) + x(1) * x(1) - kRadius * kRadius;
-  };
-  dvi.F_jacobian = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&,
-                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx << 2 * x(0), 2 * x(1), 0, 0;
-    Ju.setZero();
-  };
-  return dvi;
-}
+using testing::kGravity;
+using testing::kRadius;
 
 // t(θ) = ∫ dϑ / √((2g/R)(cos θ0 − cos ϑ)) over [θ0, θ], with ϑ = θ0 + s²
 // removing the endpoint singularity; composite Simpson in s.
@@ -301,7 +271,7 @@ TEST(IndexReduction, ParticleLeavesACircleWhereItsNormalForceVanishesByTwoPasses
   EventDrivenOptions options = Tight();
   options.output_times = testing::Linspace(0, T, 201);
   const Trajectory trajectory = IntegrateEventDriven(
-      ParticleOnACircle(),
+      testing::ParticleOnACircle(),
       Eigen::Vector4d(kRadius * std::sin(theta0), kRadius * std::cos(theta0), 0, 0), 0, T,
       options);
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;

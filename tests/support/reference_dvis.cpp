@@ -96,4 +96,30 @@ Dvi RestingMass() {
   return dvi;
 }
 
+Dvi ParticleOnACircle() {
+  Dvi dvi;
+  dvi.n = 4;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out << x(2), x(3), 2 * u(0) * x(0), -kGravity + 2 * u(0) * x(1);
+  };
+  dvi.f_jacobian = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx.setZero();
+    Jx(0, 2) = Jx(1, 3) = 1;
+    Jx(2, 0) = Jx(3, 1) = 2 * u(0);
+    Ju << 0, 0, 2 * x(0), 2 * x(1);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out(0) = x(0) * x(0) + x(1) * x(1) - kRadius * kRadius;
+  };
+  dvi.F_jacobian = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx << 2 * x(0), 2 * x(1), 0, 0;
+    Ju.setZero();
+  };
+  return dvi;
+}
+
 }  // namespace dvi::testing

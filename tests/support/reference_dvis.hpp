@@ -47,4 +47,13 @@ Dvi SaturatedOscillator();
 /// differentiation procedure (Sect. 5.4). No Jacobians.
 Dvi RestingMass();
 
+/// A particle on the outside of a frictionless circle of radius kRadius
+/// under gravity kGravity, x = (q, v) ∈ ℝ⁴:
+///   q' = v,  v' = −g e_y + u ∇φ(q),  0 ≤ u ⊥ φ(q) = |q|² − R² ≥ 0,
+/// a nonlinear F of index three: φ and φ̇ = 2q·v are u-free, φ̈ = 2|v|² −
+/// 2g q_y + 4|q|² u is not. Exact Jacobians.
+inline constexpr double kGravity = 9.81;
+inline constexpr double kRadius = 1.0;
+Dvi ParticleOnACircle();
+
 }  // namespace dvi::testing
