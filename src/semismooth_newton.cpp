@@ -42,6 +42,14 @@ constexpr double kKinkPartial = 1.0 - 0.70710678118654752440;
 // [De Luca–Facchinei–Kanzow 1996, Algorithm 3.1 uses ρ = 1e-8, p = 2.1].
 constexpr double kDescentRho = 1e-8;
 constexpr double kDescentPower = 2.1;
+// That bound is absolute in ‖d‖: where Φ hardly moves with a variable (a
+// constraint force whose effect on x is O(h²) in a time-stepping MCP),
+// Ψ ≈ 1e-14 while the right step in it is 4e-3, and the exact natural-map
+// Newton step fails it. Such a step is still taken in full when it is in
+// Newton's quadratic regime: Ψ falls at least this factor (iterates
+// escaping to infinity on a problem without solution reduce it by a fixed
+// ratio, about 4 on −1/(1 + z), and stay with the test).
+constexpr double kQuadraticReduction = 1e-2;
 // Armijo: Ψ(z + t d) ≤ Ψ(z) + σ t ∇Ψᵀd, halving t at most kMaxBacktracks
 // times (2⁻⁶⁰ ≈ 1e-18, below any step that can still move z).
 constexpr double kArmijoSigma = 1e-4;
@@ -678,6 +686,20 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   // up to rounding), and is also taken when it solves the problem.
   std::vector<double> history(kMeritMemory, merit);
   int history_next = 0;
+  // The full natural-map step along d when it cuts Ψ by kQuadraticReduction
+  // or solves the problem (1), else 0; on success as line_search.
+  auto quadratic_step = [&](const std::vector<signed char>& snap) {
+    z_trial.noalias() = z + d;
+    phi_map.SnapToActiveBounds(snap, z_trial);
+    mcp.F(z_trial, f_trial);
+    if (!f_trial.allFinite()) return 0.0;
+    const double merit_trial = phi_map.Evaluate(z_trial, f_trial, phi_trial);
+    if (merit_trial > kQuadraticReduction * merit &&
+        BoxNaturalResidual(lower, upper, z_trial, f_trial) > options.tolerance)
+      return 0.0;
+    merit = merit_trial;
+    return 1.0;
+  };
   auto line_search = [&](double slope, const std::vector<signed char>* snap, int backtracks) {
     const double nonmonotone = *std::max_element(history.begin(), history.end());
     double t = 1.0;
@@ -755,6 +777,8 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
         natural_slope = slope;
         natural_d = d;
         t = line_search(slope, &current_active, natural_backtracks);
+      } else if (moves && slope < 0) {
+        t = quadratic_step(current_active);
       }
     }
 

@@ -27,6 +27,7 @@ using testing::ExactState;
 using testing::ExpectThrowNaming;
 using testing::FittedOrder;
 using testing::MaxStateError;
+using testing::ParticleOnACircle;
 using testing::SaturatedDecay;
 using testing::SaturatedDecayExact;
 
@@ -164,6 +165,28 @@ TEST(DviStepping, NonlinearStronglyMonotoneBoxDviIsFirstOrder) {
   ASSERT_TRUE(differenced.succeeded()) << differenced.message;
   EXPECT_LT((differenced.states.back() - exact_jacobian.states.back()).lpNorm<Eigen::Infinity>(),
             1e-8);
+}
+
+// The particle leaving a circle (testing::ParticleOnACircle, index three):
+// backward Euler (3.3) solves each step's MCP, in which u moves q only by
+// O(h²) (the Newton steps of SemismoothNewton.ConstraintForceActingAtOrder…;
+// before, h = 1e-3 stalled in its first step). It keeps the particle on the
+// circle while u > 0 and lets go within a few steps of the exact departure
+// time t_d = 0.56340360 (the event-driven test's), where cos θ = (2/3) cos θ0.
+TEST(DviStepping, ParticleLeavesACircleNearTheExactDeparture) {
+  const double theta0 = 0.3, t_d = 0.56340360;
+  for (const double h : {2e-3, 1e-3, 5e-4}) {
+    const Trajectory trajectory = IntegrateTimeStepping(
+        ParticleOnACircle(), Eigen::Vector4d(std::sin(theta0), std::cos(theta0), 0, 0), 0, 0.7,
+        Options(h));
+    ASSERT_TRUE(trajectory.succeeded()) << "h = " << h << ": " << trajectory.message;
+    ASSERT_EQ(trajectory.events.size(), 1u) << "h = " << h;
+    EXPECT_EQ(trajectory.events[0].kind, EventKind::kReachedLower);
+    EXPECT_NEAR(trajectory.events[0].time, t_d, 2 * h) << "h = " << h;
+    double lowest = 0;
+    for (const auto& x : trajectory.states) lowest = std::min(lowest, x.head<2>().squaredNorm() - 1);
+    EXPECT_GE(lowest, -1e-9) << "h = " << h;
+  }
 }
 
 // Separable (7.2) on a problem with a smooth solution: x' = A x + u,

@@ -536,6 +536,46 @@ TEST(SemismoothNewton, NcpWithoutSolutionIsNotReportedSolved) {
   EXPECT_GT(r.residual, kResidualTolerance);
 }
 
+// One backward-Euler step (3.3) of a particle held on the unit circle, as a
+// box MCP in z = (q⁺, v⁺, u): z_x − x − h f(z_x, u) = 0 free, and
+// 0 ≤ u ⊥ |q⁺|² − 1 ≥ 0. u moves q⁺ only by O(h²): at h = 1e-3 the merit is
+// 1e-14 while u is still 4.7 from its value, and DFK's absolute descent
+// bound rejected the exact Newton step (the run stagnated at residual 7e-6
+// after 56 iterations). The step in Newton's quadratic regime is now taken.
+TEST(SemismoothNewton, ConstraintForceActingAtOrderHSquaredTakesNewtonSteps) {
+  const double g = 9.81, theta0 = 0.3;
+  const Eigen::Vector4d x(std::sin(theta0), std::cos(theta0), 0, 0);
+  for (const double h : {1e-2, 1e-3, 3e-4, 1e-4}) {
+    BoxMcp mcp;
+    mcp.lower = Eigen::VectorXd::Constant(5, -kInf);
+    mcp.lower(4) = 0;
+    mcp.upper = Eigen::VectorXd::Constant(5, kInf);
+    mcp.F = [&x, h, g](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
+      const double u = z(4);
+      const Eigen::Vector4d f(z(2), z(3), 2 * u * z(0), -g + 2 * u * z(1));
+      w.head(4) = z.head(4) - x - h * f;
+      w(4) = z(0) * z(0) + z(1) * z(1) - 1;
+    };
+    mcp.jacobian = [h](const Eigen::VectorXd& z, Eigen::MatrixXd& J) {
+      J.setIdentity();
+      J(4, 4) = 0;
+      J(0, 2) = J(1, 3) = -h;
+      J(2, 0) = J(3, 1) = -2 * h * z(4);
+      J(2, 4) = -2 * h * z(0);
+      J(3, 4) = -2 * h * z(1);
+      J(4, 0) = 2 * z(0);
+      J(4, 1) = 2 * z(1);
+    };
+    Eigen::VectorXd start = Eigen::VectorXd::Zero(5);
+    start.head(4) = x;
+    const SolveResult r = SolveNewton(mcp, SolverOptions(), start);
+    ASSERT_TRUE(r.solved()) << "h = " << h << ": " << r.message;
+    EXPECT_LE(r.iterations, 5) << "h = " << h;
+    // The normal force g cos θ0 / (2R) of the released particle, to O(h).
+    EXPECT_NEAR(r.z(4), g * std::cos(theta0) / 2, 2e-3 * h / 1e-2) << "h = " << h;
+  }
+}
+
 TEST(SemismoothNewton, SingularNewtonMatrixFallsBackToLevenbergMarquardt) {
   // F(z) = M z + q with M singular and z free: a consistent singular linear
   // system. H = M at every iterate, so only the regularized step moves.
