@@ -231,7 +231,7 @@ TEST(EventDriven, SlidesWhereTheIndexOneModesWouldChatter) {
   EXPECT_LE(worst_x, 1e-9);
   EXPECT_LE(worst_u, 1e-9);
   ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_NE(trajectory.intervals[0].reason.find("Theorem 5.3"), std::string::npos)
+  EXPECT_NE(trajectory.intervals[0].reason.find("Theorem 5.2"), std::string::npos)
       << trajectory.intervals[0].reason;
   RecordProperty("max_abs_x_sliding", Scientific(worst_x));
   RecordProperty("max_abs_u_sliding", Scientific(worst_u));

@@ -214,6 +214,7 @@ class EventDrivenRun {
                  double t_end, const EventDrivenOptions& options)
       : dvi_(dvi),
         options_(options),
+        reduction_theorem_(affine ? "Theorem 5.3" : "Theorem 5.2"),
         t0_(t0),
         t_end_(t_end),
         x0_(x0),
@@ -252,6 +253,8 @@ class EventDrivenRun {
 
   const Dvi& dvi_;
   const EventDrivenOptions& options_;
+  // The differentiation procedure's theorem: 5.3 for an LCS, 5.2 otherwise.
+  const char* const reduction_theorem_;
   const double t0_;
   const double t_end_;
   const Eigen::VectorXd& x0_;
@@ -278,7 +281,7 @@ class EventDrivenRun {
   int burst_ = 0;
   std::vector<BoxMode> modes_at_event_time_;
   std::vector<double> switch_times_;  // times of the mode changes, for Zeno detection
-  long reduced_selections_ = 0;       // modes chosen by Theorem 5.3
+  long reduced_selections_ = 0;       // modes chosen by the differentiation procedure
   long look_ahead_selections_ = 0;    // non-strongly-regular points passed by look-ahead
 };
 
@@ -463,7 +466,8 @@ bool EventDrivenRun::Start() {
   if (index_one_reason_.empty())
     index_one_reason_ = reduced_selections_ > 0
                             ? "u0 not strongly regular at t = " + Format(t0_) +
-                                  "; mode by the differentiation procedure (Theorem 5.3)"
+                                  "; mode by the differentiation procedure (" +
+                                  reduction_theorem_ + ")"
                             : "u0 not strongly regular at t = " + Format(t0_) +
                                   "; mode by look-ahead along the flow";
   std::copy(x.data(), x.data() + x.size(), y_.data());
@@ -732,7 +736,8 @@ Trajectory EventDrivenRun::Run() {
                 " non-strongly-regular point(s) passed by look-ahead";
     if (reduced_selections_ > 0)
       reason += "; " + std::to_string(reduced_selections_) +
-                " mode(s) chosen by the differentiation procedure (Theorem 5.3)";
+                " mode(s) chosen by the differentiation procedure (" + reduction_theorem_ +
+                ")";
     trajectory_.intervals.push_back({t0_, trajectory_.times.back(), "event", reason});
   }
   stats.wall_seconds =
