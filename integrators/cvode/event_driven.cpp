@@ -672,9 +672,9 @@ bool EventDrivenRun::IntegrateModes() {
     t_ = t_reached;
     if (flag == CV_ROOT_RETURN) {
       SampleOutputs(t_);
+      AddCvodeStats();
       Eigen::VectorXd x = y;
       const Eigen::VectorXd x_left = x, u_left = system_.u();
-      AddCvodeStats();
       if (!HandleEvent(t_, x)) {
         Sample(t_, x_left, u_left);
         return false;
