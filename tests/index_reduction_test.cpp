@@ -32,17 +32,6 @@ EventDrivenOptions Tight() {
   return options;
 }
 
-// Largest ‖x(t) − exact(t)‖∞ over the samples.
-template <typename StateFn>
-double MaxStateDeviation(const Trajectory& trajectory, StateFn exact) {
-  double worst = 0;
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
-    const Eigen::VectorXd difference = trajectory.states[k] - exact(trajectory.times[k]);
-    worst = std::max(worst, difference.cwiseAbs().maxCoeff());
-  }
-  return worst;
-}
-
 // x' = −1 + u, 0 ≤ u ⊥ x ≥ 0 (A = 0, B = 1, p = −1, C = 1, D = 0): exact
 // x = max(1 − t, 0), and u = 1 on the contact interval, where Φ = x gives
 // Φ̇ = −1 + u = 0 ((5.8) = C B = 1).
@@ -62,7 +51,7 @@ TEST(IndexReduction, ScalarContactEventStateAndMultiplier) {
   EXPECT_EQ(trajectory.events[0].kind, EventKind::kLeftBound);
   const double event_error = std::abs(trajectory.events[0].time - 1);
   EXPECT_LE(event_error, 1e-9);
-  const double state_error = MaxStateDeviation(trajectory, [](double t) {
+  const double state_error = testing::MaxStateError(trajectory, [](double t) {
     return Eigen::VectorXd::Constant(1, std::max(1 - t, 0.0));
   });
   EXPECT_LE(state_error, 1e-9);
@@ -124,7 +113,7 @@ TEST(IndexReduction, TwoDimensionalIndexTwoLcs) {
   ASSERT_EQ(trajectory.events.size(), 1u);
   const double event_error = std::abs(trajectory.events[0].time - contact);
   EXPECT_LE(event_error, 1e-9);
-  const double state_error = MaxStateDeviation(trajectory, exact);
+  const double state_error = testing::MaxStateError(trajectory, exact);
   EXPECT_LE(state_error, 1e-9);
   double multiplier_error = 0;
   for (std::size_t k = 0; k < trajectory.times.size(); ++k)
@@ -173,7 +162,7 @@ TEST(IndexReduction, RestingMassNeedsASecondPassThenLiftsOff) {
   EXPECT_EQ(trajectory.events[0].kind, EventKind::kReachedLower);
   const double event_error = std::abs(trajectory.events[0].time - lift_off);
   EXPECT_LE(event_error, 1e-9);
-  const double state_error = MaxStateDeviation(trajectory, exact);
+  const double state_error = testing::MaxStateError(trajectory, exact);
   EXPECT_LE(state_error, 1e-8);
   double multiplier_error = 0, resting_height = 0;
   for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
@@ -418,7 +407,7 @@ TEST(IndexReduction, TwoDimensionalFilippovSlidesToTheOrigin) {
   const double arrival_error = std::abs(trajectory.events.back().time - 2.5);
   EXPECT_LE(entry_error, 1e-8);
   EXPECT_LE(arrival_error, 1e-8);
-  const double state_error = MaxStateDeviation(trajectory, exact);
+  const double state_error = testing::MaxStateError(trajectory, exact);
   EXPECT_LE(state_error, 1e-8);
   RecordProperty("sliding_entry_error", Scientific(entry_error));
   RecordProperty("arrival_error", Scientific(arrival_error));
@@ -441,11 +430,8 @@ TEST(IndexReduction, DiodeBridgeFollowsTheDampedRlcSolution) {
       IntegrateEventDriven(circuits::DiodeBridge(parameters),
                            circuits::DiodeBridgeInitialState(parameters), 0, 5e-3, options);
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  double worst = 0;
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
-    worst = std::max(worst, std::abs(trajectory.states[k](0) -
-                                     circuits::DiodeBridgeExactState(parameters,
-                                                                     trajectory.times[k])(0)));
+  const double worst = testing::MaxComponentError(
+      trajectory, [&](double t) { return circuits::DiodeBridgeExactState(parameters, t); }, 0);
   EXPECT_LE(worst, 1e-9);
   EXPECT_GE(trajectory.events.size(), 4u);
   RecordProperty("max_voltage_error", Scientific(worst));

@@ -383,11 +383,8 @@ TEST(ModeDae, DiodeBridgeFollowsTheDampedRlcSolution) {
       IntegrateModeDae(circuits::DiodeBridge(parameters),
                        circuits::DiodeBridgeInitialState(parameters), 0, 5e-3, options);
   ASSERT_TRUE(result.succeeded()) << result.message;
-  double worst = 0;
-  for (std::size_t k = 0; k < result.times.size(); ++k)
-    worst = std::max(worst, std::abs(result.states[k](0) -
-                                     circuits::DiodeBridgeExactState(parameters,
-                                                                     result.times[k])(0)));
+  const double worst = testing::MaxComponentError(
+      result, [&](double t) { return circuits::DiodeBridgeExactState(parameters, t); }, 0);
   EXPECT_LE(worst, 1e-8);
   EXPECT_GE(result.events.size(), 16u);
   EXPECT_NE(result.intervals[0].reason.find("chosen by look-ahead"), std::string::npos)

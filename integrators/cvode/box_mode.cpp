@@ -157,21 +157,26 @@ void BoxModeSystem::PassRows(const std::vector<RowReduction>& reductions, int k,
     }
     return;
   }
-  PassRows(reductions, k - 1, t, x, u, G, Gu, Gx);
+  // The rate ∂G/∂t dt + ∂G/∂x dx of the previous rows G = G^{k−1}: F's own
+  // derivatives on the first pass (Theorem 5.2, one Jacobian evaluation for
+  // G^0's and the rate), differences after it.
+  Eigen::MatrixXd Fx;
+  Eigen::VectorXd Ft;
+  if (k == 1) {
+    EvalF(t, x, u, G);
+    Eigen::MatrixXd Fu;
+    FJacobians(t, x, u, Fx, Fu);
+    FTimeDerivative(t, x, u, Ft);
+    if (Gu) *Gu = std::move(Fu);
+    if (Gx) *Gx = Fx;
+  } else {
+    PassRows(reductions, k - 1, t, x, u, G, Gu, Gx);
+  }
   const RowReduction& pass = reductions[k - 1];
   Eigen::VectorXd xdot(n());
   dvi_.f(t, x, u, xdot);
   Eigen::MatrixXd fx, fu;
   if (Gu || Gx) SmallFJacobians(t, x, u, fx, fu);
-  // The rate ∂G/∂t dt + ∂G/∂x dx of the previous rows G = G^{k−1}: F's own
-  // derivatives on the first pass (Theorem 5.2), differences after it.
-  Eigen::MatrixXd Fx;
-  Eigen::VectorXd Ft;
-  if (k == 1) {
-    Eigen::MatrixXd Fu;
-    FJacobians(t, x, u, Fx, Fu);
-    FTimeDerivative(t, x, u, Ft);
-  }
   const auto rate = [&](double dt, const Eigen::VectorXd& dx) -> Eigen::VectorXd {
     if (k == 1) return dt * Ft + Fx * dx;
     return CentralRate(reductions, k - 1, t, x, u, dt, dx);

@@ -41,4 +41,12 @@ double MaxStateError(const Trajectory& trajectory, const ExactState& exact) {
   return error;
 }
 
+double MaxComponentError(const Trajectory& trajectory, const ExactState& exact, int component) {
+  double error = 0;
+  for (size_t k = 0; k < trajectory.times.size(); ++k)
+    error = std::max(error, std::abs(trajectory.states[k](component) -
+                                     exact(trajectory.times[k])(component)));
+  return error;
+}
+
 }  // namespace dvi::testing

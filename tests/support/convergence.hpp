@@ -22,5 +22,7 @@ using ExactState = std::function<Eigen::VectorXd(double t)>;
 
 /// max over the trajectory's samples of ‖x_k − x(t_k)‖∞.
 double MaxStateError(const Trajectory& trajectory, const ExactState& exact);
+/// max_k |x_c(t_k) − exact(t_k)_c| for one component c of the state.
+double MaxComponentError(const Trajectory& trajectory, const ExactState& exact, int component);
 
 }  // namespace dvi::testing
