@@ -176,6 +176,10 @@ TEST(SceneFile, DviExpressionsBecomeFunctionsWithExactJacobians) {
   dvi.F_jacobian(0.0, Eigen::Vector2d(1.5, 2), Eigen::VectorXd::Constant(1, 0.5), Jx, Ju);
   EXPECT_EQ(Jx, Eigen::RowVector2d(3, 0));
   EXPECT_EQ(Ju(0, 0), 1.0);
+  // box-dvi takes the same default set, the orthant, which is a box.
+  const Scene box = ParseScene(R"({"problem": {"type": "box-dvi", "f": ["u1 - 1"],
+    "F": ["u1 + x1"]}, "x0": [1], "horizon": 1})");
+  EXPECT_EQ(std::get<Dvi>(box.problem).K.kind(), ConvexSet::Kind::kOrthant);
 }
 
 TEST(SceneFile, ErrorsNameTheField) {
