@@ -323,14 +323,17 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
     }
     return false;
   }
+  const int a = static_cast<int>(free_.size());
   if (map_.size() > 0) {
-    step_ = map_offset_;
-    step_.noalias() += map_ * x;
-    for (int i = 0; i < static_cast<int>(free_.size()); ++i) u_(free_[i]) = step_(i);
+    // Row by row: at these sizes a call to Eigen's matrix-vector kernel costs
+    // more than the products (this runs once per RHS and per output time).
+    for (int i = 0; i < a; ++i) u_(free_[i]) = map_offset_(i) + map_.row(i).dot(x);
   } else {
     SolveLcsModeByLu(x);
   }
-  if (u_.allFinite()) return true;
+  bool finite = true;
+  for (const int j : free_) finite = finite && std::isfinite(u_(j));
+  if (finite) return true;
   if (why) *why = "the mode's equations give a non-finite u";
   return false;
 }

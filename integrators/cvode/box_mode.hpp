@@ -206,8 +206,9 @@ class BoxModeSystem {
   SparseMatrix free_C_;
   Eigen::MatrixXd free_M_;
   Eigen::PartialPivLU<Eigen::MatrixXd> mode_lu_;
-  // u_α = map_offset_ + map_ x when the mode is small (map_ empty otherwise).
-  Eigen::MatrixXd map_;
+  // u_α = map_offset_ + map_ x when the mode is small (map_ empty otherwise);
+  // by rows, as SolveLcsMode reads it.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> map_;
   Eigen::VectorXd map_offset_;
   bool mode_regular_ = false;
   Eigen::VectorXd residual_, step_;
