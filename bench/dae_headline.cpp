@@ -481,10 +481,21 @@ std::vector<FailureCase> FailureCases() {
   const SpiralExact spiral(spiral_e, Eigen::Vector2d(3, 3));
   cases.push_back({"Zeno", "Filippov spiral c = 25, x0 = (3, 3), T = 2: origin at t* = 1.5",
                    FilippovSignLcs(spiral_e), Eigen::Vector2d(3, 3), 2, spiral, 0, true});
+  // Its quadrants contracting by different factors (c1 = 25, c2 = 5 in
+  // E = [[−2, 2(1 + c1)], [−2(1 + c2), −2]]): the gaps alternate between the
+  // ratios 5/7 and 25/27, geometric per cycle of two modes; origin at 1.5.
+  Eigen::Matrix2d asymmetric_e;
+  asymmetric_e << -2, 2 * (1 + 25), -2 * (1 + 5), -2;
+  cases.push_back({"Zeno, cycle of two modes",
+                   "asymmetric spiral c1 = 25, c2 = 5, x0 = (3, 3), T = 2: origin at t* = 1.5",
+                   FilippovSignLcs(asymmetric_e), Eigen::Vector2d(3, 3), 2,
+                   SpiralExact(asymmetric_e, Eigen::Vector2d(3, 3)), 0, true});
 
   const double a = 0.3;
   cases.push_back(
-      {"sliding", "x' = −sgn(x) + 0.3, x0 = 1, T = 3: x = max(1 − 0.7t, 0)",
+      {"chattering (sliding)",
+       "x' = −sgn(x) + 0.3, x0 = 1, T = 3: x = max(1 − 0.7t, 0); a method without sliding "
+       "modes chatters across x = 0",
        FilippovSignLcs(Eigen::MatrixXd::Constant(1, 1, -1), Eigen::VectorXd::Constant(1, a)),
        Eigen::VectorXd::Constant(1, 1), 3,
        [a](double t) { return Eigen::VectorXd::Constant(1, std::max(1 - (1 - a) * t, 0.0)); }, 0});

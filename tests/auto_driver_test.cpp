@@ -157,6 +157,65 @@ TEST(AutoDriver, SpiralHandsTheZenoIntervalToTimeSteppingAndEndsAtTheOrigin) {
   RecordProperty("difference_to_event_only", Scientific(difference));
 }
 
+// An asymmetric spiral x' = E sgn(x), E = [[−2, 2(1 + c1)], [−2(1 + c2), −2]]
+// (Siconos' spiral when c1 = c2): velocity E s in each open quadrant, every
+// axis crossed transversally. From an amplitude X on the x1 axis the next
+// crossing comes after X/(2(2 + c1)) at c2 X/(2 + c1) on the x2 axis, and
+// from Y there after Y/(2(2 + c2)) at c1 Y/(2 + c2): consecutive gaps
+// alternate between the ratios c2/(2 + c2) and c1/(2 + c1) (5/7 and 25/27),
+// so the switch times are geometric per cycle of two modes, with ratio
+// ρ = c1 c2/((2 + c1)(2 + c2)), not per gap.
+constexpr double kAsymmetricC1 = 25, kAsymmetricC2 = 5;
+
+Lcs AsymmetricSpiral() {
+  Eigen::Matrix2d E;
+  E << -2, 2 * (1 + kAsymmetricC1), -2 * (1 + kAsymmetricC2), -2;
+  return FilippovSignLcs(E);
+}
+
+// From x0 = (3, 3): the x2 axis after 3/(2(2 + c2)) at X = 3 + 2 c1 of that,
+// then half turns of X (1 + c2)/((2 + c1)(2 + c2)), each ρ times the last.
+double AsymmetricSpiralArrival() {
+  const double c1 = kAsymmetricC1, c2 = kAsymmetricC2;
+  const double first = 3 / (2 * (2 + c2));
+  const double X = 3 + 2 * c1 * first;
+  const double rho = c1 * c2 / ((2 + c1) * (2 + c2));
+  return first + X * (1 + c2) / ((2 + c1) * (2 + c2)) / (1 - rho);
+}
+
+TEST(AutoDriver, SpiralWithAlternatingGapRatiosIsZenoPerCycleOfTwoModes) {
+  const double arrival = AsymmetricSpiralArrival();
+  const double horizon = 2 * arrival;
+  AutoOptions options = SpiralOptions();
+  options.event.output_times = Linspace(0, horizon, 401);
+  const Eigen::Vector2d x0(3, 3);
+  // Event-driven alone predicts t* from the cycle of two gaps.
+  const Trajectory event_only =
+      IntegrateEventDriven(AsymmetricSpiral(), x0, 0, horizon, options.event);
+  EXPECT_EQ(event_only.status, IntegrationStatus::kEventAccumulation) << event_only.message;
+  EXPECT_TRUE(Contains(event_only.message, "per cycle of 2 modes")) << event_only.message;
+  EXPECT_LT(event_only.final_time(), arrival);
+  // The automatic driver steps from there over the predicted t*.
+  const Trajectory trajectory = IntegrateAuto(AsymmetricSpiral(), x0, 0, horizon, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, horizon);
+  const auto zeno = std::find_if(
+      trajectory.intervals.begin(), trajectory.intervals.end(), [](const MethodInterval& i) {
+        return i.name == "stepping" && Contains(i.reason, "per cycle of 2 modes");
+      });
+  ASSERT_NE(zeno, trajectory.intervals.end());
+  const double predicted = zeno->to - options.stepping_window * horizon;
+  EXPECT_NEAR(predicted, arrival, 1e-8) << zeno->reason;
+  // At the origin from the end of the stepping window on, to round-off.
+  double after = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
+    if (trajectory.times[k] >= zeno->to) after = std::max(after, trajectory.states[k].norm());
+  EXPECT_LE(after, 1e-12);
+  RecordProperty("arrival", Scientific(arrival));
+  RecordProperty("predicted_arrival_error", Scientific(std::abs(predicted - arrival)));
+  RecordProperty("event_message", event_only.message);
+}
+
 TEST(AutoDriver, IndexOneProblemRunsEventDrivenThroughout) {
   AutoOptions options;
   options.event.rtol = 1e-10;

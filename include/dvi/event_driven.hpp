@@ -68,9 +68,11 @@ struct EventDrivenOptions {
   double min_event_spacing = 1e-6;
   /// Zeno detector: when the gaps between the last 8 mode changes shrink by a
   /// near-constant ratio r < 1, the switch times converge to a predicted
-  /// t* = t + Δ·r/(1 − r); once t* − t is below zeno_window·(t_end − t0) the
-  /// run stops with kEventAccumulation and t* in the message (the automatic
-  /// driver steps over t*). In [0, 1]; 0 turns the detector off.
+  /// t* = t + Δ·r/(1 − r) (modes cycling with a period p ≤ 4: gap k against
+  /// gap k − p, Δ the last p gaps); once t* − t is below
+  /// zeno_window·(t_end − t0) the run stops with kEventAccumulation and t* in
+  /// the message (the automatic driver steps over t*). In [0, 1]; 0 turns the
+  /// detector off.
   double zeno_window = 1e-2;
   /// Options of the full VI solves at the initial time and at events (box MCP
   /// by semismooth Newton); its tolerance also accepts the mode's Newton

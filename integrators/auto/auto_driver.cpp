@@ -89,14 +89,19 @@ std::vector<double> Clip(const std::vector<double>& times, double from, double t
 // A geometric sequence of event times t_k (Zeno behaviour): the gaps
 // Δ_k = t_{k+1} − t_k shrink with a near-constant ratio r < 1, so they sum to
 // a finite accumulation time t* = t_last + Δ_last (r + r² + …)
-// = t_last + Δ_last·r/(1 − r).
+// = t_last + Δ_last·r/(1 − r). Where the modes cycle with period p (a spiral
+// whose quadrants contract by different factors) the sequence is geometric
+// per cycle, Δ_{k+p} ≈ r Δ_k, and t* = t_last + (the last p gaps)·r/(1 − r).
 struct ZenoPrediction {
   bool found = false;
   int times = 0;  // distinct event times in the run
+  int period = 1;
   int gaps = 0;   // trailing gaps that fit the sequence
-  double ratio = 0;
+  double ratio = 0;  // per cycle
   double accumulation_time = 0;
 };
+// The longest mode cycle looked for.
+constexpr int kMaxZenoPeriod = 4;
 
 ZenoPrediction PredictAccumulation(const std::vector<Event>& events, double same_time) {
   std::vector<double> times;
@@ -104,31 +109,42 @@ ZenoPrediction PredictAccumulation(const std::vector<Event>& events, double same
     if (times.empty() || event.time - times.back() > same_time) times.push_back(event.time);
   ZenoPrediction prediction;
   prediction.times = static_cast<int>(times.size());
-  if (prediction.times < kMinZenoGaps + 1) return prediction;
-  std::vector<double> gaps(times.size() - 1);
+  std::vector<double> gaps(times.empty() ? 0 : times.size() - 1);
   for (std::size_t k = 0; k + 1 < times.size(); ++k) gaps[k] = times[k + 1] - times[k];
-  std::vector<double> ratios(gaps.size() - 1);
-  for (std::size_t k = 0; k + 1 < gaps.size(); ++k) ratios[k] = gaps[k + 1] / gaps[k];
-  // The median of the last kMinZenoGaps − 1 ratios is the reference; the
-  // sequence extends back while the ratios stay near it.
-  std::vector<double> last(ratios.end() - (kMinZenoGaps - 1), ratios.end());
-  std::nth_element(last.begin(), last.begin() + last.size() / 2, last.end());
-  const double reference = last[last.size() / 2];
-  if (!(reference < 1)) return prediction;
-  const auto fits = [&](double ratio) {
-    return ratio <= reference * kRatioSpread && ratio >= reference / kRatioSpread;
-  };
-  std::size_t first = ratios.size();
-  while (first > 0 && fits(ratios[first - 1])) --first;
-  const int fitted = static_cast<int>(ratios.size() - first);
-  if (fitted < kMinZenoGaps - 1) return prediction;
-  // The geometric mean of the fitted ratios, from the first and last gaps.
-  const double ratio = std::pow(gaps.back() / gaps[first], 1.0 / fitted);
-  if (!(ratio < 1)) return prediction;
-  prediction.found = true;
-  prediction.gaps = fitted + 1;
-  prediction.ratio = ratio;
-  prediction.accumulation_time = times.back() + gaps.back() * ratio / (1 - ratio);
+  // The shortest period that fits.
+  for (std::size_t period = 1; period <= kMaxZenoPeriod; ++period) {
+    if (gaps.size() + 1 < kMinZenoGaps + period) return prediction;
+    std::vector<double> ratios(gaps.size() - period);
+    for (std::size_t k = 0; k < ratios.size(); ++k) ratios[k] = gaps[k + period] / gaps[k];
+    // The median of the last kMinZenoGaps − 1 ratios is the reference; the
+    // sequence extends back while the ratios stay near it.
+    std::vector<double> last(ratios.end() - (kMinZenoGaps - 1), ratios.end());
+    std::nth_element(last.begin(), last.begin() + last.size() / 2, last.end());
+    const double reference = last[last.size() / 2];
+    if (!(reference < 1)) continue;
+    const auto fits = [&](double ratio) {
+      return ratio <= reference * kRatioSpread && ratio >= reference / kRatioSpread;
+    };
+    std::size_t first = ratios.size();
+    while (first > 0 && fits(ratios[first - 1])) --first;
+    const int fitted = static_cast<int>(ratios.size() - first);
+    if (fitted < kMinZenoGaps - 1) continue;
+    // The geometric mean of the fitted ratios: their product telescopes to
+    // the last p gaps over the first p of the run.
+    double log_product = 0, cycle = 0;
+    for (std::size_t k = 0; k < period; ++k) {
+      log_product += std::log(gaps[gaps.size() - 1 - k]) - std::log(gaps[first + k]);
+      cycle += gaps[gaps.size() - 1 - k];
+    }
+    const double ratio = std::exp(log_product / fitted);
+    if (!(ratio < 1)) continue;
+    prediction.found = true;
+    prediction.period = static_cast<int>(period);
+    prediction.gaps = fitted + static_cast<int>(period);
+    prediction.ratio = ratio;
+    prediction.accumulation_time = times.back() + cycle * ratio / (1 - ratio);
+    return prediction;
+  }
   return prediction;
 }
 
@@ -215,6 +231,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     if (zeno.found) {
       reason = "Zeno: " + std::to_string(zeno.times) + " event times, the last " +
                std::to_string(zeno.gaps) + " gaps with ratio " + Fixed(zeno.ratio, 3) +
+               (zeno.period > 1 ? " per cycle of " + std::to_string(zeno.period) + " modes" : "") +
                ", accumulation predicted at t* = " + Fixed(zeno.accumulation_time, 7) +
                " (event-driven stopped at t = " + Short(t_a) + ": " + failure + ")";
       t_b = std::min(t_end, std::max(zeno.accumulation_time, t_a) + window);

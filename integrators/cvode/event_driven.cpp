@@ -88,9 +88,11 @@ constexpr double kLookAheadFraction = 1e-5;
 // Events closer than this (relative to |t| + horizon) happen at the same time.
 constexpr double kSameTimeFraction = 1e-12;
 // Zeno detection: this many successive gap ratios, all below kZenoMaxRatio
-// and within kZenoRatioSpread (relative) of their mean, make a geometric
-// sequence of switch times.
+// (per gap) and within kZenoRatioSpread (relative) of their mean, make a
+// geometric sequence of switch times; a mode cycle of up to kZenoMaxPeriod
+// modes is geometric per cycle (gap k against gap k − p).
 constexpr int kZenoGaps = 8;
+constexpr int kZenoMaxPeriod = 4;
 constexpr double kZenoMaxRatio = 0.99;
 constexpr double kZenoRatioSpread = 0.05;
 
@@ -478,32 +480,42 @@ bool EventDrivenRun::Start() {
 // Zeno: the gaps between the last mode changes shrink geometrically,
 // Δ_{k+1} ≈ r Δ_k with r < 1, so the switch times converge to
 // t* = t + Δ r/(1 − r); stop once t* is within zeno_window of the horizon.
+// Where the modes cycle with period p (a spiral whose quadrants contract
+// by different factors), Δ_{k+p} ≈ r Δ_k and t* = t + (Δ_{k−p+1} + … + Δ_k)
+// r/(1 − r); the shortest period that fits is taken.
 bool EventDrivenRun::Accumulating(double t, std::string& why) {
   switch_times_.push_back(t);
-  const int gaps = kZenoGaps;
   const int count = static_cast<int>(switch_times_.size());
-  if (count < gaps + 2) return false;
-  double ratio_sum = 0, ratio_min = 1e300, ratio_max = 0;
-  for (int k = count - gaps; k < count; ++k) {
-    const double previous = switch_times_[k - 1] - switch_times_[k - 2];
-    const double gap = switch_times_[k] - switch_times_[k - 1];
-    if (!(previous > 0)) return false;
-    const double ratio = gap / previous;
-    ratio_sum += ratio;
-    ratio_min = std::min(ratio_min, ratio);
-    ratio_max = std::max(ratio_max, ratio);
+  const auto gap = [this](int k) { return switch_times_[k] - switch_times_[k - 1]; };
+  for (int period = 1; period <= kZenoMaxPeriod; ++period) {
+    if (count < kZenoGaps + period + 1) return false;
+    double ratio_sum = 0, ratio_min = 1e300, ratio_max = 0;
+    bool valid = true;
+    for (int k = count - kZenoGaps; k < count && valid; ++k) {
+      const double earlier = gap(k - period);
+      const double ratio = gap(k) / earlier;
+      valid = earlier > 0 && std::isfinite(ratio);
+      ratio_sum += ratio;
+      ratio_min = std::min(ratio_min, ratio);
+      ratio_max = std::max(ratio_max, ratio);
+    }
+    const double ratio = ratio_sum / kZenoGaps;
+    if (!valid || !(ratio < std::pow(kZenoMaxRatio, period)) ||
+        ratio_max - ratio_min > kZenoRatioSpread * ratio)
+      continue;
+    double cycle = 0;
+    for (int k = count - period; k < count; ++k) cycle += gap(k);
+    const double accumulation = t + cycle * ratio / (1 - ratio);
+    if (accumulation - t > options_.zeno_window * (t_end_ - t0_)) return false;
+    std::ostringstream message;
+    message << "Zeno: " << count << " mode changes, the last " << kZenoGaps
+            << " gaps shrinking by a ratio of " << ratio;
+    if (period > 1) message << " per cycle of " << period << " modes";
+    message << ", accumulate at t* = " << std::setprecision(10) << accumulation << " (predicted)";
+    why = message.str();
+    return true;
   }
-  const double ratio = ratio_sum / gaps;
-  if (!(ratio < kZenoMaxRatio) || ratio_max - ratio_min > kZenoRatioSpread * ratio) return false;
-  const double last_gap = switch_times_[count - 1] - switch_times_[count - 2];
-  const double accumulation = t + last_gap * ratio / (1 - ratio);
-  if (accumulation - t > options_.zeno_window * (t_end_ - t0_)) return false;
-  std::ostringstream message;
-  message << "Zeno: " << count << " mode changes, the last " << gaps
-          << " gaps shrinking by a ratio of " << ratio << ", accumulate at t* = "
-          << std::setprecision(10) << accumulation << " (predicted)";
-  why = message.str();
-  return true;
+  return false;
 }
 
 bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
