@@ -237,6 +237,51 @@ TEST(EventDriven, SlidesWhereTheIndexOneModesWouldChatter) {
   RecordProperty("max_abs_u_sliding", Scientific(worst_u));
 }
 
+// The damped relay x'' = −sgn(x) − x' (sgn through (4.2): u = (v, x⁻),
+// sgn(x) = 1 − v) switches infinitely often, with gaps shrinking towards
+// t = ∞ but not geometrically: no Zeno prediction, so the burst guard is
+// what stops a run whose events come closer than min_event_spacing·T.
+TEST(EventDriven, BurstGuardStopsEventsCloserThanTheMinimumSpacing) {
+  Eigen::Matrix2d A, B, C, D;
+  A << 0, 1, 0, -1;
+  B << 0, 0, 1, 0;
+  C << 1, 0, 0, 0;
+  D << 0, 1, -1, 0;
+  const Lcs relay = Lcs::Dense(A, B, C, D, Eigen::Vector2d(0, -1), Eigen::Vector2d(0, 2));
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const double horizon = 20;
+  // Unguarded, the run switches 749 times and reaches the horizon.
+  const Trajectory full = IntegrateEventDriven(relay, Eigen::Vector2d(1, 0), 0, horizon, options);
+  ASSERT_TRUE(full.succeeded()) << full.message;
+  std::vector<double> switches;
+  for (const Event& event : full.events)
+    if (switches.empty() || event.time > switches.back()) switches.push_back(event.time);
+  ASSERT_GT(switches.size(), 100u);
+  // Guarded at 0.25 (spacing 0.0125·T): the run stops at the fourth switch
+  // in a row that follows its predecessor by less than that.
+  options.min_event_spacing = 0.0125;
+  options.max_event_burst = 4;
+  const double spacing = options.min_event_spacing * horizon;
+  std::size_t stop = 0;
+  for (std::size_t k = 1, burst = 1; k < switches.size() && stop == 0; ++k) {
+    burst = switches[k] - switches[k - 1] < spacing ? burst + 1 : 1;
+    if (burst >= 4) stop = k;
+  }
+  ASSERT_GT(stop, 0u);
+  const Trajectory guarded =
+      IntegrateEventDriven(relay, Eigen::Vector2d(1, 0), 0, horizon, options);
+  EXPECT_EQ(guarded.status, IntegrationStatus::kEventAccumulation) << guarded.message;
+  EXPECT_NE(guarded.message.find("chattering: 4 consecutive events each less than 0.25 apart"),
+            std::string::npos)
+      << guarded.message;
+  EXPECT_EQ(guarded.message.find("(predicted)"), std::string::npos) << guarded.message;
+  EXPECT_NEAR(guarded.final_time(), switches[stop], 1e-8);
+  RecordProperty("switches_unguarded", std::to_string(switches.size()));
+  RecordProperty("stopped_at", std::to_string(guarded.final_time()));
+}
+
 TEST(EventDriven, StopsAtMaxEvents) {
   EventDrivenOptions options;
   options.max_events = 3;
