@@ -7,7 +7,7 @@ namespace dvi {
 
 void VectorSamples::reserve(std::size_t count, Eigen::Index dim) {
   const std::size_t values = count * static_cast<std::size_t>(dim);
-  if (values_.size() < values) values_.resize(values);
+  if (capacity() < values) values_.conservativeResize(static_cast<Eigen::Index>(values));
 }
 
 void VectorSamples::PushBackGrowing(const Eigen::Ref<const Eigen::VectorXd>& v) {
@@ -21,7 +21,8 @@ void VectorSamples::PushBackGrowing(const Eigen::Ref<const Eigen::VectorXd>& v) 
   const Eigen::VectorXd copy = v;
   const std::size_t used = size_ * static_cast<std::size_t>(dim_);
   const std::size_t needed = used + static_cast<std::size_t>(dim_);
-  if (values_.size() < needed) values_.resize(std::max(needed, 2 * values_.size()));
+  if (capacity() < needed)
+    values_.conservativeResize(static_cast<Eigen::Index>(std::max(needed, 2 * capacity())));
   std::copy(copy.data(), copy.data() + dim_, values_.data() + used);
   ++size_;
 }
@@ -41,7 +42,7 @@ void VectorSamples::append(const VectorSamples& other) {
                                            << other.dim_ << " entries, expected " << dim_);
   const std::size_t used = size_ * static_cast<std::size_t>(dim_);
   const std::size_t added = other.size_ * static_cast<std::size_t>(dim_);
-  if (values_.size() < used + added) values_.resize(used + added);
+  if (capacity() < used + added) values_.conservativeResize(static_cast<Eigen::Index>(used + added));
   std::copy(other.values_.data(), other.values_.data() + added, values_.data() + used);
   size_ += other.size_;
 }

@@ -70,7 +70,7 @@ class VectorSamples {
     // Inline while there is room (once per output time): a plain copy;
     // nothing moves, so v may even be a stored sample.
     const std::size_t used = size_ * static_cast<std::size_t>(dim_);
-    if (size_ > 0 && v.size() == dim_ && used + static_cast<std::size_t>(dim_) <= values_.size()) {
+    if (size_ > 0 && v.size() == dim_ && used + static_cast<std::size_t>(dim_) <= capacity()) {
       std::copy(v.data(), v.data() + dim_, values_.data() + used);
       ++size_;
       return;
@@ -105,9 +105,12 @@ class VectorSamples {
  private:
   void PushBackGrowing(const Eigen::Ref<const Eigen::VectorXd>& v);
 
+  std::size_t capacity() const { return static_cast<std::size_t>(values_.size()); }
+
   // The samples one after another, then room for more: the first
-  // size_·dim_ values are used.
-  std::vector<double> values_;
+  // size_·dim_ values are used. An Eigen vector, which leaves new room
+  // uninitialised: reserving for 1000 output times costs no fill.
+  Eigen::VectorXd values_;
   Eigen::Index dim_ = 0;
   std::size_t size_ = 0;
 };
