@@ -2,6 +2,7 @@
 #include "dvi/lcs.hpp"
 
 #include <cmath>
+#include <memory>
 #include <utility>
 
 #include "check.hpp"
@@ -76,26 +77,35 @@ Dvi Lcs::ToDvi() const {
   dvi.n = n();
   dvi.m = m();
   dvi.K = K;
-  // Copies of the (sparse) data keep the Dvi valid after this Lcs is gone.
-  const SparseMatrix A_copy = A, B_copy = B, C_copy = C, D_copy = D;
-  const Eigen::VectorXd p_copy = p, q_copy = q;
-  dvi.f = [A_copy, B_copy, p_copy](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                                   Eigen::VectorXd& out) {
-    out = p_copy + A_copy * x + B_copy * u;
+  // One shared copy of the (sparse) data keeps the Dvi valid after this Lcs
+  // is gone; copies of the Dvi share it. The products write into `out`
+  // without temporaries: these run once per right-hand side.
+  struct Data {
+    SparseMatrix A, B, C, D;
+    Eigen::VectorXd p, q;
   };
-  dvi.f_jacobian = [A_copy, B_copy](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                                    Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx = Eigen::MatrixXd(A_copy);
-    Ju = Eigen::MatrixXd(B_copy);
+  const auto data = std::make_shared<const Data>(Data{A, B, C, D, p, q});
+  dvi.f = [data](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                 Eigen::VectorXd& out) {
+    out = data->p;
+    out.noalias() += data->A * x;
+    out.noalias() += data->B * u;
   };
-  dvi.F = [C_copy, D_copy, q_copy](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                                   Eigen::VectorXd& out) {
-    out = q_copy + C_copy * x + D_copy * u;
+  dvi.f_jacobian = [data](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                          Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx = Eigen::MatrixXd(data->A);
+    Ju = Eigen::MatrixXd(data->B);
   };
-  dvi.F_jacobian = [C_copy, D_copy](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                                    Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx = Eigen::MatrixXd(C_copy);
-    Ju = Eigen::MatrixXd(D_copy);
+  dvi.F = [data](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                 Eigen::VectorXd& out) {
+    out = data->q;
+    out.noalias() += data->C * x;
+    out.noalias() += data->D * u;
+  };
+  dvi.F_jacobian = [data](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                          Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx = Eigen::MatrixXd(data->C);
+    Ju = Eigen::MatrixXd(data->D);
   };
   // Autonomous: the differentiation procedure (Theorem 5.3) needs no
   // differences in t.
