@@ -347,23 +347,41 @@ void BoxModeSystem::SolveLcsModeByLu(const Eigen::VectorXd& x) {
   for (int i = 0; i < static_cast<int>(free_.size()); ++i) u_(free_[i]) -= step_(i);
 }
 
+bool BoxModeSystem::FormFreeRows(const AffineRows& rows, Eigen::MatrixXd& Gu) {
+  const int a = static_cast<int>(free_.size());
+  const SparseMatrix pick = FreeRows();
+  free_c_ = pick * rows.c;
+  free_M_ = Eigen::MatrixXd(pick * rows.M);
+  free_C_ = pick * rows.C;
+  Gu.resize(a, a);
+  for (int k = 0; k < a; ++k) Gu.col(k) = free_M_.col(free_[k]);
+  // ReduceRows' test on the whole of G_u: its column-pivoted QR has the
+  // pivots of all blocks together, so full rank here is full rank in each.
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Gu);
+  qr.setThreshold(kRankTolerance);
+  return qr.rank() == a;
+}
+
 void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
   if (affine_) {
     // Sect. 5.4 on the matrices, repeated while (5.8) is singular; an LCS
-    // in n states that needs more than n + 1 passes is not reducible.
-    mode_rows_ = lcs_rows_;
+    // in n states that needs more than n + 1 passes is not reducible. A
+    // regular mode, the common case, takes its rows as they are.
     mode_constraints_ = AffineConstraints{Eigen::VectorXd(0), SparseMatrix(0, n())};
-    while (passes_ <= n() &&
-           DifferentiateDependentRows(flow_, free_, u_, mode_rows_, mode_constraints_))
+    AffineRows reduced_rows;
+    Eigen::MatrixXd Gu;
+    while (!FormFreeRows(passes_ == 0 ? lcs_rows_ : reduced_rows, Gu) && passes_ <= n()) {
+      if (passes_ == 0) reduced_rows = lcs_rows_;
+      if (!DifferentiateDependentRows(flow_, free_, u_, reduced_rows, mode_constraints_)) break;
       ++passes_;
-    // The free rows and G_u's factors, kept for every solve in the mode.
+    }
+    // Φ_x = C of the constraints is constant in the mode: its Gram matrix
+    // is factored once here for every projection (Project).
+    if (passes_ > 0)
+      constraint_gram_.compute(
+          Eigen::MatrixXd(mode_constraints_.C * mode_constraints_.C.transpose()));
+    // G_u's factors, kept for every solve in the mode.
     const int a = static_cast<int>(free_.size());
-    const SparseMatrix pick = FreeRows();
-    free_c_ = pick * mode_rows_.c;
-    free_M_ = Eigen::MatrixXd(pick * mode_rows_.M);
-    Eigen::MatrixXd Gu(a, a);
-    for (int k = 0; k < a; ++k) Gu.col(k) = free_M_.col(free_[k]);
-    free_C_ = pick * mode_rows_.C;
     mode_regular_ = Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
     mode_lu_.compute(Gu);
     residual_.resize(a);
@@ -490,8 +508,23 @@ double BoxModeSystem::ConstraintDrift(double t, const Eigen::VectorXd& x) const 
 
 void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd& correction,
                             Eigen::VectorXd* err) const {
-  correction = Eigen::VectorXd::Zero(n());
+  correction.setZero(n());
   if (!reduced()) return;
+  if (affine_) {
+    // Φ = c + C x, Φ_x = C and its Gram factors fixed in the mode: no
+    // allocation per step.
+    const SparseMatrix& C = mode_constraints_.C;
+    scratch_phi_ = mode_constraints_.c;
+    scratch_phi_.noalias() += C * x;
+    scratch_multiplier_ = constraint_gram_.solve(scratch_phi_);
+    correction.noalias() -= C.transpose() * scratch_multiplier_;
+    if (err) {
+      scratch_phi_.noalias() = C * *err;
+      scratch_multiplier_ = constraint_gram_.solve(scratch_phi_);
+      err->noalias() -= C.transpose() * scratch_multiplier_;
+    }
+    return;
+  }
   Eigen::VectorXd phi;
   SparseMatrix phi_x;
   Constraints(t, x, phi, &phi_x);
@@ -503,7 +536,7 @@ void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd&
 }
 
 void BoxModeSystem::Roots(double t, const Eigen::VectorXd& x, double* g) const {
-  Eigen::VectorXd F;
+  Eigen::VectorXd& F = scratch_F_;
   bool have_F = false;
   for (int j = 0; j < m(); ++j) {
     g[2 * j] = 1;
@@ -740,10 +773,14 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
     std::vector<int> S;
     for (int j = 0; j < m(); ++j)
       if (std::abs(current.w(j)) <= tolerance) S.push_back(j);
-    std::ostringstream message;
-    message << "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " << pass << ": ";
+    // Messages are formed on failure only: an event is on the hot path.
+    const auto at_pass = [pass] {
+      return "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " + std::to_string(pass) +
+             ": ";
+    };
     if (!DifferentiateDependentRows(flow_, S, current.z, rows, constraints)) {
-      message << "no row of the LCP is dependent where it vanishes"
+      std::ostringstream message;
+      message << at_pass() << "no row of the LCP is dependent where it vanishes"
               << (pass == 1 ? "" : ", after " + failure);
       if (why) *why = message.str();
       return false;
@@ -755,8 +792,9 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
     ++*vi_solves;
     *iterations += modified.iterations;
     if (!modified.solved()) {
-      message << "the modified LCP is not solved (" << ToString(modified.status) << ", residual "
-              << modified.residual << ")";
+      std::ostringstream message;
+      message << at_pass() << "the modified LCP is not solved (" << ToString(modified.status)
+              << ", residual " << modified.residual << ")";
       if (why) *why = message.str();
       return false;
     }
@@ -767,7 +805,7 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
       u = modified.z;
       return true;
     }
-    failure = message.str() + "its solution is not strongly regular (" + regular.reason + ")";
+    failure = at_pass() + "its solution is not strongly regular (" + regular.reason + ")";
     current = modified;
   }
   if (why) *why = failure;

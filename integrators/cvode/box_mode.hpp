@@ -167,6 +167,10 @@ class BoxModeSystem {
                    SparseMatrix* phi_x) const;
   /// The a×m matrix that picks the free rows (a = |free_|).
   SparseMatrix FreeRows() const;
+  /// The free rows of rows as the LCS mode's equations (free_c_, free_C_,
+  /// free_M_) and their G_u; true when G_u has full rank at kRankTolerance
+  /// (no row for the differentiation procedure).
+  bool FormFreeRows(const AffineRows& rows, Eigen::MatrixXd& Gu);
   /// Splits the free rows of the mode just entered at (t, x, u_).
   void SplitRows(double t, const Eigen::VectorXd& x);
   /// Solve for an LCS: u_α from the mode's affine map or its kept
@@ -198,8 +202,9 @@ class BoxModeSystem {
   // passes_ passes of the differentiation procedure.
   AffineFlow flow_;
   AffineRows lcs_rows_;
-  AffineRows mode_rows_;
   AffineConstraints mode_constraints_;
+  Eigen::LDLT<Eigen::MatrixXd> constraint_gram_;  // of mode_constraints_.C
+  mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
   int passes_ = 0;
   // An LCS mode's free rows G = c + C x + M u (a of them) and G_u's LU.
   Eigen::VectorXd free_c_;

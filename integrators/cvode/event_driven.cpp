@@ -102,6 +102,7 @@ struct CallbackData {
   BoxModeSystem* system = nullptr;
   Eigen::VectorXd x;
   Eigen::VectorXd xdot;
+  Eigen::VectorXd projected_error;
   Eigen::MatrixXd J;
   SparseMatrix sparse_J;  // KLU: the current mode's (constant) Jacobian
   // The root functions' last evaluation: its time and their least value.
@@ -188,7 +189,7 @@ int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector
   }
   return GuardedCallback(data.error, [&] {
     Load(data, y);
-    Eigen::VectorXd error;
+    Eigen::VectorXd& error = data.projected_error;
     if (err) error = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(err), data.x.size());
     data.system->Project(t, data.x, data.xdot, err ? &error : nullptr);
     std::copy(data.xdot.data(), data.xdot.data() + data.xdot.size(), N_VGetArrayPointer(corr));
@@ -416,8 +417,6 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
     }
     x = x_event;
   }
-  std::ostringstream message;
-  message << "event: at t = " << t << ": ";
   std::string look_ahead_why;
   if (system_.SelectMode(t, x, vi, delta, !regular.holds, mode, &stats.vi_solves,
                          &stats.solver_iterations, &look_ahead_why) &&
@@ -425,6 +424,8 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
     if (!regular.holds) ++look_ahead_selections_;
     return true;
   }
+  std::ostringstream message;
+  message << "event: at t = " << t << ": ";
   if (regular.holds) {
     message << "mode " << Describe(mode) << ": " << look_ahead_why;
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
@@ -537,11 +538,12 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   ++stats.vi_solves;
   stats.solver_iterations += vi.iterations;
   stats.max_residual = std::max(stats.max_residual, vi.residual);
-  std::ostringstream message;
-  message << "event: at t = " << t << ": ";
+  // Messages are formed on failure only: an event is on the hot path.
+  const auto at = [t] { return "event: at t = " + Format(t) + ": "; };
   if (!vi.solved()) {
-    message << "the VI is not solved (" << ToString(vi.status) << ", residual " << vi.residual
-            << "): " << vi.message;
+    std::ostringstream message;
+    message << at() << "the VI is not solved (" << ToString(vi.status) << ", residual "
+            << vi.residual << "): " << vi.message;
     return Fail(IntegrationStatus::kStepFailure, message.str());
   }
   BoxMode mode = old_mode;
@@ -559,7 +561,8 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
                                                                                       : 1;
   last_event_time_ = t;
   if (burst_ >= options_.max_event_burst) {
-    message << "chattering: " << burst_ << " consecutive events each less than "
+    std::ostringstream message;
+    message << at() << "chattering: " << burst_ << " consecutive events each less than "
             << options_.min_event_spacing * horizon << " apart (Zeno behaviour or a mode left "
             << "as soon as entered)";
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
@@ -570,7 +573,8 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   if (!same_time) modes_at_event_time_.assign(1, old_mode);
   if (std::find(modes_at_event_time_.begin(), modes_at_event_time_.end(), mode) !=
       modes_at_event_time_.end()) {
-    message << "chattering: mode " << Describe(mode) << " (f free, l lower, u upper bound) was "
+    std::ostringstream message;
+    message << at() << "chattering: mode " << Describe(mode) << " (f free, l lower, u upper bound) was "
             << "left at this time and would be re-entered";
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
@@ -583,12 +587,13 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     trajectory_.events.push_back({t, kind, j});
   }
   if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
-    message << "more than max_events = " << options_.max_events << " events";
+    std::ostringstream message;
+    message << at() << "more than max_events = " << options_.max_events << " events";
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
   std::string zeno;
   if (!same_time && Accumulating(t, zeno))
-    return Fail(IntegrationStatus::kEventAccumulation, message.str() + zeno);
+    return Fail(IntegrationStatus::kEventAccumulation, at() + zeno);
   Sample(t, x, system_.u());
   return true;
 }
