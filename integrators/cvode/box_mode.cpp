@@ -31,6 +31,13 @@ constexpr int kMaxLookAheadIterations = 6;
 // three: a position constraint of second-order dynamics.
 constexpr int kMaxNonlinearPasses = 2;
 
+// u with its components S set to zero.
+Eigen::VectorXd ZeroedOn(const Eigen::VectorXd& u, const std::vector<int>& S) {
+  Eigen::VectorXd zeroed = u;
+  for (const int j : S) zeroed(j) = 0;
+  return zeroed;
+}
+
 // Forward differences of g(t, x, u) in x and u (rows = g's dimension), with
 // the usual √ε relative increment.
 void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Eigen::VectorXd& x,
@@ -369,6 +376,15 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     // regular mode, the common case, takes its rows as they are.
     mode_constraints_ = AffineConstraints{Eigen::VectorXd(0), SparseMatrix(0, n())};
     AffineRows reduced_rows;
+    // The passes SelectReducedLcsMode made for this mode, when they are the
+    // ones this loop would make: the same rows with the same u off them.
+    ReductionMemo& memo = reduction_memo_;
+    if (memo.passes > 0 && memo.S == free_ && memo.u_rest == ZeroedOn(u_, free_)) {
+      reduced_rows = std::move(memo.rows);
+      mode_constraints_ = std::move(memo.constraints);
+      passes_ = memo.passes;
+    }
+    memo.passes = 0;
     Eigen::MatrixXd Gu;
     while (!FormFreeRows(passes_ == 0 ? lcs_rows_ : reduced_rows, Gu) && passes_ <= n()) {
       if (passes_ == 0) reduced_rows = lcs_rows_;
@@ -768,11 +784,20 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
   AffineConstraints constraints{Eigen::VectorXd(0), SparseMatrix(0, n())};
   SolveResult current = vi;
   std::string failure;
+  ReductionMemo memo;  // kept for SplitRows while every pass has the same S and u off S
+  bool memoizable = true;
   for (int pass = 1; pass <= n() + 1; ++pass) {
     // S = α ∪ β of the current LCP: the rows that vanish at its solution.
     std::vector<int> S;
     for (int j = 0; j < m(); ++j)
       if (std::abs(current.w(j)) <= tolerance) S.push_back(j);
+    Eigen::VectorXd u_rest = ZeroedOn(current.z, S);
+    if (pass == 1) {
+      memo.S = S;
+      memo.u_rest = std::move(u_rest);
+    } else {
+      memoizable = memoizable && S == memo.S && u_rest == memo.u_rest;
+    }
     // Messages are formed on failure only: an event is on the hot path.
     const auto at_pass = [pass] {
       return "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " + std::to_string(pass) +
@@ -803,6 +828,12 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
     if (regular.holds) {
       mode = ModeOf(modified.z);
       u = modified.z;
+      if (memoizable) {
+        memo.rows = std::move(rows);
+        memo.constraints = std::move(constraints);
+        memo.passes = pass;
+        reduction_memo_ = std::move(memo);
+      }
       return true;
     }
     failure = at_pass() + "its solution is not strongly regular (" + regular.reason + ")";

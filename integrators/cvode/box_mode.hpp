@@ -203,6 +203,16 @@ class BoxModeSystem {
   AffineFlow flow_;
   AffineRows lcs_rows_;
   AffineConstraints mode_constraints_;
+  // SelectReducedLcsMode's passes on the rows S with u_rest off them, for
+  // SplitRows entering the mode it selected (none: passes == 0).
+  struct ReductionMemo {
+    std::vector<int> S;
+    Eigen::VectorXd u_rest;
+    AffineRows rows;
+    AffineConstraints constraints;
+    int passes = 0;
+  };
+  mutable ReductionMemo reduction_memo_;
   Eigen::LDLT<Eigen::MatrixXd> constraint_gram_;  // of mode_constraints_.C
   mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
   int passes_ = 0;
