@@ -331,15 +331,22 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
     return false;
   }
   const int a = static_cast<int>(free_.size());
+  bool finite = true;
   if (map_.size() > 0) {
-    // Row by row: at these sizes a call to Eigen's matrix-vector kernel costs
-    // more than the products (this runs once per RHS and per output time).
-    for (int i = 0; i < a; ++i) u_(free_[i]) = map_offset_(i) + map_.row(i).dot(x);
+    // Plain loops over the row-major map: at these sizes Eigen's matrix-
+    // vector and dot kernels cost more than the products (this runs once per
+    // RHS and per output time).
+    const double* row = map_.data();
+    for (int i = 0; i < a; ++i, row += n()) {
+      double value = map_offset_(i);
+      for (int k = 0; k < n(); ++k) value += row[k] * x(k);
+      u_(free_[i]) = value;
+      finite = finite && std::isfinite(value);
+    }
   } else {
     SolveLcsModeByLu(x);
+    for (const int j : free_) finite = finite && std::isfinite(u_(j));
   }
-  bool finite = true;
-  for (const int j : free_) finite = finite && std::isfinite(u_(j));
   if (finite) return true;
   if (why) *why = "the mode's equations give a non-finite u";
   return false;
