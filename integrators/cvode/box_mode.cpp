@@ -31,13 +31,6 @@ constexpr int kMaxLookAheadIterations = 6;
 // three: a position constraint of second-order dynamics.
 constexpr int kMaxNonlinearPasses = 2;
 
-// u with its components S set to zero.
-Eigen::VectorXd ZeroedOn(const Eigen::VectorXd& u, const std::vector<int>& S) {
-  Eigen::VectorXd zeroed = u;
-  for (const int j : S) zeroed(j) = 0;
-  return zeroed;
-}
-
 // Forward differences of g(t, x, u) in x and u (rows = g's dimension), with
 // the usual √ε relative increment.
 void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Eigen::VectorXd& x,

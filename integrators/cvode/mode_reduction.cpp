@@ -50,6 +50,12 @@ SparseMatrix ReplaceRows(const SparseMatrix& matrix, const std::vector<int>& row
 
 }  // namespace
 
+Eigen::VectorXd ZeroedOn(const Eigen::VectorXd& u, const std::vector<int>& S) {
+  Eigen::VectorXd zeroed = u;
+  for (const int j : S) zeroed(j) = 0;
+  return zeroed;
+}
+
 RowReduction ReduceRows(const SparseMatrix& J, const std::vector<int>& S) {
   RowReduction reduction;
   const int s = static_cast<int>(S.size());
@@ -135,8 +141,7 @@ bool DifferentiateDependentRows(const AffineFlow& flow, const std::vector<int>& 
                                 AffineConstraints& constraints) {
   const RowReduction reduction = ReduceRows(rows.M, S);
   if (reduction.empty()) return false;
-  Eigen::VectorXd u_rest = u;
-  for (const int j : S) u_rest(j) = 0;
+  const Eigen::VectorXd u_rest = ZeroedOn(u, S);
   // Sparse products: P has few nonzeros per row and C, A, B are the
   // circuit's, so no dense row of length n or m is formed.
   const SparseMatrix& P = reduction.P;

@@ -62,6 +62,9 @@ struct AffineConstraints {
   SparseMatrix C;
 };
 
+/// u with its components S set to zero: u_rest below, u off S at its bounds.
+Eigen::VectorXd ZeroedOn(const Eigen::VectorXd& u, const std::vector<int>& S);
+
 /// One pass of Sect. 5.4 on the rows S of `rows`: ReduceRows splits them, and
 /// each dependent row becomes the derivative of its u-free combination
 ///   Φ = P (c + C x + M u_rest)  (u_rest: u off S, at its bounds),
