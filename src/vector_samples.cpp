@@ -35,6 +35,29 @@ void VectorSamples::resize(std::size_t count) {
   if (size_ == 0) dim_ = 0;
 }
 
+void VectorSamples::append(const Eigen::Ref<const Eigen::MatrixXd>& columns) {
+  if (columns.cols() == 0) return;
+  if (size_ == 0) dim_ = columns.rows();
+  DVI_THROW_UNLESS(columns.rows() == dim_, "VectorSamples::append: samples of "
+                                               << columns.rows() << " entries, expected "
+                                               << dim_);
+  const std::size_t used = size_ * static_cast<std::size_t>(dim_);
+  const std::size_t added = static_cast<std::size_t>(columns.size());
+  const auto slots = [&] {
+    return Eigen::Map<Eigen::MatrixXd>(values_.data() + used, dim_, columns.cols());
+  };
+  if (capacity() < used + added) {
+    const Eigen::MatrixXd copy = columns;  // columns may view this buffer, which moves
+    values_.conservativeResize(static_cast<Eigen::Index>(std::max(used + added, 2 * capacity())));
+    slots() = copy;
+  } else if (columns.outerStride() == columns.rows()) {
+    std::copy(columns.data(), columns.data() + added, values_.data() + used);  // no overlap
+  } else {
+    slots() = columns;
+  }
+  size_ += static_cast<std::size_t>(columns.cols());
+}
+
 void VectorSamples::append(const VectorSamples& other) {
   if (other.empty()) return;
   if (size_ == 0) dim_ = other.dim_;

@@ -70,6 +70,26 @@ TEST(VectorSamples, EmptySamplesAreCountedAndAppendJoinsTwoRuns) {
   EXPECT_EQ(first[2](1), 6);
 }
 
+TEST(VectorSamples, AppendingColumnsStoresEachAsASampleEvenFromItsOwnMatrix) {
+  VectorSamples samples;
+  samples.reserve(3, 2);
+  Eigen::MatrixXd columns(2, 2);
+  columns << 1, 2, 3, 4;
+  samples.append(columns);  // contiguous, into reserved room
+  Eigen::MatrixXd wide(3, 4);
+  wide << 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16;
+  samples.append(wide.block(1, 1, 2, 3));  // strided, growing the buffer
+  ASSERT_EQ(samples.size(), 5u);
+  EXPECT_EQ(samples[1](1), 4);
+  EXPECT_EQ(samples[2](0), 10);
+  EXPECT_EQ(samples[4](1), 16);
+  samples.append(samples.matrix());  // a view of the buffer that grows
+  ASSERT_EQ(samples.size(), 10u);
+  EXPECT_EQ(samples.matrix().rightCols(5), samples.matrix().leftCols(5));
+  ExpectThrowNaming([&] { samples.append(Eigen::MatrixXd::Zero(3, 1)); },
+                    "samples of 3 entries, expected 2");
+}
+
 TEST(VectorSamples, ASampleOfAnotherLengthOrGrowingByResizeThrowsNamingTheSizes) {
   VectorSamples samples;
   samples.push_back(Eigen::Vector2d(1, 2));

@@ -85,6 +85,9 @@ class VectorSamples {
   void clear() { resize(0); }
   /// Appends `other`'s samples. @throws InvalidInputError as push_back.
   void append(const VectorSamples& other);
+  /// Appends the columns of `columns`, each a sample (the inverse of
+  /// matrix()). @throws InvalidInputError as push_back.
+  void append(const Eigen::Ref<const Eigen::MatrixXd>& columns);
 
   Ref operator[](std::size_t k) { return Ref(values_.data() + k * dim_, dim_); }
   ConstRef operator[](std::size_t k) const { return ConstRef(values_.data() + k * dim_, dim_); }

@@ -323,19 +323,9 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
     }
     return false;
   }
-  const int a = static_cast<int>(free_.size());
   bool finite = true;
   if (map_.size() > 0) {
-    // Plain loops over the row-major map: at these sizes Eigen's matrix-
-    // vector and dot kernels cost more than the products (this runs once per
-    // RHS and per output time).
-    const double* row = map_.data();
-    for (int i = 0; i < a; ++i, row += n()) {
-      double value = map_offset_(i);
-      for (int k = 0; k < n(); ++k) value += row[k] * x(k);
-      u_(free_[i]) = value;
-      finite = finite && std::isfinite(value);
-    }
+    finite = MapFreeComponents(x.data(), u_.data());
   } else {
     SolveLcsModeByLu(x);
     for (const int j : free_) finite = finite && std::isfinite(u_(j));
@@ -343,6 +333,45 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
   if (finite) return true;
   if (why) *why = "the mode's equations give a non-finite u";
   return false;
+}
+
+bool BoxModeSystem::MapFreeComponents(const double* x, double* u) const {
+  // Plain loops over the row-major map: at these sizes Eigen's matrix-vector
+  // and dot kernels cost more than the products (this runs once per RHS and
+  // per output time).
+  bool finite = true;
+  const double* row = map_.data();
+  for (int i = 0; i < static_cast<int>(free_.size()); ++i, row += n()) {
+    double value = map_offset_(i);
+    for (int k = 0; k < n(); ++k) value += row[k] * x[k];
+    u[free_[i]] = value;
+    finite = finite && std::isfinite(value);
+  }
+  return finite;
+}
+
+void BoxModeSystem::SolveColumns(const std::vector<double>& times, const Eigen::MatrixXd& X,
+                                 Eigen::MatrixXd& U, std::vector<char>& kept) {
+  const Eigen::Index count = X.cols();
+  U.resize(m(), count);
+  if (affine_ && rows_split_ && mode_regular_ && map_.size() > 0 && count > 0) {
+    // SolveLcsMode's map column by column, without its checks and calls
+    // (each counted as its one exact Newton step); u off α at its bounds.
+    newton_iterations_ += count;
+    for (Eigen::Index k = 0; k < count; ++k) {
+      double* u = U.data() + k * m();
+      std::copy(u_.data(), u_.data() + m(), u);
+      kept[k] = kept[k] && MapFreeComponents(X.data() + k * n(), u);
+    }
+    u_ = U.col(count - 1);
+    return;
+  }
+  for (Eigen::Index k = 0; k < count; ++k) {
+    if (!kept[k]) continue;
+    scratch_x_ = X.col(k);
+    kept[k] = Solve(times[k], scratch_x_);
+    U.col(k) = u_;
+  }
 }
 
 void BoxModeSystem::SolveLcsModeByLu(const Eigen::VectorXd& x) {

@@ -67,6 +67,13 @@ class BoxModeSystem {
   /// when G_u is singular (F_u[A, A], or (5.8) for a reduced mode) or Newton
   /// does not converge.
   bool Solve(double t, const Eigen::VectorXd& x, std::string* why = nullptr);
+  /// Solve at (times[k], X.col(k)) for every column k with kept[k] set
+  /// (kept.size() == X.cols()): U.col(k) = u there, kept[k] cleared where
+  /// Solve fails. For an LCS mode with a dense affine map, one product for
+  /// all columns (dense output at many times). u() is then the last
+  /// column's. @pre a Solve succeeded in the current mode.
+  void SolveColumns(const std::vector<double>& times, const Eigen::MatrixXd& X,
+                    Eigen::MatrixXd& U, std::vector<char>& kept);
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
   /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a
@@ -177,6 +184,9 @@ class BoxModeSystem {
   /// factors, no allocation.
   bool SolveLcsMode(const Eigen::VectorXd& x, std::string* why);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
+  /// u[free_[i]] = map_offset_(i) + map_.row(i)·x (n entries at x); false
+  /// when one is not finite. @pre map_ formed.
+  bool MapFreeComponents(const double* x, double* u) const;
   /// SelectReducedMode for an LCS: passes on its matrices until the
   /// modified LCP's solution is strongly regular.
   bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode,
@@ -215,6 +225,7 @@ class BoxModeSystem {
   mutable ReductionMemo reduction_memo_;
   Eigen::LDLT<Eigen::MatrixXd> constraint_gram_;  // of mode_constraints_.C
   mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
+  Eigen::VectorXd scratch_x_;  // a column of SolveColumns
   int passes_ = 0;
   // An LCS mode's free rows G = c + C x + M u (a of them) and G_u's LU.
   Eigen::VectorXd free_c_;

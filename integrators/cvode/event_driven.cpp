@@ -246,7 +246,8 @@ class EventDrivenRun {
   bool StillHolds();
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
-  void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u);
+  void Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+              const Eigen::Ref<const Eigen::VectorXd>& u);
   void SampleOutputs(double before);
   /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step; false if CVODE
   /// refuses one.
@@ -271,8 +272,12 @@ class EventDrivenRun {
   internal::SunContext context_;
   internal::SerialVector y_{x0_.size(), context_.get()};
   internal::SerialVector dky_{x0_.size(), context_.get()};
-  Eigen::VectorXd sample_x_;  // x at an output time, kept so that sampling does not allocate
-  Eigen::MatrixXd taylor_;    // the last step's interpolant, by ReadTaylor
+  // A step's output times, x and u there (columns) and which are sampled:
+  // kept so that sampling does not allocate.
+  std::vector<double> step_times_;
+  Eigen::MatrixXd step_x_, step_u_;
+  std::vector<char> step_kept_;
+  Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -304,7 +309,8 @@ bool EventDrivenRun::Check(int flag, const char* call) {
   return Fail(IntegrationStatus::kStepFailure, message.str());
 }
 
-void EventDrivenRun::Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
+void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                            const Eigen::Ref<const Eigen::VectorXd>& u) {
   trajectory_.times.push_back(t);
   trajectory_.states.push_back(x);
   trajectory_.multipliers.push_back(u);
@@ -332,23 +338,45 @@ void EventDrivenRun::SampleOutputs(double before) {
   // CVodeGetDky's own bound of the step, with its slack.
   const double step_start =
       t_n - h_u - 100 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + std::abs(h_u));
+  // A time the step's interpolant cannot serve (outside it, or where the
+  // mode's Newton fails) is left unsampled rather than guessed.
+  step_times_.clear();
   for (; next_output_ < end; ++next_output_) {
     const double t = times[next_output_];
-    if (t <= t0_ || t >= t_end_) continue;
-    // A time the step's interpolant cannot serve (outside it, or where the
-    // mode's Newton fails) is left unsampled rather than guessed.
-    if (by_polynomial) {
-      if (t < step_start) continue;
-      const double s = t - t_n;
-      sample_x_ = taylor_.col(q);
-      for (int k = q - 1; k >= 0; --k) sample_x_ = taylor_.col(k) + s * sample_x_;
-    } else {
-      if (CVodeGetDky(cvode, t, 0, dky_.get()) != CV_SUCCESS) continue;
-      sample_x_ = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
-    }
-    if (!system_.Solve(t, sample_x_)) continue;
-    Sample(t, sample_x_, system_.u());
+    if (t > t0_ && t < t_end_ && t >= step_start) step_times_.push_back(t);
   }
+  const int count = static_cast<int>(step_times_.size());
+  if (count == 0) return;
+  // x at all of them, then u (one product for an LCS mode), then one append
+  // each: per time, only the arithmetic is left.
+  step_x_.resize(x0_.size(), count);
+  step_kept_.assign(count, 1);
+  if (by_polynomial) {
+    // Horner in plain loops: Eigen's expressions on columns of a few entries
+    // cost more than the arithmetic.
+    for (int k = 0; k < count; ++k) {
+      const double s = step_times_[k] - t_n;
+      for (Eigen::Index i = 0; i < step_x_.rows(); ++i) {
+        double value = taylor_(i, q);
+        for (int j = q - 1; j >= 0; --j) value = taylor_(i, j) + s * value;
+        step_x_(i, k) = value;
+      }
+    }
+  } else {
+    for (int k = 0; k < count; ++k) {
+      step_kept_[k] = CVodeGetDky(cvode, step_times_[k], 0, dky_.get()) == CV_SUCCESS;
+      step_x_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
+    }
+  }
+  system_.SolveColumns(step_times_, step_x_, step_u_, step_kept_);
+  if (std::find(step_kept_.begin(), step_kept_.end(), 0) == step_kept_.end()) {
+    trajectory_.times.insert(trajectory_.times.end(), step_times_.begin(), step_times_.end());
+    trajectory_.states.append(step_x_);
+    trajectory_.multipliers.append(step_u_);
+    return;
+  }
+  for (int k = 0; k < count; ++k)
+    if (step_kept_[k]) Sample(step_times_[k], step_x_.col(k), step_u_.col(k));
 }
 
 bool EventDrivenRun::ReadTaylor(double t_n, int q) {
