@@ -354,10 +354,12 @@ void BoxModeSystem::SolveColumns(const std::vector<double>& times, const Eigen::
                                  Eigen::MatrixXd& U, std::vector<char>& kept) {
   const Eigen::Index count = X.cols();
   U.resize(m(), count);
-  if (affine_ && rows_split_ && mode_regular_ && map_.size() > 0 && count > 0) {
+  const bool by_map = free_.empty() || (rows_split_ && mode_regular_ && map_.size() > 0);
+  if (affine_ && count > 0 && by_map) {
     // SolveLcsMode's map column by column, without its checks and calls
-    // (each counted as its one exact Newton step); u off α at its bounds.
-    newton_iterations_ += count;
+    // (each counted as its one exact Newton step); u off α at its bounds
+    // (all of u when no component is free).
+    if (!free_.empty()) newton_iterations_ += count;
     for (Eigen::Index k = 0; k < count; ++k) {
       double* u = U.data() + k * m();
       std::copy(u_.data(), u_.data() + m(), u);
