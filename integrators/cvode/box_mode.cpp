@@ -325,7 +325,16 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
   }
   bool finite = true;
   if (map_.size() > 0) {
-    finite = MapFreeComponents(x.data(), u_.data());
+    // Plain loops over the row-major map: at these sizes Eigen's matrix-
+    // vector and dot kernels cost more than the products (this runs once per
+    // RHS evaluation).
+    const double* row = map_.data();
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i, row += n()) {
+      double value = map_offset_(i);
+      for (int k = 0; k < n(); ++k) value += row[k] * x(k);
+      u_(free_[i]) = value;
+      finite = finite && std::isfinite(value);
+    }
   } else {
     SolveLcsModeByLu(x);
     for (const int j : free_) finite = finite && std::isfinite(u_(j));
@@ -335,35 +344,29 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
   return false;
 }
 
-bool BoxModeSystem::MapFreeComponents(const double* x, double* u) const {
-  // Plain loops over the row-major map: at these sizes Eigen's matrix-vector
-  // and dot kernels cost more than the products (this runs once per RHS and
-  // per output time).
-  bool finite = true;
-  const double* row = map_.data();
-  for (int i = 0; i < static_cast<int>(free_.size()); ++i, row += n()) {
-    double value = map_offset_(i);
-    for (int k = 0; k < n(); ++k) value += row[k] * x[k];
-    u[free_[i]] = value;
-    finite = finite && std::isfinite(value);
-  }
-  return finite;
-}
-
 void BoxModeSystem::SolveColumns(const std::vector<double>& times, const Eigen::MatrixXd& X,
                                  Eigen::MatrixXd& U, std::vector<char>& kept) {
   const Eigen::Index count = X.cols();
   U.resize(m(), count);
   const bool by_map = free_.empty() || (rows_split_ && mode_regular_ && map_.size() > 0);
   if (affine_ && count > 0 && by_map) {
-    // SolveLcsMode's map column by column, without its checks and calls
-    // (each counted as its one exact Newton step); u off α at its bounds
-    // (all of u when no component is free).
+    // SolveLcsMode's map for all columns (each counted as its one exact
+    // Newton step); u off α at its bounds (all of u when no component is
+    // free). By rows of the map against all columns: long inner loops, where
+    // Eigen's set-up per column of a few entries costs more than its products.
     if (!free_.empty()) newton_iterations_ += count;
+    U.colwise() = u_;
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
+      for (Eigen::Index k = 0; k < count; ++k) U(free_[i], k) = map_offset_(i);
+      for (int j = 0; j < n(); ++j) {
+        const double entry = map_(i, j);
+        for (Eigen::Index k = 0; k < count; ++k) U(free_[i], k) += entry * X(j, k);
+      }
+    }
     for (Eigen::Index k = 0; k < count; ++k) {
-      double* u = U.data() + k * m();
-      std::copy(u_.data(), u_.data() + m(), u);
-      kept[k] = kept[k] && MapFreeComponents(X.data() + k * n(), u);
+      bool finite = true;
+      for (const int j : free_) finite = finite && std::isfinite(U(j, k));
+      kept[k] = kept[k] && finite;
     }
     u_ = U.col(count - 1);
     return;

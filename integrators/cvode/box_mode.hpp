@@ -184,9 +184,6 @@ class BoxModeSystem {
   /// factors, no allocation.
   bool SolveLcsMode(const Eigen::VectorXd& x, std::string* why);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
-  /// u[free_[i]] = map_offset_(i) + map_.row(i)·x (n entries at x); false
-  /// when one is not finite. @pre map_ formed.
-  bool MapFreeComponents(const double* x, double* u) const;
   /// SelectReducedMode for an LCS: passes on its matrices until the
   /// modified LCP's solution is strongly regular.
   bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode,
