@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -50,20 +51,19 @@ void ValidateTolerance(double tol) {
 // "{1,3}" with the subset's positions mapped through labels (the original
 // indices when M is a submatrix).
 std::string FormatSubset(const std::vector<int>& subset, const std::vector<int>& labels) {
-  std::ostringstream out;
-  out << '{';
-  for (std::size_t k = 0; k < subset.size(); ++k) out << (k ? "," : "") << labels[subset[k]];
-  out << '}';
-  return out.str();
+  std::string text = "{";
+  for (std::size_t k = 0; k < subset.size(); ++k)
+    text += (k ? "," : "") + std::to_string(labels[subset[k]]);
+  return text + '}';
 }
 
+// Without streams: a failed minor is the expected answer at every sliding or
+// clamping event, so this text is formed on the event-driven hot path.
 std::string FormatMinor(const std::vector<int>& subset, const std::vector<int>& labels,
                         double minor) {
-  std::ostringstream out;
-  out.precision(2);
-  out << "principal minor of " << FormatSubset(subset, labels) << " is " << std::scientific
-      << minor << " ≤ 0";
-  return out.str();
+  char value[32];
+  std::snprintf(value, sizeof value, "%.2e", minor);
+  return "principal minor of " + FormatSubset(subset, labels) + " is " + value + " ≤ 0";
 }
 
 MatrixClassVerdict Verdict(bool holds, bool decided, std::string reason) {
