@@ -14,6 +14,7 @@
 
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
+#include "support/expect_throw.hpp"
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
 
@@ -322,6 +323,17 @@ TEST(EventDriven, RejectsInvalidInput) {
                InvalidInputError);
   EXPECT_THROW(IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Constant(1, NAN), 0, 1),
                InvalidInputError);
+}
+
+TEST(EventDriven, RejectsOutputTimesNotFiniteOrDecreasingNamingTheIndex) {
+  EventDrivenOptions options;
+  options.output_times = {0, 0.5, NAN, 1};
+  const auto run = [&] {
+    IntegrateEventDriven(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 1, options);
+  };
+  testing::ExpectThrowNaming(run, "output_times[2]: nan is not finite");
+  options.output_times = {0, 0.5, 0.25, 1};
+  testing::ExpectThrowNaming(run, "output_times[2]: 0.25 is below output_times[1] = 0.5");
 }
 
 }  // namespace
