@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <ctime>
 #include <exception>
 #include <memory>
 #include <string>
@@ -105,6 +106,7 @@ SiconosSteppingResult RunSiconosStepping(const Lcs& lcs, const Eigen::VectorXd& 
 
     if (options.r0.size() > 0) ds->r()->setBlock(0, *ToSiconos(options.r0));
 
+    const std::clock_t cpu_start = std::clock();
     const auto start = std::chrono::steady_clock::now();
     simulation->initialize();
     const SiconosVector& x = *ds->x();
@@ -118,6 +120,7 @@ SiconosSteppingResult RunSiconosStepping(const Lcs& lcs, const Eigen::VectorXd& 
     }
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     result.ok = g_failures.count == 0;
     if (!result.ok) {
       result.message = "Siconos' Lemke failed at " + std::to_string(g_failures.count) + " of " +

@@ -34,6 +34,7 @@ struct SiconosSteppingResult {
   /// Wall time of Simulation::initialize() and the step loop; building the
   /// model (copying our matrices into Siconos objects) is not included.
   double seconds = 0;
+  double cpu_seconds = 0;  ///< The process's CPU time over the same.
 };
 
 /// Builds the Siconos model of `lcs` (dense matrices): FirstOrderLinearTIDS
