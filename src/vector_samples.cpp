@@ -58,16 +58,6 @@ void VectorSamples::append(const Eigen::Ref<const Eigen::MatrixXd>& columns) {
   size_ += static_cast<std::size_t>(columns.cols());
 }
 
-void VectorSamples::append(const VectorSamples& other) {
-  if (other.empty()) return;
-  if (size_ == 0) dim_ = other.dim_;
-  DVI_THROW_UNLESS(other.dim_ == dim_, "VectorSamples::append: samples of "
-                                           << other.dim_ << " entries, expected " << dim_);
-  const std::size_t used = size_ * static_cast<std::size_t>(dim_);
-  const std::size_t added = other.size_ * static_cast<std::size_t>(dim_);
-  if (capacity() < used + added) values_.conservativeResize(static_cast<Eigen::Index>(used + added));
-  std::copy(other.values_.data(), other.values_.data() + added, values_.data() + used);
-  size_ += other.size_;
-}
+void VectorSamples::append(const VectorSamples& other) { append(other.matrix()); }
 
 }  // namespace dvi
