@@ -352,21 +352,16 @@ void BoxModeSystem::SolveColumns(const std::vector<double>& times, const Eigen::
   if (affine_ && count > 0 && by_map) {
     // SolveLcsMode's map for all columns (each counted as its one exact
     // Newton step); u off α at its bounds (all of u when no component is
-    // free). By rows of the map against all columns: long inner loops, where
+    // free). By rows of U against all columns: long inner loops, where
     // Eigen's set-up per column of a few entries costs more than its products.
     if (!free_.empty()) newton_iterations_ += count;
-    U.colwise() = u_;
+    for (int j = 0; j < m(); ++j)
+      if (mode_[j] != BoundState::kFree) U.row(j).setConstant(u_(j));
     for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
-      for (Eigen::Index k = 0; k < count; ++k) U(free_[i], k) = map_offset_(i);
-      for (int j = 0; j < n(); ++j) {
-        const double entry = map_(i, j);
-        for (Eigen::Index k = 0; k < count; ++k) U(free_[i], k) += entry * X(j, k);
-      }
-    }
-    for (Eigen::Index k = 0; k < count; ++k) {
-      bool finite = true;
-      for (const int j : free_) finite = finite && std::isfinite(U(j, k));
-      kept[k] = kept[k] && finite;
+      auto u = U.row(free_[i]);
+      u.setConstant(map_offset_(i));
+      for (int j = 0; j < n(); ++j) u += map_(i, j) * X.row(j);
+      for (Eigen::Index k = 0; k < count; ++k) kept[k] = kept[k] && std::isfinite(u(k));
     }
     u_ = U.col(count - 1);
     return;
