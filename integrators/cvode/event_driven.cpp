@@ -324,9 +324,13 @@ void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x
 // t_n) and the polynomial is evaluated by Horner, the same values without a
 // CVodeGetDky call (a sum over q + 1 N_Vectors) per time.
 void EventDrivenRun::SampleOutputs(double before) {
+  // The times are non-decreasing (validated): the step's are a range of
+  // them, found by bisection.
   const auto& times = options_.output_times;
-  std::size_t end = next_output_;
-  while (end < times.size() && times[end] < before) ++end;
+  const auto first = times.begin() + static_cast<std::ptrdiff_t>(next_output_);
+  const auto last =
+      std::partition_point(first, times.end(), [before](double t) { return t < before; });
+  const std::size_t end = static_cast<std::size_t>(last - times.begin());
   if (end == next_output_) return;
   void* cvode = cvode_.get();
   double t_n = 0, h_u = 0;
@@ -340,11 +344,11 @@ void EventDrivenRun::SampleOutputs(double before) {
       t_n - h_u - 100 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + std::abs(h_u));
   // A time the step's interpolant cannot serve (outside it, or where the
   // mode's Newton fails) is left unsampled rather than guessed.
-  step_times_.clear();
-  for (; next_output_ < end; ++next_output_) {
-    const double t = times[next_output_];
-    if (t > t0_ && t < t_end_ && t >= step_start) step_times_.push_back(t);
-  }
+  const auto served =
+      std::partition_point(first, last, [&](double t) { return t <= t0_ || t < step_start; });
+  step_times_.assign(served,
+                     std::partition_point(served, last, [this](double t) { return t < t_end_; }));
+  next_output_ = end;
   const int count = static_cast<int>(step_times_.size());
   if (count == 0) return;
   // x at all of them, then u (one product for an LCS mode), then one append
