@@ -387,6 +387,14 @@ TEST(LcsStepping, RejectsInvalidInputNamingIt) {
   options.scheme = SteppingScheme::kFullyImplicit;
   EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
               HasSubstr("kFullyImplicit"));
+  options.scheme = SteppingScheme::kAuto;
+  options.output_times = {0.25, 0.25};  // strictly increasing for time-stepping
+  EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
+              HasSubstr("output_times[1]: 0.25 does not exceed output_times[0] = 0.25"));
+  options.output_times = {0.25, INFINITY};
+  EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
+              HasSubstr("output_times[1]: inf is not finite"));
+  options.output_times.clear();
   Lcs mismatched = lcs;
   mismatched.C = SparseMatrix(1, 2);
   EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(mismatched, x0, 0, 1); }),

@@ -426,7 +426,9 @@ TEST(ModeDae, InvalidInputsNameTheirField) {
   expect_option(options, "h_max");
   options = {};
   options.output_times = {0.5, 0.25};
-  expect_option(options, "output_times[1]");
+  expect_option(options, "output_times[1]: 0.25 is below output_times[0] = 0.5");
+  options.output_times = {0.5, 0.5, -INFINITY};
+  expect_option(options, "output_times[2]: -inf is not finite");
   options = {};
   options.output_times = {2.0};
   expect_option(options, "output_times[0]");

@@ -20,6 +20,7 @@
 #include "../ida/ida_handles.hpp"
 #include "box_mode.hpp"
 #include "check.hpp"
+#include "output_times_check.hpp"
 #include "kkt_lifting.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "sundials_handles.hpp"
@@ -57,14 +58,8 @@ void EventDrivenOptions::Validate() const {
   DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
   DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
                    "h_max: " << h_max << " is negative or not finite");
-  for (std::size_t k = 0; k < output_times.size(); ++k) {
-    DVI_THROW_UNLESS(std::isfinite(output_times[k]),
-                     "output_times[" << k << "]: " << output_times[k] << " is not finite");
-    DVI_THROW_UNLESS(k == 0 || output_times[k] >= output_times[k - 1],
-                     "output_times[" << k << "]: " << output_times[k]
-                                     << " is below output_times[" << k - 1
-                                     << "] = " << output_times[k - 1]);
-  }
+  internal::CheckOutputTimes(output_times, false);
+
   DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
   DVI_THROW_UNLESS(max_event_burst >= 2,
                    "max_event_burst: " << max_event_burst << " is below 2");

@@ -19,6 +19,7 @@
 
 #include "../cvode/sundials_handles.hpp"
 #include "check.hpp"
+#include "output_times_check.hpp"
 #include "ida_handles.hpp"
 #include "../time_stepping/lcs_method.hpp"
 #include "lcs_mode_dae.hpp"
@@ -32,13 +33,8 @@ void ModeDaeOptions::Validate() const {
   DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
   DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
                    "h_max: " << h_max << " is negative or not finite");
-  for (std::size_t k = 0; k < output_times.size(); ++k) {
-    DVI_THROW_UNLESS(std::isfinite(output_times[k]),
-                     "output_times[" << k << "]: " << output_times[k] << " is not finite");
-    DVI_THROW_UNLESS(k == 0 || output_times[k] >= output_times[k - 1],
-                     "output_times[" << k << "]: " << output_times[k] << " is below output_times["
-                                     << k - 1 << "] = " << output_times[k - 1]);
-  }
+  internal::CheckOutputTimes(output_times, false);
+
   DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
   solver.Validate();
 }

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "check.hpp"
+#include "output_times_check.hpp"
 #include "dvi/time_stepping.hpp"
 
 namespace dvi {
@@ -38,13 +39,7 @@ void TimeSteppingOptions::Validate() const {
   DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0, "h_max: " << h_max << " is negative or not finite");
   DVI_THROW_UNLESS(h_max == 0 || h_max >= h_min, "h_max: " << h_max << " is below h_min = " << h_min);
   DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
-  for (size_t k = 0; k < output_times.size(); ++k) {
-    DVI_THROW_UNLESS(std::isfinite(output_times[k]),
-                     "output_times[" << k << "]: " << output_times[k] << " is not finite");
-    DVI_THROW_UNLESS(k == 0 || output_times[k] > output_times[k - 1],
-                     "output_times[" << k << "]: " << output_times[k]
-                                     << " does not exceed the previous time");
-  }
+  internal::CheckOutputTimes(output_times, true);
   solver.Validate();
 }
 
