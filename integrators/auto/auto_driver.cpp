@@ -54,10 +54,11 @@ constexpr double kRatioSpread = 1.1;
 // several components of u switch at one crossing.
 constexpr double kSameTimeFraction = 1e-12;
 
-// Runs event-driven integration from (t, x) to the end; runs time-stepping
-// from (t_a, x_a) to t_b. Both sample `outputs`.
-using EventMethod =
-    std::function<Trajectory(double t, const Eigen::VectorXd& x, std::vector<double> outputs)>;
+// Runs event-driven integration from (t, x) to the end with `options`, whose
+// output times are the run's; runs time-stepping from (t_a, x_a) to t_b,
+// sampling `outputs`.
+using EventMethod = std::function<Trajectory(double t, const Eigen::VectorXd& x,
+                                             const EventDrivenOptions& options)>;
 using SteppingMethod = std::function<Trajectory(double t_a, const Eigen::VectorXd& x_a, double t_b,
                                                 std::vector<double> outputs)>;
 
@@ -84,6 +85,12 @@ std::vector<double> Clip(const std::vector<double>& times, double from, double t
   std::vector<double> clipped(first, std::upper_bound(first, times.end(), to));
   clipped.erase(std::unique(clipped.begin(), clipped.end()), clipped.end());
   return clipped;
+}
+
+// Whether Clip(times, from, to, false) is all of times.
+bool ClipKeepsAll(const std::vector<double>& times, double from, double to) {
+  return times.empty() || (times.front() >= from && times.back() <= to &&
+                           std::adjacent_find(times.begin(), times.end()) == times.end());
 }
 
 // A geometric sequence of event times t_k (Zeno behaviour): the gaps
@@ -205,7 +212,15 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
   double window = base_window;
   int handovers = 0;
   while (true) {
-    Trajectory run = event(t, x, Clip(outputs, t, t_end, false));
+    // The caller's options as they are where clipping keeps all their times
+    // (the first run, as a rule): no copy of a long list of output times.
+    EventDrivenOptions clipped;
+    const bool as_given = t == t0 && ClipKeepsAll(outputs, t0, t_end);
+    if (!as_given) {
+      clipped = options.event;
+      clipped.output_times = Clip(outputs, t, t_end, false);
+    }
+    Trajectory run = event(t, x, as_given ? options.event : clipped);
     const bool succeeded = run.succeeded();
     // The part the run integrated well: all of its samples (its last is the
     // state where it stopped, located by CVODE / IDA).
@@ -293,10 +308,9 @@ Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, d
   CheckStart(dvi.n, x0, t0, t_end);
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(dvi, options);
-    const EventMethod event = [&](double t, const Eigen::VectorXd& x, std::vector<double> outputs) {
-      EventDrivenOptions event_options = options.event;
-      event_options.output_times = std::move(outputs);
-      return IntegrateEventDriven(dvi, x, t, t_end, event_options);
+    const EventMethod event = [&](double t, const Eigen::VectorXd& x,
+                                  const EventDrivenOptions& run) {
+      return IntegrateEventDriven(dvi, x, t, t_end, run);
     };
     return Drive(event, stepping, x0, t0, t_end, options);
   });
@@ -309,24 +323,22 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
   CheckStart(lcs.n(), x0, t0, t_end);
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(lcs, options);
-    const EventDrivenOptions& from = options.event;
-    const bool mode_dae = from.solver.allow_sparse && lcs.n() + lcs.m() >= kModeDaeMinSize &&
-                          ModeDaeApplies(lcs);
-    const EventMethod event = [&](double t, const Eigen::VectorXd& x, std::vector<double> outputs) {
+    const bool mode_dae = options.event.solver.allow_sparse &&
+                          lcs.n() + lcs.m() >= kModeDaeMinSize && ModeDaeApplies(lcs);
+    const EventMethod event = [&](double t, const Eigen::VectorXd& x,
+                                  const EventDrivenOptions& run) {
       if (mode_dae) {
         ModeDaeOptions dae;
-        dae.rtol = from.rtol;
-        dae.atol = from.atol;
-        dae.max_steps = from.max_steps;
-        dae.h_max = from.h_max;
-        dae.output_times = std::move(outputs);
-        dae.max_events = from.max_events;
-        dae.solver = from.solver;
+        dae.rtol = run.rtol;
+        dae.atol = run.atol;
+        dae.max_steps = run.max_steps;
+        dae.h_max = run.h_max;
+        dae.output_times = run.output_times;
+        dae.max_events = run.max_events;
+        dae.solver = run.solver;
         return IntegrateModeDae(lcs, x, t, t_end, dae);
       }
-      EventDrivenOptions event_options = from;
-      event_options.output_times = std::move(outputs);
-      return IntegrateEventDriven(lcs, x, t, t_end, event_options);
+      return IntegrateEventDriven(lcs, x, t, t_end, run);
     };
     return Drive(event, stepping, x0, t0, t_end, options);
   });

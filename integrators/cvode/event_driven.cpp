@@ -207,9 +207,10 @@ std::string Format(double value) {
 // One run: the CVODE objects, the mode system and the trajectory being built.
 class EventDrivenRun {
  public:
-  // lcs: the LCS that dvi is (K a box), for KLU.
+  // lcs: the LCS that dvi is (K a box), for KLU; klu: CVODE's Newton systems
+  // by KLU (options.linear_solver resolved), else dense.
   EventDrivenRun(const Dvi& dvi, bool affine, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
-                 double t_end, const EventDrivenOptions& options)
+                 double t_end, const EventDrivenOptions& options, bool klu)
       : dvi_(dvi),
         options_(options),
         reduction_theorem_(affine ? "Theorem 5.3" : "Theorem 5.2"),
@@ -222,7 +223,7 @@ class EventDrivenRun {
     // time: in one fused loop instead of a scale and q axpys, the same sums.
     N_VEnableLinearCombination_Serial(dky_.get(), SUNTRUE);
     // Only the chosen solver's matrix: a dense one is n² doubles.
-    if (options.linear_solver == LinearSolver::kKlu)
+    if (klu)
       klu_ = std::make_unique<internal::KluLinearSolver>(y_.get(), x0.size(), 1, context_.get());
     else
       dense_ = std::make_unique<internal::DenseLinearSolver>(y_.get(), x0.size(), context_.get());
@@ -807,17 +808,17 @@ Trajectory Integrate(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, 
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
   if (dvi.K.IsBox()) {
-    EventDrivenOptions resolved = options;
-    if (resolved.linear_solver == LinearSolver::kAuto)
-      resolved.linear_solver =
-          lcs && dvi.n >= kKluMinStates ? LinearSolver::kKlu : LinearSolver::kDense;
-    EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, resolved);
+    const LinearSolver solver = options.linear_solver;
+    const bool klu = solver == LinearSolver::kKlu ||
+                     (solver == LinearSolver::kAuto && lcs && dvi.n >= kKluMinStates);
+    EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, options, klu);
     return run.Run();
   }
   // Polyhedra, balls and products with them: the KKT system on a box, whose
   // modes are the active sets of K's constraints.
   const internal::KktLifting lifting = internal::LiftToBox(dvi);
-  EventDrivenRun run(lifting.dvi, lcs && dvi.K.IsPolyhedral(), nullptr, x0, t0, t_end, options);
+  EventDrivenRun run(lifting.dvi, lcs && dvi.K.IsPolyhedral(), nullptr, x0, t0, t_end, options,
+                     false);
   return internal::Unlift(run.Run(), lifting);
 }
 
