@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <iomanip>
 #include <limits>
@@ -198,10 +199,12 @@ void ErrorHandler(int, const char*, const char* function, char* message, void* u
   data.cvode_message = std::string(function) + ": " + message;
 }
 
+// As an ostream prints it ("%g"), without the stream: the start's reason is
+// formed on every run.
 std::string Format(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", value);
+  return buffer;
 }
 
 // One run: the CVODE objects, the mode system and the trajectory being built.
