@@ -409,8 +409,8 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     // ones this loop would make: the same rows with the same u off them.
     ReductionMemo& memo = reduction_memo_;
     if (memo.passes > 0 && memo.S == free_ && memo.u_rest == ZeroedOn(u_, free_)) {
-      reduced_rows = std::move(memo.rows);
-      mode_constraints_ = std::move(memo.constraints);
+      reduced_rows.swap(memo.rows);
+      mode_constraints_.swap(memo.constraints);
       passes_ = memo.passes;
     }
     memo.passes = 0;
@@ -813,7 +813,9 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
   AffineConstraints constraints{Eigen::VectorXd(0), SparseMatrix(0, n())};
   SolveResult current = vi;
   std::string failure;
-  ReductionMemo memo;  // kept for SplitRows while every pass has the same S and u off S
+  // Left for SplitRows while every pass has the same S and u off S.
+  ReductionMemo& memo = reduction_memo_;
+  memo.passes = 0;
   bool memoizable = true;
   for (int pass = 1; pass <= n() + 1; ++pass) {
     // S = α ∪ β of the current LCP: the rows that vanish at its solution.
@@ -858,10 +860,9 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
       mode = ModeOf(modified.z);
       u = modified.z;
       if (memoizable) {
-        memo.rows = std::move(rows);
-        memo.constraints = std::move(constraints);
+        memo.rows.swap(rows);
+        memo.constraints.swap(constraints);
         memo.passes = pass;
-        reduction_memo_ = std::move(memo);
       }
       return true;
     }

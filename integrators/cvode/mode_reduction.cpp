@@ -16,14 +16,16 @@ void AppendEntries(const SparseMatrix& matrix, const std::vector<int>& row_of, T
       if (row_of[it.row()] >= 0) entries.emplace_back(row_of[it.row()], it.col(), it.value());
 }
 
-SparseMatrix FromEntries(const Triplets& entries, Eigen::Index rows, Eigen::Index cols) {
-  SparseMatrix result(rows, cols);
+// The matrices are rebuilt in place: Eigen 3.4's SparseMatrix has no move
+// assignment, so assigning a returned one would copy it.
+void SetFromEntries(const Triplets& entries, Eigen::Index rows, Eigen::Index cols,
+                    SparseMatrix& result) {
+  result.resize(rows, cols);
   result.setFromTriplets(entries.begin(), entries.end());
-  return result;
 }
 
-// top with bottom's rows below it.
-SparseMatrix StackRows(const SparseMatrix& top, const SparseMatrix& bottom) {
+// Appends bottom's rows below top's.
+void StackRows(SparseMatrix& top, const SparseMatrix& bottom) {
   const int height = static_cast<int>(top.rows());
   std::vector<int> own(height), below(bottom.rows());
   for (int i = 0; i < height; ++i) own[i] = i;
@@ -32,12 +34,12 @@ SparseMatrix StackRows(const SparseMatrix& top, const SparseMatrix& bottom) {
   entries.reserve(top.nonZeros() + bottom.nonZeros());
   AppendEntries(top, own, entries);
   AppendEntries(bottom, below, entries);
-  return FromEntries(entries, height + bottom.rows(), top.cols());
+  SetFromEntries(entries, height + bottom.rows(), top.cols(), top);
 }
 
-// matrix with its row rows[k] replaced by row k of replacement.
-SparseMatrix ReplaceRows(const SparseMatrix& matrix, const std::vector<int>& rows,
-                         const SparseMatrix& replacement) {
+// Replaces row rows[k] of matrix by row k of replacement.
+void ReplaceRows(SparseMatrix& matrix, const std::vector<int>& rows,
+                 const SparseMatrix& replacement) {
   std::vector<int> own(matrix.rows());
   for (int i = 0; i < static_cast<int>(own.size()); ++i) own[i] = i;
   for (const int i : rows) own[i] = -1;
@@ -45,7 +47,7 @@ SparseMatrix ReplaceRows(const SparseMatrix& matrix, const std::vector<int>& row
   entries.reserve(matrix.nonZeros() + replacement.nonZeros());
   AppendEntries(matrix, own, entries);
   AppendEntries(replacement, rows, entries);
-  return FromEntries(entries, matrix.rows(), matrix.cols());
+  SetFromEntries(entries, matrix.rows(), matrix.cols(), matrix);
 }
 
 }  // namespace
@@ -132,7 +134,7 @@ RowReduction ReduceRows(const SparseMatrix& J, const std::vector<int>& S) {
     reduction.differentiated.push_back(dependent[order[k]]);
   }
   for (auto& entry : entries) entry = {row_of[entry.row()], entry.col(), entry.value()};
-  reduction.P = FromEntries(entries, static_cast<Eigen::Index>(dependent.size()), J.rows());
+  SetFromEntries(entries, static_cast<Eigen::Index>(dependent.size()), J.rows(), reduction.P);
   return reduction;
 }
 
@@ -150,11 +152,11 @@ bool DifferentiateDependentRows(const AffineFlow& flow, const std::vector<int>& 
   const int d = static_cast<int>(reduction.differentiated.size());
   constraints.c.conservativeResize(previous + d);
   constraints.c.tail(d) = reduction.P * (rows.c + rows.M * u_rest);
-  constraints.C = StackRows(constraints.C, P_C);
+  StackRows(constraints.C, P_C);
   const Eigen::VectorXd c = P_C * flow.p;
   for (int k = 0; k < d; ++k) rows.c(reduction.differentiated[k]) = c(k);
-  rows.M = ReplaceRows(rows.M, reduction.differentiated, P_C * flow.B);
-  rows.C = ReplaceRows(rows.C, reduction.differentiated, P_C * flow.A);
+  ReplaceRows(rows.M, reduction.differentiated, P_C * flow.B);
+  ReplaceRows(rows.C, reduction.differentiated, P_C * flow.A);
   return true;
 }
 

@@ -53,6 +53,14 @@ struct AffineRows {
   Eigen::VectorXd c;
   SparseMatrix C;
   SparseMatrix M;
+
+  /// Hands the matrices over: Eigen 3.4's SparseMatrix has no move
+  /// operations, so std::move of these structs copies them.
+  void swap(AffineRows& other) {
+    c.swap(other.c);
+    C.swap(other.C);
+    M.swap(other.M);
+  }
 };
 
 /// The u-free combinations Φ(x) = c + C x the passes met, stacked: the
@@ -60,6 +68,12 @@ struct AffineRows {
 struct AffineConstraints {
   Eigen::VectorXd c;
   SparseMatrix C;
+
+  /// As AffineRows::swap.
+  void swap(AffineConstraints& other) {
+    c.swap(other.c);
+    C.swap(other.C);
+  }
 };
 
 /// u with its components S set to zero: u_rest below, u off S at its bounds.
