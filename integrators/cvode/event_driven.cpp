@@ -60,7 +60,6 @@ void EventDrivenOptions::Validate() const {
   DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
                    "h_max: " << h_max << " is negative or not finite");
   internal::CheckOutputTimes(output_times, false);
-
   DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
   DVI_THROW_UNLESS(max_event_burst >= 2,
                    "max_event_burst: " << max_event_burst << " is below 2");

@@ -34,7 +34,6 @@ void ModeDaeOptions::Validate() const {
   DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
                    "h_max: " << h_max << " is negative or not finite");
   internal::CheckOutputTimes(output_times, false);
-
   DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
   solver.Validate();
 }
