@@ -438,6 +438,36 @@ TEST(AutoDriver, NonBoxSetRunsEventDrivenThroughItsKktSystem) {
   RecordProperty("max_error", Scientific(error));
 }
 
+// x' = −sgn(x) through (4.2), x0 = 1: x = max(1 − t, 0), sliding at 0 from
+// t = 1. Output times outside [t0, t_end] are dropped and a repeated one is
+// sampled once; the run then equals the one given just the times that remain
+// (which takes the caller's options as they are, without clipping).
+TEST(AutoDriver, OutputTimesOutsideTheIntervalOrRepeatedAreSampledOnce) {
+  const Lcs lcs = FilippovSignLcs(Eigen::MatrixXd::Constant(1, 1, -1));
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.event.output_times = {-1, 0.25, 0.25, 0.5, 1.5, 4};
+  const Trajectory clipped = IntegrateAuto(lcs, x0, 0, 2, options);
+  options.event.output_times = {0.25, 0.5, 1.5};
+  const Trajectory as_given = IntegrateAuto(lcs, x0, 0, 2, options);
+  ASSERT_TRUE(clipped.succeeded()) << clipped.message;
+  ASSERT_TRUE(as_given.succeeded()) << as_given.message;
+  ExpectWellFormed(clipped, 0, 2);
+  // The start, the three times, the arrival at t = 1 (a root CVODE
+  // locates) and the end.
+  const std::vector<double> expected{0, 0.25, 0.5, 1, 1.5, 2};
+  ASSERT_EQ(clipped.times.size(), expected.size());
+  for (std::size_t s = 0; s < expected.size(); ++s)
+    EXPECT_NEAR(clipped.times[s], expected[s], s == 3 ? 1e-9 : 0) << "sample " << s;
+  EXPECT_EQ(as_given.times, clipped.times);
+  for (std::size_t s = 0; s < clipped.times.size(); ++s) {
+    EXPECT_NEAR(clipped.states[s](0), std::max(1 - clipped.times[s], 0.0), 1e-12) << "sample " << s;
+    EXPECT_EQ(as_given.states[s](0), clipped.states[s](0)) << "sample " << s;
+  }
+}
+
 TEST(AutoDriver, ValidateNamesTheField) {
   AutoOptions options;
   options.stepping_window = 0;
