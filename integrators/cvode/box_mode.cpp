@@ -811,7 +811,10 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
   const double tolerance = 1e3 * solver_.tolerance;
   AffineRows rows = lcs_rows_;
   AffineConstraints constraints{Eigen::VectorXd(0), SparseMatrix(0, n())};
-  SolveResult current = vi;
+  // The LCP whose vanishing rows a pass reduces: vi, then the last pass's
+  // modified one (held, not copied: an event is on the hot path).
+  const SolveResult* current = &vi;
+  SolveResult previous;
   std::string failure;
   // Left for SplitRows while every pass has the same S and u off S.
   ReductionMemo& memo = reduction_memo_;
@@ -821,8 +824,8 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
     // S = α ∪ β of the current LCP: the rows that vanish at its solution.
     std::vector<int> S;
     for (int j = 0; j < m(); ++j)
-      if (std::abs(current.w(j)) <= tolerance) S.push_back(j);
-    Eigen::VectorXd u_rest = ZeroedOn(current.z, S);
+      if (std::abs(current->w(j)) <= tolerance) S.push_back(j);
+    Eigen::VectorXd u_rest = ZeroedOn(current->z, S);
     if (pass == 1) {
       memo.S = S;
       memo.u_rest = std::move(u_rest);
@@ -834,7 +837,7 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
       return "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " + std::to_string(pass) +
              ": ";
     };
-    if (!DifferentiateDependentRows(flow_, S, current.z, rows, constraints)) {
+    if (!DifferentiateDependentRows(flow_, S, current->z, rows, constraints)) {
       std::ostringstream message;
       message << at_pass() << "no row of the LCP is dependent where it vanishes"
               << (pass == 1 ? "" : ", after " + failure);
@@ -842,9 +845,9 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
       return false;
     }
     // The modified LCS of Sect. 5.4 at x.
-    const SolveResult modified =
+    SolveResult modified =
         SolveBoxProblem(BoxMcp::Affine(Eigen::MatrixXd(rows.M), rows.c + rows.C * x, lower_, upper_),
-                        current.z);
+                        current->z);
     ++*vi_solves;
     *iterations += modified.iterations;
     if (!modified.solved()) {
@@ -867,7 +870,8 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
       return true;
     }
     failure = at_pass() + "its solution is not strongly regular (" + regular.reason + ")";
-    current = modified;
+    previous = std::move(modified);
+    current = &previous;
   }
   if (why) *why = failure;
   return false;
