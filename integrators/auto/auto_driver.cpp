@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "../cvode/event_driven_validated.hpp"
 #include "check.hpp"
 #include "dvi/mode_dae.hpp"
 
@@ -308,9 +309,10 @@ Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, d
   CheckStart(dvi.n, x0, t0, t_end);
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(dvi, options);
+    // Each interval's options are the validated ones, or a clipped copy.
     const EventMethod event = [&](double t, const Eigen::VectorXd& x,
                                   const EventDrivenOptions& run) {
-      return IntegrateEventDriven(dvi, x, t, t_end, run);
+      return internal::IntegrateEventDrivenValidated(dvi, nullptr, x, t, t_end, run);
     };
     return Drive(event, stepping, x0, t0, t_end, options);
   });
@@ -325,6 +327,8 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
     const SteppingMethod stepping = SteppingOf(lcs, options);
     const bool mode_dae = options.event.solver.allow_sparse &&
                           lcs.n() + lcs.m() >= kModeDaeMinSize && ModeDaeApplies(lcs);
+    const Dvi dvi = lcs.ToDvi();
+    // Each interval's options are the validated ones, or a clipped copy.
     const EventMethod event = [&](double t, const Eigen::VectorXd& x,
                                   const EventDrivenOptions& run) {
       if (mode_dae) {
@@ -338,7 +342,7 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
         dae.solver = run.solver;
         return IntegrateModeDae(lcs, x, t, t_end, dae);
       }
-      return IntegrateEventDriven(lcs, x, t, t_end, run);
+      return internal::IntegrateEventDrivenValidated(dvi, &lcs, x, t, t_end, run);
     };
     return Drive(event, stepping, x0, t0, t_end, options);
   });

@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "dvi/dvi.hpp"
+#include "dvi/event_driven.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi::internal {
+
+/// IntegrateEventDriven for a caller that has validated `dvi` and `options`
+/// itself: the automatic driver, which runs it once per event-driven
+/// interval, checks its 1000 output times and converts an Lcs to its Dvi once
+/// per call, not once per interval. `lcs`, when given, is the LCS that `dvi`
+/// is (lcs->ToDvi()). x0, t0, t_end and the linear solver's fit to the
+/// problem are still checked.
+Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
+                                         double t0, double t_end,
+                                         const EventDrivenOptions& options);
+
+}  // namespace dvi::internal
