@@ -361,7 +361,10 @@ void BoxModeSystem::SolveColumns(const std::vector<double>& times, const Eigen::
       auto u = U.row(free_[i]);
       u.setConstant(map_offset_(i));
       for (int j = 0; j < n(); ++j) u += map_(i, j) * X.row(j);
-      for (Eigen::Index k = 0; k < count; ++k) kept[k] = kept[k] && std::isfinite(u(k));
+      // A finite sum has every entry finite; the entries are looked at only
+      // when it is not (or overflows).
+      if (!std::isfinite(u.sum()))
+        for (Eigen::Index k = 0; k < count; ++k) kept[k] = kept[k] && std::isfinite(u(k));
     }
     u_ = U.col(count - 1);
     return;

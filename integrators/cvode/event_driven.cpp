@@ -278,6 +278,7 @@ class EventDrivenRun {
   Eigen::MatrixXd step_x_, step_u_;
   std::vector<char> step_kept_;
   Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
+  Eigen::ArrayXd step_s_, step_row_;  // Horner's t − t_n and one component
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -356,15 +357,14 @@ void EventDrivenRun::SampleOutputs(double before) {
   step_x_.resize(x0_.size(), count);
   step_kept_.assign(count, 1);
   if (by_polynomial) {
-    // Horner in plain loops: Eigen's expressions on columns of a few entries
-    // cost more than the arithmetic.
-    for (int k = 0; k < count; ++k) {
-      const double s = step_times_[k] - t_n;
-      for (Eigen::Index i = 0; i < step_x_.rows(); ++i) {
-        double value = taylor_(i, q);
-        for (int j = q - 1; j >= 0; --j) value = taylor_(i, j) + s * value;
-        step_x_(i, k) = value;
-      }
+    // Horner for all of the step's times at once, a component at a time:
+    // array operations over the times, where a column has too few entries
+    // for Eigen's set-up per column to pay.
+    step_s_ = Eigen::Map<const Eigen::ArrayXd>(step_times_.data(), count) - t_n;
+    for (Eigen::Index i = 0; i < step_x_.rows(); ++i) {
+      step_row_.setConstant(count, taylor_(i, q));
+      for (int j = q - 1; j >= 0; --j) step_row_ = taylor_(i, j) + step_s_ * step_row_;
+      step_x_.row(i) = step_row_.matrix().transpose();
     }
   } else {
     for (int k = 0; k < count; ++k) {
