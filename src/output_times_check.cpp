@@ -13,8 +13,9 @@ namespace dvi::internal {
 namespace {
 
 // The first time that is not finite or not in order after its predecessor
-// (times.size() when there is none), in a tight loop: an auto run checks
-// its ~1000 output times twice. The messages are built only for a bad one.
+// (times.size() when there is none), in a tight loop: every run checks its
+// output times (often 1000 of them) before it starts, and the messages are
+// built only for a bad one.
 template <class InOrder>
 std::size_t FirstBadTime(const std::vector<double>& times, InOrder in_order) {
   for (std::size_t k = 0; k < times.size(); ++k)
