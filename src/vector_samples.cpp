@@ -10,6 +10,12 @@ void VectorSamples::reserve(std::size_t count, Eigen::Index dim) {
   if (capacity() < values) values_.conservativeResize(static_cast<Eigen::Index>(values));
 }
 
+void VectorSamples::Grow(std::size_t values) {
+  // Doubling: appending one sample at a time costs amortised O(1) copies.
+  if (capacity() < values)
+    values_.conservativeResize(static_cast<Eigen::Index>(std::max(values, 2 * capacity())));
+}
+
 void VectorSamples::PushBackGrowing(const Eigen::Ref<const Eigen::VectorXd>& v) {
   if (size_ == 0) dim_ = v.size();
   DVI_THROW_UNLESS(v.size() == dim_, "VectorSamples::push_back: sample " << size_ << " has "
@@ -20,9 +26,7 @@ void VectorSamples::PushBackGrowing(const Eigen::Ref<const Eigen::VectorXd>& v) 
   // growing the buffer moves, so it is copied first.
   const Eigen::VectorXd copy = v;
   const std::size_t used = size_ * static_cast<std::size_t>(dim_);
-  const std::size_t needed = used + static_cast<std::size_t>(dim_);
-  if (capacity() < needed)
-    values_.conservativeResize(static_cast<Eigen::Index>(std::max(needed, 2 * capacity())));
+  Grow(used + static_cast<std::size_t>(dim_));
   std::copy(copy.data(), copy.data() + dim_, values_.data() + used);
   ++size_;
 }
@@ -48,7 +52,7 @@ void VectorSamples::append(const Eigen::Ref<const Eigen::MatrixXd>& columns) {
   };
   if (capacity() < used + added) {
     const Eigen::MatrixXd copy = columns;  // columns may view this buffer, which moves
-    values_.conservativeResize(static_cast<Eigen::Index>(std::max(used + added, 2 * capacity())));
+    Grow(used + added);
     slots() = copy;
   } else if (columns.outerStride() == columns.rows()) {
     std::copy(columns.data(), columns.data() + added, values_.data() + used);  // no overlap
@@ -56,6 +60,17 @@ void VectorSamples::append(const Eigen::Ref<const Eigen::MatrixXd>& columns) {
     slots() = columns;
   }
   size_ += static_cast<std::size_t>(columns.cols());
+}
+
+Eigen::Map<Eigen::MatrixXd> VectorSamples::Extend(std::size_t count, Eigen::Index dim) {
+  if (size_ == 0) dim_ = dim;
+  DVI_THROW_UNLESS(dim == dim_,
+                   "VectorSamples::Extend: samples of " << dim << " entries, expected " << dim_);
+  const std::size_t used = size_ * static_cast<std::size_t>(dim_);
+  Grow(used + count * static_cast<std::size_t>(dim_));
+  size_ += count;
+  return Eigen::Map<Eigen::MatrixXd>(values_.data() + used, dim_,
+                                     static_cast<Eigen::Index>(count));
 }
 
 void VectorSamples::append(const VectorSamples& other) { append(other.matrix()); }

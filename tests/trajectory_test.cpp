@@ -90,6 +90,27 @@ TEST(VectorSamples, AppendingColumnsStoresEachAsASampleEvenFromItsOwnMatrix) {
                     "samples of 3 entries, expected 2");
 }
 
+TEST(VectorSamples, ExtendAppendsColumnsFilledInPlaceAndKeepsTheSamplesBefore) {
+  VectorSamples samples;
+  samples.push_back(Eigen::Vector2d(1, 2));
+  auto room = samples.Extend(3, 2);  // beyond the capacity: the buffer moves
+  ASSERT_EQ(room.rows(), 2);
+  ASSERT_EQ(room.cols(), 3);
+  room << 3, 5, 7, 4, 6, 8;
+  ASSERT_EQ(samples.size(), 4u);
+  EXPECT_EQ(samples[0], Eigen::Vector2d(1, 2));
+  EXPECT_EQ(samples[2], Eigen::Vector2d(5, 6));
+  EXPECT_EQ(samples.back(), Eigen::Vector2d(7, 8));
+  samples.resize(2);  // a filled sample dropped again
+  EXPECT_EQ(samples.back(), Eigen::Vector2d(3, 4));
+  EXPECT_EQ(samples.Extend(0, 2).cols(), 0);
+  EXPECT_EQ(samples.size(), 2u);
+  VectorSamples first;
+  EXPECT_EQ(first.Extend(2, 3).rows(), 3);  // the first samples set dim()
+  EXPECT_EQ(first.dim(), 3);
+  ExpectThrowNaming([&] { samples.Extend(1, 3); }, "samples of 3 entries, expected 2");
+}
+
 TEST(VectorSamples, ASampleOfAnotherLengthOrGrowingByResizeThrowsNamingTheSizes) {
   VectorSamples samples;
   samples.push_back(Eigen::Vector2d(1, 2));

@@ -88,6 +88,10 @@ class VectorSamples {
   /// Appends the columns of `columns`, each a sample (the inverse of
   /// matrix()). @throws InvalidInputError as push_back.
   void append(const Eigen::Ref<const Eigen::MatrixXd>& columns);
+  /// Appends `count` samples of length `dim`, uninitialised, and returns
+  /// them as the columns of a dim × count map to be filled in place (valid
+  /// until the next change of size). @throws InvalidInputError as push_back.
+  Eigen::Map<Eigen::MatrixXd> Extend(std::size_t count, Eigen::Index dim);
 
   Ref operator[](std::size_t k) { return Ref(values_.data() + k * dim_, dim_); }
   ConstRef operator[](std::size_t k) const { return ConstRef(values_.data() + k * dim_, dim_); }
@@ -107,6 +111,8 @@ class VectorSamples {
 
  private:
   void PushBackGrowing(const Eigen::Ref<const Eigen::VectorXd>& v);
+  /// Room for `values` values in all; may move the buffer.
+  void Grow(std::size_t values);
 
   std::size_t capacity() const { return static_cast<std::size_t>(values_.size()); }
 

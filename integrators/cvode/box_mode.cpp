@@ -344,10 +344,10 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
   return false;
 }
 
-void BoxModeSystem::SolveColumns(const std::vector<double>& times, const Eigen::MatrixXd& X,
-                                 Eigen::MatrixXd& U, std::vector<char>& kept) {
+void BoxModeSystem::SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& X,
+                                 Eigen::Ref<Eigen::MatrixXd> U, std::vector<char>& kept) {
   const Eigen::Index count = X.cols();
-  U.resize(m(), count);
   const bool by_map = free_.empty() || (rows_split_ && mode_regular_ && map_.size() > 0);
   if (affine_ && count > 0 && by_map) {
     // SolveLcsMode's map for all columns (each counted as its one exact
@@ -372,7 +372,7 @@ void BoxModeSystem::SolveColumns(const std::vector<double>& times, const Eigen::
   for (Eigen::Index k = 0; k < count; ++k) {
     if (!kept[k]) continue;
     scratch_x_ = X.col(k);
-    kept[k] = Solve(times[k], scratch_x_);
+    kept[k] = Solve(times(k), scratch_x_);
     U.col(k) = u_;
   }
 }

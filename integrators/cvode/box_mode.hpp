@@ -68,12 +68,13 @@ class BoxModeSystem {
   /// does not converge.
   bool Solve(double t, const Eigen::VectorXd& x, std::string* why = nullptr);
   /// Solve at (times[k], X.col(k)) for every column k with kept[k] set
-  /// (kept.size() == X.cols()): U.col(k) = u there, kept[k] cleared where
-  /// Solve fails. For an LCS mode with a dense affine map, one product for
-  /// all columns (dense output at many times). u() is then the last
-  /// column's. @pre a Solve succeeded in the current mode.
-  void SolveColumns(const std::vector<double>& times, const Eigen::MatrixXd& X,
-                    Eigen::MatrixXd& U, std::vector<char>& kept);
+  /// (kept.size() == X.cols(), U m × X.cols()): U.col(k) = u there, kept[k]
+  /// cleared where Solve fails. For an LCS mode with a dense affine map, one
+  /// product for all columns (dense output at many times). u() is then the
+  /// last column's. @pre a Solve succeeded in the current mode.
+  void SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
+                    const Eigen::Ref<const Eigen::MatrixXd>& X, Eigen::Ref<Eigen::MatrixXd> U,
+                    std::vector<char>& kept);
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
   /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a

@@ -272,13 +272,10 @@ class EventDrivenRun {
   internal::SunContext context_;
   internal::SerialVector y_{x0_.size(), context_.get()};
   internal::SerialVector dky_{x0_.size(), context_.get()};
-  // A step's output times, x and u there (columns) and which are sampled:
-  // kept so that sampling does not allocate.
-  std::vector<double> step_times_;
-  Eigen::MatrixXd step_x_, step_u_;
+  // Which of a step's output times are sampled: kept so that sampling does
+  // not allocate.
   std::vector<char> step_kept_;
   Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
-  Eigen::ArrayXd step_s_, step_row_;  // Horner's t − t_n and one component
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -347,40 +344,52 @@ void EventDrivenRun::SampleOutputs(double before) {
   // mode's Newton fails) is left unsampled rather than guessed.
   const auto served =
       std::partition_point(first, last, [&](double t) { return t <= t0_ || t < step_start; });
-  step_times_.assign(served,
-                     std::partition_point(served, last, [this](double t) { return t < t_end_; }));
+  const auto served_end =
+      std::partition_point(served, last, [this](double t) { return t < t_end_; });
   next_output_ = end;
-  const int count = static_cast<int>(step_times_.size());
+  const auto count = static_cast<std::size_t>(served_end - served);
   if (count == 0) return;
-  // x at all of them, then u (one product for an LCS mode), then one append
-  // each: per time, only the arithmetic is left.
-  step_x_.resize(x0_.size(), count);
+  // Straight into the trajectory (room for every output time is reserved):
+  // x at all of the step's times, then u (one product for an LCS mode).
+  std::vector<double>& sample_times = trajectory_.times;
+  const std::size_t first_sample = sample_times.size();
+  sample_times.insert(sample_times.end(), served, served_end);
+  const Eigen::Map<const Eigen::ArrayXd> step_times(sample_times.data() + first_sample,
+                                                    static_cast<Eigen::Index>(count));
+  auto X = trajectory_.states.Extend(count, x0_.size());
+  auto U = trajectory_.multipliers.Extend(count, dvi_.m);
   step_kept_.assign(count, 1);
   if (by_polynomial) {
     // Horner for all of the step's times at once, a component at a time:
     // array operations over the times, where a column has too few entries
     // for Eigen's set-up per column to pay.
-    step_s_ = Eigen::Map<const Eigen::ArrayXd>(step_times_.data(), count) - t_n;
-    for (Eigen::Index i = 0; i < step_x_.rows(); ++i) {
-      step_row_.setConstant(count, taylor_(i, q));
-      for (int j = q - 1; j >= 0; --j) step_row_ = taylor_(i, j) + step_s_ * step_row_;
-      step_x_.row(i) = step_row_.matrix().transpose();
+    for (Eigen::Index i = 0; i < X.rows(); ++i) {
+      auto row = X.row(i).array();
+      row.setConstant(taylor_(i, q));
+      for (int j = q - 1; j >= 0; --j)
+        row = taylor_(i, j) + (step_times.transpose() - t_n) * row;
     }
   } else {
-    for (int k = 0; k < count; ++k) {
-      step_kept_[k] = CVodeGetDky(cvode, step_times_[k], 0, dky_.get()) == CV_SUCCESS;
-      step_x_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
+    for (std::size_t k = 0; k < count; ++k) {
+      step_kept_[k] = CVodeGetDky(cvode, step_times(k), 0, dky_.get()) == CV_SUCCESS;
+      X.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size());
     }
   }
-  system_.SolveColumns(step_times_, step_x_, step_u_, step_kept_);
-  if (std::find(step_kept_.begin(), step_kept_.end(), 0) == step_kept_.end()) {
-    trajectory_.times.insert(trajectory_.times.end(), step_times_.begin(), step_times_.end());
-    trajectory_.states.append(step_x_);
-    trajectory_.multipliers.append(step_u_);
-    return;
+  system_.SolveColumns(step_times.matrix(), X, U, step_kept_);
+  // A time whose x or u failed leaves its sample out.
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (!step_kept_[k]) continue;
+    if (kept != k) {
+      sample_times[first_sample + kept] = sample_times[first_sample + k];
+      X.col(kept) = X.col(k);
+      U.col(kept) = U.col(k);
+    }
+    ++kept;
   }
-  for (int k = 0; k < count; ++k)
-    if (step_kept_[k]) Sample(step_times_[k], step_x_.col(k), step_u_.col(k));
+  sample_times.resize(first_sample + kept);
+  trajectory_.states.resize(first_sample + kept);
+  trajectory_.multipliers.resize(first_sample + kept);
 }
 
 bool EventDrivenRun::ReadTaylor(double t_n, int q) {
