@@ -172,14 +172,13 @@ SolveResult SolveDenseLcp(const Lcp& lcp, const SolverOptions& options,
   // the one that can prove infeasibility (SolveLemke decides feasibility
   // itself when M is not copositive-plus), so it decides when Newton stalls.
   AttemptLog log;
-  SolveResult newton = Named(
-      SolverMethod::kNewton,
-      SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, warm_start));
-  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, newton);
+  const BoxMcp mcp = BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m));
+  SolveResult newton = Named(SolverMethod::kNewton, SolveNewton(mcp, options, warm_start));
+  FinishBoxResult(mcp.lower, mcp.upper, options.tolerance, newton);
   if (newton.solved()) return newton;
   log.Add(std::move(newton));
   SolveResult lemke = Named(SolverMethod::kLemke, SolveLemke(lcp, options));
-  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
+  FinishBoxResult(mcp.lower, mcp.upper, options.tolerance, lemke);
   if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
   log.Add(std::move(lemke));
   return std::move(log).Best();
@@ -212,23 +211,23 @@ SolveResult SolveSparseLcp(const SparseLcp& lcp, const SolverOptions& options,
   // with a positive diagonal [Cottle–Pang–Stone 1992, §5.2]; otherwise the
   // sparse (KLU) Newton path. Newton starts from PGS's last iterate.
   AttemptLog log;
+  const Eigen::VectorXd lower = Zeros(m), upper = Infinities(m);
   Eigen::VectorXd start = warm_start;
   if (IsSymmetricWithPositiveDiagonal(lcp.M)) {
     SolveResult pgs = Named(SolverMethod::kPgs, SolvePgs(lcp, options, warm_start));
-    FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, pgs);
+    FinishBoxResult(lower, upper, options.tolerance, pgs);
     if (pgs.solved()) return pgs;
     if (pgs.z.size() == m && pgs.z.allFinite()) start = pgs.z;
     log.Add(std::move(pgs));
   }
-  SolveResult newton =
-      Named(SolverMethod::kNewton,
-            SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, Zeros(m), Infinities(m)), options, start));
-  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, newton);
+  SolveResult newton = Named(SolverMethod::kNewton,
+                             SolveNewton(BoxMcp::Affine(lcp.M, lcp.q, lower, upper), options, start));
+  FinishBoxResult(lower, upper, options.tolerance, newton);
   if (newton.solved()) return log.Decisive(std::move(newton));
   log.Add(std::move(newton));
   if (m > kDenseLemkeLimit) return std::move(log).Best();
   SolveResult lemke = Named(SolverMethod::kLemke, SolveLemke(densified(), options));
-  FinishBoxResult(Zeros(m), Infinities(m), options.tolerance, lemke);
+  FinishBoxResult(lower, upper, options.tolerance, lemke);
   if (IsDecisive(lemke)) return log.Decisive(std::move(lemke));
   log.Add(std::move(lemke));
   return std::move(log).Best();
