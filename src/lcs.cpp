@@ -30,6 +30,30 @@ void CheckVector(const Eigen::VectorXd& v, const char* name, Eigen::Index size) 
                      "Lcs." << name << "[" << k << "] = " << v[k] << " is not finite");
 }
 
+// c + X x + U u: f of an LCS (p, A, B) or F (q, C, D).
+struct AffinePart {
+  Eigen::VectorXd c;
+  SparseMatrix X, U;
+};
+
+// The products write into `out` without temporaries: this runs once per
+// right-hand side.
+TimeStateFunction ValueOf(std::shared_ptr<const AffinePart> part) {
+  return [part](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = part->c;
+    out.noalias() += part->X * x;
+    out.noalias() += part->U * u;
+  };
+}
+
+TimeStateJacobian JacobianOf(std::shared_ptr<const AffinePart> part) {
+  return [part](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
+                Eigen::MatrixXd& Ju) {
+    Jx = Eigen::MatrixXd(part->X);
+    Ju = Eigen::MatrixXd(part->U);
+  };
+}
+
 }  // namespace
 
 Lcs Lcs::Dense(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,
@@ -77,36 +101,14 @@ Dvi Lcs::ToDvi() const {
   dvi.n = n();
   dvi.m = m();
   dvi.K = K;
-  // One shared copy of the (sparse) data keeps the Dvi valid after this Lcs
-  // is gone; copies of the Dvi share it. The products write into `out`
-  // without temporaries: these run once per right-hand side.
-  struct Data {
-    SparseMatrix A, B, C, D;
-    Eigen::VectorXd p, q;
-  };
-  const auto data = std::make_shared<const Data>(Data{A, B, C, D, p, q});
-  dvi.f = [data](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                 Eigen::VectorXd& out) {
-    out = data->p;
-    out.noalias() += data->A * x;
-    out.noalias() += data->B * u;
-  };
-  dvi.f_jacobian = [data](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                          Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx = Eigen::MatrixXd(data->A);
-    Ju = Eigen::MatrixXd(data->B);
-  };
-  dvi.F = [data](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                 Eigen::VectorXd& out) {
-    out = data->q;
-    out.noalias() += data->C * x;
-    out.noalias() += data->D * u;
-  };
-  dvi.F_jacobian = [data](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                          Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx = Eigen::MatrixXd(data->C);
-    Ju = Eigen::MatrixXd(data->D);
-  };
+  // One shared copy of each affine part keeps the Dvi valid after this Lcs
+  // is gone; copies of the Dvi share it.
+  const auto flow = std::make_shared<const AffinePart>(AffinePart{p, A, B});
+  const auto vi = std::make_shared<const AffinePart>(AffinePart{q, C, D});
+  dvi.f = ValueOf(flow);
+  dvi.f_jacobian = JacobianOf(flow);
+  dvi.F = ValueOf(vi);
+  dvi.F_jacobian = JacobianOf(vi);
   // Autonomous: the differentiation procedure (Theorem 5.3) needs no
   // differences in t.
   dvi.F_time_derivative = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
