@@ -327,7 +327,8 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
     const SteppingMethod stepping = SteppingOf(lcs, options);
     const bool mode_dae = options.event.solver.allow_sparse &&
                           lcs.n() + lcs.m() >= kModeDaeMinSize && ModeDaeApplies(lcs);
-    const Dvi dvi = lcs.ToDvi();
+    // The Dvi only for CVODE's intervals: a circuit on IDA is not copied.
+    const Dvi dvi = mode_dae ? Dvi() : lcs.ToDvi();
     // Each interval's options are the validated ones, or a clipped copy.
     const EventMethod event = [&](double t, const Eigen::VectorXd& x,
                                   const EventDrivenOptions& run) {
