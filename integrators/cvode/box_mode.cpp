@@ -348,8 +348,7 @@ void BoxModeSystem::SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
                                  const Eigen::Ref<const Eigen::MatrixXd>& X,
                                  Eigen::Ref<Eigen::MatrixXd> U, std::vector<char>& kept) {
   const Eigen::Index count = X.cols();
-  const bool by_map = free_.empty() || (rows_split_ && mode_regular_ && map_.size() > 0);
-  if (affine_ && count > 0 && by_map) {
+  if (affine_ && count > 0 && ByMap()) {
     // SolveLcsMode's map for all columns (each counted as its one exact
     // Newton step); u off α at its bounds (all of u when no component is
     // free). By rows of U against all columns: long inner loops, where
@@ -472,6 +471,14 @@ void BoxModeSystem::Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdo
 }
 
 bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& J) const {
+  if (affine_ && ByMap()) {
+    // u_α = k + K x in the mode: J = A + B_α K, no factorization.
+    J = flow_.A;
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i)
+      for (SparseMatrix::InnerIterator it(flow_.B, free_[i]); it; ++it)
+        J.row(it.row()) += it.value() * map_.row(i);
+    return true;
+  }
   Eigen::MatrixXd fx, fu;
   SmallFJacobians(t, x, u_, fx, fu);
   J = fx;

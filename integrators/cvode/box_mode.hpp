@@ -235,6 +235,9 @@ class BoxModeSystem {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> map_;
   Eigen::VectorXd map_offset_;
   bool mode_regular_ = false;
+  // Whether u_α = map_offset_ + map_ x gives u (trivially when no
+  // component is free) for the current mode.
+  bool ByMap() const { return free_.empty() || (rows_split_ && mode_regular_ && map_.size() > 0); }
   Eigen::VectorXd residual_, step_;
   // Newton's iterate and G_u's factors on a nonlinear mode, and F with its
   // Jacobians for ModeEquations: kept so that Newton does not allocate.
