@@ -27,6 +27,22 @@ double MaxAbs(const Expression& d) {
   return d.size() == 0 ? 0.0 : d.cwiseAbs().maxCoeff();
 }
 
+// The index sets of components 0 … m−1 by kind(i) (0: α, 1: β, 2: γ),
+// counted first so that each set is sized by one allocation: a solve inside
+// an integrator's event asks for them every time.
+template <typename Kind>
+IndexSets SetsByKind(int m, const Kind& kind) {
+  int counts[3] = {0, 0, 0};
+  for (int i = 0; i < m; ++i) ++counts[kind(i)];
+  IndexSets sets;
+  sets.alpha.reserve(counts[0]);
+  sets.beta.reserve(counts[1]);
+  sets.gamma.reserve(counts[2]);
+  std::vector<int>* const targets[3] = {&sets.alpha, &sets.beta, &sets.gamma};
+  for (int i = 0; i < m; ++i) targets[kind(i)]->push_back(i);
+  return sets;
+}
+
 }  // namespace
 
 double BoxNaturalResidual(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
@@ -62,27 +78,20 @@ IndexSets BoxIndexSets(const Eigen::VectorXd& lower, const Eigen::VectorXd& uppe
   CheckSizes(lower.size(), z, w);
   DVI_THROW_UNLESS(tol >= 0.0, "tol = " << tol << " must be nonnegative");
   const double w_zero = tol * (1.0 + w.lpNorm<Eigen::Infinity>());
-  IndexSets sets;
-  for (int i = 0; i < static_cast<int>(z.size()); ++i) {
+  const auto kind = [&](int i) {
     // An infinite bound is never reached (inf ≤ tol·inf would say it is).
     const bool at_lower =
         std::isfinite(lower(i)) && std::abs(z(i) - lower(i)) <= tol * (1.0 + std::abs(lower(i)));
     const bool at_upper =
         std::isfinite(upper(i)) && std::abs(z(i) - upper(i)) <= tol * (1.0 + std::abs(upper(i)));
-    const bool w_is_zero = std::abs(w(i)) <= w_zero;
-    if (!at_lower && !at_upper) {
-      sets.alpha.push_back(i);
-    } else if (w_is_zero) {
-      sets.beta.push_back(i);
-    } else if ((at_lower && w(i) > 0.0) || (at_upper && w(i) < 0.0)) {
-      sets.gamma.push_back(i);
-    } else {
-      // At a bound but pushed away from it: not a solution component; it is
-      // reported with the free ones, where F_i = 0 is the missing condition.
-      sets.alpha.push_back(i);
-    }
-  }
-  return sets;
+    if (!at_lower && !at_upper) return 0;                                 // α
+    if (std::abs(w(i)) <= w_zero) return 1;                               // β
+    if ((at_lower && w(i) > 0.0) || (at_upper && w(i) < 0.0)) return 2;  // γ
+    // At a bound but pushed away from it: not a solution component; it is
+    // reported with the free ones, where F_i = 0 is the missing condition.
+    return 0;
+  };
+  return SetsByKind(static_cast<int>(z.size()), kind);
 }
 
 namespace internal {
@@ -110,16 +119,7 @@ IndexSets OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, d
     if (std::abs(w(i)) <= w_zero) return 1;   // β
     return w(i) > 0.0 ? 2 : 0;                // γ, or pushed off the bound: α
   };
-  // Counting first sizes each set with one allocation.
-  int counts[3] = {0, 0, 0};
-  for (int i = 0; i < m; ++i) ++counts[kind(i)];
-  IndexSets sets;
-  sets.alpha.reserve(counts[0]);
-  sets.beta.reserve(counts[1]);
-  sets.gamma.reserve(counts[2]);
-  std::vector<int>* const targets[3] = {&sets.alpha, &sets.beta, &sets.gamma};
-  for (int i = 0; i < m; ++i) targets[kind(i)]->push_back(i);
-  return sets;
+  return SetsByKind(m, kind);
 }
 
 }  // namespace internal

@@ -417,10 +417,12 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     }
     memo.passes = 0;
     Eigen::MatrixXd Gu;
-    while (!FormFreeRows(passes_ == 0 ? lcs_rows_ : reduced_rows, Gu) && passes_ <= n()) {
+    bool full_rank = FormFreeRows(passes_ == 0 ? lcs_rows_ : reduced_rows, Gu);
+    while (!full_rank && passes_ <= n()) {
       if (passes_ == 0) reduced_rows = lcs_rows_;
       if (!DifferentiateDependentRows(flow_, free_, u_, reduced_rows, mode_constraints_)) break;
       ++passes_;
+      full_rank = FormFreeRows(reduced_rows, Gu);
     }
     // Φ_x = C of the constraints is constant in the mode: its Gram matrix
     // is factored once here for every projection (Project).
@@ -429,7 +431,9 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
           Eigen::MatrixXd(mode_constraints_.C * mode_constraints_.C.transpose()));
     // G_u's factors, kept for every solve in the mode.
     const int a = static_cast<int>(free_.size());
-    mode_regular_ = Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
+    // Full rank at kRankTolerance is invertible; below it, FullPivLU's own
+    // threshold still accepts a badly scaled regular G_u.
+    mode_regular_ = full_rank || Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
     mode_lu_.compute(Gu);
     residual_.resize(a);
     step_.resize(a);

@@ -77,49 +77,53 @@ RowReduction ReduceRows(const SparseMatrix& J, const std::vector<int>& S) {
     for (SparseMatrix::InnerIterator it(J, k); it; ++it)
       if (local[it.row()] >= 0 && local[it.col()] >= 0 && it.value() != 0)
         parent[root(local[it.row()])] = root(local[it.col()]);
-  std::vector<std::vector<int>> blocks(s);
-  for (int j = 0; j < s; ++j) blocks[root(j)].push_back(j);
+  // The blocks as consecutive runs of one ordering of S (one allocation,
+  // not one per block: a large circuit has thousands of them).
+  std::vector<int> by_block(s);
+  for (int j = 0; j < s; ++j) by_block[j] = j;
+  for (int j = 0; j < s; ++j) parent[j] = root(j);
+  std::stable_sort(by_block.begin(), by_block.end(),
+                   [&parent](int a, int b) { return parent[a] < parent[b]; });
 
   std::vector<int> dependent;  // in order of discovery, with its P entries
   Triplets entries;
   std::vector<int> position(s, -1);  // within the current block
-  for (const std::vector<int>& block : blocks) {
-    const int b = static_cast<int>(block.size());
-    if (b == 0) continue;
+  for (int first = 0, next = 0; first < s; first = next) {
+    while (next < s && parent[by_block[next]] == parent[by_block[first]]) ++next;
+    const int* block = by_block.data() + first;
+    const int b = next - first;
     for (int j = 0; j < b; ++j) position[block[j]] = j;
     // Column j of Jᵀ is row S[block[j]] of J on the block's columns.
     Eigen::MatrixXd J_transposed = Eigen::MatrixXd::Zero(b, b);
-    for (const int j : block)
-      for (SparseMatrix::InnerIterator it(J, S[j]); it; ++it)
+    for (int j = 0; j < b; ++j)
+      for (SparseMatrix::InnerIterator it(J, S[block[j]]); it; ++it)
         if (local[it.row()] >= 0 && position[local[it.row()]] >= 0)
-          J_transposed(position[j], position[local[it.row()]]) = it.value();
-    for (const int j : block) position[j] = -1;
+          J_transposed(j, position[local[it.row()]]) = it.value();
+    for (int j = 0; j < b; ++j) position[block[j]] = -1;
+    // Jᵀ Π = Q R: the first `rank` pivoted columns are the kept rows of J.
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(J_transposed);
     qr.setThreshold(kRankTolerance);
-    const int rank = static_cast<int>(qr.rank());
-    const auto& permutation = qr.colsPermutation().indices();
-    std::vector<int> kept_local, dependent_local;
-    for (int j = 0; j < b; ++j)
-      (j < rank ? kept_local : dependent_local).push_back(permutation(j));
-    for (const int j : kept_local) reduction.kept.push_back(S[block[j]]);
-    if (dependent_local.empty()) continue;
-    // M with J_dependent = M J_kept, by least squares on the independent rows
-    // (exact up to the rank tolerance).
-    const int r = static_cast<int>(kept_local.size());
-    const int d = static_cast<int>(dependent_local.size());
+    const int r = static_cast<int>(qr.rank());
+    const int d = b - r;
+    const auto& pivot = qr.colsPermutation().indices();
+    for (int j = 0; j < r; ++j) reduction.kept.push_back(S[block[pivot(j)]]);
+    if (d == 0) continue;
+    // M with J_dependent = M J_kept by least squares on the kept rows: with
+    // R = [R₁₁ R₁₂; 0 R₂₂] that is M = (R₁₁⁻¹ R₁₂)ᵀ, exact up to R₂₂, whose
+    // columns are below the rank tolerance.
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(d, r);
-    if (r > 0) {
-      Eigen::MatrixXd kept_columns(b, r), dependent_columns(b, d);
-      for (int j = 0; j < r; ++j) kept_columns.col(j) = J_transposed.col(kept_local[j]);
-      for (int j = 0; j < d; ++j) dependent_columns.col(j) = J_transposed.col(dependent_local[j]);
-      M = kept_columns.colPivHouseholderQr().solve(dependent_columns).transpose();
-    }
+    if (r > 0)
+      M = qr.matrixQR()
+              .topLeftCorner(r, r)
+              .triangularView<Eigen::Upper>()
+              .solve(qr.matrixQR().topRightCorner(r, d))
+              .transpose();
     for (int i = 0; i < d; ++i) {
       const int row = static_cast<int>(dependent.size());
-      dependent.push_back(S[block[dependent_local[i]]]);
+      dependent.push_back(S[block[pivot(r + i)]]);
       entries.emplace_back(row, dependent.back(), 1.0);
       for (int j = 0; j < r; ++j)
-        if (M(i, j) != 0) entries.emplace_back(row, S[block[kept_local[j]]], -M(i, j));
+        if (M(i, j) != 0) entries.emplace_back(row, S[block[pivot(j)]], -M(i, j));
     }
   }
   std::sort(reduction.kept.begin(), reduction.kept.end());
