@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -326,13 +325,15 @@ MatrixClassVerdict IsStronglyRegular(const Eigen::MatrixXd& J, const IndexSets& 
     Eigen::FullPivLU<Eigen::MatrixXd> lu(Submatrix(J, alpha, alpha));
     lu.setThreshold(kRankTolerance);
     if (!lu.isInvertible()) {
-      // snprintf: at an event this verdict is asked for several times, and a
-      // stream's set-up costs more than the test on a small J.
-      char reason[128];
-      std::snprintf(reason, sizeof reason,
-                    "(a) fails: J_αα (%zu×%zu) has rank %ld at relative tolerance %g",
-                    alpha.size(), alpha.size(), static_cast<long>(lu.rank()), kRankTolerance);
-      return Verdict(false, true, reason);
+      // Without a stream, as FormatMinor: at an event this verdict is asked
+      // for several times, and a stream's set-up costs more than the test.
+      const std::string size = std::to_string(alpha.size());
+      char tolerance[32];
+      char* end = std::to_chars(tolerance, tolerance + sizeof tolerance, kRankTolerance).ptr;
+      std::string reason = "(a) fails: J_αα (" + size + "×" + size + ") has rank " +
+                           std::to_string(lu.rank()) + " at relative tolerance ";
+      reason.append(tolerance, end);
+      return Verdict(false, true, std::move(reason));
     }
     if (!beta.empty()) {
       schur.noalias() -= Submatrix(J, beta, alpha) * lu.solve(Submatrix(J, alpha, beta));
