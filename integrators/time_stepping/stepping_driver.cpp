@@ -97,6 +97,14 @@ void Count(const StepOutcome& outcome, IntegrationStats& stats) {
   stats.solver_iterations += outcome.iterations;
 }
 
+// t as FailureMessage prints it: std::to_string's "%f" shows 1e-9 as 0.000000.
+std::string TimeText(double t) {
+  std::ostringstream text;
+  text.precision(10);
+  text << t;
+  return text.str();
+}
+
 std::string FailureMessage(long step, double t, double h, const StepOutcome& outcome) {
   std::ostringstream message;
   message.precision(10);
@@ -138,7 +146,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
   Count(current, stats);
   if (!current.solved)
     return finish(IntegrationStatus::kStepFailure,
-                  "the VI at the initial state (t = " + std::to_string(t0) +
+                  "the VI at the initial state (t = " + TimeText(t0) +
                       ") was not solved: " + current.failure,
                   t0);
   recorder.Start(t0, current);
@@ -171,7 +179,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
     if (stats.steps >= options.max_steps)
       return finish(IntegrationStatus::kMaxSteps,
                     "reached max_steps = " + std::to_string(options.max_steps) +
-                        " at t = " + std::to_string(t),
+                        " at t = " + TimeText(t),
                     t);
     const double step = std::min(h, t_end - t);
     if (!options.adaptive) {
