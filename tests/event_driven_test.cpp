@@ -312,6 +312,23 @@ TEST(EventDriven, IntegratesAnOdeWithoutMultipliers) {
   EXPECT_TRUE(trajectory.events.empty());
 }
 
+// x' = 1e300: CVODE's first step estimate overflows its error norm (|x'|
+// over atol) and its step size, then t and x, become NaN. The run stops
+// there with the reason instead of retrying at NaN without end.
+TEST(EventDriven, StopsWhenCvodesStepSizeOverflows) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out.setConstant(1e300);
+  };
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::VectorXd::Zero(1), 0, 1);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("CVODE passed a non-finite time to the right-hand side: its "
+                                    "step size broke down"),
+            std::string::npos)
+      << trajectory.message;
+}
+
 TEST(EventDriven, RejectsInvalidInput) {
   EventDrivenOptions options;
   options.rtol = -1;

@@ -476,6 +476,9 @@ TEST(IndexOneRhs, NumericalFailureIsAStatus) {
   // A vector of the wrong length is the caller's mistake, fatal for CVODE.
   EXPECT_EQ(IndexOneCvRhs(0, wrong, ydot, &rhs), -1);
   EXPECT_NE(rhs.message().find("length 1"), std::string::npos) << rhs.message();
+  // A NaN time is CVODE's step control broken down: no retry can help.
+  EXPECT_EQ(IndexOneCvRhs(NAN, y, ydot, &rhs), -1);
+  EXPECT_NE(rhs.message().find("t is not finite"), std::string::npos) << rhs.message();
   // A throwing f never crosses CVODE's frames.
   Dvi throwing = SaturatedDecay();
   throwing.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::VectorXd&) {

@@ -20,8 +20,8 @@ namespace dvi {
 
 /// CVRhsFn. Returns 0 on success; 1 (recoverable: CVODE retries with a
 /// smaller step) when u cannot be computed or f is not finite; −1 (fatal) when
-/// a function throws or y does not have n entries. The reason is in
-/// rhs.message().
+/// a function throws, y does not have n entries, or t is not finite (CVODE's
+/// step size broke down). The reason is in rhs.message().
 int IndexOneCvRhs(double t, _generic_N_Vector* y, _generic_N_Vector* ydot, void* user_data);
 
 /// CVLsJacFn for a dense n×n SUNMatrix: J = f_x + f_u·du/dx of the mode

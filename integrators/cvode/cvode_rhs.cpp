@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dvi/cvode_rhs.hpp"
 
+#include <cmath>
 #include <exception>
 #include <sstream>
 #include <string>
@@ -36,8 +37,15 @@ int Fatal(IndexOneRhs& rhs, const std::string& message) {
 }
 
 // The state as an Eigen vector; false (message set) when y is not a serial
-// vector of length n.
-bool Load(IndexOneRhs& rhs, N_Vector y, Eigen::VectorXd& x) {
+// vector of length n, or t is not finite: CVODE's step size became NaN (a
+// weighted norm overflowed), and its retry loops, whose tests are all false
+// at NaN, would never end on a recoverable answer.
+bool Load(IndexOneRhs& rhs, double t, N_Vector y, Eigen::VectorXd& x) {
+  if (!std::isfinite(t)) {
+    Fatal(rhs, "t is not finite: CVODE's step size broke down (x' or x overflows double "
+               "precision in its error norm at these tolerances)");
+    return false;
+  }
   const double* values = N_VGetArrayPointer(y);
   if (values == nullptr || N_VGetLength(y) != rhs.n()) {
     std::ostringstream text;
@@ -68,7 +76,7 @@ int IndexOneCvRhs(double t, N_Vector y, N_Vector ydot, void* user_data) {
   auto& rhs = *static_cast<IndexOneRhs*>(user_data);
   return Guarded(rhs, [&] {
     Eigen::VectorXd x, xdot;
-    if (!Load(rhs, y, x)) return kFatal;
+    if (!Load(rhs, t, y, x)) return kFatal;
     double* out = N_VGetArrayPointer(ydot);
     if (out == nullptr || N_VGetLength(ydot) != rhs.n())
       return Fatal(rhs, "ydot must be a serial N_Vector of length " + std::to_string(rhs.n()));
@@ -84,7 +92,7 @@ int IndexOneCvJac(double t, N_Vector y, N_Vector, SUNMatrix J, void* user_data, 
   return Guarded(rhs, [&] {
     Eigen::VectorXd x;
     Eigen::MatrixXd jacobian;
-    if (!Load(rhs, y, x)) return kFatal;
+    if (!Load(rhs, t, y, x)) return kFatal;
     const long n = rhs.n();
     if (SUNMatGetID(J) != SUNMATRIX_DENSE || SUNDenseMatrix_Rows(J) != n ||
         SUNDenseMatrix_Columns(J) != n)

@@ -106,13 +106,42 @@ struct CallbackData {
   double least_root = 0;
   std::exception_ptr error;
   std::string cvode_message;
+  std::string non_finite;  // set by NonFinite
   long rhs_evals = 0;
   long jacobian_evals = 0;
 };
 
-void Load(CallbackData& data, N_Vector y) {
+// As an ostream prints it ("%g"), by std::to_chars (a third of snprintf's
+// time): the start's reason is formed on every run.
+std::string Format(double value) {
+  char buffer[32];
+  char* end =
+      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 6).ptr;
+  return std::string(buffer, end);
+}
+
+// The state as an Eigen vector; false when it is not finite.
+bool Load(CallbackData& data, N_Vector y) {
   const double* values = N_VGetArrayPointer(y);
   for (int i = 0; i < data.x.size(); ++i) data.x(i) = values[i];
+  return data.x.allFinite();
+}
+
+// A callback handed a non-finite state or time. At a finite time the step
+// was too long (its predictor overflowed): recoverable where CVODE allows
+// it, a shorter step may do. A non-finite time means CVODE's step control
+// broke down (a weighted norm overflowed, |x'|/atol beyond the largest
+// double, and the step size became NaN); its retry loops, whose tests are
+// all false at NaN, would never end, so the run stops with the reason.
+int NonFinite(CallbackData& data, realtype t, const char* callback, bool can_retry) {
+  if (can_retry && std::isfinite(t)) return 1;
+  data.non_finite =
+      (std::isfinite(t) ? "CVODE passed a non-finite state to the " + std::string(callback) +
+                              " at t = " + Format(t)
+                        : "CVODE passed a non-finite time to the " + std::string(callback) +
+                              ": its step size broke down (x' or x overflows double "
+                              "precision in its error norm at these tolerances)");
+  return -1;
 }
 
 // CVODE's convention: 0 success, > 0 recoverable (a smaller step may help:
@@ -121,7 +150,7 @@ int RhsCallback(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
   return GuardedCallback(data.error, [&] {
     ++data.rhs_evals;
-    Load(data, y);
+    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "right-hand side", true);
     if (!data.system->Solve(t, data.x)) return 1;
     data.system->Rhs(t, data.x, data.xdot);
     if (!data.xdot.allFinite()) return 1;
@@ -135,7 +164,7 @@ int DenseJacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void*
   auto& data = *static_cast<CallbackData*>(user_data);
   return GuardedCallback(data.error, [&] {
     ++data.jacobian_evals;
-    Load(data, y);
+    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "Jacobian", true);
     if (!data.system->Solve(t, data.x)) return 1;
     if (!data.system->RhsJacobian(t, data.x, data.J)) return 1;
     const long n = data.J.rows();
@@ -165,7 +194,7 @@ int SparseJacobianCallback(realtype, N_Vector, N_Vector, SUNMatrix Jac, void* us
 int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
   return GuardedCallback(data.error, [&] {
-    Load(data, y);
+    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "root functions", false);
     if (!data.system->Solve(t, data.x)) return -1;
     data.system->Roots(t, data.x, g);
     data.root_time = t;
@@ -184,7 +213,7 @@ int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector
     return 0;
   }
   return GuardedCallback(data.error, [&] {
-    Load(data, y);
+    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "projection", true);
     Eigen::VectorXd& error = data.projected_error;
     if (err) error = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(err), data.x.size());
     data.system->Project(t, data.x, data.xdot, err ? &error : nullptr);
@@ -197,15 +226,6 @@ int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector
 void ErrorHandler(int, const char*, const char* function, char* message, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
   data.cvode_message = std::string(function) + ": " + message;
-}
-
-// As an ostream prints it ("%g"), by std::to_chars (a third of snprintf's
-// time): the start's reason is formed on every run.
-std::string Format(double value) {
-  char buffer[32];
-  char* end =
-      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 6).ptr;
-  return std::string(buffer, end);
 }
 
 // One run: the CVODE objects, the mode system and the trajectory being built.
@@ -304,6 +324,7 @@ bool EventDrivenRun::Check(int flag, const char* call) {
   message << "event: " << call << " failed at t = " << t_ << ": "
           << CVodeGetReturnFlagName(flag);
   if (!data_.cvode_message.empty()) message << " (" << data_.cvode_message << ")";
+  if (!data_.non_finite.empty()) message << ": " << data_.non_finite;
   return Fail(IntegrationStatus::kStepFailure, message.str());
 }
 
