@@ -105,6 +105,41 @@ Eigen::VectorXd DiodeVoltage(double t) {
   return Eigen::VectorXd::Constant(1, v_inf - v_inf * std::exp(-(t - switch_time) / tau));
 }
 
+// x' = k u, u = clamp(−x, −1, 1) with k = 10⁵: x = 3 − k t until u leaves
+// its bound at t₁ = 2/k (F = u + x = 0 there: β ≠ ∅, Sect. 5.3), then
+// x = e^{−k (t − t₁)}. The mode after t₁ comes from the rates of the
+// derivative MLCP (u̇ = k > 0); a look-ahead of 10⁻⁵ of the horizon (4e-5,
+// 4 time constants) would not contract and call it chattering.
+TEST(EventDriven, StiffModeChangeIsDecidedByRates) {
+  constexpr double k = 1e5;
+  Dvi dvi = SaturatedDecay();
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = k * u(0);
+  };
+  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                      Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx(0, 0) = 0;
+    Ju(0, 0) = k;
+  };
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  options.output_times = Linspace(0, 4, 401);
+  const Trajectory trajectory =
+      IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 3), 0, 4, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  const double t1 = 2 / k;
+  EXPECT_NEAR(trajectory.events[0].time, t1, 1e-14);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kLeftBound);
+  const double error = MaxStateError(trajectory, [&](double t) {
+    return Eigen::VectorXd::Constant(1, t <= t1 ? 3 - k * t : std::exp(-k * (t - t1)));
+  });
+  EXPECT_LE(error, 1e-8);
+  // Start, event and the derivative MLCP: no look-ahead VIs.
+  EXPECT_EQ(trajectory.stats.vi_solves, 3);
+}
+
 TEST(EventDriven, DiodeCircuitErrorIsProportionalToTolerance) {
   std::vector<double> tolerances, errors;
   for (const double rtol : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {

@@ -24,6 +24,9 @@ constexpr double kNewtonStepTolerance = 16 * kEpsilon;
 constexpr int kMaxNewtonIterations = 50;
 // Fixed-point iterations of the look-ahead step at an event.
 constexpr int kMaxLookAheadIterations = 6;
+// ResolveByRates: a rate below this, relative to the rates' scale, is zero
+// (forward-difference Jacobians and ∂F/∂t carry √ε ≈ 1.5e-8 relative).
+constexpr double kRateTolerance = 1e-6;
 // Passes of the differentiation procedure on a nonlinear F. The first uses
 // F's Jacobians, the second central differences of the first's rows
 // (O(ε^{2/3}) relative); a third would difference those differences
@@ -681,6 +684,69 @@ bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,
   return true;
 }
 
+// At a strongly regular u (Sect. 5.3) u(t) is Lipschitz along the flow
+// and has a right derivative v = u̇, the solution of the derivative MLCP on
+// the components not strongly held at a bound (Robinson's sensitivity of a
+// strongly regular solution): with ẋ = f(t, x, u) and Ḟ = ∂F/∂t + F_x ẋ + F_u v,
+// Ḟ_j = 0 for j free, and for j ∈ β at its lower bound 0 ≤ v_j ⊥ Ḟ_j ≥ 0
+// (at its upper bound v_j ≤ 0, Ḟ_j ≤ 0); v_j = 0 on the others. A β
+// component leaves its bound when v_j ≠ 0 and stays when Ḟ_j ≠ 0; with both
+// 0 the first order does not decide and the look-ahead does. Unlike the
+// look-ahead, whose fixed-point iteration needs δ L < 1, this holds however
+// stiff the flow (x' = 10⁵ u, u = clamp(−x, −1, 1) leaves its bound at rate
+// 10⁵).
+bool BoxModeSystem::ResolveByRates(double t, const Eigen::VectorXd& x, const SolveResult& vi,
+                                   const std::vector<int>& near_bound, BoxMode& mode,
+                                   long* vi_solves, long* iterations) const {
+  std::vector<int> S;
+  for (int j = 0; j < m(); ++j)
+    if (mode[j] == BoundState::kFree) S.push_back(j);
+  S.insert(S.end(), near_bound.begin(), near_bound.end());
+  const int s = static_cast<int>(S.size());
+  Eigen::VectorXd xdot(n());
+  dvi_.f(t, x, vi.z, xdot);
+  Eigen::VectorXd rate_fixed;  // Ḟ with v = 0
+  Eigen::MatrixXd Fu;
+  if (affine_) {  // the LCS's sparse C and D: no dense m×n F_x for a large circuit
+    rate_fixed = lcs_rows_.C * xdot;
+  } else {
+    Eigen::MatrixXd Fx;
+    FJacobians(t, x, vi.z, Fx, Fu);
+    FTimeDerivative(t, x, vi.z, rate_fixed);
+    rate_fixed += Fx * xdot;
+  }
+  Eigen::MatrixXd M(s, s);
+  Eigen::VectorXd q(s), lower(s), upper(s);
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < s; ++a) {
+    const int j = S[a];
+    q(a) = rate_fixed(j);
+    for (int b = 0; b < s; ++b) M(a, b) = affine_ ? lcs_rows_.M.coeff(j, S[b]) : Fu(j, S[b]);
+    lower(a) = mode[j] == BoundState::kLower ? 0.0 : -kInfinity;
+    upper(a) = mode[j] == BoundState::kUpper ? 0.0 : kInfinity;
+  }
+  const SolveResult rates = dvi::Solve(
+      BoxMcp::Affine(std::move(M), std::move(q), std::move(lower), std::move(upper)), solver_,
+      Eigen::VectorXd::Zero(s));
+  ++*vi_solves;
+  *iterations += rates.iterations;
+  if (!rates.solved()) return false;
+  // Rates below this are the MLCP's round-off, not a direction.
+  const double tolerance = kRateTolerance * (1 + rate_fixed.lpNorm<Eigen::Infinity>() +
+                                              rates.z.lpNorm<Eigen::Infinity>());
+  BoxMode resolved = mode;
+  for (int a = s - static_cast<int>(near_bound.size()); a < s; ++a) {
+    const int j = S[a];
+    const double sign = mode[j] == BoundState::kLower ? 1.0 : -1.0;
+    if (sign * rates.z(a) > tolerance)
+      resolved[j] = BoundState::kFree;
+    else if (sign * rates.w(a) <= tolerance)
+      return false;
+  }
+  mode = std::move(resolved);
+  return true;
+}
+
 bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
                                double delta, bool every_component, BoxMode& mode,
                                long* vi_solves, long* iterations, std::string* why) const {
@@ -702,6 +768,8 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
     }
   }
   if (near_bound.empty()) return true;
+  if (!every_component && ResolveByRates(t, x, vi, near_bound, mode, vi_solves, iterations))
+    return true;
   // Look-ahead: the backward-Euler step x_δ = x + δ f(t + δ, x_δ, u_δ),
   // u_δ ∈ SOL(K, F(t + δ, x_δ, ·)), by fixed-point iteration from the forward
   // Euler guess. Under index one u is Lipschitz, the iteration contracts and

@@ -109,8 +109,10 @@ class BoxModeSystem {
                                      const Eigen::VectorXd& u) const;
   /// The mode of the VI solution vi at (t, x). A component within the
   /// degeneracy tolerance of a bound (the β set of Sect. 5.3 and its
-  /// neighbours) — every component when vi is not unique (not strongly
-  /// regular), since then vi.z is only one of many — takes the mode it has
+  /// neighbours) takes the mode its rates give (ResolveByRates) when vi is
+  /// strongly regular and they decide; otherwise — and for every component
+  /// when vi is not unique (not strongly regular), since then vi.z is only
+  /// one of many — the mode it has
   /// after a backward-Euler look-ahead step of length delta, solved by
   /// fixed-point iteration until two iterates agree on the mode. The
   /// look-ahead solves are added to *vi_solves and *iterations. False (with
@@ -146,6 +148,13 @@ class BoxModeSystem {
                   Eigen::MatrixXd& Fx, Eigen::MatrixXd& Fu) const;
   void SmallFJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                        Eigen::MatrixXd& fx, Eigen::MatrixXd& fu) const;
+  /// SelectMode's first choice for the components near_bound (β) of a
+  /// strongly regular vi: each leaves or keeps its bound by the sign of its
+  /// right derivative (v = u̇ and Ḟ, from the derivative MLCP). False when
+  /// that MLCP is not solved or a component has both rates zero.
+  bool ResolveByRates(double t, const Eigen::VectorXd& x, const SolveResult& vi,
+                      const std::vector<int>& near_bound, BoxMode& mode, long* vi_solves,
+                      long* iterations) const;
   /// Solves the box MCP, as LCP(F(0), ∂F/∂u) when F is affine on the orthant.
   SolveResult SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm) const;
   /// ∂F/∂t: the given function, else forward differences.

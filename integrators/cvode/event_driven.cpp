@@ -452,7 +452,7 @@ bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const BoxMode& mode,
 
 // Selects and enters the mode to follow from (t, x), given the VI solution
 // vi there. A strongly regular u (Sect. 5.3) gives it directly, its
-// degenerate components by the look-ahead of SelectMode. Otherwise the
+// degenerate components by their rates or the look-ahead of SelectMode. Otherwise the
 // differentiation procedure of Theorems 5.2/5.3 decides first where it
 // applies (index two and higher: sliding, a diode that clamps a state, a
 // mass resting on the ground): its exact derivatives see what a look-ahead
