@@ -434,6 +434,25 @@ TEST(LcsStepping, InfeasibleInitialLcpEndsTheRunWithAStatus) {
   EXPECT_TRUE(trajectory.times.empty());
 }
 
+// 10¹² / 10⁻³ steps cannot be taken: the run says so before stepping.
+TEST(LcsStepping, FixedStepBeyondMaxStepsFailsAtOnce) {
+  TimeSteppingOptions options;
+  options.h = 1e-3;
+  options.max_steps = 1000;
+  const Trajectory trajectory =
+      IntegrateTimeStepping(RcDiode().Build(), RcDiode().Initial(), 0, 1e12, options);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kMaxSteps);
+  EXPECT_THAT(trajectory.message,
+              ::testing::HasSubstr("h = 0.001 needs 1e+15 steps to reach t_end = 1e+12, more "
+                                   "than max_steps = 1000"));
+  EXPECT_EQ(trajectory.stats.steps, 0);
+  // Exactly max_steps steps are allowed.
+  const Trajectory exact =
+      IntegrateTimeStepping(RcDiode().Build(), RcDiode().Initial(), 0, 1, options);
+  EXPECT_TRUE(exact.succeeded()) << exact.message;
+  EXPECT_EQ(exact.stats.steps, 1000);
+}
+
 TEST(LcsStepping, ViAtOldStateSchemeIsFirstOrder) {
   RcDiode circuit;
   circuit.Rd = 0.5;

@@ -175,6 +175,18 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
     steps_run = 0;
   };
 
+  // A fixed step that cannot reach t_end within max_steps fails now, not
+  // after max_steps steps (minutes, for a horizon of 1e12 at h = 1e-3).
+  if (!options.adaptive) {
+    const double needed = std::ceil((span - end_slack) / h);
+    if (needed > static_cast<double>(options.max_steps)) {
+      std::ostringstream message;
+      message.precision(10);
+      message << "h = " << h << " needs " << needed << " steps to reach t_end = " << t_end
+              << ", more than max_steps = " << options.max_steps;
+      return finish(IntegrationStatus::kMaxSteps, message.str(), t0);
+    }
+  }
   while (t_end - t > end_slack) {
     if (stats.steps >= options.max_steps)
       return finish(IntegrationStatus::kMaxSteps,
