@@ -77,6 +77,7 @@ namespace {
 using internal::BoundState;
 using internal::BoxMode;
 using internal::BoxModeSystem;
+using internal::FlagName;
 using internal::GuardedCallback;
 
 // Look-ahead length at a degenerate event, relative to the horizon.
@@ -322,7 +323,7 @@ bool EventDrivenRun::Check(int flag, const char* call) {
   if (flag >= 0) return true;
   std::ostringstream message;
   message << "event: " << call << " failed at t = " << t_ << ": "
-          << CVodeGetReturnFlagName(flag);
+          << FlagName(CVodeGetReturnFlagName(flag));
   if (!data_.cvode_message.empty()) message << " (" << data_.cvode_message << ")";
   if (!data_.non_finite.empty()) message << ": " << data_.non_finite;
   return Fail(IntegrationStatus::kStepFailure, message.str());

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <cstdlib>
 #include <exception>
+#include <string>
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
@@ -10,6 +12,14 @@
 #include <sundials/sundials_matrix.h>
 
 namespace dvi::internal {
+
+/// The text of a return flag from CVodeGetReturnFlagName or
+/// IDAGetReturnFlagName, which malloc it for the caller to free.
+inline std::string FlagName(char* name) {
+  std::string text = name != nullptr ? name : "an unknown flag";
+  std::free(name);
+  return text;
+}
 
 /// Runs the body of a SUNDIALS callback. Exceptions must not cross
 /// SUNDIALS' C frames: one is stored in `error`, for the caller to rethrow

@@ -43,6 +43,7 @@ namespace {
 using internal::BoxMode;
 using internal::LcsModeDae;
 using internal::BoundState;
+using internal::FlagName;
 using internal::GuardedCallback;
 
 // Events closer than this (relative to |t| + horizon) happen at one time.
@@ -210,7 +211,8 @@ bool ModeDaeRun::Check(int flag, const char* call) {
   if (data_.error) std::rethrow_exception(data_.error);
   if (flag >= 0) return true;
   std::ostringstream message;
-  message << "mode-dae: " << call << " failed at t = " << t_ << ": " << IDAGetReturnFlagName(flag);
+  message << "mode-dae: " << call << " failed at t = " << t_ << ": "
+          << FlagName(IDAGetReturnFlagName(flag));
   if (!data_.ida_message.empty()) message << " (" << data_.ida_message << ")";
   return Fail(IntegrationStatus::kStepFailure, message.str());
 }
