@@ -121,11 +121,11 @@ std::string Format(double value) {
   return std::string(buffer, end);
 }
 
-// The state as an Eigen vector; false when it is not finite.
-bool Load(CallbackData& data, N_Vector y) {
+// The state as an Eigen vector; false when it or the time is not finite.
+bool Load(CallbackData& data, realtype t, N_Vector y) {
   const double* values = N_VGetArrayPointer(y);
   for (int i = 0; i < data.x.size(); ++i) data.x(i) = values[i];
-  return data.x.allFinite();
+  return std::isfinite(t) && data.x.allFinite();
 }
 
 // A callback handed a non-finite state or time. At a finite time the step
@@ -151,7 +151,7 @@ int RhsCallback(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
   return GuardedCallback(data.error, [&] {
     ++data.rhs_evals;
-    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "right-hand side", true);
+    if (!Load(data, t, y)) return NonFinite(data, t, "right-hand side", true);
     if (!data.system->Solve(t, data.x)) return 1;
     data.system->Rhs(t, data.x, data.xdot);
     if (!data.xdot.allFinite()) return 1;
@@ -165,7 +165,7 @@ int DenseJacobianCallback(realtype t, N_Vector y, N_Vector, SUNMatrix Jac, void*
   auto& data = *static_cast<CallbackData*>(user_data);
   return GuardedCallback(data.error, [&] {
     ++data.jacobian_evals;
-    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "Jacobian", true);
+    if (!Load(data, t, y)) return NonFinite(data, t, "Jacobian", true);
     if (!data.system->Solve(t, data.x)) return 1;
     if (!data.system->RhsJacobian(t, data.x, data.J)) return 1;
     const long n = data.J.rows();
@@ -195,7 +195,7 @@ int SparseJacobianCallback(realtype, N_Vector, N_Vector, SUNMatrix Jac, void* us
 int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
   return GuardedCallback(data.error, [&] {
-    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "root functions", false);
+    if (!Load(data, t, y)) return NonFinite(data, t, "root functions", false);
     if (!data.system->Solve(t, data.x)) return -1;
     data.system->Roots(t, data.x, g);
     data.root_time = t;
@@ -214,7 +214,7 @@ int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector
     return 0;
   }
   return GuardedCallback(data.error, [&] {
-    if (!Load(data, y) || !std::isfinite(t)) return NonFinite(data, t, "projection", true);
+    if (!Load(data, t, y)) return NonFinite(data, t, "projection", true);
     Eigen::VectorXd& error = data.projected_error;
     if (err) error = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(err), data.x.size());
     data.system->Project(t, data.x, data.xdot, err ? &error : nullptr);
