@@ -14,6 +14,7 @@
 #include <Eigen/LU>
 
 #include "orthant_diagnostics.hpp"
+#include "rounding_floor.hpp"
 
 namespace dvi {
 namespace {
@@ -475,6 +476,8 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
   const int m = lcp.dim();
   SolveResult result;
   result.method = "lemke";
+  // The accuracy the residual certifies z and w to.
+  double index_set_tolerance = options.tolerance;
   const int max_pivots =
       options.max_iterations > 0 ? options.max_iterations : kPivotsPerDimension * (m + 1);
 
@@ -508,10 +511,21 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
             result.residual = residual;
           }
         }
+        const double floor = result.residual <= options.tolerance
+                                 ? 0.0
+                                 : internal::LcpRoundingFloor(lcp.M, lcp.q, result.z);
         if (result.residual <= options.tolerance) {
           result.status = SolveStatus::kSolved;
           result.message = internal::CountMessage("z0 left the basis after ",
                                                   result.iterations, " pivots");
+        } else if (result.residual <= floor) {
+          std::ostringstream message;
+          message << "z0 left the basis after " << result.iterations << " pivots; the residual "
+                  << result.residual << " is at the rounding level of the data (" << floor
+                  << ")";
+          result.status = SolveStatus::kSolved;
+          result.message = message.str();
+          index_set_tolerance = floor;
         } else {
           std::ostringstream message;
           message << "complementary basis reached, but the residual " << result.residual
@@ -544,7 +558,7 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
     }
   }
   result.has_index_sets = true;
-  result.index_sets = internal::OrthantIndexSets(result.z, result.w, options.tolerance);
+  result.index_sets = internal::OrthantIndexSets(result.z, result.w, index_set_tolerance);
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

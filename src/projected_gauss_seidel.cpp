@@ -11,6 +11,7 @@
 
 #include "check.hpp"
 #include "orthant_diagnostics.hpp"
+#include "rounding_floor.hpp"
 
 namespace dvi {
 namespace {
@@ -84,6 +85,7 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
   result.w.resize(m);
   const auto diagonal = Diagonal(M);
 
+  double index_set_tolerance = options.tolerance;  // the accuracy z and w are certified to
   // Moves the result out: finish ends every path. w_is_fresh: w was just
   // recomputed from z and `residual` is its natural residual.
   const auto finish = [&](SolveStatus status, std::string message, bool w_is_fresh = false,
@@ -97,7 +99,7 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
     result.status = status;
     result.message = std::move(message);
     result.has_index_sets = true;
-    result.index_sets = internal::OrthantIndexSets(result.z, result.w, options.tolerance);
+    result.index_sets = internal::OrthantIndexSets(result.z, result.w, index_set_tolerance);
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return std::move(result);
   };
@@ -146,6 +148,19 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
       }
       return finish(SolveStatus::kSolved,
                     internal::CountMessage("converged after ", sweep, " sweeps"), true, residual);
+    }
+    // Above the tolerance at the data's rounding floor (rounding_floor.hpp),
+    // no sweep can do better: solved.
+    if (refresh) {
+      const double floor = internal::LcpRoundingFloor(M, q, z);
+      if (residual <= floor) {
+        index_set_tolerance = floor;
+        char text[96];
+        std::snprintf(text, sizeof text,
+                      "residual %g at the rounding level of the data (%g) after %d sweeps",
+                      residual, floor, sweep);
+        return finish(SolveStatus::kSolved, text, true, residual);
+      }
     }
   }
   return finish(SolveStatus::kMaxIterations,

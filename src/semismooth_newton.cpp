@@ -17,6 +17,7 @@
 #include "dvi/solution_diagnostics.hpp"
 #include "dense_lu.hpp"
 #include "klu_solver.hpp"
+#include "rounding_floor.hpp"
 
 namespace dvi {
 namespace {
@@ -324,6 +325,11 @@ class DenseAlgebra {
     return J_.allFinite();
   }
 
+  /// scale += |J| |z|, the magnitudes F's linear terms sum at z.
+  void AddAbsJacobianTimes(const Eigen::VectorXd& z, Eigen::VectorXd& scale) const {
+    scale.noalias() += J_.cwiseAbs() * z.cwiseAbs();
+  }
+
   /// ∇Ψ = Hᵀ Φ = Da∘Φ + Jᵀ (Db∘Φ).
   void Gradient(const Eigen::VectorXd& da, const Eigen::VectorXd& db, const Eigen::VectorXd& phi,
                 Eigen::VectorXd& scratch, Eigen::VectorXd& gradient) const {
@@ -442,6 +448,10 @@ class SparseAlgebra {
     J_.makeCompressed();
     if (!PatternUnchanged()) BuildPattern();
     return Eigen::Map<const Eigen::VectorXd>(J_.valuePtr(), J_.nonZeros()).allFinite();
+  }
+
+  void AddAbsJacobianTimes(const Eigen::VectorXd& z, Eigen::VectorXd& scale) const {
+    scale += J_.cwiseAbs() * z.cwiseAbs();
   }
 
   void Gradient(const Eigen::VectorXd& da, const Eigen::VectorXd& db, const Eigen::VectorXd& phi,
@@ -630,14 +640,15 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   SolveResult result;
   result.method = "newton";
   int iterations = 0;
+  double rounding_floor = 0;  // set where a stop within it is accepted
   auto finish = [&](SolveStatus status, std::string message) {
     result.status = status;
     result.message = std::move(message);
     result.iterations = iterations;
     result.residual = BoxNaturalResidual(lower, upper, z, f);
     result.has_index_sets = true;
-    result.index_sets =
-        BoxIndexSets(lower, upper, z, f, kIndexSetFactor * options.tolerance);
+    result.index_sets = BoxIndexSets(lower, upper, z, f,
+                                     kIndexSetFactor * std::max(options.tolerance, rounding_floor));
     result.z = std::move(z);
     result.w = std::move(f);
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -722,6 +733,24 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     return 0.0;
   };
 
+  // Where the method can go no further above the tolerance, a residual
+  // within the data's rounding floor (rounding_floor.hpp) is a solution.
+  auto at_rounding_floor = [&] {
+    if (!std::isfinite(residual) || !algebra.EvaluateJacobian(z, f)) return false;
+    scratch = f.cwiseAbs();
+    algebra.AddAbsJacobianTimes(z, scratch);
+    const double floor = internal::RoundingFloor(z, scratch);
+    if (!(residual <= floor)) return false;
+    rounding_floor = floor;
+    return true;
+  };
+  auto finish_at_rounding_floor = [&] {
+    return finish(SolveStatus::kSolved, "natural residual " + Format(residual) +
+                                            " is at the rounding level of the data (" +
+                                            Format(rounding_floor) + ") after " +
+                                            std::to_string(iterations) + " iterations");
+  };
+
   while (true) {
     if (residual <= options.tolerance) {
       // The reformulation does not keep iterates in [l, u]; a solved z a
@@ -740,6 +769,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
                                               std::to_string(iterations) + " iterations");
     }
     if (iterations >= max_iterations) {
+      if (at_rounding_floor()) return finish_at_rounding_floor();
       return finish(SolveStatus::kMaxIterations,
                     "iteration limit " + std::to_string(max_iterations) +
                         " reached with natural residual " + Format(residual));
@@ -808,6 +838,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       }
     }
     if (t == 0) {
+      if (at_rounding_floor()) return finish_at_rounding_floor();
       return finish(SolveStatus::kFailed,
                     "line search failed at iteration " + std::to_string(iterations) +
                         ": z is (nearly) a stationary point of the merit function that does "
@@ -824,6 +855,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     phi.swap(phi_trial);
     residual = BoxNaturalResidual(lower, upper, z, f);
     if (residual > options.tolerance && step <= kStagnationStep * scale) {
+      if (at_rounding_floor()) return finish_at_rounding_floor();
       return finish(SolveStatus::kFailed,
                     "stagnated at iteration " + std::to_string(iterations) +
                         " with natural residual " + Format(residual) + " (" +

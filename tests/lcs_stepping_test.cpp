@@ -453,6 +453,27 @@ TEST(LcsStepping, FixedStepBeyondMaxStepsFailsAtOnce) {
   EXPECT_EQ(exact.stats.steps, 1000);
 }
 
+// examples/scenes/rc_diode_event.json with a source of 10⁴ A: C v' = I₀ − i,
+// 0 ≤ i ⊥ R_d i − v + V_c ≥ 0 (C = 1 µF, R_d = 100 Ω, V_c = 5 V) settles at
+// v∞ = V_c + R_d I₀ = 10⁶ + 5 V, i∞ = I₀, with τ = R_d C = 1e-4 s. Each
+// step's LCP has q ≈ −10⁶ and rounding errors of about 1e-10 in w: the
+// absolute residual test at the default 1e-10 failed there before the
+// rounding floor ("stagnated … natural residual 1.16e-10").
+TEST(LcsStepping, CircuitAtMegavoltsSettlesAtItsEquilibrium) {
+  const double I0 = 1e4, C = 1e-6, Rd = 100, Vc = 5;
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Constant(1, 1, -1 / C),
+                             Eigen::MatrixXd::Constant(1, 1, -1), Eigen::MatrixXd::Constant(1, 1, Rd),
+                             Eigen::VectorXd::Constant(1, I0 / C), Eigen::VectorXd::Constant(1, Vc));
+  TimeSteppingOptions options;
+  options.h = 1e-5;
+  const Trajectory trajectory = IntegrateTimeStepping(lcs, Eigen::VectorXd::Zero(1), 0, 1e-2, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  // Backward Euler keeps the equilibrium and contracts by 1/(1 + h/τ) per
+  // step: 1.1⁻¹⁰⁰⁰ ≈ 1e-41 of the transient is left at t = 1e-2.
+  EXPECT_NEAR(trajectory.states.back()[0], Vc + Rd * I0, 1e-12 * Rd * I0);
+  EXPECT_NEAR(trajectory.multipliers.back()[0], I0, 1e-12 * I0);
+}
+
 TEST(LcsStepping, ViAtOldStateSchemeIsFirstOrder) {
   RcDiode circuit;
   circuit.Rd = 0.5;

@@ -199,6 +199,46 @@ TEST(Solve, SparseLcpExplicitLemkeDensifies) {
   ExpectSolvedNear(result, known.z);
 }
 
+// LCP(s q, s M) has the solution of LCP(q, M), and LCP(s q, M) that solution
+// times s. With s = 1e8 the rounding errors of w = Mz + q are about 1e-8,
+// above the default tolerance 1e-10: each method stops at the data's
+// rounding level and says so. Before the rounding floor, 47 of 50 random
+// 10×10 P-matrix LCPs with |q| ≤ 1e8 failed under Lemke.
+TEST(Solve, LcpWithLargeDataIsSolvedToItsRoundingLevel) {
+  std::mt19937 rng(11);
+  constexpr double kScale = 1e8;
+  constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+  int at_rounding_level = 0;
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::MatrixXd M = test::RandomPMatrix(10, rng);
+    const Eigen::VectorXd q = test::RandomVector(10, rng);
+    const SolveResult unit = Solve(Lcp{M, q});
+    ASSERT_TRUE(unit.solved()) << unit.message;
+    for (const SolverMethod method :
+         {SolverMethod::kAuto, SolverMethod::kLemke, SolverMethod::kNewton}) {
+      SolverOptions options;
+      options.method = method;
+      for (const bool scale_matrix : {false, true}) {
+        const Eigen::MatrixXd M_scaled = scale_matrix ? Eigen::MatrixXd(kScale * M) : M;
+        const Eigen::VectorXd z_expected = scale_matrix ? unit.z : Eigen::VectorXd(kScale * unit.z);
+        const SolveResult dense = Solve(Lcp{M_scaled, kScale * q}, options);
+        const SolveResult sparse = Solve(SparseLcp{M_scaled.sparseView(), kScale * q}, options);
+        for (const SolveResult* result : {&dense, &sparse}) {
+          SCOPED_TRACE(std::string(ToString(method)) + (scale_matrix ? ", M scaled" : ""));
+          ASSERT_TRUE(result->solved()) << result->message;
+          // 64 ε times the terms' magnitude, |q| ≤ 1e8 and |M||z| of the same order.
+          EXPECT_LE(result->residual, 64 * kEpsilon * 10 * kScale);
+          EXPECT_LE((result->z - z_expected).lpNorm<Eigen::Infinity>(),
+                    1e-10 * z_expected.lpNorm<Eigen::Infinity>());
+          if (result->message.find("rounding level of the data") != std::string::npos)
+            ++at_rounding_level;
+        }
+      }
+    }
+  }
+  EXPECT_GT(at_rounding_level, 0);
+}
+
 // The box MCP / box VI with F(z) = z − c: the solution is c clipped to the box.
 TEST(Solve, BoxMcpAutoUsesNewton) {
   const Eigen::Vector3d c(2.0, -0.5, -3.0);

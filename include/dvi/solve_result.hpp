@@ -11,7 +11,8 @@ namespace dvi {
 
 /// Outcome of a VI / complementarity solve. Only kSolved leaves a usable z.
 enum class SolveStatus {
-  kSolved,         ///< Natural-map residual ≤ the requested tolerance.
+  kSolved,         ///< Natural-map residual ≤ the requested tolerance (or the data's
+                   ///< rounding floor, see SolverOptions::tolerance).
   kInfeasible,     ///< Proven to have no solution (e.g. Lemke's secondary ray on a PSD LCP); see certificate.
   kMaxIterations,  ///< Iteration limit reached; z is the best iterate found.
   kFailed,         ///< The method broke down (singular system, ray termination without proof, ...); see message.

@@ -23,8 +23,11 @@ SolverMethod ParseSolverMethod(std::string_view name);
 /// methods read it.
 struct SolverOptions {
   SolverMethod method = SolverMethod::kAuto;
-  /// Success when the natural-map residual ‖z − Π_K(z − F(z))‖∞ ≤ tolerance.
-  /// Range (0, 1).
+  /// Success when the natural-map residual ‖z − Π_K(z − F(z))‖∞ ≤ tolerance,
+  /// or, where Newton, Lemke or PGS can go no further, when it is within the
+  /// rounding floor of the data, 64 ε max_i max(|z_i|, |F_i(z)| + (|∇F(z)| |z|)_i)
+  /// (for an LCP |q_i| + (|M| |z|)_i): an LCP with |q| ≈ 10⁶ carries rounding
+  /// errors of 1e-10 in w. The result's message says which. Range (0, 1).
   double tolerance = 1e-10;
   /// Iteration limit; 0 picks the method's default (Lemke: 50·(m+1) pivots;
   /// PGS: 10 000 sweeps; Newton: 100; extragradient: 100 000).
