@@ -608,6 +608,13 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
        "--theta: expected a number in [0, 1], got 1.5"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"gamma": -1}})", "",
        "method.gamma: expected a number in [0, 1], got -1"},
+      // Before these were refused, 4e400 aborted dvisim (an uncaught
+      // nlohmann out_of_range) and 10⁵ nested brackets overflowed the stack.
+      {"{" + dvi + R"(, "x0": [1], "horizon": 4e400})", "",
+       "malformed JSON: number overflow parsing '4e400' (beyond double precision"},
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1, "name": )" + std::string(100000, '[') +
+           std::string(100000, ']') + "}",
+       "", "malformed JSON at line 1, column 349: nested deeper than 256 levels"},
   };
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string scene = Write("bad" + std::to_string(k) + ".json", cases[k].scene);

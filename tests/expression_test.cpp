@@ -3,6 +3,7 @@
 // exact symbolic Jacobians (chain rule, kinks, ∂/∂t) and every error message.
 #include "expression.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -177,6 +178,15 @@ TEST(ExpressionErrors, NameTheFieldAndTheProblem) {
             "cos, tan, asin, acos, atan, sinh, cosh, tanh, abs, sign, min, max)");
   EXPECT_EQ(ErrorOf("I*x1"), "problem.f[1]: complex numbers are not supported");
   EXPECT_EQ(ErrorOf("1/0"), "problem.f[1]: cannot parse \"1/0\": division by zero");
+  // CLN's own message quoted bytes past the number ("+1.e\xff_17").
+  EXPECT_EQ(ErrorOf("x1 + 1.e"),
+            "problem.f[1]: cannot parse \"x1 + 1.e\": malformed number (digits, an optional "
+            "point and digits, an optional exponent as in 1.5e-3)");
+  // GiNaC's parser recurses per level and crashed beyond about 6000.
+  const std::string deep = std::string(8000, '(') + "x1" + std::string(8000, ')');
+  EXPECT_THAT(ErrorOf(deep), ::testing::HasSubstr("nested deeper than 256 levels"));
+  EXPECT_THAT(ErrorOf("x1 + " + std::string(10000, '-') + "x1"),
+              ::testing::HasSubstr("nested deeper than 256 levels (parentheses and signs)"));
   EXPECT_EQ(ErrorOf("x1", 2, 1, {{"x2", 1.0}}),
             "problem.params.x2: the name \"x2\" is reserved (time, states, multipliers, constants "
             "and functions)");

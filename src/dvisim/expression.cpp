@@ -2,6 +2,7 @@
 #include "expression.hpp"
 
 #include <cctype>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -116,6 +117,11 @@ bool IsIndexedName(const std::string& name, char prefix) {
 // GiNaC's parse_error::what() is "GiNaC: parse error at line L, column C:
 // DETAIL\n[location in GiNaC's sources]"; the user wants DETAIL.
 std::string ParseErrorDetail(const std::string& what) {
+  // CLN quotes its internal form of the number, with bytes past its end
+  // ("+1.e\xff_17" for "1.e"): say what is wrong without it.
+  if (what.rfind("Illegal number syntax", 0) == 0)
+    return "malformed number (digits, an optional point and digits, an optional exponent as "
+           "in 1.5e-3)";
   std::string detail = what;
   const std::size_t column = detail.find("column ");
   const std::size_t colon = detail.find(": ", column == std::string::npos ? 0 : column);
@@ -123,6 +129,30 @@ std::string ParseErrorDetail(const std::string& what) {
   const std::size_t newline = detail.find('\n');
   if (newline != std::string::npos) detail = detail.substr(0, newline);
   return detail;
+}
+
+// GiNaC's recursive-descent parser recurses once per parenthesis and per
+// prefix sign, and exhausts the stack somewhere beyond 6000 levels; no scene
+// needs more than this.
+constexpr int kMaxExpressionDepth = 256;
+
+// Parentheses open at a point plus the signs in a row there (as in "- - x").
+int NestingDepth(const std::string& text) {
+  int parentheses = 0;
+  int signs = 0;
+  int deepest = 0;
+  for (const char c : text) {
+    if (c == ' ' || c == '\t') continue;
+    if (c == '+' || c == '-') {
+      ++signs;
+    } else {
+      signs = 0;
+      if (c == '(') ++parentheses;
+      if (c == ')') --parentheses;
+    }
+    deepest = std::max(deepest, parentheses + signs);
+  }
+  return deepest;
 }
 
 // Rewrites GiNaC's abs(a) as a·sign(a): the same value, and the derivative
@@ -183,6 +213,9 @@ ExpressionVariables::ExpressionVariables(int n, int m,
 }
 
 GiNaC::ex ExpressionVariables::Parse(const std::string& text, const std::string& path) const {
+  if (NestingDepth(text) > kMaxExpressionDepth)
+    Fail(path, "cannot parse " + Describe(text) + ": nested deeper than " +
+                   std::to_string(kMaxExpressionDepth) + " levels (parentheses and signs)");
   GiNaC::parser reader(table_, /*strict=*/false);
   GiNaC::ex e;
   try {

@@ -22,6 +22,46 @@ constexpr std::size_t kMaxQuoted = 40;
 // problem dvisim should try to allocate.
 constexpr std::int64_t kMaxEntries = std::int64_t{1} << 28;
 
+// Deeper nesting than any scene needs; nlohmann's recursive parser would
+// exhaust the stack somewhere beyond 10⁴ levels.
+constexpr int kMaxJsonDepth = 256;
+
+// Line and column (1-based) of text[offset].
+std::string Position(const std::string& text, std::size_t offset) {
+  std::size_t line = 1;
+  std::size_t column = 1;
+  for (std::size_t k = 0; k < std::min(offset, text.size()); ++k) {
+    if (text[k] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+// Refuses nesting deeper than kMaxJsonDepth before the parser recurses into it.
+void CheckDepth(const std::string& text) {
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const char c = text[k];
+    if (in_string) {
+      if (c == '\\') ++k;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw InputError("malformed JSON at " + Position(text, k) + ": nested deeper than " +
+                         std::to_string(kMaxJsonDepth) + " levels");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 std::string Indexed(const std::string& path, std::size_t i) {
   return path + "[" + std::to_string(i) + "]";
 }
@@ -33,29 +73,25 @@ std::string Indexed(const std::string& path, std::size_t i) {
 }  // namespace
 
 nlohmann::json ParseJson(const std::string& text) {
+  CheckDepth(text);
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& error) {
     // error.byte is the 1-based offset of the character that broke parsing.
-    std::size_t line = 1;
-    std::size_t column = 1;
     const std::size_t end = std::min<std::size_t>(error.byte == 0 ? 0 : error.byte - 1, text.size());
-    for (std::size_t k = 0; k < end; ++k) {
-      if (text[k] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
     // nlohmann's what() is "[json.exception.parse_error.101] parse error at
     // line L, column C: DETAIL"; keep DETAIL.
     std::string detail = error.what();
     const std::size_t column_word = detail.find("column ");
     const std::size_t colon = detail.find(": ", column_word == std::string::npos ? 0 : column_word);
     if (colon != std::string::npos) detail = detail.substr(colon + 2);
-    throw InputError("malformed JSON at line " + std::to_string(line) + ", column " +
-                     std::to_string(column) + ": " + detail);
+    throw InputError("malformed JSON at " + Position(text, end) + ": " + detail);
+  } catch (const nlohmann::json::out_of_range& error) {
+    // "[json.exception.out_of_range.406] number overflow parsing '4e400'".
+    std::string detail = error.what();
+    const std::size_t bracket = detail.find("] ");
+    if (bracket != std::string::npos) detail = detail.substr(bracket + 2);
+    throw InputError("malformed JSON: " + detail + " (beyond double precision, about 1.8e308)");
   }
 }
 
