@@ -364,6 +364,37 @@ TEST(EventDriven, StopsWhenCvodesStepSizeOverflows) {
       << trajectory.message;
 }
 
+// x' = −1/x from x0 = 1: x = √(1 − 2t) ends at t = 0.5, where x' is
+// unbounded. CVODE's steps shrink below the round-off of t there and, with a
+// warning only, carried x across to the other branch (plain CVODE returns
+// x = 3266 at t = 0.5 and success at t = 1). The run stops at the
+// singularity with the reason, and every sample is on the true branch.
+TEST(EventDriven, StopsAtASingularityOfTheRightHandSide) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out(0) = -1 / x(0);
+  };
+  EventDrivenOptions options;
+  options.rtol = 1e-8;
+  options.atol = 1e-10;
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::VectorXd::Ones(1), 0, 1, options);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("no longer advances t"), std::string::npos)
+      << trajectory.message;
+  EXPECT_NE(trajectory.message.find("at t = 0.49999"), std::string::npos) << trajectory.message;
+  ASSERT_GT(trajectory.times.size(), 100u);
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    ASSERT_LT(t, 0.5);
+    EXPECT_GT(trajectory.states[k](0), 0) << "t = " << t;
+    // Away from the singularity, where the error grows like 1/x³.
+    if (t <= 0.4) {
+      EXPECT_NEAR(trajectory.states[k](0), std::sqrt(1 - 2 * t), 1e-6) << "t = " << t;
+    }
+  }
+}
+
 TEST(EventDriven, RejectsInvalidInput) {
   EventDrivenOptions options;
   options.rtol = -1;

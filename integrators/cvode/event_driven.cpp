@@ -265,6 +265,7 @@ class EventDrivenRun {
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
   bool StillHolds();
+  bool StepAdvancesTime();
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
@@ -423,6 +424,31 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
     taylor_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size()) / factorial;
   }
   return true;
+}
+
+// CVODE goes on, with a warning only, when its step no longer advances t
+// (t + h = t). Near a singularity of f (x' = −1/x as x → 0) its steps shrink
+// below the round-off of t and carry x across to another branch: plain
+// CVODE returns x = 3266 at t = 0.5 from x0 = 1, where the solution ends.
+// Dynamics that fast are not resolved in double precision at this t: the
+// run ends there.
+bool EventDrivenRun::StepAdvancesTime() {
+  void* cvode = cvode_.get();
+  double t_n = 0, h = 0;
+  // h = 0 before the first step completes; a NaN h is Load's to report.
+  if (CVodeGetCurrentTime(cvode, &t_n) != CV_SUCCESS || CVodeGetLastStep(cvode, &h) != CV_SUCCESS ||
+      h == 0 || !(std::abs(h) <= std::numeric_limits<double>::epsilon() * std::abs(t_n)))
+    return true;
+  std::ostringstream message;
+  message << "event: at t = " << std::setprecision(10) << t_n << std::setprecision(3)
+          << ", CVODE's step h = " << h
+          << " no longer advances t (below its round-off)";
+  if (CVodeGetDky(cvode, t_n, 1, dky_.get()) == CV_SUCCESS)
+    message << ", with |x'| = " << Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size())
+                                       .lpNorm<Eigen::Infinity>();
+  message << ": x' is unbounded there (a singularity of f, where the solution ends) or faster "
+             "than double precision resolves at this t";
+  return Fail(IntegrationStatus::kStepFailure, message.str());
 }
 
 void EventDrivenRun::AddCvodeStats() {
@@ -741,7 +767,7 @@ bool EventDrivenRun::IntegrateModes() {
   while (true) {
     double t_reached = t_;
     const int flag = CVode(cvode, t_end_, y_.get(), &t_reached, CV_ONE_STEP);
-    if (!Check(flag, "CVode")) return false;
+    if (!Check(flag, "CVode") || !StepAdvancesTime()) return false;
     long steps = 0;
     CVodeGetNumSteps(cvode, &steps);
     if (trajectory_.stats.steps + steps > options_.max_steps) {
