@@ -401,6 +401,25 @@ TEST(ModeDae, LcpWithoutSolutionIsAStatusWithAMessage) {
   EXPECT_NE(result.message.find("no solution"), std::string::npos) << result.message;
 }
 
+// x' = −x + u + p with p = −1e300: IDA's first step is 0.5 over x' in its
+// weighted norm, which overflows, and IDASolve then blamed its stop time
+// ("tstop = 1 is behind current t = 0"). The status names the overflow.
+TEST(ModeDae, OverflowingFirstStepIsNamed) {
+  const Lcs lcs = Lcs::Dense(-Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                             Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Constant(1, 1, 0.5),
+                             Eigen::VectorXd::Constant(1, -1e300));
+  for (const bool sparse : {true, false}) {
+    ModeDaeOptions options;
+    options.sparse = sparse;
+    const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Ones(1), 0, 1, options);
+    EXPECT_EQ(result.status, IntegrationStatus::kStepFailure);
+    EXPECT_NE(result.message.find("at t = 0 IDA cannot choose a first step: x'/(rtol |x| + atol) "
+                                  "reaches 9.90099e+307, whose square overflows"),
+              std::string::npos)
+        << result.message;
+  }
+}
+
 TEST(ModeDae, InvalidInputsNameTheirField) {
   const Lcs lcs = ScalarIndexTwo();
   const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);

@@ -51,6 +51,9 @@ constexpr double kSameTimeFraction = 1e-12;
 // The look-ahead step at a mode the modified LCP cannot place, as a fraction
 // of the horizon (the CVODE path's, event_driven.cpp).
 constexpr double kLookAheadFraction = 1e-5;
+// Above this x'/(rtol |x| + atol), the square in IDA's weighted norm
+// overflows (√DBL_MAX ≈ 1.3e154, less a margin for the sum over components).
+constexpr double kOverflowingScaledRate = 1e150;
 // More mode changes than this at one time is chattering, not a cascade.
 constexpr int kMaxSameTimeEvents = 32;
 // A multiplier within this many tolerances (of the integrator and of the
@@ -158,6 +161,7 @@ class ModeDaeRun {
   std::string DescribeMode(const BoxMode& mode) const;
   bool EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
   bool Check(int flag, const char* call);
+  bool FirstStepOverflows();
   void Sample(double t);
   void SampleOutputs(double before);
   void CollectIdaStats();
@@ -497,6 +501,26 @@ bool ModeDaeRun::HandleRoot(double t) {
   return true;
 }
 
+// IDA's first step is 0.5/‖y'‖ in its weighted norm, which overflows when
+// x'/(rtol |x| + atol) passes about 1e154: h = 0, and IDASolve then blames
+// its stop time ("tstop is behind current t"). Says what happened instead.
+bool ModeDaeRun::FirstStepOverflows() {
+  long steps = 0;
+  IDAGetNumSteps(ida_.get(), &steps);
+  if (steps > 0) return false;
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), n_), yp(yp_.data(), n_);
+  double scaled = 0;
+  for (int i = 0; i < n_; ++i)
+    scaled = std::max(scaled, std::abs(yp(i)) / (options_.rtol * std::abs(y(i)) + options_.atol));
+  if (!(scaled > kOverflowingScaledRate)) return false;
+  std::ostringstream message;
+  message << "mode-dae: at t = " << t_ << " IDA cannot choose a first step: x'/(rtol |x| + atol) "
+          << "reaches " << scaled
+          << ", whose square overflows double precision in its error norm at these tolerances";
+  Fail(IntegrationStatus::kStepFailure, message.str());
+  return true;
+}
+
 bool ModeDaeRun::Integrate() {
   IntegrationStats& stats = trajectory_.stats;
   while (true) {
@@ -507,6 +531,7 @@ bool ModeDaeRun::Integrate() {
     }
     double t_return = t_;
     const int flag = IDASolve(ida_.get(), t_end_, &t_return, y_.get(), yp_.get(), IDA_ONE_STEP);
+    if (flag == IDA_ILL_INPUT && FirstStepOverflows()) return false;
     if (!Check(flag, "IDASolve")) return false;
     t_ = t_return;
     // Theorem 5.3 only keeps d/dt Φ(x) = 0; Φ(x) itself is
