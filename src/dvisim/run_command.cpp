@@ -275,8 +275,13 @@ std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory) {
   for (int i = 1; i <= scene.n; ++i) csv += ",x" + std::to_string(i);
   for (int j = 1; j <= scene.output_multipliers; ++j) csv += ",u" + std::to_string(j);
   csv += "\n";
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
-    csv += Number(trajectory.times[k]);
+  const auto& times = trajectory.times;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    // Of rows at the same time (an event at a step's end or an output
+    // time), the last: the right limit.
+    if (k + 1 < times.size() && times[k + 1] - times[k] <= kSameRowFraction * scene.horizon)
+      continue;
+    csv += Number(times[k]);
     for (Eigen::Index i = 0; i < trajectory.states[k].size(); ++i)
       csv += "," + Number(trajectory.states[k](i));
     const Eigen::VectorXd u = OutputMultiplier(scene, trajectory.multipliers[k]);

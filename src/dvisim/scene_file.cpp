@@ -20,8 +20,6 @@ using nlohmann::json;
 constexpr int kDefaultStepsPerHorizon = 1000;
 // Without output.times and output.samples: this many rows, enough for a plot.
 constexpr int kDefaultSamples = 501;
-// Output times closer than this fraction of the horizon are one row.
-constexpr double kMergeFraction = 1e-12;
 
 [[noreturn]] void Fail(const std::string& path, const std::string& message) {
   throw InputError(path + ": " + message);
@@ -500,7 +498,7 @@ std::vector<double> OutputTimes(const Scene& scene) {
   std::sort(times.begin(), times.end());
   std::vector<double> merged;
   for (const double t : times)
-    if (merged.empty() || t - merged.back() > kMergeFraction * scene.horizon) merged.push_back(t);
+    if (merged.empty() || t - merged.back() > kSameRowFraction * scene.horizon) merged.push_back(t);
   return merged;
 }
 

@@ -66,6 +66,8 @@ struct Scene {
 /// than 1e-12·horizon merged. Empty when neither is given (then every step
 /// is recorded).
 std::vector<double> OutputTimes(const Scene& scene);
+/// Times closer than this fraction of the horizon are one row of the output.
+inline constexpr double kSameRowFraction = 1e-12;
 
 /// Why event-driven integration does not apply to the scene's problem, ""
 /// when it does: it needs an lcs, dvi, box-dvi or filippov scene, whose
