@@ -67,6 +67,21 @@ double ToleranceSlope(const Dvi& dvi, const Eigen::VectorXd& x0, double t_end, E
 // K the unit ball, x0 = 3·(0.6, 0.8): u = x/|x| while |x| > 1, so |x| = 3 − t
 // until t = 2, then u = x and |x| = e^{−(t − 2)}: the ball's constraint is
 // released at t = 2.
+// 1 ≤ u ≤ −1 has no point: the run names the empty K at once (before, the
+// KKT system's Newton ran out of iterations and said only that).
+TEST(EventDrivenSets, EmptyPolyhedronIsNamed) {
+  const ConvexSet K =
+      ConvexSet::Polyhedron((Eigen::MatrixXd(2, 1) << 1, -1).finished(), Eigen::Vector2d(-1, -1),
+                            Eigen::MatrixXd(0, 1), Eigen::VectorXd(0));
+  const Trajectory trajectory =
+      IntegrateEventDriven(DecayThroughProjection(K), Eigen::VectorXd::Ones(1), 0, 1);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("event: K is empty, so the VI has no solution"),
+            std::string::npos)
+      << trajectory.message;
+  EXPECT_TRUE(trajectory.times.empty());
+}
+
 TEST(EventDrivenSets, BallReleasesItsConstraintAtTheExactTime) {
   const Dvi dvi = DecayThroughProjection(ConvexSet::Ball(Eigen::VectorXd::Zero(2), 1));
   const Eigen::Vector2d direction(0.6, 0.8);

@@ -21,6 +21,7 @@
 #include "../ida/ida_handles.hpp"
 #include "box_mode.hpp"
 #include "check.hpp"
+#include "dvi/error.hpp"
 #include "event_driven_validated.hpp"
 #include "output_times_check.hpp"
 #include "kkt_lifting.hpp"
@@ -879,7 +880,16 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
     return run.Run();
   }
   // Polyhedra, balls and products with them: the KKT system on a box, whose
-  // modes are the active sets of K's constraints.
+  // modes are the active sets of K's constraints. On an empty K its Newton
+  // would only run out of iterations: the projection proves the emptiness.
+  try {
+    dvi.K.Project(Eigen::VectorXd::Zero(dvi.m));
+  } catch (const EmptySetError& empty) {
+    Trajectory trajectory;
+    trajectory.status = IntegrationStatus::kStepFailure;
+    trajectory.message = std::string("event: K is empty, so the VI has no solution: ") + empty.what();
+    return trajectory;
+  }
   const internal::KktLifting lifting = internal::LiftToBox(dvi);
   EventDrivenRun run(lifting.dvi, lcs && dvi.K.IsPolyhedral(), nullptr, x0, t0, t_end, options,
                      false);
