@@ -1,12 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dvi/projected_dynamics.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
 #include <vector>
 
 #include "check.hpp"
 
 namespace dvi {
 namespace {
+
+// Slack allowed for x0 ∈ K (in the constraint's units, relative to 1 + ‖x0‖∞).
+constexpr double kMembershipTolerance = 1e-12;
 
 // K = {x : G x ≤ h, E x = e} as one block of rows A = [G; E], b = [h; e],
 // with multipliers λ ≥ 0 for G and μ free for E: ν = Aᵀ(λ, μ).
@@ -217,6 +223,38 @@ Eigen::VectorXd NormalConeElement(const ProjectedDynamics& pds, PdsForm form,
   DVI_THROW_UNLESS(u.size() == 1,
                    "NormalConeElement: u has " << u.size() << " entries, expected 1 (the ball)");
   return 2 * u[0] * (x - pds.K.center());
+}
+
+void ProjectedDynamics::CheckInitialState(const Eigen::VectorXd& x0) const {
+  DVI_THROW_UNLESS(x0.size() == n(), "x0: " << x0.size() << " entries, expected n = " << n());
+  const double tol = kMembershipTolerance * (1 + x0.lpNorm<Eigen::Infinity>());
+  if (K.IsBox()) {
+    const auto [lower, upper] = K.BoxBounds();
+    for (Eigen::Index j = 0; j < x0.size(); ++j)
+      DVI_THROW_UNLESS(x0[j] >= lower[j] - tol && x0[j] <= upper[j] + tol,
+                       "x0[" << j << "]: " << std::setprecision(10) << x0[j]
+                             << " is outside K's bounds [" << lower[j] << ", " << upper[j]
+                             << "] (by " << std::setprecision(3)
+                             << std::max(lower[j] - x0[j], x0[j] - upper[j]) << ")");
+    return;
+  }
+  if (K.IsPolyhedral()) {
+    const ConvexSet::Inequalities p = K.AsPolyhedron();
+    const Eigen::VectorXd slack = p.G * x0 - p.h;
+    for (Eigen::Index k = 0; k < slack.size(); ++k)
+      DVI_THROW_UNLESS(slack[k] <= tol, "x0: violates inequality "
+                                            << k << " of K = " << K.Describe() << " by "
+                                            << slack[k]);
+    const Eigen::VectorXd gap = p.E * x0 - p.e;
+    for (Eigen::Index k = 0; k < gap.size(); ++k)
+      DVI_THROW_UNLESS(std::abs(gap[k]) <= tol, "x0: violates equality "
+                                                    << k << " of K = " << K.Describe() << " by "
+                                                    << gap[k]);
+    return;
+  }
+  DVI_THROW_UNLESS(K.Contains(x0, tol), "x0: lies outside K = " << K.Describe() << " (distance "
+                                                                << (x0 - K.Project(x0)).norm()
+                                                                << ")");
 }
 
 }  // namespace dvi

@@ -613,6 +613,12 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
        "--theta: expected a number in [0, 1], got 1.5"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"gamma": -1}})", "",
        "method.gamma: expected a number in [0, 1], got -1"},
+      // Event and auto integrate pds in the form (2.10), which does not need
+      // x0 ∈ K; before this check their Newton ran out of iterations at t = 0.
+      {R"({"problem": {"type": "pds", "A": [[1, 0], [0, 1]], "c": [0, 0],
+          "set": {"box": {"lower": [0, 0], "upper": [1, 1]}}}, "x0": [1.0000001, 0.5],
+          "horizon": 1})",
+       "--method event", "x0[0]: 1.0000001 is outside K's bounds [0, 1] (by 1e-07)"},
       // Before these were refused, 4e400 aborted dvisim (an uncaught
       // nlohmann out_of_range) and 10⁵ nested brackets overflowed the stack.
       {"{" + dvi + R"(, "x0": [1], "horizon": 4e400})", "",

@@ -21,6 +21,9 @@ struct ProjectedDynamics {
   static ProjectedDynamics Affine(const Eigen::MatrixXd& A, const Eigen::VectorXd& c, ConvexSet K);
   /// @throws InvalidInputError on n < 1 or a missing F.
   void Validate() const;
+  /// @throws InvalidInputError naming the bound, inequality or equality of K
+  /// that x0 violates (beyond 1e-12 (1 + ‖x0‖∞)), or its distance to K.
+  void CheckInitialState(const Eigen::VectorXd& x0) const;
 };
 
 /// (2.9), K a cone (the orthant, or a polyhedron with h = 0 and e = 0 given

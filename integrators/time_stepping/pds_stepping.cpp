@@ -23,8 +23,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // active, as in OneStepMethod::Mode: solvers meet active constraints far
 // more closely.
 constexpr double kActiveTolerance = 1e-9;
-// Slack allowed for x0 ∈ K (in the constraint's units, relative to 1 + ‖x0‖∞).
-constexpr double kMembershipTolerance = 1e-12;
 
 using internal::StepOutcome;
 
@@ -176,36 +174,6 @@ class FullyImplicitPds final : public internal::OneStepMethod {
   Eigen::VectorXd lower_, upper_;
 };
 
-// Names the constraint of K that x0 violates.
-void CheckInitialState(const ConvexSet& K, const Eigen::VectorXd& x0) {
-  const double tol = kMembershipTolerance * (1 + x0.lpNorm<Eigen::Infinity>());
-  if (K.IsBox()) {
-    const auto [lower, upper] = K.BoxBounds();
-    for (Eigen::Index j = 0; j < x0.size(); ++j)
-      DVI_THROW_UNLESS(x0[j] >= lower[j] - tol && x0[j] <= upper[j] + tol,
-                       "x0[" << j << "]: " << x0[j] << " is outside K's bounds [" << lower[j]
-                             << ", " << upper[j] << "]");
-    return;
-  }
-  if (K.IsPolyhedral()) {
-    const ConvexSet::Inequalities p = K.AsPolyhedron();
-    const Eigen::VectorXd slack = p.G * x0 - p.h;
-    for (Eigen::Index k = 0; k < slack.size(); ++k)
-      DVI_THROW_UNLESS(slack[k] <= tol, "x0: violates inequality "
-                                            << k << " of K = " << K.Describe() << " by "
-                                            << slack[k]);
-    const Eigen::VectorXd gap = p.E * x0 - p.e;
-    for (Eigen::Index k = 0; k < gap.size(); ++k)
-      DVI_THROW_UNLESS(std::abs(gap[k]) <= tol, "x0: violates equality "
-                                                    << k << " of K = " << K.Describe() << " by "
-                                                    << gap[k]);
-    return;
-  }
-  DVI_THROW_UNLESS(K.Contains(x0, tol), "x0: lies outside K = " << K.Describe() << " (distance "
-                                                                << (x0 - K.Project(x0)).norm()
-                                                                << ")");
-}
-
 }  // namespace
 
 Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::VectorXd& x0, double t0,
@@ -224,7 +192,7 @@ Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::Vect
     DVI_THROW_UNLESS(std::isfinite(x0[j]), "x0[" << j << "]: " << x0[j] << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t_end: " << t_end << " does not exceed t0 = " << t0);
-  CheckInitialState(pds.K, x0);
+  pds.CheckInitialState(x0);
   FullyImplicitPds method(pds, options);
   return internal::RunTimeStepping(method, x0, t0, t_end, options);
 }

@@ -178,6 +178,7 @@ Trajectory WithEventDrivenForm(const Scene& scene, Integrate integrate) {
         if constexpr (std::is_same_v<Problem, FilippovSystem>) {
           return integrate(problem.ToSeparable().ToDvi());
         } else if constexpr (std::is_same_v<Problem, ProjectedDynamics>) {
+          problem.CheckInitialState(scene.x0);  // (2.10) itself does not need x0 ∈ K
           Trajectory trajectory = integrate(ProjectedDynamicsAsKkt(problem));
           VectorSamples normals;
           normals.reserve(trajectory.multipliers.size(), problem.n());
