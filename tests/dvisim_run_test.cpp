@@ -5,6 +5,8 @@
 // and on bad scenes (exit 2) and a numerical failure (exit 1), which must
 // leave no files behind.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
 
 #include <algorithm>
 #include <cmath>
@@ -619,6 +621,11 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
           "set": {"box": {"lower": [0, 0], "upper": [1, 1]}}}, "x0": [1.0000001, 0.5],
           "horizon": 1})",
        "--method event", "x0[0]: 1.0000001 is outside K's bounds [0, 1] (by 1e-07)"},
+      // Eigen allocated 2³¹ column pointers (16 GB) before the sizes were compared.
+      {R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]],
+          "D": {"sparse": {"rows": 2147483646, "cols": 2147483646, "i": [], "j": [], "v": []}}},
+          "x0": [1], "horizon": 1})",
+       "", "problem.D.sparse.rows: expected an integer in [0, 10000001), got 2147483646"},
       // Before these were refused, 4e400 aborted dvisim (an uncaught
       // nlohmann out_of_range) and 10⁵ nested brackets overflowed the stack.
       {"{" + dvi + R"(, "x0": [1], "horizon": 4e400})", "",
@@ -672,6 +679,50 @@ TEST_F(DvisimRun, AFailedMoveLeavesNoOutputs) {
   EXPECT_TRUE(Contains(run.err, "output.dir: cannot move summary.json")) << run.err;
   EXPECT_EQ(Listing("out"), std::vector<std::string>{"summary.json"});
   for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
+}
+
+TEST_F(DvisimRun, ADirectoryAsTheSceneIsNamed) {
+  fs::create_directories(Path("scenes"));
+  const RunOutcome run = Dvisim("run '" + Path("scenes") + "' --out '" + Path("out") + "'");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_TRUE(Contains(run.err, Path("scenes") + ": is a directory, not a JSON file")) << run.err;
+}
+
+// SIGTERM while the outputs are being written: dvisim ends once they are all
+// in place, and no temporary directory is left (before, an empty
+// .out.tmp-PID stayed behind).
+TEST_F(DvisimRun, ASignalWhileWritingLeavesAllOutputsAndNoTemporaryDirectory) {
+  const std::string scene = Write("long.json", R"({"problem": {"type": "box-dvi", "f": ["u1"],
+    "F": ["u1 + x1"], "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3], "horizon": 4,
+    "output": {"samples": 2000000}})");
+  const std::string out = Path("out");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, STDOUT_FILENO);
+    execl(DVISIM_EXECUTABLE, DVISIM_EXECUTABLE, "run", scene.c_str(), "--method", "event", "--out",
+          out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const fs::path temporary = Path(".out.tmp-" + std::to_string(child));
+  bool seen = false;
+  for (int k = 0; k < 20000 && !seen; ++k) {
+    seen = fs::exists(temporary);
+    if (!seen) usleep(1000);
+  }
+  kill(child, SIGTERM);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(seen) << "dvisim never wrote its outputs";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
+  EXPECT_FALSE(fs::exists(temporary));
+  std::vector<std::string> files = Listing("out");
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"summary.json", "trajectory.csv"}));
+  const std::string csv = Slurp(Path("out/trajectory.csv"));
+  // The header, the 2 000 000 samples and the event at t = 2.
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2000002);
 }
 
 // ---------------------------------------------------------------------------

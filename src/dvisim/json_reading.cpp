@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -21,6 +22,9 @@ constexpr std::size_t kMaxQuoted = 40;
 // Matrices and vectors larger than this are a corrupt or mistaken file, not a
 // problem dvisim should try to allocate.
 constexpr std::int64_t kMaxEntries = std::int64_t{1} << 28;
+// The largest dimension of a sparse matrix (10⁷: circuits of 10⁵ nodes are
+// the largest the project measures).
+constexpr int kMaxSparseDimension = 10'000'000;
 
 // Deeper nesting than any scene needs; nlohmann's recursive parser would
 // exhaust the stack somewhere beyond 10⁴ levels.
@@ -154,10 +158,12 @@ MatrixField ReadMatrix(const nlohmann::json& value, const std::string& path) {
       if (item.key() != "rows" && item.key() != "cols" && item.key() != "i" && item.key() != "j" &&
           item.key() != "v")
         Fail(sparse_path, "unknown field \"" + item.key() + "\" (expected rows, cols, i, j, v)");
+    // Eigen allocates a column's pointer per column, whatever the entries:
+    // a dimension beyond any circuit is a mistaken file, refused before that.
     const int rows = ReadIndex(RequireField(sparse, "rows", sparse_path), sparse_path + ".rows",
-                               std::numeric_limits<int>::max());
+                               kMaxSparseDimension + 1);
     const int cols = ReadIndex(RequireField(sparse, "cols", sparse_path), sparse_path + ".cols",
-                               std::numeric_limits<int>::max());
+                               kMaxSparseDimension + 1);
     const nlohmann::json& i = RequireField(sparse, "i", sparse_path);
     const nlohmann::json& j = RequireField(sparse, "j", sparse_path);
     const Eigen::VectorXd v = ReadVector(RequireField(sparse, "v", sparse_path), sparse_path + ".v",
@@ -211,6 +217,9 @@ nlohmann::ordered_json VectorToJson(const Eigen::VectorXd& v) {
 }
 
 std::string ReadTextFile(const std::string& path) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored))
+    throw InputError(path + ": is a directory, not a JSON file");
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
   std::ostringstream contents;

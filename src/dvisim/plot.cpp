@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <sys/wait.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -95,6 +96,10 @@ void WritePlots(const std::string& dir, const PlotRequest& request) {
   const pid_t child = fork();
   if (child < 0) Fail(std::string("cannot start gnuplot (") + std::strerror(errno) + ")");
   if (child == 0) {
+    // gnuplot itself stays interruptible while dvisim defers signals.
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
     if (chdir(directory.c_str()) != 0) _exit(126);
     const int log = open("gnuplot.log", O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (log >= 0) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "run_command.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -66,10 +67,30 @@ void WriteFile(const fs::path& path, const std::string& contents) {
   if (!stream) throw InputError("output.dir: cannot write " + path.string());
 }
 
+// Holds SIGINT, SIGTERM and SIGHUP back while it lives: one arriving while
+// the outputs are written ends dvisim only once they are all in place or
+// all removed, not with a temporary directory left behind.
+class SignalsDeferred {
+ public:
+  SignalsDeferred() {
+    sigset_t held;
+    sigemptyset(&held);
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&held, signal);
+    sigprocmask(SIG_BLOCK, &held, &previous_);
+  }
+  ~SignalsDeferred() { sigprocmask(SIG_SETMASK, &previous_, nullptr); }
+  SignalsDeferred(const SignalsDeferred&) = delete;
+  SignalsDeferred& operator=(const SignalsDeferred&) = delete;
+
+ private:
+  sigset_t previous_;
+};
+
 // Writes the files into a temporary directory beside dir, then moves them
 // in, so a reader never sees half an output; the temporary directory goes
-// away on every path.
+// away on every path, a signal's included.
 std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& trajectory) {
+  const SignalsDeferred deferred;
   fs::path dir(scene.output.dir);
   if (dir.filename().empty()) dir = dir.parent_path();
   const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
