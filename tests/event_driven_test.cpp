@@ -105,6 +105,24 @@ Eigen::VectorXd DiodeVoltage(double t) {
   return Eigen::VectorXd::Constant(1, v_inf - v_inf * std::exp(-(t - switch_time) / tau));
 }
 
+// K = [−1, −1] fixes u = −1: x = 3 − t throughout, with no event where
+// F = u + x changes sign at t = 2 (F_j is the equality's multiplier there).
+// Before, the rates at t = 2 freed u, which left its bounds at once.
+TEST(EventDriven, ComponentFixedByEqualBoundsNeverLeavesThem) {
+  Dvi dvi = SaturatedDecay();
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, -1));
+  EventDrivenOptions options;
+  options.output_times = Linspace(0, 4, 41);
+  const Trajectory trajectory =
+      IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 3), 0, 4, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  EXPECT_TRUE(trajectory.events.empty());
+  EXPECT_LE(MaxStateError(trajectory, [](double t) { return Eigen::VectorXd::Constant(1, 3 - t); }),
+            1e-10);
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
+    EXPECT_EQ(trajectory.multipliers[k](0), -1.0) << trajectory.times[k];
+}
+
 // x' = k u, u = clamp(−x, −1, 1) with k = 10⁵: x = 3 − k t until u leaves
 // its bound at t₁ = 2/k (F = u + x = 0 there: β ≠ ∅, Sect. 5.3), then
 // x = e^{−k (t − t₁)}. The mode after t₁ comes from the rates of the

@@ -610,6 +610,8 @@ void BoxModeSystem::Roots(double t, const Eigen::VectorXd& x, double* g) const {
         break;
       case BoundState::kLower:
       case BoundState::kUpper:
+        // lower = upper fixes u_j: F_j is the equality's multiplier, of any sign.
+        if (lower_(j) == upper_(j)) break;
         if (!have_F) {
           EvalF(t, x, u_, F);
           have_F = true;
@@ -757,7 +759,9 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
   std::vector<int> near_bound;
   for (int j = 0; j < m(); ++j) {
     const double to_lower = vi.z(j) - lower_(j), to_upper = upper_(j) - vi.z(j);
-    if (to_lower <= tolerance && to_lower <= to_upper) {
+    if (lower_(j) == upper_(j)) {
+      mode[j] = BoundState::kLower;  // fixed: no mode to decide
+    } else if (to_lower <= tolerance && to_lower <= to_upper) {
       mode[j] = BoundState::kLower;
       if (vi.w(j) <= tolerance || every_component) near_bound.push_back(j);
     } else if (to_upper <= tolerance) {
