@@ -31,7 +31,9 @@ struct AutoOptions {
   /// sequence plus this length. Each immediate new failure of event-driven
   /// integration after an interval doubles it. In (0, 1].
   double stepping_window = 0.01;
-  /// Limit on hand-overs to time-stepping over the run, > 0.
+  /// Limit on hand-overs to time-stepping over the run, > 0. The last one
+  /// steps to the end, as does a hand-over after an event-driven run that
+  /// took more steps than time-stepping at stepping.h needs to the end.
   int max_handovers = 64;
 
   /// @throws InvalidInputError naming the field out of range.

@@ -235,6 +235,12 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     const ZenoPrediction zeno =
         succeeded ? ZenoPrediction() : PredictAccumulation(run.events, same_time);
     const std::string failure = run.message;
+    // A run that spent more steps than time-stepping needs to reach the end:
+    // returning would likely spend them again (a flow chattering at the
+    // round-off of x, as a diode with D = 1e-20: 10⁶ CVODE steps of 2e-16).
+    const long run_steps = run.stats.steps;
+    const bool costlier =
+        !succeeded && static_cast<double>(run_steps) * options.stepping.h >= t_end - t_a;
     // A retry that fails again before covering the window made no progress:
     // the trouble is wider than the window, so the next one doubles.
     if (t > t0) window = t_a - t < window ? 2 * window : base_window;
@@ -258,6 +264,10 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     if (handovers >= options.max_handovers) {
       reason += "; max_handovers = " + std::to_string(options.max_handovers) +
                 " reached, so time-stepping to the end";
+      t_b = t_end;
+    } else if (costlier) {
+      reason += "; event-driven took " + std::to_string(run_steps) +
+                " steps, more than time-stepping needs to the end, so time-stepping to the end";
       t_b = t_end;
     }
     Trajectory steps = stepping(t_a, x_a, t_b, Clip(outputs, t_a, t_b, true));
