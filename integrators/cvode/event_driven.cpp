@@ -889,6 +889,8 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
     trajectory.status = IntegrationStatus::kStepFailure;
     trajectory.message = std::string("event: K is empty, so the VI has no solution: ") + empty.what();
     return trajectory;
+  } catch (const std::runtime_error&) {
+    // A projection that fails without proving K empty leaves it to the run.
   }
   const internal::KktLifting lifting = internal::LiftToBox(dvi);
   EventDrivenRun run(lifting.dvi, lcs && dvi.K.IsPolyhedral(), nullptr, x0, t0, t_end, options,
