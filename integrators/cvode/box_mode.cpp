@@ -22,6 +22,8 @@ constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 // RHS of (5.2) must be smooth to round-off for CVODE's error estimates.
 constexpr double kNewtonStepTolerance = 16 * kEpsilon;
 constexpr int kMaxNewtonIterations = 50;
+// Solve keeps G_u's factors while each step cuts the residual at least this much.
+constexpr double kChordContraction = 0.25;
 // Fixed-point iterations of the look-ahead step at an event.
 constexpr int kMaxLookAheadIterations = 6;
 // ResolveByRates: a rate below this, relative to the rates' scale, is zero
@@ -99,6 +101,7 @@ void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
   reductions_.clear();
   passes_ = 0;
   rows_split_ = false;
+  newton_lu_current_ = false;
   u_ = u;
   for (int j = 0; j < m(); ++j) {
     if (mode_[j] == BoundState::kFree) free_.push_back(j);
@@ -263,14 +266,20 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     rows_split_ = true;
   }
   if (affine_) return SolveLcsMode(x, why);
+  // Newton with G_u's factors kept from call to call while they still cut
+  // the residual by kChordContraction per step (the chord method): a mode's
+  // G_u moves little between the right-hand side's calls, and its LU is the
+  // O(a³) part (half the run at a = 50 free components).
   Eigen::VectorXd& u = newton_u_;
   u = u_;
+  bool fresh = !newton_lu_current_;
   double previous_norm = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     ++newton_iterations_;
-    ModeEquations(t, x, u, residual_, &newton_Gu_, nullptr);
-    if (!residual_.allFinite()) break;
-    const double norm = residual_.lpNorm<Eigen::Infinity>();
+    ModeEquations(t, x, u, residual_, fresh ? &newton_Gu_ : nullptr, nullptr);
+    const double norm =
+        residual_.allFinite() ? residual_.lpNorm<Eigen::Infinity>()
+                              : std::numeric_limits<double>::infinity();
     // Zero, or within the tolerance and no longer decreasing: the floor of
     // the equations' own round-off (differenced rows of a second pass end
     // there before Newton's step reaches round-off).
@@ -278,24 +287,37 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
       u_ = u;
       return true;
     }
-    previous_norm = norm;
-    Eigen::FullPivLU<Eigen::MatrixXd>& lu = newton_lu_;
-    lu.compute(newton_Gu_);
-    if (!lu.isInvertible()) {
-      if (why) {
-        std::ostringstream message;
-        if (reduced())
-          message << "the matrix (5.8) of the reduced mode is singular after "
-                  << reductions_.size() << " pass(es) of the differentiation procedure "
-                  << "(Theorem 5.2, Sect. 5.4; a nonlinear F is differentiated at most "
-                  << kMaxNonlinearPasses << " times)";
-        else
-          message << "∂F/∂u on the free components is singular";
-        *why = message.str();
-      }
-      return false;
+    if (!fresh && !(norm <= kChordContraction * previous_norm) && iteration > 0) {
+      // The kept factors no longer contract: back to the last iterate, and
+      // G_u there.
+      for (int i = 0; i < a; ++i) u(free_[i]) += step_(i);
+      ModeEquations(t, x, u, residual_, &newton_Gu_, nullptr);
+      fresh = true;
+    } else if (!std::isfinite(norm)) {
+      break;
+    } else {
+      previous_norm = norm;
     }
-    step_ = lu.solve(residual_);
+    if (fresh) {
+      newton_lu_.compute(newton_Gu_);
+      newton_lu_current_ = true;
+      if (!(newton_lu_.rcond() > a * kEpsilon)) {
+        newton_lu_current_ = false;
+        if (why) {
+          std::ostringstream message;
+          if (reduced())
+            message << "the matrix (5.8) of the reduced mode is singular after "
+                    << reductions_.size() << " pass(es) of the differentiation procedure "
+                    << "(Theorem 5.2, Sect. 5.4; a nonlinear F is differentiated at most "
+                    << kMaxNonlinearPasses << " times)";
+          else
+            message << "∂F/∂u on the free components is singular";
+          *why = message.str();
+        }
+        return false;
+      }
+    }
+    step_ = newton_lu_.solve(residual_);
     double u_norm = 0;
     for (int i = 0; i < a; ++i) {
       u(free_[i]) -= step_(i);

@@ -252,7 +252,8 @@ class BoxModeSystem {
   // Jacobians for ModeEquations: kept so that Newton does not allocate.
   Eigen::VectorXd newton_u_;
   Eigen::MatrixXd newton_Gu_;
-  Eigen::FullPivLU<Eigen::MatrixXd> newton_lu_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> newton_lu_;
+  bool newton_lu_current_ = false;  // newton_lu_ factors this mode's G_u somewhere
   mutable Eigen::VectorXd scratch_F_;
   mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;
