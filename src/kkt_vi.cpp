@@ -15,6 +15,7 @@
 #include "check.hpp"
 #include "dvi/semismooth_newton.hpp"
 #include "dvi/solution_diagnostics.hpp"
+#include "rounding_floor.hpp"
 
 namespace dvi {
 namespace {
@@ -257,6 +258,24 @@ void EvaluateKktJacobian(KktWorkspace& ws, const Eigen::VectorXd& x, Eigen::Matr
 
 }  // namespace
 
+namespace {
+
+// RoundingFloor (rounding_floor.hpp) of the VI at z, with w = F(z) and F's
+// linear terms |∇F(z)| |z| where ∇F is known.
+double VectorRoundingFloor(const Vi& vi, const Eigen::VectorXd& z, const Eigen::VectorXd& w) {
+  Eigen::VectorXd term_scale = w.cwiseAbs();
+  if (vi.is_affine) {
+    term_scale.noalias() += vi.M.cwiseAbs() * z.cwiseAbs();
+  } else if (vi.jacobian) {
+    Eigen::MatrixXd J(z.size(), z.size());
+    vi.jacobian(z, J);
+    if (J.allFinite()) term_scale.noalias() += J.cwiseAbs() * z.cwiseAbs();
+  }
+  return internal::RoundingFloor(z, term_scale);
+}
+
+}  // namespace
+
 SolveResult SolveKktVi(const Vi& vi, const SolverOptions& options,
                        const Eigen::VectorXd& warm_start) {
   const Clock::time_point start = Clock::now();
@@ -343,6 +362,12 @@ SolveResult SolveKktVi(const Vi& vi, const SolverOptions& options,
   if (kkt_result.solved() && result.residual <= options.tolerance) {
     result.status = SolveStatus::kSolved;
     result.message = "KKT system solved: " + kkt_result.message;
+  } else if (kkt_result.solved() && result.residual <= VectorRoundingFloor(vi, result.z, result.w)) {
+    result.status = SolveStatus::kSolved;
+    std::ostringstream message;
+    message << "KKT system solved: " << kkt_result.message << "; the VI's natural residual "
+            << result.residual << " is at the rounding level of the data";
+    result.message = message.str();
   } else if (kkt_result.solved()) {
     result.status = SolveStatus::kFailed;
     std::ostringstream message;

@@ -148,6 +148,30 @@ void ExpectKktConditions(const ConvexSet& K, const Eigen::VectorXd& z, const Eig
   for (Eigen::Index k = 0; k < na; ++k) EXPECT_GE(multipliers(k), -kKktTolerance) << "row " << active[k];
 }
 
+// VI(K, Mz + q) on K = {G z ≤ h} is positively homogeneous in (q, h): scaled
+// by 1e8 its solution is 1e8 times the unit one. The VI's natural residual
+// then carries rounding errors of about 1e-8, above the tolerance 1e-10, and
+// is accepted at the data's rounding level (before, 15 of 20 such random
+// VIs failed, "ill-conditioned constraints").
+TEST(KktVi, LargeDataAreSolvedToTheirRoundingLevel) {
+  constexpr double kScale = 1e8;
+  const Eigen::MatrixXd M =
+      (Eigen::MatrixXd(3, 3) << 2, 0.5, 0, -0.5, 3, 1, 0, -1, 1.5).finished();
+  const Eigen::Vector3d q(1, -2, 0.5);
+  const Eigen::MatrixXd G = (Eigen::MatrixXd(2, 3) << 1, 1, 1, -1, 2, 0.5).finished();
+  const Eigen::Vector2d h(0.5, 0.25);
+  const auto solve = [&](double scale) {
+    const ConvexSet K = ConvexSet::Polyhedron(G, scale * h, Eigen::MatrixXd(0, 3), Eigen::VectorXd(0));
+    return SolveKktVi(Vi::Affine(M, scale * q, K));
+  };
+  const SolveResult unit = solve(1);
+  const SolveResult large = solve(kScale);
+  ASSERT_TRUE(unit.solved()) << unit.message;
+  ASSERT_TRUE(large.solved()) << large.message;
+  EXPECT_LE((large.z - kScale * unit.z).lpNorm<Eigen::Infinity>(),
+            1e-12 * kScale * unit.z.lpNorm<Eigen::Infinity>());
+}
+
 TEST(KktVi, NonlinearMonotoneMapSatisfiesResidualAndKkt) {
   const ConvexSet K = FourDimensionalPolyhedron();
   for (bool with_jacobian : {true, false}) {
