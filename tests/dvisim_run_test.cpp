@@ -615,6 +615,10 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
        "--theta: expected a number in [0, 1], got 1.5"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"gamma": -1}})", "",
        "method.gamma: expected a number in [0, 1], got -1"},
+      // The integrator's own refusal names its argument; it was filed under
+      // "problem:" before.
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"name": "stepping", "solver": "pgs"}})",
+       "", "the integrator refuses the scene: solver method 'pgs' does not apply to a box MCP"},
       // Event and auto integrate pds in the form (2.10), which does not need
       // x0 ∈ K; before this check their Newton ran out of iterations at t = 0.
       {R"({"problem": {"type": "pds", "A": [[1, 0], [0, 1]], "c": [0, 0],

@@ -41,7 +41,7 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t_end = " << t_end << " must be finite and exceed t0 = " << t0);
   DVI_THROW_UNLESS(options.scheme != SteppingScheme::kFullyImplicit,
-                   "scheme: kFullyImplicit (7.3) is for projected dynamics, not an LCS; use "
+                   "scheme: 7.3 (fully implicit) is for projected dynamics, not an LCS; use "
                    "auto, 7.2, 3.3 or 3.4");
   const bool box = lcs.K.IsBox();
   const bool sparse =

@@ -370,7 +370,8 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
       trajectory = IntegrateScene(scene, command.progress_bar ? ProgressBar(err, scene.horizon)
                                                               : std::function<void(double)>());
     } catch (const InvalidInputError& error) {
-      throw InputError(command.scene_path + ": problem: " + error.what());
+      // The integrators name their own argument: x0, a scheme, a solver.
+      throw InputError(command.scene_path + ": the integrator refuses the scene: " + error.what());
     }
     if (command.progress_bar) err << "\n";
     if (!trajectory.succeeded()) {
