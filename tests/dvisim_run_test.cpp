@@ -615,6 +615,8 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
        "--theta: expected a number in [0, 1], got 1.5"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"gamma": -1}})", "",
        "method.gamma: expected a number in [0, 1], got -1"},
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1e-200})", "",
+       "horizon: is 1e-200, below 1e-100: CVODE's first-step estimate underflows"},
       // The integrator's own refusal names its argument; it was filed under
       // "problem:" before.
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"name": "stepping", "solver": "pgs"}})",

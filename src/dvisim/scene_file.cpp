@@ -18,6 +18,8 @@ using nlohmann::json;
 // Without method.h: a thousand steps over the horizon, fine enough to draw the
 // trajectory and cheap enough to run at once; the user refines from there.
 constexpr int kDefaultStepsPerHorizon = 1000;
+// Shorter horizons are a matter of units: rescaled, they integrate as well.
+constexpr double kMinHorizon = 1e-100;
 // Without output.times and output.samples: this many rows, enough for a plot.
 constexpr int kDefaultSamples = 501;
 
@@ -520,6 +522,10 @@ Scene ParseScene(const std::string& text) {
   ReadProblem(RequireField(root, "problem", "(file)"), scene);
   scene.x0 = ReadVector(RequireField(root, "x0", "(file)"), "x0", false, scene.n);
   scene.horizon = ReadPositive(RequireField(root, "horizon", "(file)"), "horizon");
+  if (scene.horizon < kMinHorizon)
+    Fail("horizon", "is " + Describe(root["horizon"]) +
+                        ", below 1e-100: CVODE's first-step estimate underflows near 1e-160, "
+                        "so rescale time");
   ReadMethod(FindField(root, "method"), scene);
   ReadOutput(FindField(root, "output"), scene);
   return scene;
