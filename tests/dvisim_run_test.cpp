@@ -713,7 +713,7 @@ TEST_F(DvisimRun, ASignalWhileWritingLeavesAllOutputsAndNoTemporaryDirectory) {
   }
   const fs::path temporary = Path(".out.tmp-" + std::to_string(child));
   bool seen = false;
-  for (int k = 0; k < 20000 && !seen; ++k) {
+  for (int k = 0; k < 120000 && !seen; ++k) {  // up to 2 minutes (sanitizer builds)
     seen = fs::exists(temporary);
     if (!seen) usleep(1000);
   }
