@@ -85,6 +85,8 @@ using internal::GuardedCallback;
 constexpr double kLookAheadFraction = 1e-5;
 // Events closer than this (relative to |t| + horizon) happen at the same time.
 constexpr double kSameTimeFraction = 1e-12;
+// Steps in a row within the round-off of t that end a run (StepAdvancesTime).
+constexpr int kUnresolvedSteps = 10;
 // Zeno detection: this many successive gap ratios, all below kZenoMaxRatio
 // (per gap) and within kZenoRatioSpread (relative) of their mean, make a
 // geometric sequence of switch times; a mode cycle of up to kZenoMaxPeriod
@@ -306,6 +308,7 @@ class EventDrivenRun {
   CallbackData data_;
 
   bool segment_open_ = false;  // CVODE's counters hold steps not yet in stats
+  int unresolved_steps_ = 0;   // steps in a row with h within t's round-off
   double last_event_time_ = 0;
   int burst_ = 0;
   std::vector<BoxMode> modes_at_event_time_;
@@ -427,23 +430,26 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
   return true;
 }
 
-// CVODE goes on, with a warning only, when its step no longer advances t
-// (t + h = t). Near a singularity of f (x' = −1/x as x → 0) its steps shrink
-// below the round-off of t and carry x across to another branch: plain
-// CVODE returns x = 3266 at t = 0.5 from x0 = 1, where the solution ends.
-// Dynamics that fast are not resolved in double precision at this t: the
-// run ends there.
+// CVODE goes on, with a warning only, when its steps no longer resolve t
+// (h within an ulp or so of t). Near a singularity of f (x' = −1/x as x → 0)
+// they shrink to that and carry x across to another branch: plain CVODE
+// returns x = 3266 at t = 0.5 from x0 = 1, where the solution ends. A first
+// step may be that short at a large t (CVODE's estimate at t0 = 1e8), so
+// only kUnresolvedSteps in a row end the run.
 bool EventDrivenRun::StepAdvancesTime() {
   void* cvode = cvode_.get();
   double t_n = 0, h = 0;
   // h = 0 before the first step completes; a NaN h is Load's to report.
   if (CVodeGetCurrentTime(cvode, &t_n) != CV_SUCCESS || CVodeGetLastStep(cvode, &h) != CV_SUCCESS ||
-      h == 0 || !(std::abs(h) <= std::numeric_limits<double>::epsilon() * std::abs(t_n)))
+      h == 0 || !(std::abs(h) <= std::numeric_limits<double>::epsilon() * std::abs(t_n))) {
+    unresolved_steps_ = 0;
     return true;
+  }
+  if (++unresolved_steps_ < kUnresolvedSteps) return true;
   std::ostringstream message;
   message << "event: at t = " << std::setprecision(10) << t_n << std::setprecision(3)
-          << ", CVODE's step h = " << h
-          << " no longer advances t (below its round-off)";
+          << ", CVODE's last " << kUnresolvedSteps << " steps (h = " << h
+          << ") no longer resolve t (within its round-off)";
   if (CVodeGetDky(cvode, t_n, 1, dky_.get()) == CV_SUCCESS)
     message << ", with |x'| = " << Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size())
                                        .lpNorm<Eigen::Infinity>();
