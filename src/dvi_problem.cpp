@@ -55,6 +55,35 @@ void Dvi::Validate() const {
                                            << ", expected m = " << m);
 }
 
+void Dvi::CheckShapes(double t, const Eigen::VectorXd& x) const {
+  if (x.size() != n) return;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(m);
+  if (K.IsBox()) {
+    const auto [lower, upper] = K.BoxBounds();
+    u = u.cwiseMax(lower).cwiseMin(upper);
+  }
+  const auto check_vector = [&](const TimeStateFunction& g, const char* name, int rows) {
+    Eigen::VectorXd out(rows);
+    g(t, x, u, out);
+    DVI_THROW_UNLESS(out.size() == rows,
+                     "Dvi." << name << ": wrote " << out.size() << " entries, expected " << rows);
+  };
+  const auto check_jacobian = [&](const TimeStateJacobian& g, const char* name, int rows) {
+    Eigen::MatrixXd Jx(rows, n), Ju(rows, m);
+    g(t, x, u, Jx, Ju);
+    DVI_THROW_UNLESS(Jx.rows() == rows && Jx.cols() == n && Ju.rows() == rows && Ju.cols() == m,
+                     "Dvi." << name << ": wrote Jx " << Jx.rows() << "×" << Jx.cols() << " and Ju "
+                            << Ju.rows() << "×" << Ju.cols() << ", expected " << rows << "×" << n
+                            << " and " << rows << "×" << m);
+  };
+  check_vector(f, "f", n);
+  if (f_jacobian) check_jacobian(f_jacobian, "f_jacobian", n);
+  if (m == 0) return;
+  check_vector(F, "F", m);
+  if (F_jacobian) check_jacobian(F_jacobian, "F_jacobian", m);
+  if (F_time_derivative) check_vector(F_time_derivative, "F_time_derivative", m);
+}
+
 void SeparableDvi::Validate() const {
   DVI_THROW_UNLESS(n >= 1, "SeparableDvi.n: " << n << " is not a positive state dimension");
   DVI_THROW_UNLESS(m >= 0, "SeparableDvi.m: " << m << " is negative");

@@ -13,7 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "dvi/error.hpp"
+#include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
+#include "dvi/time_stepping.hpp"
 #include "support/expect_throw.hpp"
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
@@ -21,6 +23,7 @@
 namespace dvi {
 namespace {
 
+using testing::ExpectThrowNaming;
 using testing::Linspace;
 using testing::MaxStateError;
 using testing::SaturatedDecay;
@@ -427,6 +430,31 @@ TEST(EventDriven, LargeStartTimeIsNotASingularity) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   // t itself is resolved to 1.5e-8 here.
   EXPECT_NEAR(trajectory.states.back()(0), 1 - std::exp(-1.0), 1e-6);
+}
+
+// A user function that writes the wrong number of entries (or a Jacobian of
+// the wrong shape) is named before any step: a resized f crashed every
+// integrator (SIGSEGV in the forward differences of the mode Jacobian).
+TEST(EventDriven, FunctionsOfTheWrongShapeAreNamedByEveryIntegrator) {
+  Dvi short_f = SaturatedDecay();
+  short_f.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out.resize(0);
+  };
+  Dvi wide_jacobian = SaturatedDecay();
+  wide_jacobian.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                                Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx = Eigen::MatrixXd::Ones(2, 2);
+    Ju = Eigen::MatrixXd::Ones(3, 1);
+  };
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 3);
+  for (const auto& [dvi, name] :
+       {std::pair{short_f, std::string("Dvi.f: wrote 0 entries, expected 1")},
+        std::pair{wide_jacobian,
+                  std::string("Dvi.F_jacobian: wrote Jx 2×2 and Ju 3×1, expected 1×1 and 1×1")}}) {
+    ExpectThrowNaming([&] { IntegrateEventDriven(dvi, x0, 0, 1); }, name);
+    ExpectThrowNaming([&] { IntegrateTimeStepping(dvi, x0, 0, 1); }, name);
+    ExpectThrowNaming([&] { IntegrateAuto(dvi, x0, 0, 1); }, name);
+  }
 }
 
 TEST(EventDriven, RejectsInvalidInput) {

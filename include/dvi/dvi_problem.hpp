@@ -48,6 +48,12 @@ struct Dvi {
   /// @throws InvalidInputError on n < 1, a missing f or F (m > 0), or
   /// K.dim() != m, naming the field.
   void Validate() const;
+  /// Evaluates f, F and the optional functions once at (t, x) with u the
+  /// box-clipped origin. @throws InvalidInputError naming a function whose
+  /// output has the wrong size (a resized out, or a Jacobian of the wrong
+  /// shape), which would otherwise corrupt memory later. Nothing is
+  /// checked when x.size() != n: the integrators name x0 themselves.
+  void CheckShapes(double t, const Eigen::VectorXd& x) const;
 };
 
 /// The separable DVI (6.2), the setting of the convergence theory of Sect. 7:

@@ -317,6 +317,7 @@ Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, d
   dvi.Validate();
   options.Validate();
   CheckStart(dvi.n, x0, t0, t_end);
+  dvi.CheckShapes(t0, x0);
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(dvi, options);
     // Each interval's options are the validated ones, or a clipped copy.

@@ -909,6 +909,7 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
 Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const EventDrivenOptions& options) {
   dvi.Validate();
+  dvi.CheckShapes(t0, x0);
   options.Validate();
   return internal::IntegrateEventDrivenValidated(dvi, nullptr, x0, t0, t_end, options);
 }

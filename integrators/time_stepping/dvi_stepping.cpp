@@ -445,6 +445,7 @@ Trajectory IntegrateTimeStepping(const Dvi& dvi, const Eigen::VectorXd& x0, doub
                                  const TimeSteppingOptions& options) {
   options.Validate();
   dvi.Validate();
+  dvi.CheckShapes(t0, x0);
   DVI_THROW_UNLESS(options.scheme == SteppingScheme::kAuto ||
                        options.scheme == SteppingScheme::kViAtNewState ||
                        options.scheme == SteppingScheme::kViAtOldState,
