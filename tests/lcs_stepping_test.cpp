@@ -474,6 +474,15 @@ TEST(LcsStepping, CircuitAtMegavoltsSettlesAtItsEquilibrium) {
   EXPECT_NEAR(trajectory.multipliers.back()[0], I0, 1e-12 * I0);
 }
 
+// [1e16, 1e16 + 2] is one ulp of t wide: the run arrived before its first
+// step and returned x0 with success. It is refused, naming t0 and t_end.
+TEST(LcsStepping, SpanWithinTheRoundOffOfTIsRefused) {
+  EXPECT_THAT(ThrownMessage([] {
+                IntegrateTimeStepping(RcDiode().Build(), RcDiode().Initial(), 1e16, 1e16 + 2);
+              }),
+              ::testing::HasSubstr("t0, t_end: the span 2 is within 1e-12 of |t_end| = 1e+16"));
+}
+
 TEST(LcsStepping, ViAtOldStateSchemeIsFirstOrder) {
   RcDiode circuit;
   circuit.Rd = 0.5;

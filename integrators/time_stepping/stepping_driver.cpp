@@ -7,6 +7,8 @@
 #include <sstream>
 #include <vector>
 
+#include "check.hpp"
+
 namespace dvi::internal {
 namespace {
 
@@ -129,6 +131,11 @@ double ScaledError(const Eigen::VectorXd& coarse, const Eigen::VectorXd& fine, i
 
 Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
                            double t_end, const TimeSteppingOptions& options) {
+  // The run arrives within 1e-12 |t_end| of t_end (end_slack below): a
+  // shorter span would end before its first step (t0 = 1e16, t_end = t0 + 2).
+  DVI_THROW_UNLESS(t_end - t0 > 1e-12 * std::abs(t_end),
+                   "t0, t_end: the span " << t_end - t0 << " is within 1e-12 of |t_end| = "
+                                          << t_end << ": shift the time origin");
   const auto started = std::chrono::steady_clock::now();
   Trajectory trajectory;
   trajectory.intervals.push_back({t0, t_end, "stepping", method.Describe()});
