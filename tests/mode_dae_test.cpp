@@ -420,6 +420,24 @@ TEST(ModeDae, OverflowingFirstStepIsNamed) {
   }
 }
 
+// x' = −1 + u, 0 ≤ u ⊥ x − u ≥ 0 (D = −1, not P0): u = 0 while x > 0; at
+// x = 0 the LCP's only solution is u = 0 again, and for x < 0 there is none.
+// The run ends at t = 1 saying so; before, it went on with w = x < 0 and
+// reported success with x(2) = −1.
+TEST(ModeDae, AModeThatStopsHoldingWithoutARootEndsTheRun) {
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                             Eigen::MatrixXd::Ones(1, 1), -Eigen::MatrixXd::Ones(1, 1),
+                             Eigen::VectorXd::Constant(1, -1.0), Eigen::VectorXd::Zero(1));
+  const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Ones(1), 0, 2);
+  EXPECT_EQ(result.status, IntegrationStatus::kNotIndexOne);
+  EXPECT_NE(result.message.find("no longer holds and no root was crossed"), std::string::npos)
+      << result.message;
+  EXPECT_NE(result.message.find("the LCP has no solution beyond t = 1"), std::string::npos)
+      << result.message;
+  EXPECT_NEAR(result.final_time(), 1.0, 1e-9);
+  EXPECT_NEAR(result.states.back()(0), 0.0, 1e-9);
+}
+
 TEST(ModeDae, InvalidInputsNameTheirField) {
   const Lcs lcs = ScalarIndexTwo();
   const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);

@@ -162,6 +162,7 @@ class ModeDaeRun {
   bool EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
   bool Check(int flag, const char* call);
   bool FirstStepOverflows();
+  bool ModeStillHolds();
   void Sample(double t);
   void SampleOutputs(double before);
   void CollectIdaStats();
@@ -197,6 +198,10 @@ class ModeDaeRun {
   std::vector<BoxMode> modes_at_event_time_;
   long reduced_modes_ = 0;  // modes entered with rows differentiated
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
+  std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
+  // A root that left the mode unchanged, until a step shows the mode holds.
+  double kept_mode_time_ = 0;
+  Eigen::VectorXd kept_mode_y_;
   std::unique_ptr<internal::OneStepMethod> look_ahead_;  // made at its first use
   // The consistent values of ChooseMode's last check, and whether that
   // check was of the chosen mode at the event's x. A successful ChooseMode
@@ -466,7 +471,11 @@ bool ModeDaeRun::HandleRoot(double t) {
   BoxMode mode;
   Eigen::VectorXd u;
   if (!ChooseMode(t, x, y.tail(m_), leaving, mode, u)) return false;
-  if (mode == old_mode) return true;  // ChooseMode left the DAE in it
+  if (mode == old_mode) {  // ChooseMode left the DAE in it
+    kept_mode_time_ = t;
+    kept_mode_y_ = y;
+    return true;
+  }
   std::ostringstream message;
   message << "mode-dae: event at t = " << t << ": ";
   const double horizon = t_end_ - t0_;
@@ -521,6 +530,36 @@ bool ModeDaeRun::FirstStepOverflows() {
   return true;
 }
 
+// The root functions only see crossings in their watched direction: a mode
+// that a root left unchanged (the LCP there has no other mode, as for a D
+// that is not P0) and that no longer holds after the next step is the end
+// of the solution, not a state to integrate on with w < 0.
+bool ModeDaeRun::ModeStillHolds() {
+  roots_.resize(2 * static_cast<std::size_t>(m_));
+  dae_.Roots(y_.data(), roots_.data());
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
+  const double tolerance = u_tolerance_ * (1 + y.lpNorm<Eigen::Infinity>());
+  const bool after_kept_mode = kept_mode_y_.size() > 0;
+  for (int k = 0; k < 2 * m_; ++k) {
+    if (roots_[k] >= -tolerance) continue;
+    std::ostringstream message;
+    message << "mode-dae: at t = " << t_ << ", mode " << DescribeMode(dae_.mode())
+            << " no longer holds and no root was crossed: "
+            << (dae_.mode()[k / 2] == BoundState::kFree ? "u_" : "w_") << k / 2 << " = "
+            << (dae_.mode()[k / 2] == BoundState::kFree ? y(n_ + k / 2) : roots_[k]);
+    if (after_kept_mode) {
+      // The run ends at the root, where the LCP still had this mode.
+      message << "; the LCP has no solution beyond t = " << kept_mode_time_;
+      trajectory_.times.push_back(kept_mode_time_);
+      trajectory_.states.push_back(kept_mode_y_.head(n_));
+      trajectory_.multipliers.push_back(kept_mode_y_.tail(m_));
+    }
+    return Fail(IntegrationStatus::kNotIndexOne, message.str());
+  }
+  kept_mode_y_.resize(0);
+  return true;
+}
+
 bool ModeDaeRun::Integrate() {
   IntegrationStats& stats = trajectory_.stats;
   while (true) {
@@ -534,6 +573,7 @@ bool ModeDaeRun::Integrate() {
     if (flag == IDA_ILL_INPUT && FirstStepOverflows()) return false;
     if (!Check(flag, "IDASolve")) return false;
     t_ = t_return;
+    if (flag != IDA_ROOT_RETURN && !ModeStillHolds()) return false;
     // Theorem 5.3 only keeps d/dt Φ(x) = 0; Φ(x) itself is
     // held by BDF, which preserves linear invariants up to the Newton error.
     stats.max_constraint_drift = std::max(stats.max_constraint_drift, dae_.Drift(y_.data()));
