@@ -417,6 +417,25 @@ TEST(EventDriven, StopsAtASingularityOfTheRightHandSide) {
   }
 }
 
+// f = −x, but NaN for t in (0.5, 0.7): CVODE shrinks its steps against the
+// refusals until they no longer resolve t. The reason is the refusal, not
+// an unbounded x' (which the message claimed, with |x'| = 0.6).
+TEST(EventDriven, RefusedRightHandSideIsTheReason) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.f = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out(0) = t > 0.5 && t < 0.7 ? std::nan("") : -x(0);
+  };
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::VectorXd::Ones(1), 0, 1);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("the right-hand side is refused at t = 0.5: f is not finite "
+                                    "there"),
+            std::string::npos)
+      << trajectory.message;
+  EXPECT_NEAR(trajectory.final_time(), 0.5, 1e-12);
+  EXPECT_NEAR(trajectory.states.back()(0), std::exp(-0.5), 1e-5);
+}
+
 // At t0 = 1e8 CVODE's first step is one ulp of t (1.5e-8); a single step
 // that short is not the singularity above. x' = 1 − x from 0 over one unit.
 TEST(EventDriven, LargeStartTimeIsNotASingularity) {

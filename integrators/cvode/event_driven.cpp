@@ -111,6 +111,11 @@ struct CallbackData {
   std::exception_ptr error;
   std::string cvode_message;
   std::string non_finite;  // set by NonFinite
+  // The right-hand side's recoverable refusals: how many, the last one's
+  // time and why (CVODE retries them with shorter steps).
+  long refusals = 0;
+  double refused_at = NAN;
+  const char* refused_why = "";
   long rhs_evals = 0;
   long jacobian_evals = 0;
 };
@@ -155,9 +160,16 @@ int RhsCallback(realtype t, N_Vector y, N_Vector ydot, void* user_data) {
   return GuardedCallback(data.error, [&] {
     ++data.rhs_evals;
     if (!Load(data, t, y)) return NonFinite(data, t, "right-hand side", true);
-    if (!data.system->Solve(t, data.x)) return 1;
+    const auto refuse = [&](const char* why) {
+      ++data.refusals;
+      data.refused_at = t;
+      data.refused_why = why;
+      return 1;
+    };
+    if (!data.system->Solve(t, data.x))
+      return refuse("Newton on the mode's free components fails there (is F finite?)");
     data.system->Rhs(t, data.x, data.xdot);
-    if (!data.xdot.allFinite()) return 1;
+    if (!data.xdot.allFinite()) return refuse("f is not finite there");
     std::copy(data.xdot.data(), data.xdot.data() + data.xdot.size(), N_VGetArrayPointer(ydot));
     return 0;
   });
@@ -309,6 +321,7 @@ class EventDrivenRun {
 
   bool segment_open_ = false;  // CVODE's counters hold steps not yet in stats
   int unresolved_steps_ = 0;   // steps in a row with h within t's round-off
+  long refusals_before_unresolved_ = 0;  // data_.refusals when they began
   double last_event_time_ = 0;
   int burst_ = 0;
   std::vector<BoxMode> modes_at_event_time_;
@@ -445,11 +458,18 @@ bool EventDrivenRun::StepAdvancesTime() {
     unresolved_steps_ = 0;
     return true;
   }
+  if (unresolved_steps_ == 0) refusals_before_unresolved_ = data_.refusals;
   if (++unresolved_steps_ < kUnresolvedSteps) return true;
   std::ostringstream message;
   message << "event: at t = " << std::setprecision(10) << t_n << std::setprecision(3)
           << ", CVODE's last " << kUnresolvedSteps << " steps (h = " << h
           << ") no longer resolve t (within its round-off)";
+  if (data_.refusals > refusals_before_unresolved_) {
+    // The steps shrank against the right-hand side's refusals just ahead.
+    message << ": the right-hand side is refused at t = " << std::setprecision(10)
+            << data_.refused_at << ": " << data_.refused_why;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
   if (CVodeGetDky(cvode, t_n, 1, dky_.get()) == CV_SUCCESS)
     message << ", with |x'| = " << Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size())
                                        .lpNorm<Eigen::Infinity>();
