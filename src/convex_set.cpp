@@ -350,7 +350,8 @@ void ConvexSet::Data::ProjectInto(const Eigen::Ref<const Eigen::VectorXd>& v,
       out = v.cwiseMax(lower).cwiseMin(upper);
       return;
     case Kind::kBall: {
-      const double distance = (v - center).norm();
+      // stableNorm: ‖(1e300, 1e300)‖ overflows the plain sum of squares.
+      const double distance = (v - center).stableNorm();
       if (distance <= radius) {
         out = v;
       } else {

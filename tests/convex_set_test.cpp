@@ -191,6 +191,11 @@ TEST(ConvexSet, BallProjectionScalesRadially) {
   EXPECT_EQ(ball.Project(inside), inside);
   // A point ball is {c}.
   EXPECT_EQ(ConvexSet::Ball(center, 0.0).Project(outside), center);
+  // Far away: the plain norm of (1e300, 1e300) overflows and gave (0, 0).
+  const Eigen::VectorXd far = Eigen::Vector2d(1e300, 1e300);
+  const Eigen::VectorXd unit = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0).Project(far);
+  EXPECT_NEAR(unit(0), std::sqrt(0.5), kExact);
+  EXPECT_NEAR(unit(1), std::sqrt(0.5), kExact);
 }
 
 TEST(ConvexSet, ProductProjectsBlockwise) {
