@@ -28,6 +28,10 @@ constexpr double kPivotTolerance = 1e-12;
 // Relative threshold of the rank decisions for strong regularity (a): a
 // pivot of the full-pivoting LU below it is taken as zero.
 constexpr double kRankTolerance = 1e-12;
+// IsPMatrix scales M to max|M_ij| = 1 when that lies outside
+// [kScaledRange, 1/kScaledRange], where products of entries would underflow
+// or overflow.
+constexpr double kScaledRange = 1e-100;
 // The Schur complement of strong-regularity condition (b) is tested with
 // IsPMatrix's default exact limit.
 constexpr int kSchurExactLimit = 16;
@@ -245,6 +249,18 @@ Eigen::MatrixXd Submatrix(const Eigen::MatrixXd& J, const std::vector<int>& rows
 MatrixClassVerdict IsPMatrix(const Eigen::MatrixXd& M, int exact_limit) {
   ValidateSquare(M, "M");
   DVI_THROW_UNLESS(exact_limit >= 0, "exact_limit = " << exact_limit << " must be nonnegative");
+  // sM has the minors' signs of M for s > 0. Entries far from 1 would
+  // underflow or overflow them (1e-200·I has 2×2 minors of 1e-400 = 0).
+  const double largest = M.size() == 0 ? 1.0 : M.cwiseAbs().maxCoeff();
+  if (largest > 0 && (largest < kScaledRange || largest > 1 / kScaledRange)) {
+    MatrixClassVerdict verdict =
+        CheckPMatrix(M / largest, exact_limit, Iota(static_cast<int>(M.rows())));
+    char scale[32];
+    char* end =
+        std::to_chars(scale, scale + sizeof scale, largest, std::chars_format::scientific, 2).ptr;
+    verdict.reason += " (of M / " + std::string(scale, end) + ")";
+    return verdict;
+  }
   return CheckPMatrix(M, exact_limit, Iota(static_cast<int>(M.rows())));
 }
 

@@ -41,6 +41,13 @@ TEST(MatrixClasses, RecognizesPMatrices) {
   EXPECT_TRUE(Contains(hidden.reason, "all 3 principal minors are positive")) << hidden.reason;
   // Its symmetric part is indefinite, so it is not positive definite.
   EXPECT_FALSE(IsPositiveDefinite(HiddenPBlock()).holds);
+  // Scaled by 1e-200 or 1e200 it is P all the same; the products of its
+  // entries in the minors underflowed to 0 (overflowed) before.
+  for (const double scale : {1e-200, 1e200}) {
+    const MatrixClassVerdict scaled = IsPMatrix(scale * HiddenPBlock());
+    EXPECT_TRUE(scaled.holds && scaled.decided) << scale << ": " << scaled.reason;
+    EXPECT_TRUE(Contains(scaled.reason, "(of M / ")) << scaled.reason;
+  }
 
   for (unsigned seed = 0; seed < 5; ++seed) {
     std::mt19937 rng(seed);
