@@ -454,6 +454,21 @@ TEST(IndexOneRhs, RejectsInvalidInput) {
   EXPECT_NO_THROW(ball.EnterMode(released, Eigen::VectorXd::Zero(3)));
 }
 
+// m = 0 is an ODE: x' = −x with no F at all (Dvi::Validate allows it), which
+// threw std::bad_function_call from the VI solve.
+TEST(IndexOneRhs, AnOdeWithoutMultipliersNeedsNoF) {
+  Dvi ode;
+  ode.n = 1;
+  ode.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out = -x;
+  };
+  IndexOneRhs rhs(ode);
+  Eigen::VectorXd xdot;
+  ASSERT_TRUE(rhs.Evaluate(0, Eigen::VectorXd::Constant(1, 2), xdot)) << rhs.message();
+  EXPECT_EQ(xdot(0), -2.0);
+  EXPECT_EQ(rhs.multiplier().size(), 0);
+}
+
 TEST(IndexOneRhs, NumericalFailureIsAStatus) {
   // A NaN state: the VI is not solved. Evaluate says so; the odeint adapter
   // throws (odeint has no status); the CVODE callback asks for a retry.
@@ -487,6 +502,8 @@ TEST(IndexOneRhs, NumericalFailureIsAStatus) {
   IndexOneRhs throwing_rhs(throwing);
   EXPECT_EQ(IndexOneCvRhs(0, y, ydot, &throwing_rhs), -1);
   EXPECT_NE(throwing_rhs.message().find("f exploded"), std::string::npos);
+  // No user data (CVodeSetUserData forgotten): fatal, not a crash.
+  EXPECT_EQ(IndexOneCvRhs(0, y, ydot, nullptr), -1);
   N_VDestroy(wrong);
   N_VDestroy(ydot);
   N_VDestroy(y);

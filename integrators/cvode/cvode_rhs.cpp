@@ -73,6 +73,7 @@ int Guarded(IndexOneRhs& rhs, Body body) {
 }  // namespace
 
 int IndexOneCvRhs(double t, N_Vector y, N_Vector ydot, void* user_data) {
+  if (user_data == nullptr) return kFatal;  // CVodeSetUserData was not given the IndexOneRhs
   auto& rhs = *static_cast<IndexOneRhs*>(user_data);
   return Guarded(rhs, [&] {
     Eigen::VectorXd x, xdot;
@@ -88,6 +89,7 @@ int IndexOneCvRhs(double t, N_Vector y, N_Vector ydot, void* user_data) {
 
 int IndexOneCvJac(double t, N_Vector y, N_Vector, SUNMatrix J, void* user_data, N_Vector,
                   N_Vector, N_Vector) {
+  if (user_data == nullptr) return kFatal;
   auto& rhs = *static_cast<IndexOneRhs*>(user_data);
   return Guarded(rhs, [&] {
     Eigen::VectorXd x;

@@ -99,6 +99,11 @@ bool IndexOneRhs::Impl::InMode(double t, const Eigen::VectorXd& x) {
 }
 
 bool IndexOneRhs::Impl::Select(double t, const Eigen::VectorXd& x) {
+  if (dvi.m == 0) {  // an ODE: no VI (and F may be unset)
+    has_mode = true;
+    mode_solved = true;
+    return true;
+  }
   const SolveResult vi = system.SolveVi(t, x, u);
   ++stats.vi_solves;
   if (!vi.solved()) {
