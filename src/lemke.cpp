@@ -39,6 +39,8 @@ constexpr double kDriftGrowth = 100.0;
 // qᵀy < 0): the ray is computed from B⁻¹, whose relative accuracy after
 // drift control is about 1e-9 at worst.
 constexpr double kCertificateTolerance = 1e-8;
+// Below this fraction of ‖M‖ Σy a component of Mᵀy counts as zero.
+constexpr double kCertificateFloor = 1e-13;
 // Default pivot limit per dimension (documented in solver_options.hpp).
 constexpr int kPivotsPerDimension = 50;
 // The final basis solve is skipped when the pivoted z's residual is already
@@ -411,7 +413,14 @@ bool VerifyCertificate(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, Eigen
   const double M_norm = M.cwiseAbs().rowwise().sum().maxCoeff();
   const double y_sum = y.sum();
   const Eigen::VectorXd Mty = M.transpose() * y;
-  if (Mty.maxCoeff() > kCertificateTolerance * M_norm * y_sum) return false;
+  // (Mᵀy)_j ≤ 0 within the ray's error relative to the terms it sums, and a
+  // floor of kCertificateFloor of the data: a positive (Mᵀy)_j with no
+  // cancellation is no certificate however small (M = diag(1e-12, 1), q = −1
+  // has z = (1e12, 1), and y = (1, 1e-12) proves only that z is large).
+  const Eigen::VectorXd terms = M.cwiseAbs().transpose() * y;
+  for (Eigen::Index j = 0; j < Mty.size(); ++j)
+    if (Mty(j) > kCertificateTolerance * terms(j) + kCertificateFloor * M_norm * y_sum)
+      return false;
   return q.dot(y) < -kCertificateTolerance * q.cwiseAbs().maxCoeff() * y_sum;
 }
 

@@ -407,6 +407,18 @@ TEST(Lemke, ScalesWithQ) {
   EXPECT_LE((result.z - 1e6 * star.z).cwiseAbs().maxCoeff(), 1e6 * kSolutionTolerance);
 }
 
+// M = diag(1e-12, 1) is positive definite, so LCP(−1, M) has the solution
+// z = (1e12, 1). Lemke's ray y = (1, 1e-12) has Mᵀy = (1e-12, 1e-12) > 0 with
+// no cancellation: it proves only that a solution is large, and was
+// reported as a proof of infeasibility.
+TEST(Lemke, ARayWithoutCancellationIsNoCertificate) {
+  Lcp lcp;
+  lcp.M = Eigen::Vector2d(1e-12, 1).asDiagonal();
+  lcp.q = -Eigen::Vector2d::Ones();
+  const SolveResult result = SolveLemke(lcp);
+  EXPECT_NE(result.status, SolveStatus::kInfeasible) << result.message;
+}
+
 TEST(Lemke, ThrowsOnBadInput) {
   const Lcp wrong_size{Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Ones(2)};
   EXPECT_THROW(SolveLemke(wrong_size), InvalidInputError);
