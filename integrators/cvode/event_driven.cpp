@@ -85,7 +85,7 @@ using internal::GuardedCallback;
 constexpr double kLookAheadFraction = 1e-5;
 // Events closer than this (relative to |t| + horizon) happen at the same time.
 constexpr double kSameTimeFraction = 1e-12;
-// Steps in a row within the round-off of t that end a run (StepAdvancesTime).
+// Steps in a row within the round-off of t that end a run (StepsResolveTime).
 constexpr int kUnresolvedSteps = 10;
 // Zeno detection: this many successive gap ratios, all below kZenoMaxRatio
 // (per gap) and within kZenoRatioSpread (relative) of their mean, make a
@@ -280,7 +280,7 @@ class EventDrivenRun {
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
   bool StillHolds();
-  bool StepAdvancesTime();
+  bool StepsResolveTime();
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
@@ -449,7 +449,7 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
 // returns x = 3266 at t = 0.5 from x0 = 1, where the solution ends. A first
 // step may be that short at a large t (CVODE's estimate at t0 = 1e8), so
 // only kUnresolvedSteps in a row end the run.
-bool EventDrivenRun::StepAdvancesTime() {
+bool EventDrivenRun::StepsResolveTime() {
   void* cvode = cvode_.get();
   double t_n = 0, h = 0;
   // h = 0 before the first step completes; a NaN h is Load's to report.
@@ -794,7 +794,7 @@ bool EventDrivenRun::IntegrateModes() {
   while (true) {
     double t_reached = t_;
     const int flag = CVode(cvode, t_end_, y_.get(), &t_reached, CV_ONE_STEP);
-    if (!Check(flag, "CVode") || !StepAdvancesTime()) return false;
+    if (!Check(flag, "CVode") || !StepsResolveTime()) return false;
     long steps = 0;
     CVodeGetNumSteps(cvode, &steps);
     if (trajectory_.stats.steps + steps > options_.max_steps) {
@@ -824,6 +824,7 @@ bool EventDrivenRun::IntegrateModes() {
         return false;
       mode_start_ = t_;
       segment_open_ = true;
+      unresolved_steps_ = 0;
       continue;
     }
     if (!StillHolds()) return false;
