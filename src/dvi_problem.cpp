@@ -97,6 +97,48 @@ void SeparableDvi::Validate() const {
                                                     << ", expected m = " << m);
 }
 
+void SeparableDvi::CheckShapes(double t, const Eigen::VectorXd& x) const {
+  if (x.size() != n) return;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(m);
+  if (K.IsBox()) {
+    const auto [lower, upper] = K.BoxBounds();
+    u = u.cwiseMax(lower).cwiseMin(upper);
+  }
+  const auto check = [](const auto& out, const char* name, Eigen::Index rows, Eigen::Index cols) {
+    DVI_THROW_UNLESS(out.rows() == rows && out.cols() == cols,
+                     "SeparableDvi." << name << ": wrote " << out.rows() << "×" << out.cols()
+                                     << ", expected " << rows << "×" << cols);
+  };
+  Eigen::VectorXd vector(n);
+  f(t, x, vector);
+  check(vector, "f", n, 1);
+  Eigen::MatrixXd matrix(n, n);
+  if (f_jacobian) {
+    f_jacobian(t, x, matrix);
+    check(matrix, "f_jacobian", n, n);
+  }
+  if (m == 0) return;
+  matrix.resize(n, m);
+  B(t, x, matrix);
+  check(matrix, "B", n, m);
+  vector.resize(m);
+  G(t, x, vector);
+  check(vector, "G", m, 1);
+  if (G_jacobian) {
+    matrix.resize(m, n);
+    G_jacobian(t, x, matrix);
+    check(matrix, "G_jacobian", m, n);
+  }
+  vector.resize(m);
+  F(u, vector);
+  check(vector, "F", m, 1);
+  if (F_jacobian) {
+    matrix.resize(m, m);
+    F_jacobian(u, matrix);
+    check(matrix, "F_jacobian", m, m);
+  }
+}
+
 Dvi SeparableDvi::ToDvi() const {
   Validate();
   const SeparableDvi s = *this;

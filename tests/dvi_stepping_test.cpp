@@ -670,6 +670,12 @@ TEST(DviStepping, InvalidCallsThrowNamingTheArgument) {
       },
       "scheme: 7.3");
   ExpectThrowNaming([&] { IntegrateTimeStepping(separable, x0, 2, 1, Options(0.1)); }, "t_end");
+  // A B of the wrong shape crashed the separable scheme (SIGSEGV).
+  SeparableDvi wrong_B = SmoothSeparable();
+  wrong_B.B = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& B) { B.resize(0, 0); };
+  ExpectThrowNaming(
+      [&] { IntegrateTimeStepping(wrong_B, Eigen::Vector2d(1, 0), 0, 1, Options(0.1)); },
+      "SeparableDvi.B: wrote 0×0, expected 2×2");
 
   const ProjectedDynamics pds = BoxPds();
   ExpectThrowNaming(

@@ -74,6 +74,8 @@ struct SeparableDvi {
 
   /// @throws InvalidInputError as Dvi::Validate (also for a missing B or G).
   void Validate() const;
+  /// As Dvi::CheckShapes, for f, B, G, F and their optional Jacobians.
+  void CheckShapes(double t, const Eigen::VectorXd& x) const;
   /// The same problem as a general Dvi (f + B u, G + F), with Jacobians
   /// where all the parts have them (∂(Bu)/∂x by differences of B otherwise).
   Dvi ToDvi() const;

@@ -463,6 +463,7 @@ Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd&
   DVI_THROW_UNLESS(options.scheme != SteppingScheme::kFullyImplicit,
                    "scheme: 7.3 applies to projected dynamics only, not to a SeparableDvi");
   CheckRun(dvi.n, x0, t0, t_end);
+  dvi.CheckShapes(t0, x0);
   if (options.scheme == SteppingScheme::kViAtNewState ||
       options.scheme == SteppingScheme::kViAtOldState)
     return IntegrateGeneral(dvi.ToDvi(), x0, t0, t_end, options);
