@@ -146,11 +146,18 @@ Dvi SeparableDvi::ToDvi() const {
   dvi.n = n;
   dvi.m = m;
   dvi.K = K;
+  // The parts' shapes are checked where they are combined: Dvi::CheckShapes
+  // sees only the sums, which a misshapen part would corrupt first.
   dvi.f = [s](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
     s.f(t, x, out);
+    DVI_THROW_UNLESS(out.size() == s.n,
+                     "SeparableDvi.f: wrote " << out.size() << " entries, expected " << s.n);
     if (s.m == 0) return;
     Eigen::MatrixXd B(s.n, s.m);
     s.B(t, x, B);
+    DVI_THROW_UNLESS(B.rows() == s.n && B.cols() == s.m,
+                     "SeparableDvi.B: wrote " << B.rows() << "×" << B.cols() << ", expected "
+                                              << s.n << "×" << s.m);
     out += B * u;
   };
   if (f_jacobian) {
@@ -168,6 +175,9 @@ Dvi SeparableDvi::ToDvi() const {
       s.G(t, x, out);
       Eigen::VectorXd Fu(s.m);
       s.F(u, Fu);
+      DVI_THROW_UNLESS(out.size() == s.m && Fu.size() == s.m,
+                       "SeparableDvi.G, F: wrote " << out.size() << " and " << Fu.size()
+                                                   << " entries, expected " << s.m);
       out += Fu;
     };
     if (G_jacobian && F_jacobian) {

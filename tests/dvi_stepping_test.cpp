@@ -676,6 +676,10 @@ TEST(DviStepping, InvalidCallsThrowNamingTheArgument) {
   ExpectThrowNaming(
       [&] { IntegrateTimeStepping(wrong_B, Eigen::Vector2d(1, 0), 0, 1, Options(0.1)); },
       "SeparableDvi.B: wrote 0×0, expected 2×2");
+  // As a general Dvi too (its f is f + B u).
+  ExpectThrowNaming(
+      [&] { IntegrateTimeStepping(wrong_B.ToDvi(), Eigen::Vector2d(1, 0), 0, 1, Options(0.1)); },
+      "SeparableDvi.B: wrote 0×0, expected 2×2");
 
   const ProjectedDynamics pds = BoxPds();
   ExpectThrowNaming(
