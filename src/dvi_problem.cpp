@@ -9,6 +9,17 @@
 namespace dvi {
 namespace {
 
+// Where CheckShapes evaluates the functions: the origin, clipped to K when
+// K is a box (only the output sizes matter, but a u in K keeps f defined).
+Eigen::VectorXd ShapeProbe(const ConvexSet& K) {
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(K.dim());
+  if (K.IsBox()) {
+    const auto [lower, upper] = K.BoxBounds();
+    u = u.cwiseMax(lower).cwiseMin(upper);
+  }
+  return u;
+}
+
 // Forward-difference step √eps·max(1, |x_j|), as the solvers use.
 const double kDifferenceStep = std::sqrt(std::numeric_limits<double>::epsilon());
 
@@ -57,11 +68,7 @@ void Dvi::Validate() const {
 
 void Dvi::CheckShapes(double t, const Eigen::VectorXd& x) const {
   if (x.size() != n) return;
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(m);
-  if (K.IsBox()) {
-    const auto [lower, upper] = K.BoxBounds();
-    u = u.cwiseMax(lower).cwiseMin(upper);
-  }
+  const Eigen::VectorXd u = ShapeProbe(K);
   const auto check_vector = [&](const TimeStateFunction& g, const char* name, int rows) {
     Eigen::VectorXd out(rows);
     g(t, x, u, out);
@@ -99,11 +106,7 @@ void SeparableDvi::Validate() const {
 
 void SeparableDvi::CheckShapes(double t, const Eigen::VectorXd& x) const {
   if (x.size() != n) return;
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(m);
-  if (K.IsBox()) {
-    const auto [lower, upper] = K.BoxBounds();
-    u = u.cwiseMax(lower).cwiseMin(upper);
-  }
+  const Eigen::VectorXd u = ShapeProbe(K);
   const auto check = [](const auto& out, const char* name, Eigen::Index rows, Eigen::Index cols) {
     DVI_THROW_UNLESS(out.rows() == rows && out.cols() == cols,
                      "SeparableDvi." << name << ": wrote " << out.rows() << "×" << out.cols()
