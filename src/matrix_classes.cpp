@@ -248,7 +248,9 @@ Eigen::MatrixXd Submatrix(const Eigen::MatrixXd& J, const std::vector<int>& rows
 
 MatrixClassVerdict IsPMatrix(const Eigen::MatrixXd& M, int exact_limit) {
   ValidateSquare(M, "M");
-  DVI_THROW_UNLESS(exact_limit >= 0, "exact_limit = " << exact_limit << " must be nonnegative");
+  DVI_THROW_UNLESS(exact_limit >= 0 && exact_limit <= kMaxExactLimit,
+                   "exact_limit = " << exact_limit << " is outside [0, " << kMaxExactLimit
+                                    << "]: the exact test enumerates 2^exact_limit minors");
   // sM has the minors' signs of M for s > 0. Entries far from 1 would
   // underflow or overflow them (1e-200·I has 2×2 minors of 1e-400 = 0).
   const double largest = M.size() == 0 ? 1.0 : M.cwiseAbs().maxCoeff();

@@ -256,6 +256,9 @@ TEST(MatrixClasses, ThrowsOnBadInput) {
   nan(0, 1) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(IsPMatrix(nan), InvalidInputError);
   EXPECT_THROW(IsPMatrix(Eigen::MatrixXd::Identity(2, 2), -1), InvalidInputError);
+  // 2⁷⁰ minors would never finish (and 1 << 70 overflowed the count).
+  EXPECT_THROW(IsPMatrix(Eigen::MatrixXd::Identity(70, 70), 100), InvalidInputError);
+  EXPECT_NO_THROW(IsPMatrix(Eigen::MatrixXd::Identity(70, 70), kMaxExactLimit));
   EXPECT_THROW(IsPositiveDefinite(nan), InvalidInputError);
   EXPECT_THROW(IsPositiveSemidefinite(Eigen::MatrixXd::Identity(2, 2), -1e-3), InvalidInputError);
   EXPECT_THROW(IsPsdPlus(Eigen::MatrixXd::Zero(3, 2)), InvalidInputError);

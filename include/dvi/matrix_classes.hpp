@@ -26,6 +26,11 @@ struct MatrixClassVerdict {
 /// dominant with positive diagonal, or a positive diagonal scaling that makes
 /// it diagonally dominant (H-matrix with positive diagonal); a necessary test
 /// (a nonpositive diagonal entry or a 2×2 minor) can still rule it out.
+/// exact_limit ∈ [0, kMaxExactLimit]: the enumeration doubles with each row
+/// (2²⁴ minors take 0.5 s, 2³⁰ about 30 s).
+/// @throws InvalidInputError on a non-square or non-finite M, or exact_limit
+/// outside that range.
+inline constexpr int kMaxExactLimit = 30;
 MatrixClassVerdict IsPMatrix(const Eigen::MatrixXd& M, int exact_limit = 16);
 
 /// xᵀMx > 0 for all x ≠ 0 (symmetric part positive definite, by Cholesky).
