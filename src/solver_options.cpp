@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dvi/solver_options.hpp"
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <utility>
@@ -40,6 +41,10 @@ SolverMethod ParseSolverMethod(std::string_view name) {
 }
 
 void SolverOptions::Validate() const {
+  DVI_THROW_UNLESS(std::any_of(kMethodNames.begin(), kMethodNames.end(),
+                               [this](const auto& entry) { return entry.first == method; }),
+                   "SolverOptions::method = " << static_cast<int>(method)
+                                              << " is not a SolverMethod");
   // Written as positive conditions so that NaN fails them.
   DVI_THROW_UNLESS(tolerance > 0.0 && tolerance < 1.0,
                    "SolverOptions::tolerance = " << tolerance << " is outside (0, 1)");

@@ -15,7 +15,7 @@ std::string_view ToString(SteppingScheme scheme) {
     case SteppingScheme::kViAtOldState: return "3.4";
     case SteppingScheme::kFullyImplicit: return "7.3";
   }
-  return "unknown";
+  return "unknown";  // Validate refuses such a scheme
 }
 
 SteppingScheme ParseSteppingScheme(std::string_view name) {
@@ -29,6 +29,8 @@ SteppingScheme ParseSteppingScheme(std::string_view name) {
 
 void TimeSteppingOptions::Validate() const {
   DVI_THROW_UNLESS(std::isfinite(h) && h > 0, "h: " << h << " is not a positive step size");
+  DVI_THROW_UNLESS(ToString(scheme) != "unknown",
+                   "scheme: " << static_cast<int>(scheme) << " is not a SteppingScheme");
   DVI_THROW_UNLESS(theta >= 0 && theta <= 1, "theta: " << theta << " is outside [0, 1]");
   DVI_THROW_UNLESS(gamma >= 0 && gamma <= 1, "gamma: " << gamma << " is outside [0, 1]");
   DVI_THROW_UNLESS(std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 &&
