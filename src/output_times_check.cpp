@@ -39,4 +39,15 @@ void CheckOutputTimes(const std::vector<double>& times, bool strictly) {
   throw InvalidInputError(message.str());
 }
 
+void CheckOutputTimesWithin(const std::vector<double>& times, double t0, double t_end) {
+  if (times.empty()) return;
+  const bool first_outside = times.front() < t0;
+  if (!first_outside && times.back() <= t_end) return;
+  const std::size_t k = first_outside ? 0 : times.size() - 1;
+  std::ostringstream message;
+  message << "output_times[" << k << "]: " << times[k] << " is outside [t0, t_end] = [" << t0
+          << ", " << t_end << "]";
+  throw InvalidInputError(message.str());
+}
+
 }  // namespace dvi::internal

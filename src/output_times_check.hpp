@@ -10,4 +10,8 @@ namespace dvi::internal {
 /// `strictly` (time-stepping's).
 void CheckOutputTimes(const std::vector<double>& times, bool strictly);
 
+/// Throws InvalidInputError naming an entry of ordered `times` outside
+/// [t0, t_end]: a run would silently leave it unsampled.
+void CheckOutputTimesWithin(const std::vector<double>& times, double t0, double t_end);
+
 }  // namespace dvi::internal

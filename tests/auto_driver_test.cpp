@@ -473,13 +473,13 @@ TEST(AutoDriver, NonBoxSetRunsEventDrivenThroughItsKktSystem) {
 // t = 1. Output times outside [t0, t_end] are dropped and a repeated one is
 // sampled once; the run then equals the one given just the times that remain
 // (which takes the caller's options as they are, without clipping).
-TEST(AutoDriver, OutputTimesOutsideTheIntervalOrRepeatedAreSampledOnce) {
+TEST(AutoDriver, RepeatedOutputTimesAreSampledOnce) {
   const Lcs lcs = FilippovSignLcs(Eigen::MatrixXd::Constant(1, 1, -1));
   const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
   AutoOptions options;
   options.event.rtol = 1e-10;
   options.event.atol = 1e-12;
-  options.event.output_times = {-1, 0.25, 0.25, 0.5, 1.5, 4};
+  options.event.output_times = {0.25, 0.25, 0.5, 1.5, 1.5};
   const Trajectory clipped = IntegrateAuto(lcs, x0, 0, 2, options);
   options.event.output_times = {0.25, 0.5, 1.5};
   const Trajectory as_given = IntegrateAuto(lcs, x0, 0, 2, options);
@@ -528,6 +528,10 @@ TEST(AutoDriver, ValidateNamesTheField) {
                     "AutoOptions.max_handovers: -3");
   ExpectThrowNaming([&] { IntegrateAuto(lcs, Eigen::Vector3d(3, 3, 3), 0, 1); },
                     "x0 has 3 entries, expected 2");
+  options = AutoOptions();
+  options.event.output_times = {0.5, 2};
+  ExpectThrowNaming([&] { IntegrateAuto(lcs, Eigen::Vector2d(3, 3), 0, 1, options); },
+                    "AutoOptions.event.output_times[1]: 2 is outside [t0, t_end] = [0, 1]");
   ExpectThrowNaming([&] { IntegrateAuto(lcs, Eigen::Vector2d(3, 3), 1, 1); }, "t0, t_end: 1, 1");
   ExpectThrowNaming(
       [&] { IntegrateAuto(testing::SaturatedDecay(), Eigen::VectorXd::Constant(1, NAN), 0, 1); },

@@ -498,6 +498,17 @@ TEST(EventDriven, RejectsOutputTimesNotFiniteOrDecreasingNamingTheIndex) {
   testing::ExpectThrowNaming(run, "output_times[2]: nan is not finite");
   options.output_times = {0, 0.5, 0.25, 1};
   testing::ExpectThrowNaming(run, "output_times[2]: 0.25 is below output_times[1] = 0.5");
+  // Times outside the span were left unsampled without a word.
+  options.output_times = {0.5, 1.5};
+  testing::ExpectThrowNaming(run, "output_times[1]: 1.5 is outside [t0, t_end] = [0, 1]");
+  options.output_times = {-0.5, 0.5};
+  testing::ExpectThrowNaming(run, "output_times[0]: -0.5 is outside [t0, t_end] = [0, 1]");
+  options.method = static_cast<OdeMethod>(7);
+  options.output_times.clear();
+  testing::ExpectThrowNaming(run, "method: 7 is not an OdeMethod");
+  options = EventDrivenOptions();
+  options.solver.method = static_cast<SolverMethod>(9);
+  testing::ExpectThrowNaming(run, "SolverOptions::method = 9 is not a SolverMethod");
 }
 
 }  // namespace

@@ -394,6 +394,14 @@ TEST(LcsStepping, RejectsInvalidInputNamingIt) {
   options.output_times = {0.25, INFINITY};
   EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
               HasSubstr("output_times[1]: inf is not finite"));
+  options.output_times = {0.25, 1.25};
+  EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
+              HasSubstr("output_times[1]: 1.25 is outside [t0, t_end] = [0, 1]"));
+  options.output_times.clear();
+  options.scheme = static_cast<SteppingScheme>(11);
+  EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
+              HasSubstr("scheme: 11 is not a SteppingScheme"));
+  options.scheme = SteppingScheme::kAuto;
   options.output_times.clear();
   Lcs mismatched = lcs;
   mismatched.C = SparseMatrix(1, 2);

@@ -24,7 +24,8 @@ struct AutoOptions {
   /// and chattering detectors.
   EventDrivenOptions event;
   /// Options of the time-stepping intervals (step size, θ, γ, ...). Its
-  /// output_times are ignored: `event.output_times` serve both.
+  /// output_times are ignored: `event.output_times` (within [t0, t_end];
+  /// a repeated time is sampled once) serve both.
   TimeSteppingOptions stepping;
   /// Length of a time-stepping interval, relative to the horizon; an
   /// interval covers at least the predicted accumulation time of a Zeno

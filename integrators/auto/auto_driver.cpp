@@ -12,6 +12,7 @@
 
 #include "../cvode/event_driven_validated.hpp"
 #include "check.hpp"
+#include "output_times_check.hpp"
 #include "dvi/mode_dae.hpp"
 
 namespace dvi {
@@ -282,12 +283,19 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
   }
 }
 
-void CheckStart(int n, const Eigen::VectorXd& x0, double t0, double t_end) {
+void CheckStart(int n, const Eigen::VectorXd& x0, double t0, double t_end,
+                const AutoOptions& options) {
   DVI_THROW_UNLESS(x0.size() == n, "x0 has " << x0.size() << " entries, expected " << n);
   for (Eigen::Index i = 0; i < x0.size(); ++i)
     DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
+  // Each interval samples its clip of the output times: check the whole list.
+  try {
+    internal::CheckOutputTimesWithin(options.event.output_times, t0, t_end);
+  } catch (const InvalidInputError& error) {
+    throw InvalidInputError(std::string("AutoOptions.event.") + error.what());
+  }
 }
 
 template <typename Problem>
@@ -316,7 +324,7 @@ Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, d
                          const AutoOptions& options) {
   dvi.Validate();
   options.Validate();
-  CheckStart(dvi.n, x0, t0, t_end);
+  CheckStart(dvi.n, x0, t0, t_end, options);
   dvi.CheckShapes(t0, x0);
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(dvi, options);
@@ -333,7 +341,7 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
                          const AutoOptions& options) {
   lcs.Validate();
   options.Validate();
-  CheckStart(lcs.n(), x0, t0, t_end);
+  CheckStart(lcs.n(), x0, t0, t_end, options);
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(lcs, options);
     const bool mode_dae = options.event.solver.allow_sparse &&

@@ -899,6 +899,7 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
     DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
+  internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
   if (dvi.K.IsBox()) {
     const LinearSolver solver = options.linear_solver;
     const bool klu = solver == LinearSolver::kKlu ||

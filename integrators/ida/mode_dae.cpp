@@ -632,11 +632,7 @@ Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0
     DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
-  for (std::size_t k = 0; k < options.output_times.size(); ++k)
-    DVI_THROW_UNLESS(options.output_times[k] >= t0 && options.output_times[k] <= t_end,
-                     "output_times[" << k << "]: " << options.output_times[k]
-                                     << " is outside [t0, t_end] = [" << t0 << ", " << t_end
-                                     << "]");
+  internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
   ModeDaeRun run(lcs, x0, t0, t_end, options);
   return run.Run();
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "check.hpp"
+#include "output_times_check.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -136,6 +137,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
   DVI_THROW_UNLESS(t_end - t0 > 1e-12 * std::abs(t_end),
                    "t0, t_end: the span " << t_end - t0 << " is within 1e-12 of |t_end| = "
                                           << t_end << ": shift the time origin");
+  CheckOutputTimesWithin(options.output_times, t0, t_end);
   const auto started = std::chrono::steady_clock::now();
   Trajectory trajectory;
   trajectory.intervals.push_back({t0, t_end, "stepping", method.Describe()});
