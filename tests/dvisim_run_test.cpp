@@ -639,6 +639,21 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "name": )" + std::string(100000, '[') +
            std::string(100000, ']') + "}",
        "", "malformed JSON at line 1, column 349: nested deeper than 256 levels"},
+      // A key given twice ran with one of the two values, silently.
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1, "horizon": 5})", "",
+       "horizon: duplicate key \"horizon\" in one object"},
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"name": "stepping", "h": 0.1,
+          "h": 0.01}})",
+       "", "method.h: duplicate key \"h\" in one object"},
+      {R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]],
+          "D": {"sparse": {"rows": 1, "cols": 1, "i": [0], "j": [0], "v": [1], "v": [2]}}},
+          "x0": [1], "horizon": 1})",
+       "", "problem.D.sparse.v: duplicate key \"v\""},
+      {R"({"problem": {"type": "dvi", "f": ["u1 + u2"], "F": ["u1 + x1", "u2"],
+          "set": {"product": [{"box": {"lower": [0], "upper": [1]}},
+                              {"box": {"lower": [0], "upper": [1], "upper": [2]}}]}},
+          "x0": [1], "horizon": 1})",
+       "", "problem.set.product[1].box.upper: duplicate key \"upper\""},
   };
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string scene = Write("bad" + std::to_string(k) + ".json", cases[k].scene);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -70,6 +71,54 @@ std::string Indexed(const std::string& path, std::size_t i) {
   return path + "[" + std::to_string(i) + "]";
 }
 
+// Refuses a key given twice in one object, which nlohmann would silently
+// resolve to one of the two values. Tracks the path of the value being
+// parsed, so the message names it as the readers do ("method.h").
+class DuplicateKeyCheck {
+ public:
+  bool operator()(int /*depth*/, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    switch (event) {
+      case Event::object_start: frames_.push_back({true, {}, "", 0}); break;
+      case Event::array_start: frames_.push_back({false, {}, "", 0}); break;
+      case Event::key: {
+        Frame& object = frames_.back();
+        object.key = parsed.get<std::string>();
+        if (!object.keys.insert(object.key).second)
+          throw InputError(Path() + ": duplicate key \"" + object.key +
+                           "\" in one object (JSON leaves its value undefined)");
+        break;
+      }
+      case Event::object_end:
+      case Event::array_end:
+        frames_.pop_back();
+        [[fallthrough]];
+      case Event::value:
+        if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;    // of an object: the key being read
+    std::size_t index;  // of an array: the element being read
+  };
+
+  std::string Path() const {
+    std::string path;
+    for (const Frame& frame : frames_)
+      path = frame.object ? (path.empty() ? frame.key : path + "." + frame.key)
+                          : Indexed(path, frame.index);
+    return path;
+  }
+
+  std::vector<Frame> frames_;
+};
+
 [[noreturn]] void Fail(const std::string& path, const std::string& message) {
   throw InputError(path + ": " + message);
 }
@@ -79,7 +128,7 @@ std::string Indexed(const std::string& path, std::size_t i) {
 nlohmann::json ParseJson(const std::string& text) {
   CheckDepth(text);
   try {
-    return nlohmann::json::parse(text);
+    return nlohmann::json::parse(text, DuplicateKeyCheck());
   } catch (const nlohmann::json::parse_error& error) {
     // error.byte is the 1-based offset of the character that broke parsing.
     const std::size_t end = std::min<std::size_t>(error.byte == 0 ? 0 : error.byte - 1, text.size());
