@@ -386,6 +386,13 @@ void ConvexSet::Data::ProjectOntoPolyhedron(const Eigen::Ref<const Eigen::Vector
   if (!empty_reason.empty()) {
     throw EmptySetError("the polyhedron is empty: " + empty_reason);
   }
+  // NaN in, NaN out, as for the closed-form sets: the KKT solve would
+  // refuse a non-finite start as bad input, blaming a warm start the caller
+  // never gave.
+  if (!v.allFinite()) {
+    out.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   const Eigen::Index m = dim;
   const Eigen::Index p = unit_G.rows();
   const Eigen::Index q = orthonormal_E.rows();

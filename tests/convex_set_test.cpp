@@ -431,6 +431,18 @@ TEST(ConvexSet, ContainsRejectsNaNAndRespectsTolerance) {
                    .Contains((Eigen::VectorXd(2) << kNaN, 0.0).finished()));
 }
 
+TEST(ConvexSet, ProjectionOfANaNIsNaNForEveryKind) {
+  // A polyhedron threw "warm_start(0) is nan", naming a warm start the
+  // caller never gave; every kind now hands the NaN back.
+  std::mt19937 rng(7);
+  for (const NamedSet& named : AllKinds(rng)) {
+    SCOPED_TRACE(named.name);
+    Eigen::VectorXd v = Eigen::VectorXd::Constant(named.set.dim(), 10.0);
+    v(0) = kNaN;
+    EXPECT_TRUE(named.set.Project(v).hasNaN());
+  }
+}
+
 TEST(ConvexSet, FactoriesAndMembersRejectInvalidInput) {
   const Eigen::VectorXd two = Eigen::VectorXd::Zero(2);
   ExpectThrowMentioning<InvalidInputError>([] { ConvexSet::Orthant(-1); }, "-1");

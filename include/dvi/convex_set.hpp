@@ -53,7 +53,9 @@ class ConvexSet {
 
   /// Π_K(v) = argmin_{u ∈ K} ‖u − v‖₂. Closed form for orthant, box and ball,
   /// blockwise for products; for a polyhedron the dual QP (an MCP in the
-  /// multipliers) is solved to tol. @throws InvalidInputError on a size
+  /// multipliers) is solved to tol. A v with a NaN entry gives NaN entries
+  /// (all of them for a polyhedron, also for an infinite one), which callers
+  /// detect as any non-finite value. @throws InvalidInputError on a size
   /// mismatch, EmptySetError if the polyhedron is proven empty,
   /// std::runtime_error if its projection fails without that proof.
   Eigen::VectorXd Project(const Eigen::VectorXd& v) const;
