@@ -436,6 +436,62 @@ TEST(EventDriven, RefusedRightHandSideIsTheReason) {
   EXPECT_NEAR(trajectory.states.back()(0), std::exp(-0.5), 1e-5);
 }
 
+// x' = −1 from x0 = 4, u ∈ SOL([0, 1], u − √x − shift): F is NaN once x < 0
+// (t > 4). With shift = 0, u = 1 until x = 1 (t = 3), then u = √x: the mode
+// "u at its upper bound" never evaluates F in its right-hand side, so CVODE
+// stepped from t = 0 straight past t = 4, saw NaN root values instead of a
+// sign change, missed the event at t = 3 and blamed t = 6.
+Dvi SquareRootClamp(double shift) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out(0) = -1;
+  };
+  dvi.F = [shift](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                  Eigen::VectorXd& out) { out(0) = u(0) - std::sqrt(x(0)) - shift; };
+  dvi.K = ConvexSet::Box(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Ones(1));
+  return dvi;
+}
+
+TEST(EventDriven, EventBeforeFBecomesUndefinedIsFound) {
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  options.output_times = {1, 2, 3.5, 3.9, 5};
+  const Trajectory trajectory =
+      IntegrateEventDriven(SquareRootClamp(0), Eigen::VectorXd::Constant(1, 4), 0, 6, options);
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_NEAR(trajectory.events[0].time, 3, 1e-9);
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kLeftBound);
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    EXPECT_NEAR(trajectory.states[k](0), 4 - t, 1e-9) << "t = " << t;
+    EXPECT_NEAR(trajectory.multipliers[k](0), std::min(1.0, std::sqrt(4 - t)), 1e-9)
+        << "t = " << t;
+  }
+  EXPECT_NEAR(trajectory.times.back(), 3.9, 1e-12);
+  // Past t = 4 the free u needs F: the refusal is the reason.
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("refused at t = 4"), std::string::npos) << trajectory.message;
+}
+
+// shift = 5: u stays at its upper bound until F is undefined at t = 4.
+TEST(EventDriven, FUndefinedAheadOfAHoldingModeEndsTheRunThere) {
+  EventDrivenOptions options;
+  options.output_times = {1, 3.5};
+  const Trajectory trajectory =
+      IntegrateEventDriven(SquareRootClamp(5), Eigen::VectorXd::Constant(1, 4), 0, 6, options);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("F is not finite beyond t = 4 in mode u, which still holds"),
+            std::string::npos)
+      << trajectory.message;
+  EXPECT_TRUE(trajectory.events.empty());
+  EXPECT_EQ(trajectory.times.size(), 4u);  // 0, 1, 3.5 and the last defined state
+  EXPECT_NEAR(trajectory.final_time(), 4, 1e-9);
+  EXPECT_NEAR(trajectory.states.back()(0), 0, 1e-9);
+}
+
 // At t0 = 1e8 CVODE's first step is one ulp of t (1.5e-8); a single step
 // that short is not the singularity above. x' = 1 − x from 0 over one unit.
 TEST(EventDriven, LargeStartTimeIsNotASingularity) {

@@ -105,9 +105,11 @@ struct CallbackData {
   Eigen::VectorXd projected_error;
   Eigen::MatrixXd J;
   SparseMatrix sparse_J;  // KLU: the current mode's (constant) Jacobian
-  // The root functions' last evaluation: its time and their least value.
+  // The root functions' last evaluation: its time, their least value and
+  // whether one was NaN (F undefined there: CVODE sees no sign change).
   double root_time = NAN;
   double least_root = 0;
+  bool root_undefined = false;
   std::exception_ptr error;
   std::string cvode_message;
   std::string non_finite;  // set by NonFinite
@@ -215,6 +217,8 @@ int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
     data.system->Roots(t, data.x, g);
     data.root_time = t;
     data.least_root = *std::min_element(g, g + 2 * data.system->m());
+    data.root_undefined = std::any_of(g, g + 2 * data.system->m(),
+                                      [](double value) { return std::isnan(value); });
     return 0;
   });
 }
@@ -280,6 +284,7 @@ class EventDrivenRun {
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
   bool StillHolds();
+  bool LocateRootBeforeUndefined();
   bool StepsResolveTime();
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
@@ -757,6 +762,79 @@ bool EventDrivenRun::StillHolds() {
   return Fail(IntegrationStatus::kNotIndexOne, message.str());
 }
 
+// A step that ends where a root function is NaN (F undefined beyond the
+// state's domain, as √x below 0) hides any sign change inside it from
+// CVODE: a mode with every u at a bound never evaluates F in its right-hand
+// side, so one step of a constant flow can cross both the real event and
+// the domain's edge. The last step's interpolant is scanned for the first
+// point where a root function falls to or below 0 from above, or is NaN, and
+// bisected to CVODE's root tolerance. A sign change there is the event
+// (t_ and y_ move to it); NaN alone means F is undefined ahead of a mode
+// that still holds: the run stops there, sampled, naming it.
+bool EventDrivenRun::LocateRootBeforeUndefined() {
+  void* cvode = cvode_.get();
+  double h_last = 0;
+  if (!Check(CVodeGetLastStep(cvode, &h_last), "CVodeGetLastStep")) return false;
+  const int m = dvi_.m;
+  Eigen::VectorXd x(x0_.size());
+  std::vector<double> g_start(2 * m), g(2 * m);
+  // Root values at t on the interpolant; false where F is undefined.
+  const auto roots_at = [&](double t, std::vector<double>& values) {
+    if (CVodeGetDky(cvode, t, 0, dky_.get()) != CV_SUCCESS) return false;
+    std::copy(dky_.data(), dky_.data() + x.size(), x.data());
+    if (!system_.Solve(t, x)) return false;
+    system_.Roots(t, x, values.data());
+    return std::none_of(values.begin(), values.end(), [](double v) { return std::isnan(v); });
+  };
+  // Whether the mode still holds at t as at the step's start; crossed
+  // tells a sign change from an undefined F.
+  bool crossed = false;
+  const auto holds_at = [&](double t) {
+    crossed = false;
+    if (!roots_at(t, g)) return false;
+    for (int k = 0; k < 2 * m; ++k)
+      if (g_start[k] > 0 && g[k] <= 0) crossed = true;
+    return !crossed;
+  };
+  const double t_start = t_ - h_last;
+  if (!roots_at(t_start, g_start))
+    return Fail(IntegrationStatus::kStepFailure,
+                "event: F is not finite at t = " + Format(t_start) + " in mode " +
+                    Describe(system_.mode()));
+  constexpr int kScanPoints = 16;
+  double good = t_start;
+  double bad = t_;
+  for (int k = 1; k <= kScanPoints; ++k) {
+    const double t = t_start + h_last * k / kScanPoints;
+    if (!holds_at(t)) {
+      bad = t;
+      break;
+    }
+    good = t;
+  }
+  const double tolerance = 100 * std::numeric_limits<double>::epsilon() *
+                           (std::abs(t_) + std::abs(h_last));
+  while (bad - good > tolerance) {
+    const double middle = good + (bad - good) / 2;
+    (holds_at(middle) ? good : bad) = middle;
+  }
+  if (!holds_at(bad) && crossed) {
+    t_ = bad;
+    std::copy(x.data(), x.data() + x.size(), y_.data());
+    return true;
+  }
+  // The trajectory ends at the last state where F is defined.
+  if (roots_at(good, g)) {
+    SampleOutputs(good);
+    Sample(good, x, system_.u());
+  }
+  return Fail(IntegrationStatus::kStepFailure,
+              "event: F is not finite beyond t = " + Format(good) + " in mode " +
+                  Describe(system_.mode()) +
+                  ", which still holds there: the VI is undefined ahead (a state outside "
+                  "F's domain)");
+}
+
 bool EventDrivenRun::IntegrateModes() {
   void* cvode = cvode_.get();
   data_.system = &system_;
@@ -803,7 +881,10 @@ bool EventDrivenRun::IntegrateModes() {
       return Fail(IntegrationStatus::kMaxSteps, message.str());
     }
     t_ = t_reached;
-    if (flag == CV_ROOT_RETURN) {
+    const bool located = flag != CV_ROOT_RETURN && data_.root_time == t_ &&
+                         data_.root_undefined;
+    if (located && !LocateRootBeforeUndefined()) return false;
+    if (flag == CV_ROOT_RETURN || located) {
       SampleOutputs(t_);
       AddCvodeStats();
       Eigen::VectorXd x = y;
