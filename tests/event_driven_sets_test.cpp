@@ -64,9 +64,6 @@ double ToleranceSlope(const Dvi& dvi, const Eigen::VectorXd& x0, double t_end, E
   return FittedOrder(tolerances, errors);
 }
 
-// K the unit ball, x0 = 3·(0.6, 0.8): u = x/|x| while |x| > 1, so |x| = 3 − t
-// until t = 2, then u = x and |x| = e^{−(t − 2)}: the ball's constraint is
-// released at t = 2.
 // 1 ≤ u ≤ −1 has no point: the run names the empty K at once (before, the
 // KKT system's Newton ran out of iterations and said only that).
 TEST(EventDrivenSets, EmptyPolyhedronIsNamed) {
@@ -82,6 +79,9 @@ TEST(EventDrivenSets, EmptyPolyhedronIsNamed) {
   EXPECT_TRUE(trajectory.times.empty());
 }
 
+// K the unit ball, x0 = 3·(0.6, 0.8): u = x/|x| while |x| > 1, so |x| = 3 − t
+// until t = 2, then u = x and |x| = e^{−(t − 2)}: the ball's constraint is
+// released at t = 2.
 TEST(EventDrivenSets, BallReleasesItsConstraintAtTheExactTime) {
   const Dvi dvi = DecayThroughProjection(ConvexSet::Ball(Eigen::VectorXd::Zero(2), 1));
   const Eigen::Vector2d direction(0.6, 0.8);
@@ -127,6 +127,51 @@ TEST(EventDrivenSets, HalfPlaneReleasesItsFaceAtTheExactTime) {
   EXPECT_LE(MaxStateError(trajectory, exact), 1e-8);
   std::vector<double> errors;
   EXPECT_GE(ToleranceSlope(dvi, Eigen::Vector2d(2, 2), 5, exact, errors), 0.8);
+}
+
+// The half plane above with its face given twice (u1 + u2 ≤ 1 and
+// 2u1 + 2u2 ≤ 2): on the face both rows were active, their multipliers not
+// unique, and CVODE failed at t = 0 ("corrector convergence test failed").
+// Events keep K's numbering of the rows: in {u1 ≤ 5, 2u1 ≤ 10} × {u2 ≤ 1},
+// x0 = (1, 3), the face u2 = 1 (row 2) is released at t = 2.
+TEST(EventDrivenSets, RepeatedRowsOfAPolyhedronDoNotBreakTheLifting) {
+  const Dvi doubled = DecayThroughProjection(ConvexSet::Polyhedron(
+      (Eigen::MatrixXd(2, 2) << 1, 1, 2, 2).finished(), Eigen::Vector2d(1, 2),
+      Eigen::MatrixXd(0, 2), Eigen::VectorXd(0)));
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  const Trajectory face = IntegrateEventDriven(doubled, Eigen::Vector2d(2, 2), 0, 5, options);
+  ASSERT_TRUE(face.succeeded()) << face.message;
+  ASSERT_EQ(face.events.size(), 1u);
+  EXPECT_EQ(face.events[0].kind, EventKind::kConstraintReleased);
+  EXPECT_EQ(face.events[0].index, 0);
+  EXPECT_LE(std::abs(face.events[0].time - 3), 1e-9);
+  EXPECT_LE(MaxStateError(face,
+                          [](double t) -> Eigen::VectorXd {
+                            return Eigen::Vector2d::Constant(
+                                t <= 3 ? (4 - t) / 2 : 0.5 * std::exp(-(t - 3)));
+                          }),
+            1e-8);
+
+  const ConvexSet repeated_first = ConvexSet::Polyhedron(
+      Eigen::Vector2d(1, 2), Eigen::Vector2d(5, 10), Eigen::MatrixXd(0, 1), Eigen::VectorXd(0));
+  const ConvexSet face_second = ConvexSet::Polyhedron(
+      Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd(0, 1),
+      Eigen::VectorXd(0));
+  const Dvi product = DecayThroughProjection(ConvexSet::Product({repeated_first, face_second}));
+  const Trajectory released = IntegrateEventDriven(product, Eigen::Vector2d(1, 3), 0, 4, options);
+  ASSERT_TRUE(released.succeeded()) << released.message;
+  ASSERT_EQ(released.events.size(), 1u);
+  EXPECT_EQ(released.events[0].kind, EventKind::kConstraintReleased);
+  EXPECT_EQ(released.events[0].index, 2);
+  EXPECT_LE(std::abs(released.events[0].time - 2), 1e-9);
+  EXPECT_LE(MaxStateError(released,
+                          [](double t) -> Eigen::VectorXd {
+                            return Eigen::Vector2d(std::exp(-t),
+                                                   t <= 2 ? 3 - t : std::exp(-(t - 2)));
+                          }),
+            1e-8);
 }
 
 // Projected dynamics x' ∈ a − N(x; unit disc), a = (1, 0), x0 = (0, ½), as the

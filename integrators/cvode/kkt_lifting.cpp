@@ -35,7 +35,45 @@ struct Structure {
   Eigen::VectorXd lower;  // of z
   Eigen::VectorXd upper;
   std::vector<Part> parts;  // the non-box parts
+  std::vector<int> inequality_of_mu;  // K's inequality for each μ_k
 };
+
+// Whether row (a, b) of a ≤ / = system states the same constraint as (c, d),
+// up to a positive factor (or any factor, for equalities), to rounding.
+bool SameConstraint(const Eigen::Ref<const Eigen::RowVectorXd>& a, double b,
+                    const Eigen::Ref<const Eigen::RowVectorXd>& c, double d, bool any_sign) {
+  constexpr double kSame = 64 * std::numeric_limits<double>::epsilon();
+  const double na = a.lpNorm<Eigen::Infinity>(), nc = c.lpNorm<Eigen::Infinity>();
+  if (na == 0 || nc == 0) return false;
+  for (const double sign : {1.0, -1.0}) {
+    if (sign < 0 && !any_sign) break;
+    const double scale = sign * na / nc;
+    if ((a - scale * c).lpNorm<Eigen::Infinity>() <= kSame * na &&
+        std::abs(b - scale * d) <= kSame * std::max(std::abs(b), na))
+      return true;
+  }
+  return false;
+}
+
+// Drops the rows of A u ≤ b (or = b) that repeat an earlier one, and the
+// zero rows that constrain nothing (0 ≤ b_i, or 0 = 0): where a repeated
+// row is active its multipliers are not unique (LICQ fails), the lifted
+// mode matrix is singular, and the run failed where K itself is fine.
+// Returns the kept rows' indices.
+std::vector<int> KeepDistinctRows(Eigen::MatrixXd& A, Eigen::VectorXd& b, bool equalities) {
+  std::vector<int> kept;
+  for (int i = 0; i < A.rows(); ++i) {
+    const bool zero_row = A.row(i).lpNorm<Eigen::Infinity>() == 0 &&
+                          (equalities ? b(i) == 0 : b(i) >= 0);
+    bool repeated = false;
+    for (const int j : kept)
+      repeated = repeated || SameConstraint(A.row(i), b(i), A.row(j), b(j), equalities);
+    if (!zero_row && !repeated) kept.push_back(i);
+  }
+  A = A(kept, Eigen::all).eval();
+  b = b(kept).eval();
+  return kept;
+}
 
 Structure Analyse(const ConvexSet& K) {
   Structure s;
@@ -45,6 +83,7 @@ Structure Analyse(const ConvexSet& K) {
   Eigen::VectorXd u_lower = Eigen::VectorXd::Constant(s.m, -kInfinity);
   Eigen::VectorXd u_upper = Eigen::VectorXd::Constant(s.m, kInfinity);
   int offset = 0;
+  int original_inequalities = 0;
   for (const ConvexSet& set : sets) {
     const int size = set.dim();
     if (set.IsBox()) {
@@ -56,6 +95,7 @@ Structure Analyse(const ConvexSet& K) {
       part.offset = offset;
       part.size = size;
       if (set.kind() == ConvexSet::Kind::kBall) {
+        s.inequality_of_mu.push_back(original_inequalities++);
         part.is_ball = true;
         part.center = set.center();
         part.radius = set.radius();
@@ -65,6 +105,11 @@ Structure Analyse(const ConvexSet& K) {
         part.h = std::move(inequalities.h);
         part.E = std::move(inequalities.E);
         part.e = std::move(inequalities.e);
+        const int rows = static_cast<int>(part.G.rows());
+        for (const int row : KeepDistinctRows(part.G, part.h, false))
+          s.inequality_of_mu.push_back(original_inequalities + row);
+        KeepDistinctRows(part.E, part.e, true);
+        original_inequalities += rows;
       }
       part.inequality_offset = s.inequalities;
       part.equality_offset = s.equalities;
@@ -134,7 +179,7 @@ KktLifting LiftToBox(const Dvi& dvi) {
   auto scratch = std::make_shared<Scratch>();
   KktLifting lifting;
   lifting.m = s->m;
-  lifting.inequalities = s->inequalities;
+  lifting.inequality_of_mu = s->inequality_of_mu;
   const int dim = static_cast<int>(s->lower.size());
   Dvi& lifted = lifting.dvi;
   lifted.n = dvi.n;
@@ -202,7 +247,7 @@ Trajectory Unlift(Trajectory lifted, const KktLifting& lifting) {
     // has no bounds, so no events).
     event.kind = event.kind == EventKind::kLeftBound ? EventKind::kConstraintActive
                                                      : EventKind::kConstraintReleased;
-    event.index -= lifting.m;
+    event.index = lifting.inequality_of_mu[static_cast<std::size_t>(event.index - lifting.m)];
   }
   return lifted;
 }

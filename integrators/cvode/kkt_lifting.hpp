@@ -20,11 +20,15 @@ namespace dvi::internal {
 /// with the root functions "μ_k reaches 0" (released) and "g_k reaches 0"
 /// (active). A ball ‖u − c‖ ≤ r contributes g = (‖u − c‖² − r²)/2. Under
 /// LICQ and a strongly monotone F the KKT solution is strongly regular, so
-/// index one carries over.
+/// index one carries over; repeated rows of a polyhedron, which break LICQ
+/// without changing K, are dropped.
 struct KktLifting {
   Dvi dvi;  ///< The lifted problem, on a box.
   int m = 0;  ///< Dimension of the original u.
-  int inequalities = 0;  ///< μ has this many components, ν the rest.
+  /// K's inequality (numbered over its non-box parts) of each μ_k: rows
+  /// that repeat another are not lifted, since their multipliers would not
+  /// be unique (LICQ).
+  std::vector<int> inequality_of_mu;
 };
 
 /// @pre dvi validated; K is polyhedral, a ball, or a product of such parts.
