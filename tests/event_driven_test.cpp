@@ -492,6 +492,45 @@ TEST(EventDriven, FUndefinedAheadOfAHoldingModeEndsTheRunThere) {
   EXPECT_NEAR(trajectory.states.back()(0), 0, 1e-9);
 }
 
+// x' = −1.5 sin t + u, 0 ≤ u ⊥ x ≥ 0, x0 = 0.001: x reaches 0 at
+// t1 = acos(1 − 0.001/1.5), rests there with u = 1.5 sin t until u returns
+// to 0 at t = π, then x = 1.5(1 + cos t). At rest x' = 0, so CVODE stepped
+// from t1 past 2π in one step: u = 1.5 sin t went below 0 and back inside
+// it, no step end saw the root, and the run reported success with x = 0 and
+// u < 0 (found by probing dvisim). The samples show u out of bounds; the
+// root is located between them.
+TEST(EventDriven, RootCrossedTwiceWithinAStepIsFoundFromTheSamples) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.f = [](double t, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = -1.5 * std::sin(t) + u(0);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out(0) = x(0);
+  };
+  dvi.K = ConvexSet::Orthant(1);
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  options.output_times = Linspace(0, 8, 17);
+  const Trajectory trajectory =
+      IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 0.001), 0, 8, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  const double t1 = std::acos(1 - 0.001 / 1.5);
+  ASSERT_EQ(trajectory.events.size(), 2u);
+  EXPECT_NEAR(trajectory.events[0].time, t1, 1e-9);
+  EXPECT_NEAR(trajectory.events[1].time, M_PI, 1e-7);
+  EXPECT_EQ(trajectory.events[1].kind, EventKind::kReachedLower);
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    const double x = t <= t1 ? 0.001 + 1.5 * (std::cos(t) - 1) : t <= M_PI ? 0 : 1.5 * (1 + std::cos(t));
+    const double u = t > t1 && t < M_PI ? 1.5 * std::sin(t) : 0;
+    EXPECT_NEAR(trajectory.states[k](0), x, 1e-7) << "t = " << t;
+    EXPECT_NEAR(trajectory.multipliers[k](0), u, 1e-7) << "t = " << t;
+  }
+}
+
 // At t0 = 1e8 CVODE's first step is one ulp of t (1.5e-8); a single step
 // that short is not the singularity above. x' = 1 − x from 0 over one unit.
 TEST(EventDriven, LargeStartTimeIsNotASingularity) {

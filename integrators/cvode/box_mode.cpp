@@ -682,6 +682,19 @@ Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorX
   return Fu;
 }
 
+Eigen::Index BoxModeSystem::FirstOutOfBounds(const Eigen::Ref<const Eigen::MatrixXd>& U) const {
+  const double tolerance = 1e3 * solver_.tolerance;
+  Eigen::Index first = U.cols();
+  for (const int j : free_) {
+    const double low = lower_(j) - tolerance, high = upper_(j) + tolerance;
+    const auto row = U.row(j).array();
+    if (row.minCoeff() >= low && row.maxCoeff() <= high) continue;  // the rule: one pass
+    for (Eigen::Index k = 0; k < first; ++k)
+      if (!(row(k) >= low && row(k) <= high)) first = k;
+  }
+  return first == U.cols() ? -1 : first;
+}
+
 bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,
                           double state_error) const {
   std::vector<double> g(2 * m());

@@ -75,6 +75,10 @@ class BoxModeSystem {
   void SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
                     const Eigen::Ref<const Eigen::MatrixXd>& X, Eigen::Ref<Eigen::MatrixXd> U,
                     std::vector<char>& kept);
+  /// The first column of U (samples of u) whose free components leave
+  /// their bounds by more than the tolerance of Holds, or −1: a check of
+  /// samples, F not evaluated.
+  Eigen::Index FirstOutOfBounds(const Eigen::Ref<const Eigen::MatrixXd>& U) const;
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
   /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a

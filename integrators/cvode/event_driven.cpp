@@ -284,13 +284,16 @@ class EventDrivenRun {
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
   bool StillHolds();
-  bool LocateRootBeforeUndefined();
+  enum class MissedRoot { kLocated, kNone, kUndefined };
+  MissedRoot LocateMissedRoot(double t_until, double& last_defined);
+  bool FailWhereFIsUndefined(double last_defined);
   bool StepsResolveTime();
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
               const Eigen::Ref<const Eigen::VectorXd>& u);
-  void SampleOutputs(double before);
+  double SampleOutputs(double before);
+  void DropSamplesFrom(double t);
   /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step; false if CVODE
   /// refuses one.
   bool ReadTaylor(double t_n, int q);
@@ -366,7 +369,12 @@ void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x
 // the step than its q + 1 coefficients, these are read once (CVodeGetDky at
 // t_n) and the polynomial is evaluated by Horner, the same values without a
 // CVodeGetDky call (a sum over q + 1 N_Vectors) per time.
-void EventDrivenRun::SampleOutputs(double before) {
+// Samples the output times before `before` from the last step's
+// interpolant. Returns the first sampled time whose free u has left its
+// bounds (NaN if none): CVODE sees a root function only at step ends, so a
+// root that changes sign twice within one step (u driven by t while x' = 0
+// lets CVODE take steps of the whole horizon) shows only here.
+double EventDrivenRun::SampleOutputs(double before) {
   // The times are non-decreasing (validated): the step's are a range of
   // them, found by bisection.
   const auto& times = options_.output_times;
@@ -374,7 +382,7 @@ void EventDrivenRun::SampleOutputs(double before) {
   const auto last =
       std::partition_point(first, times.end(), [before](double t) { return t < before; });
   const std::size_t end = static_cast<std::size_t>(last - times.begin());
-  if (end == next_output_) return;
+  if (end == next_output_) return NAN;
   void* cvode = cvode_.get();
   double t_n = 0, h_u = 0;
   int q = 0;
@@ -393,7 +401,7 @@ void EventDrivenRun::SampleOutputs(double before) {
       std::partition_point(served, last, [this](double t) { return t < t_end_; });
   next_output_ = end;
   const auto count = static_cast<std::size_t>(served_end - served);
-  if (count == 0) return;
+  if (count == 0) return NAN;
   // Straight into the trajectory (room for every output time is reserved):
   // x at all of the step's times, then u (one product for an LCS mode).
   std::vector<double>& sample_times = trajectory_.times;
@@ -432,9 +440,24 @@ void EventDrivenRun::SampleOutputs(double before) {
     }
     ++kept;
   }
+  const Eigen::Index out = system_.FirstOutOfBounds(U.leftCols(static_cast<Eigen::Index>(kept)));
   sample_times.resize(first_sample + kept);
   trajectory_.states.resize(first_sample + kept);
   trajectory_.multipliers.resize(first_sample + kept);
+  return out < 0 ? NAN : sample_times[first_sample + static_cast<std::size_t>(out)];
+}
+
+// Drops the samples at t and later, to be taken again after an event there.
+void EventDrivenRun::DropSamplesFrom(double t) {
+  const std::size_t kept = static_cast<std::size_t>(
+      std::lower_bound(trajectory_.times.begin(), trajectory_.times.end(), t) -
+      trajectory_.times.begin());
+  trajectory_.times.resize(kept);
+  trajectory_.states.resize(kept);
+  trajectory_.multipliers.resize(kept);
+  const auto& times = options_.output_times;
+  next_output_ = static_cast<std::size_t>(std::lower_bound(times.begin(), times.end(), t) -
+                                          times.begin());
 }
 
 bool EventDrivenRun::ReadTaylor(double t_n, int q) {
@@ -762,19 +785,21 @@ bool EventDrivenRun::StillHolds() {
   return Fail(IntegrationStatus::kNotIndexOne, message.str());
 }
 
-// A step that ends where a root function is NaN (F undefined beyond the
-// state's domain, as √x below 0) hides any sign change inside it from
-// CVODE: a mode with every u at a bound never evaluates F in its right-hand
-// side, so one step of a constant flow can cross both the real event and
-// the domain's edge. The last step's interpolant is scanned for the first
-// point where a root function falls to or below 0 from above, or is NaN, and
-// bisected to CVODE's root tolerance. A sign change there is the event
-// (t_ and y_ move to it); NaN alone means F is undefined ahead of a mode
-// that still holds: the run stops there, sampled, naming it.
-bool EventDrivenRun::LocateRootBeforeUndefined() {
+// The first point of the last step, up to t_until, where a root function
+// falls to or below 0 from above, scanned on the interpolant and bisected to
+// CVODE's root tolerance: the event CVODE could not see. Two causes: the
+// step ends where a root function is NaN (F undefined beyond the state's
+// domain, as √x below 0; a mode with every u at a bound never evaluates F
+// in its right-hand side, so one step of a constant flow crosses both the
+// event and the domain's edge), or a sample shows u out of bounds though
+// the step's ends do not (a root crossed twice). kLocated moves t_ and y_
+// to the event; kUndefined means F is undefined beyond last_defined, with
+// no crossing before it; kNone, no crossing at all.
+EventDrivenRun::MissedRoot EventDrivenRun::LocateMissedRoot(double t_until, double& last_defined) {
   void* cvode = cvode_.get();
-  double h_last = 0;
-  if (!Check(CVodeGetLastStep(cvode, &h_last), "CVodeGetLastStep")) return false;
+  double t_n = 0, h_last = 0;
+  CVodeGetCurrentTime(cvode, &t_n);
+  CVodeGetLastStep(cvode, &h_last);
   const int m = dvi_.m;
   Eigen::VectorXd x(x0_.size());
   std::vector<double> g_start(2 * m), g(2 * m);
@@ -786,8 +811,8 @@ bool EventDrivenRun::LocateRootBeforeUndefined() {
     system_.Roots(t, x, values.data());
     return std::none_of(values.begin(), values.end(), [](double v) { return std::isnan(v); });
   };
-  // Whether the mode still holds at t as at the step's start; crossed
-  // tells a sign change from an undefined F.
+  // Whether no root function has crossed since the step's start; crossed
+  // tells a crossing from an undefined F.
   bool crossed = false;
   const auto holds_at = [&](double t) {
     crossed = false;
@@ -796,40 +821,48 @@ bool EventDrivenRun::LocateRootBeforeUndefined() {
       if (g_start[k] > 0 && g[k] <= 0) crossed = true;
     return !crossed;
   };
-  const double t_start = t_ - h_last;
-  if (!roots_at(t_start, g_start))
-    return Fail(IntegrationStatus::kStepFailure,
-                "event: F is not finite at t = " + Format(t_start) + " in mode " +
-                    Describe(system_.mode()));
+  const double t_start = t_n - h_last;
+  last_defined = t_start;
+  if (!roots_at(t_start, g_start)) return MissedRoot::kUndefined;
   constexpr int kScanPoints = 16;
   double good = t_start;
-  double bad = t_;
+  double bad = t_until;
   for (int k = 1; k <= kScanPoints; ++k) {
-    const double t = t_start + h_last * k / kScanPoints;
+    const double t = t_start + (t_until - t_start) * k / kScanPoints;
     if (!holds_at(t)) {
       bad = t;
       break;
     }
     good = t;
   }
-  const double tolerance = 100 * std::numeric_limits<double>::epsilon() *
-                           (std::abs(t_) + std::abs(h_last));
+  if (good == t_until) return MissedRoot::kNone;
+  const double tolerance =
+      100 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + std::abs(h_last));
   while (bad - good > tolerance) {
     const double middle = good + (bad - good) / 2;
     (holds_at(middle) ? good : bad) = middle;
   }
+  last_defined = good;
   if (!holds_at(bad) && crossed) {
     t_ = bad;
     std::copy(x.data(), x.data() + x.size(), y_.data());
-    return true;
+    return MissedRoot::kLocated;
   }
-  // The trajectory ends at the last state where F is defined.
-  if (roots_at(good, g)) {
-    SampleOutputs(good);
-    Sample(good, x, system_.u());
+  return MissedRoot::kUndefined;
+}
+
+// The run stops at the last state where F is defined, sampled there.
+bool EventDrivenRun::FailWhereFIsUndefined(double last_defined) {
+  Eigen::VectorXd x(x0_.size());
+  if (CVodeGetDky(cvode_.get(), last_defined, 0, dky_.get()) == CV_SUCCESS) {
+    std::copy(dky_.data(), dky_.data() + x.size(), x.data());
+    if (system_.Solve(last_defined, x)) {
+      SampleOutputs(last_defined);
+      Sample(last_defined, x, system_.u());
+    }
   }
   return Fail(IntegrationStatus::kStepFailure,
-              "event: F is not finite beyond t = " + Format(good) + " in mode " +
+              "event: F is not finite beyond t = " + Format(last_defined) + " in mode " +
                   Describe(system_.mode()) +
                   ", which still holds there: the VI is undefined ahead (a state outside "
                   "F's domain)");
@@ -881,10 +914,25 @@ bool EventDrivenRun::IntegrateModes() {
       return Fail(IntegrationStatus::kMaxSteps, message.str());
     }
     t_ = t_reached;
-    const bool located = flag != CV_ROOT_RETURN && data_.root_time == t_ &&
-                         data_.root_undefined;
-    if (located && !LocateRootBeforeUndefined()) return false;
-    if (flag == CV_ROOT_RETURN || located) {
+    bool event = flag == CV_ROOT_RETURN;
+    if (!event && data_.root_time == t_ && data_.root_undefined) {
+      double last_defined = t_;
+      if (LocateMissedRoot(t_, last_defined) != MissedRoot::kLocated)
+        return FailWhereFIsUndefined(last_defined);
+      event = true;
+    }
+    if (!event) {
+      if (!StillHolds()) return false;
+      if (system_.reduced())
+        trajectory_.stats.max_constraint_drift =
+            std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
+      const double out_of_bounds = SampleOutputs(t_);
+      double last_defined = t_;
+      event = !std::isnan(out_of_bounds) &&
+              LocateMissedRoot(out_of_bounds, last_defined) == MissedRoot::kLocated;
+      if (event) DropSamplesFrom(t_);
+    }
+    if (event) {
       SampleOutputs(t_);
       AddCvodeStats();
       Eigen::VectorXd x = y;
@@ -908,12 +956,7 @@ bool EventDrivenRun::IntegrateModes() {
       unresolved_steps_ = 0;
       continue;
     }
-    if (!StillHolds()) return false;
     const bool at_end = flag == CV_TSTOP_RETURN || t_ >= t_end_;
-    if (system_.reduced())
-      trajectory_.stats.max_constraint_drift =
-          std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
-    SampleOutputs(t_);
     if (at_end || options_.output_times.empty()) {
       const Eigen::VectorXd x = y;
       if (!system_.Solve(t_, x)) {
