@@ -473,6 +473,23 @@ TEST(AutoDriver, NonBoxSetRunsEventDrivenThroughItsKktSystem) {
 // t = 1. Output times outside [t0, t_end] are dropped and a repeated one is
 // sampled once; the run then equals the one given just the times that remain
 // (which takes the caller's options as they are, without clipping).
+// A stepping window that holds none of the output times sampled every step
+// (an empty list means "every step" to time-stepping): 1000 extra rows.
+TEST(AutoDriver, SteppingWindowWithoutOutputTimesSamplesOnlyItsEnds) {
+  AutoOptions options = SpiralOptions();
+  options.stepping.record_events = false;
+  options.event.output_times = {0.5, 1.0, 1.9};
+  const Trajectory trajectory = IntegrateAuto(FilippovSpiral(), Eigen::Vector2d(3, 3), 0, 2, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  const auto stepping =
+      std::find_if(trajectory.intervals.begin(), trajectory.intervals.end(),
+                   [](const MethodInterval& interval) { return interval.name == "stepping"; });
+  ASSERT_NE(stepping, trajectory.intervals.end());
+  const auto inside = std::count_if(trajectory.times.begin(), trajectory.times.end(),
+                                    [&](double t) { return t > stepping->from && t < stepping->to; });
+  EXPECT_EQ(inside, 0);
+}
+
 TEST(AutoDriver, RepeatedOutputTimesAreSampledOnce) {
   const Lcs lcs = FilippovSignLcs(Eigen::MatrixXd::Constant(1, 1, -1));
   const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);

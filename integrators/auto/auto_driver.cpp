@@ -271,7 +271,11 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
                 " steps, more than time-stepping needs to the end, so time-stepping to the end";
       t_b = t_end;
     }
-    Trajectory steps = stepping(t_a, x_a, t_b, Clip(outputs, t_a, t_b, true));
+    // Empty output times sample every step: where the run asked for some but
+    // none falls in the window, its end alone (always sampled) stands in.
+    std::vector<double> window_outputs = Clip(outputs, t_a, t_b, true);
+    if (window_outputs.empty() && !outputs.empty()) window_outputs.push_back(t_b);
+    Trajectory steps = stepping(t_a, x_a, t_b, std::move(window_outputs));
     const bool stepped = steps.succeeded();
     const double t_stepped = steps.times.empty() ? t_a : steps.times.back();
     x = steps.times.empty() ? x_a : Eigen::VectorXd(steps.states.back());
