@@ -484,6 +484,23 @@ TEST(LcsStepping, CircuitAtMegavoltsSettlesAtItsEquilibrium) {
 
 // [1e16, 1e16 + 2] is one ulp of t wide: the run arrived before its first
 // step and returned x0 with success. It is refused, naming t0 and t_end.
+// x' = 10x with u ≡ 0: every step's LCP is solved, x overflows near
+// t = 67 and the run reported success with x = inf (found by probing dvisim).
+TEST(LcsStepping, AnOverflowingSolutionIsAFailedStep) {
+  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Constant(1, 1, 10), Eigen::MatrixXd::Zero(1, 1),
+                       Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1));
+  lcs.q = Eigen::VectorXd::Ones(1);
+  TimeSteppingOptions options;
+  options.h = 0.01;
+  const Trajectory trajectory = IntegrateTimeStepping(lcs, Eigen::VectorXd::Ones(1), 0, 100, options);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("x is not finite (the solution overflows)"), std::string::npos)
+      << trajectory.message;
+  // Backward Euler: x_k = 0.9⁻ᵏ passes the largest double after 6737 steps.
+  EXPECT_NEAR(trajectory.final_time(), 67.36, 1e-9);
+  EXPECT_TRUE(trajectory.states.back().allFinite());
+}
+
 TEST(LcsStepping, SpanWithinTheRoundOffOfTIsRefused) {
   EXPECT_THAT(ThrownMessage([] {
                 IntegrateTimeStepping(RcDiode().Build(), RcDiode().Initial(), 1e16, 1e16 + 2);

@@ -100,6 +100,16 @@ void Count(const StepOutcome& outcome, IntegrationStats& stats) {
   stats.solver_iterations += outcome.iterations;
 }
 
+// A step whose x overflowed is a failed step, whatever its VI said: an
+// LCS with u ≡ 0 solved every VI of x' = 10x and returned x = inf as success.
+StepOutcome Finite(StepOutcome outcome) {
+  if (outcome.solved && !outcome.x.allFinite()) {
+    outcome.solved = false;
+    outcome.failure = "x is not finite (the solution overflows)";
+  }
+  return outcome;
+}
+
 // t as FailureMessage prints it: std::to_string's "%f" shows 1e-9 as 0.000000.
 std::string TimeText(double t) {
   std::ostringstream text;
@@ -204,7 +214,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
                     t);
     const double step = std::min(h, t_end - t);
     if (!options.adaptive) {
-      StepOutcome next = method.Step(t, step, current.x, current.u);
+      StepOutcome next = Finite(method.Step(t, step, current.x, current.u));
       Count(next, stats);
       if (!next.solved)
         return finish(IntegrationStatus::kStepFailure, FailureMessage(stats.steps + 1, t, step, next), t);
@@ -214,10 +224,10 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
       current = std::move(next);
     } else {
       // Step doubling: one step of size `step` against two of step/2.
-      StepOutcome coarse = method.Step(t, step, current.x, current.u);
-      StepOutcome first = method.Step(t, step / 2, current.x, current.u);
+      StepOutcome coarse = Finite(method.Step(t, step, current.x, current.u));
+      StepOutcome first = Finite(method.Step(t, step / 2, current.x, current.u));
       StepOutcome second;
-      if (first.solved) second = method.Step(t + step / 2, step / 2, first.x, first.u);
+      if (first.solved) second = Finite(method.Step(t + step / 2, step / 2, first.x, first.u));
       for (const StepOutcome* outcome : {&coarse, &first, &second}) Count(*outcome, stats);
       const bool solved = coarse.solved && first.solved && second.solved;
       const double error =
