@@ -640,6 +640,9 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
            std::string(100000, ']') + "}",
        "", "malformed JSON at line 1, column 349: nested deeper than 256 levels"},
       // A key given twice ran with one of the two values, silently.
+      // gnuplot failed on the line break after the run had finished.
+      {"{" + dvi + R"(, "x0": [1], "horizon": 1, "name": "run 1\nrun 2"})", "",
+       "name: contains a control character"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "horizon": 5})", "",
        "horizon: duplicate key \"horizon\" in one object"},
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"name": "stepping", "h": 0.1,
@@ -691,13 +694,29 @@ TEST_F(DvisimRun, NumericalFailureExitsOneNamingTimeAndStepAndWritesNothing) {
   for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
 }
 
+// The default output directory is out/<name>: a name of "..", "../x" or
+// "/x" wrote outside out/ (into the working directory, or anywhere).
+TEST_F(DvisimRun, ANameThatLeavesOutIsRefusedAsTheDefaultDirectory) {
+  for (const std::string name : {"..", "../escape", "/tmp/escape"}) {
+    const std::string scene = Write("named.json", R"({"name": ")" + name + R"(",
+        "problem": {"type": "dvi", "f": ["u1"], "F": ["u1 + x1"]}, "x0": [1], "horizon": 1})");
+    const RunOutcome run = Dvisim("run '" + scene + "'");
+    EXPECT_EQ(run.exit_code, 2) << name << ": " << run.err;
+    EXPECT_TRUE(Contains(run.err, "name: \"" + name + "\" makes the default output directory"))
+        << run.err;
+    // With a directory given, the name is free text again.
+    EXPECT_EQ(Dvisim("run '" + scene + "' --out '" + Path("out") + "'").exit_code, 0) << name;
+  }
+}
+
 TEST_F(DvisimRun, AFailedMoveLeavesNoOutputs) {
   // A non-empty directory named like the second file to move in makes that
   // move fail after trajectory.csv was moved: it must be taken back.
   fs::create_directories(Path("out/summary.json/blocker"));
   const RunOutcome run = RunExample("dvi_saturation.json", "out");
   EXPECT_EQ(run.exit_code, 2) << run.err;
-  EXPECT_TRUE(Contains(run.err, "output.dir: cannot move summary.json")) << run.err;
+  // The directory came from --out, and the message says so.
+  EXPECT_TRUE(Contains(run.err, "--out: cannot move summary.json")) << run.err;
   EXPECT_EQ(Listing("out"), std::vector<std::string>{"summary.json"});
   for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
 }

@@ -60,11 +60,11 @@ std::function<void(double)> ProgressBar(std::ostream& err, double horizon) {
   };
 }
 
-void WriteFile(const fs::path& path, const std::string& contents) {
+void WriteFile(const fs::path& path, const std::string& contents, const std::string& source) {
   std::ofstream stream(path, std::ios::binary | std::ios::trunc);
   stream << contents;
   stream.close();
-  if (!stream) throw InputError("output.dir: cannot write " + path.string());
+  if (!stream) throw InputError(source + ": cannot write " + path.string());
 }
 
 // Holds SIGINT, SIGTERM and SIGHUP back while it lives: one arriving while
@@ -91,6 +91,7 @@ class SignalsDeferred {
 // away on every path, a signal's included.
 std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& trajectory) {
   const SignalsDeferred deferred;
+  const std::string& source = scene.output.dir_source;
   fs::path dir(scene.output.dir);
   if (dir.filename().empty()) dir = dir.parent_path();
   const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
@@ -101,10 +102,10 @@ std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& traj
   try {
     fs::create_directories(parent, error);
     if (error || !fs::create_directory(temporary, error) || error)
-      throw InputError("output.dir: cannot create " + temporary.string() + " (" + error.message() +
+      throw InputError(source + ": cannot create " + temporary.string() + " (" + error.message() +
                        ")");
-    WriteFile(temporary / "trajectory.csv", TrajectoryCsv(scene, trajectory));
-    WriteFile(temporary / "summary.json", SummaryJson(scene, trajectory).dump(2) + "\n");
+    WriteFile(temporary / "trajectory.csv", TrajectoryCsv(scene, trajectory), source);
+    WriteFile(temporary / "summary.json", SummaryJson(scene, trajectory).dump(2) + "\n", source);
     std::vector<std::string> names{"trajectory.csv", "summary.json"};
     if (scene.output.plot) {
       PlotRequest request{
@@ -115,12 +116,12 @@ std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& traj
     }
     fs::create_directories(dir, error);
     if (error || !fs::is_directory(dir))
-      throw InputError("output.dir: cannot create the directory " + dir.string() +
+      throw InputError(source + ": cannot create the directory " + dir.string() +
                        (error ? " (" + error.message() + ")" : ""));
     for (const std::string& name : names) {
       fs::rename(temporary / name, dir / name, error);
       if (error)
-        throw InputError("output.dir: cannot move " + name + " into " + dir.string() + " (" +
+        throw InputError(source + ": cannot move " + name + " into " + dir.string() + " (" +
                          error.message() + ")");
       written.push_back((dir / name).string());
     }
@@ -269,7 +270,14 @@ void ApplyOverrides(const RunCommand& command, Scene& scene) {
   if (command.out_dir) {
     if (command.out_dir->empty()) throw InputError("--out: expected a directory");
     scene.output.dir = *command.out_dir;
+    scene.output.dir_source = "--out";
   }
+  // The default out/<name> must stay within out/: "..", "../x" or "/x" as a
+  // name wrote into the working directory or anywhere.
+  if (scene.output.dir_source == "name" &&
+      (scene.name == "." || scene.name == ".." || scene.name.find('/') != std::string::npos))
+    throw InputError("name: \"" + scene.name + "\" makes the default output directory " +
+                     scene.output.dir + ", outside out/; give output.dir or --out");
   if (command.h) {
     if (!(*command.h > 0 && *command.h <= scene.horizon))
       throw InputError("--h: expected a step in (0, horizon] = (0, " + Short(scene.horizon) +

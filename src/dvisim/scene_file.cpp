@@ -443,6 +443,7 @@ void ReadOutput(const json* output, Scene& scene) {
     RequireObject(*output, path);
     RejectUnknownFields(*output, path, {"dir", "times", "samples", "plot"});
     if (const json* dir = FindField(*output, "dir")) {
+      out.dir_source = "output.dir";
       if (!dir->is_string() || dir->get<std::string>().empty())
         Fail(Field(path, "dir"), "expected a non-empty string, got " + Describe(*dir));
       out.dir = dir->get<std::string>();
@@ -515,6 +516,11 @@ Scene ParseScene(const std::string& text) {
   if (const json* name = FindField(root, "name")) {
     if (!name->is_string()) Fail("name", "expected a string, got " + Describe(*name));
     scene.name = name->get<std::string>();
+    // One line of text: it titles the plot (gnuplot failed on a line break
+    // after the run) and names the default output directory.
+    if (std::any_of(scene.name.begin(), scene.name.end(),
+                    [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
+      Fail("name", "contains a control character (a line break?); it must be one line of text");
   }
   if (const json* description = FindField(root, "description");
       description && !description->is_string())

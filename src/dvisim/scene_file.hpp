@@ -30,6 +30,9 @@ namespace dvi::dvisim {
 /// to a default.
 struct SceneOutput {
   std::string dir;            ///< Default "out/<name>" ("out/scene" without a name).
+  /// Where dir came from, to name it in messages: "output.dir", "--out" or
+  /// "name" (the default).
+  std::string dir_source = "name";
   std::vector<double> times;  ///< As given, within [0, horizon].
   int samples = 0;            ///< Equally spaced times over [0, horizon]; 0 = none.
   bool plot = false;
