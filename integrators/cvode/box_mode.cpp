@@ -645,7 +645,7 @@ void BoxModeSystem::Roots(double t, const Eigen::VectorXd& x, double* g) const {
 }
 
 SolveResult BoxModeSystem::SolveVi(double t, const Eigen::VectorXd& x,
-                                   const Eigen::VectorXd& warm) const {
+                                   const Eigen::VectorXd& warm, double tolerance) const {
   BoxMcp mcp;
   mcp.lower = lower_;
   mcp.upper = upper_;
@@ -660,18 +660,27 @@ SolveResult BoxModeSystem::SolveVi(double t, const Eigen::VectorXd& x,
       dvi.F_jacobian(t, x, z, Jx, J);
     };
   }
-  return SolveBoxProblem(mcp, warm);
+  return SolveBoxProblem(mcp, warm, tolerance);
 }
 
-SolveResult BoxModeSystem::SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm) const {
-  if (!affine_orthant_ || !mcp.jacobian) return dvi::Solve(mcp, solver_, warm);
+double BoxModeSystem::FSlack(double t, const Eigen::VectorXd& x, double state_error) const {
+  Eigen::MatrixXd Fx, Fu;
+  FJacobians(t, x, u_, Fx, Fu);
+  return Fx.rows() == 0 ? 0.0 : Fx.cwiseAbs().rowwise().sum().maxCoeff() * state_error;
+}
+
+SolveResult BoxModeSystem::SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm,
+                                           double tolerance) const {
+  SolverOptions solver = solver_;
+  if (tolerance > 0) solver.tolerance = tolerance;
+  if (!affine_orthant_ || !mcp.jacobian) return dvi::Solve(mcp, solver, warm);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m());
   Lcp lcp;
   lcp.q.resize(m());
   lcp.M.resize(m(), m());
   mcp.F(zero, lcp.q);
   mcp.jacobian(zero, lcp.M);
-  return dvi::Solve(lcp, solver_, warm);
+  return dvi::Solve(lcp, solver, warm);
 }
 
 Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorXd& x,

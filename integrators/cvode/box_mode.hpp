@@ -106,8 +106,13 @@ class BoxModeSystem {
   void Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd& correction,
                Eigen::VectorXd* err) const;
 
-  /// Solves the full VI at (t, x) as the box MCP, warm-started.
-  SolveResult SolveVi(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm) const;
+  /// Solves the full VI at (t, x) as the box MCP, warm-started, to the
+  /// solver's tolerance or, when given (> 0), to `tolerance`.
+  SolveResult SolveVi(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                      double tolerance = 0) const;
+  /// max_j |∂F_j/∂x|₁ · state_error at (t, x, u()): how far an error of
+  /// state_error in x (∞-norm) moves F.
+  double FSlack(double t, const Eigen::VectorXd& x, double state_error) const;
   /// ∂F/∂u at (t, x, u).
   Eigen::MatrixXd MultiplierJacobian(double t, const Eigen::VectorXd& x,
                                      const Eigen::VectorXd& u) const;
@@ -160,7 +165,8 @@ class BoxModeSystem {
                       const std::vector<int>& near_bound, BoxMode& mode, long* vi_solves,
                       long* iterations) const;
   /// Solves the box MCP, as LCP(F(0), ∂F/∂u) when F is affine on the orthant.
-  SolveResult SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm) const;
+  SolveResult SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm,
+                              double tolerance = 0) const;
   /// ∂F/∂t: the given function, else forward differences.
   void FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                        Eigen::VectorXd& Ft) const;

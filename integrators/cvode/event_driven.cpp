@@ -92,6 +92,9 @@ constexpr int kUnresolvedSteps = 10;
 // geometric sequence of switch times; a mode cycle of up to kZenoMaxPeriod
 // modes is geometric per cycle (gap k against gap k − p).
 constexpr int kZenoGaps = 8;
+// The largest tolerance an event's VI is solved to when the state's error
+// makes it infeasible at the solver's own (HandleEvent).
+constexpr double kMaxEventSlack = 1e-3;
 constexpr int kZenoMaxPeriod = 4;
 constexpr double kZenoMaxRatio = 0.99;
 constexpr double kZenoRatioSpread = 0.05;
@@ -678,7 +681,29 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     system_.Project(t, x, correction, nullptr);
     x += correction;
   }
-  const SolveResult vi = system_.SolveVi(t, x, system_.u());
+  SolveResult vi = system_.SolveVi(t, x, system_.u());
+  if (!vi.solved()) {
+    // The root's state carries CVODE's error and x' times the root's time
+    // tolerance (100 ε (|t| + |h|)): x crossed a state constraint by up to
+    // that much (x = −1.9e-10 where x ≥ 0, at t = 5e3), and the VI there is
+    // infeasible by as much. To the slack the state's error allows, it is
+    // solved; the mode chosen at it (a reduced one, for a state constraint)
+    // puts x back on its constraints.
+    double h_last = 0;
+    CVodeGetLastStep(cvode_.get(), &h_last);
+    Eigen::VectorXd xdot(x.size());
+    system_.Rhs(t, x, xdot);
+    const double root_time_error =
+        100 * std::numeric_limits<double>::epsilon() * (std::abs(t) + std::abs(h_last));
+    const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol +
+                               xdot.lpNorm<Eigen::Infinity>() * root_time_error;
+    const double slack = std::min(system_.FSlack(t, x, state_error), kMaxEventSlack);
+    if (slack > options_.solver.tolerance) {
+      ++stats.vi_solves;
+      stats.solver_iterations += vi.iterations;
+      vi = system_.SolveVi(t, x, system_.u(), slack);
+    }
+  }
   ++stats.vi_solves;
   stats.solver_iterations += vi.iterations;
   stats.max_residual = std::max(stats.max_residual, vi.residual);
