@@ -621,6 +621,10 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
       // "problem:" before.
       {"{" + dvi + R"(, "x0": [1], "horizon": 1, "method": {"name": "stepping", "solver": "pgs"}})",
        "", "the integrator refuses the scene: solver method 'pgs' does not apply to a box MCP"},
+      // The library names its option; the scene's field is method.scheme.
+      {R"({"problem": {"type": "pds", "A": [[0]], "c": [1], "set": "orthant"}, "x0": [1],
+          "horizon": 1, "method": {"name": "stepping", "scheme": "3.3"}})",
+       "", "method.scheme: 3.3"},
       // Event and auto integrate pds in the form (2.10), which does not need
       // x0 ∈ K; before this check their Newton ran out of iterations at t = 0.
       {R"({"problem": {"type": "pds", "A": [[1, 0], [0, 1]], "c": [0, 0],

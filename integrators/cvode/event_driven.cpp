@@ -87,14 +87,14 @@ constexpr double kLookAheadFraction = 1e-5;
 constexpr double kSameTimeFraction = 1e-12;
 // Steps in a row within the round-off of t that end a run (StepsResolveTime).
 constexpr int kUnresolvedSteps = 10;
+// The largest tolerance an event's VI is solved to when the state's error
+// makes it infeasible at the solver's own (HandleEvent).
+constexpr double kMaxEventSlack = 1e-3;
 // Zeno detection: this many successive gap ratios, all below kZenoMaxRatio
 // (per gap) and within kZenoRatioSpread (relative) of their mean, make a
 // geometric sequence of switch times; a mode cycle of up to kZenoMaxPeriod
 // modes is geometric per cycle (gap k against gap k − p).
 constexpr int kZenoGaps = 8;
-// The largest tolerance an event's VI is solved to when the state's error
-// makes it infeasible at the solver's own (HandleEvent).
-constexpr double kMaxEventSlack = 1e-3;
 constexpr int kZenoMaxPeriod = 4;
 constexpr double kZenoMaxRatio = 0.99;
 constexpr double kZenoRatioSpread = 0.05;

@@ -378,8 +378,14 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
       trajectory = IntegrateScene(scene, command.progress_bar ? ProgressBar(err, scene.horizon)
                                                               : std::function<void(double)>());
     } catch (const InvalidInputError& error) {
-      // The integrators name their own argument: x0, a scheme, a solver.
-      throw InputError(command.scene_path + ": the integrator refuses the scene: " + error.what());
+      // The integrators name their own argument: x0, a solver, or an option
+      // ("scheme: 3.3 does not apply to projected dynamics"), which a scene
+      // gives as the method field of the same name.
+      const std::string what = error.what();
+      const std::string option = what.substr(0, what.find(':'));
+      for (const char* field : {"h", "theta", "gamma", "scheme", "h_max", "max_steps", "max_events"})
+        if (option == field) throw InputError(command.scene_path + ": method." + what);
+      throw InputError(command.scene_path + ": the integrator refuses the scene: " + what);
     }
     if (command.progress_bar) err << "\n";
     if (!trajectory.succeeded()) {
