@@ -14,6 +14,24 @@
 namespace dvi::internal {
 namespace {
 
+// Products of this many entries or fewer are faster dense than sparse.
+constexpr Eigen::Index kDenseRowsEntries = 4096;
+
+// An LCS's rows for checks of many samples at once: dense copies of small
+// C and M, and max_i |C_i|₁ (how far an error of e in x moves C x).
+DenseAffineRows DenseRows(const AffineRows& rows) {
+  DenseAffineRows dense;
+  Eigen::VectorXd sums = Eigen::VectorXd::Zero(rows.C.rows());
+  for (Eigen::Index k = 0; k < rows.C.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(rows.C, k); it; ++it) sums(it.row()) += std::abs(it.value());
+  dense.max_row_sum = sums.size() == 0 ? 0.0 : sums.maxCoeff();
+  if (rows.C.size() + rows.M.size() <= kDenseRowsEntries) {
+    dense.C = Eigen::MatrixXd(rows.C);
+    dense.M = Eigen::MatrixXd(rows.M);
+  }
+  return dense;
+}
+
 // Entries up to which an LCS mode's u(x) is kept as a dense affine map.
 constexpr long kDenseMapEntries = 4096;
 
@@ -78,6 +96,7 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
   if (lcs) {
     flow_ = AffineFlow{lcs->p, lcs->A, lcs->B};
     lcs_rows_ = AffineRows{lcs->q, lcs->C, lcs->D};
+    dense_rows_ = DenseRows(lcs_rows_);
     return;
   }
   // An LCS known by its Dvi only (the KKT lifting of a polyhedral K): its
@@ -88,6 +107,7 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
   FJacobians(0, x0, u0, Fx, Fu);
   lcs_rows_.C = Fx.sparseView(1, 0);
   lcs_rows_.M = Fu.sparseView(1, 0);
+  dense_rows_ = DenseRows(lcs_rows_);
   flow_.p.resize(n());
   dvi_.f(0, x0, u0, flow_.p);
   SmallFJacobians(0, x0, u0, fx, fu);
@@ -664,6 +684,7 @@ SolveResult BoxModeSystem::SolveVi(double t, const Eigen::VectorXd& x,
 }
 
 double BoxModeSystem::FSlack(double t, const Eigen::VectorXd& x, double state_error) const {
+  if (affine_) return dense_rows_.max_row_sum * state_error;  // ∂F/∂x = C, fixed
   Eigen::MatrixXd Fx, Fu;
   FJacobians(t, x, u_, Fx, Fu);
   return Fx.rows() == 0 ? 0.0 : Fx.cwiseAbs().rowwise().sum().maxCoeff() * state_error;
@@ -691,7 +712,10 @@ Eigen::MatrixXd BoxModeSystem::MultiplierJacobian(double t, const Eigen::VectorX
   return Fu;
 }
 
-Eigen::Index BoxModeSystem::FirstOutOfBounds(const Eigen::Ref<const Eigen::MatrixXd>& U) const {
+Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorXd>& times,
+                                           const Eigen::Ref<const Eigen::MatrixXd>& X,
+                                           const Eigen::Ref<const Eigen::MatrixXd>& U,
+                                           double f_slack) const {
   const double tolerance = 1e3 * solver_.tolerance;
   Eigen::Index first = U.cols();
   for (const int j : free_) {
@@ -701,6 +725,44 @@ Eigen::Index BoxModeSystem::FirstOutOfBounds(const Eigen::Ref<const Eigen::Matri
     for (Eigen::Index k = 0; k < first; ++k)
       if (!(row(k) >= low && row(k) <= high)) first = k;
   }
+  if (static_cast<int>(free_.size()) == m()) return first == U.cols() ? -1 : first;
+  const double allowed = tolerance + f_slack;
+  // A bound row j holds where sign·F_j ≥ −allowed at every sample.
+  const auto check = [&](int j, const auto& F_j) {
+    const double sign = mode_[j] == BoundState::kLower ? 1.0 : -1.0;
+    for (Eigen::Index k = 0; k < first; ++k)
+      if (!(sign * F_j(k) >= -allowed)) first = k;
+  };
+  if (affine_ && dense_rows_.C.size() > 0) {
+    // F_j = c_j + C_j X + M_j U, row by row: GEMM's set-up costs more than
+    // these few short rows (1000 samples of a 2-state Filippov system).
+    Eigen::RowVectorXd F_j(U.cols());
+    for (int j = 0; j < m(); ++j) {
+      if (mode_[j] == BoundState::kFree) continue;
+      F_j.setConstant(lcs_rows_.c(j));
+      for (int i = 0; i < n(); ++i)
+        if (dense_rows_.C(j, i) != 0) F_j += dense_rows_.C(j, i) * X.row(i);
+      for (int l = 0; l < m(); ++l)
+        if (dense_rows_.M(j, l) != 0) F_j += dense_rows_.M(j, l) * U.row(l);
+      check(j, F_j);
+    }
+    return first == U.cols() ? -1 : first;
+  }
+  // F at the samples: one sparse product for a large LCS, else one call each.
+  Eigen::MatrixXd W(m(), U.cols());
+  if (affine_) {
+    W.noalias() = lcs_rows_.C * X;
+    W.noalias() += lcs_rows_.M * U;
+    W.colwise() += lcs_rows_.c;
+  } else {
+    Eigen::VectorXd w;
+    for (Eigen::Index k = 0; k < U.cols(); ++k) {
+      EvalF(times(k), X.col(k), U.col(k), w);
+      W.col(k) = w;
+    }
+  }
+  for (int j = 0; j < m(); ++j)
+    if (mode_[j] != BoundState::kFree) check(j, W.row(j));
   return first == U.cols() ? -1 : first;
 }
 

@@ -39,6 +39,14 @@ namespace dvi::internal {
 /// a free u_j gives u_j − l_j and ū_j − u_j, a lower-bound one F_j, an upper-
 /// bound one −F_j (the sign that holds it there); the other slots are 1.
 /// The multiplier of the last evaluation warm-starts the next Newton solve.
+/// lcs_rows_ as checks of many samples use them: C and M dense when small
+/// (else empty), and max_i |C_i|₁.
+struct DenseAffineRows {
+  Eigen::MatrixXd C;
+  Eigen::MatrixXd M;
+  double max_row_sum = 0;
+};
+
 class BoxModeSystem {
  public:
   /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: the
@@ -75,10 +83,12 @@ class BoxModeSystem {
   void SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
                     const Eigen::Ref<const Eigen::MatrixXd>& X, Eigen::Ref<Eigen::MatrixXd> U,
                     std::vector<char>& kept);
-  /// The first column of U (samples of u) whose free components leave
-  /// their bounds by more than the tolerance of Holds, or −1: a check of
-  /// samples, F not evaluated.
-  Eigen::Index FirstOutOfBounds(const Eigen::Ref<const Eigen::MatrixXd>& U) const;
+  /// The first sample (columns of X and U at times) where the mode no
+  /// longer holds — a free u out of its bounds, or a bound u's F of the
+  /// wrong sign by more than the tolerance of Holds plus f_slack — or −1.
+  Eigen::Index FirstViolation(const Eigen::Ref<const Eigen::VectorXd>& times,
+                              const Eigen::Ref<const Eigen::MatrixXd>& X,
+                              const Eigen::Ref<const Eigen::MatrixXd>& U, double f_slack) const;
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
   /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a
@@ -229,6 +239,7 @@ class BoxModeSystem {
   // passes_ passes of the differentiation procedure.
   AffineFlow flow_;
   AffineRows lcs_rows_;
+  DenseAffineRows dense_rows_;  // for FirstViolation and FSlack
   AffineConstraints mode_constraints_;
   // SelectReducedLcsMode's passes on the rows S with u_rest off them, for
   // SplitRows entering the mode it selected (none: passes == 0).

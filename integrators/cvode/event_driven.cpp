@@ -373,10 +373,11 @@ void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x
 // t_n) and the polynomial is evaluated by Horner, the same values without a
 // CVodeGetDky call (a sum over q + 1 N_Vectors) per time.
 // Samples the output times before `before` from the last step's
-// interpolant. Returns the first sampled time whose free u has left its
-// bounds (NaN if none): CVODE sees a root function only at step ends, so a
-// root that changes sign twice within one step (u driven by t while x' = 0
-// lets CVODE take steps of the whole horizon) shows only here.
+// interpolant. Returns the first sampled time where the mode no longer
+// holds (NaN if none): CVODE sees a root function only at step ends, so a
+// root that changes sign twice within one step shows only here (u driven by
+// t while x' = 0 lets a step span the horizon; a polynomial x grazes a
+// constraint within one long step).
 double EventDrivenRun::SampleOutputs(double before) {
   // The times are non-decreasing (validated): the step's are a range of
   // them, found by bisection.
@@ -443,7 +444,14 @@ double EventDrivenRun::SampleOutputs(double before) {
     }
     ++kept;
   }
-  const Eigen::Index out = system_.FirstOutOfBounds(U.leftCols(static_cast<Eigen::Index>(kept)));
+  if (kept == 0) return NAN;
+  const auto samples = static_cast<Eigen::Index>(kept);
+  // A bound row's F may be off by what the state's error moves it (Holds).
+  const double state_error = options_.rtol * X.leftCols(samples).lpNorm<Eigen::Infinity>() +
+                             options_.atol;
+  const Eigen::Index out = system_.FirstViolation(
+      step_times.head(samples).matrix(), X.leftCols(samples), U.leftCols(samples),
+      system_.FSlack(t_n, Eigen::VectorXd(X.col(samples - 1)), state_error));
   sample_times.resize(first_sample + kept);
   trajectory_.states.resize(first_sample + kept);
   trajectory_.multipliers.resize(first_sample + kept);
