@@ -58,10 +58,12 @@ struct EventDrivenOptions {
   /// CVODE's dense output; empty samples every accepted step. Either way t0,
   /// t_end and every event time (u the right limit) are also sampled.
   /// CVODE checks the mode's root functions at step ends only; a sample
-  /// whose free u has left its bounds reveals a root crossed twice within a
-  /// step (u driven by t while x' = 0 lets a step span the horizon), and
-  /// the event is located before it. Without output times, or where the
-  /// excursion falls between samples, bound h_max.
+  /// where the mode no longer holds (a free u out of its bounds, a bound
+  /// u's F of the wrong sign) reveals a root crossed twice within a step
+  /// (u driven by t while x' = 0, or a polynomial x grazing a constraint,
+  /// lets a step grow long), and the event is located before it. Without
+  /// output times, or where the excursion falls between samples, bound
+  /// h_max.
   std::vector<double> output_times;
   /// Limit on mode changes over the whole run, > 0.
   long max_events = 100'000;
