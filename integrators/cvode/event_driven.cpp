@@ -824,10 +824,10 @@ bool EventDrivenRun::StillHolds() {
 // step ends where a root function is NaN (F undefined beyond the state's
 // domain, as √x below 0; a mode with every u at a bound never evaluates F
 // in its right-hand side, so one step of a constant flow crosses both the
-// event and the domain's edge), or a sample shows u out of bounds though
-// the step's ends do not (a root crossed twice). kLocated moves t_ and y_
-// to the event; kUndefined means F is undefined beyond last_defined, with
-// no crossing before it; kNone, no crossing at all.
+// event and the domain's edge), or a sample where the mode no longer holds
+// though it does at the step's ends (a root crossed twice). kLocated moves
+// t_ and y_ to the event; kUndefined means F is undefined beyond
+// last_defined with no crossing before it; kNone, no crossing at all.
 EventDrivenRun::MissedRoot EventDrivenRun::LocateMissedRoot(double t_until, double& last_defined) {
   void* cvode = cvode_.get();
   double t_n = 0, h_last = 0;
@@ -959,10 +959,10 @@ bool EventDrivenRun::IntegrateModes() {
       if (system_.reduced())
         trajectory_.stats.max_constraint_drift =
             std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
-      const double out_of_bounds = SampleOutputs(t_);
+      const double violated_at = SampleOutputs(t_);
       double last_defined = t_;
-      event = !std::isnan(out_of_bounds) &&
-              LocateMissedRoot(out_of_bounds, last_defined) == MissedRoot::kLocated;
+      event = !std::isnan(violated_at) &&
+              LocateMissedRoot(violated_at, last_defined) == MissedRoot::kLocated;
       if (event) DropSamplesFrom(t_);
     }
     if (event) {
