@@ -721,7 +721,7 @@ Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorX
   for (const int j : free_) {
     const double low = lower_(j) - tolerance, high = upper_(j) + tolerance;
     const auto row = U.row(j).array();
-    if (row.minCoeff() >= low && row.maxCoeff() <= high) continue;  // the rule: one pass
+    if (row.minCoeff() >= low && row.maxCoeff() <= high) continue;  // the usual case
     for (Eigen::Index k = 0; k < first; ++k)
       if (!(row(k) >= low && row(k) <= high)) first = k;
   }
