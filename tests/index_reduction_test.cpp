@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -98,26 +99,34 @@ TEST(IndexReduction, ContactAtALargeTimeOvershootsWithinTheStateError) {
 // x1' = x2 + u, x2' = 1, 0 ≤ u ⊥ x1 + D u ≥ 0, x0 = (1, −c), c = √2.002:
 // unconstrained, x1 = 1 − ct + t²/2 dips to −0.001 over a window 0.09 wide
 // around t = c. x is a polynomial, so BDF's steps grow past the window: no
-// step end saw the root, and event reported success with the unconstrained
-// x1(10) = 36.8507950753 and w = −1e-3 at t = c (found by probing). The
-// sample at t = c shows the violation, and the contact is located before it.
+// step end sees the root. Event reported success with the unconstrained
+// x1(10) = 36.8507950753 and w = −1e-3 at t = c (found by probing); then,
+// checking its samples, it found the contact only when an output time fell
+// in the window (with output times {0, 10}: x1(10) off by 5.7e-5 for D = 1,
+// 1e-3 for D = 0). The root functions' polynomials over each step find it
+// whatever the output times.
 // Exact x1(10): 36.8508521441 for D = 1 (u = max(0, −x1)); for D = 0, x1
 // rests at 0 from t1 = c − √0.002 to c, then (t − c)²/2: 36.8517950769.
-TEST(IndexReduction, ContactGrazedWithinOneStepIsFoundFromTheSamples) {
+TEST(IndexReduction, ContactGrazedWithinOneStepIsFoundBetweenOutputTimes) {
   const double c = std::sqrt(2.002);
+  const std::vector<std::vector<double>> output_grids = {{0, c, 10}, {0, 10}, {0, 0.5, 9}, {}};
   for (const auto& [D, exact] : {std::pair{1.0, 36.8508521441}, std::pair{0.0, 36.8517950769}}) {
-    Eigen::Matrix2d A;
-    A << 0, 1, 0, 0;
-    const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
-                               Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
-                               Eigen::VectorXd::Zero(1));
-    EventDrivenOptions options = Tight();
-    options.output_times = {0, c, 10};
-    const Trajectory trajectory = IntegrateEventDriven(lcs, Eigen::Vector2d(1, -c), 0, 10, options);
-    ASSERT_TRUE(trajectory.succeeded()) << D << ": " << trajectory.message;
-    EXPECT_EQ(trajectory.events.size(), 2u) << D;
-    EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8) << D;
-    EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << D;
+    for (const auto& grid : output_grids) {
+      Eigen::Matrix2d A;
+      A << 0, 1, 0, 0;
+      const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
+                                 Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
+                                 Eigen::VectorXd::Zero(1));
+      EventDrivenOptions options = Tight();
+      options.output_times = grid;
+      const Trajectory trajectory =
+          IntegrateEventDriven(lcs, Eigen::Vector2d(1, -c), 0, 10, options);
+      ASSERT_TRUE(trajectory.succeeded()) << D << ": " << trajectory.message;
+      EXPECT_EQ(trajectory.events.size(), 2u) << D << ", " << grid.size() << " output times";
+      EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8) << D;
+      EXPECT_EQ(trajectory.times.back(), 10) << D;
+      EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << D << ", " << grid.size();
+    }
   }
 }
 

@@ -10,6 +10,7 @@
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
+#include "polynomial_floor.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -764,6 +765,52 @@ Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorX
   for (int j = 0; j < m(); ++j)
     if (mode_[j] != BoundState::kFree) check(j, W.row(j));
   return first == U.cols() ? -1 : first;
+}
+
+double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double t_n, double h,
+                                           double f_slack) const {
+  // Along the step u = k + K x and F = c + C x + M u are polynomials in t of
+  // x's degree q: their coefficients are the map's and the rows' products
+  // with x's, and FirstTimeBelow bounds each root function over the step.
+  using StepPolynomial =
+      Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, kMaxFloorDegree + 1>;
+  const int q = static_cast<int>(taylor.cols()) - 1;
+  const double tolerance = 1e3 * solver_.tolerance;
+  double first = NAN;
+  const auto below = [&](StepPolynomial& p, double floor) {
+    const double t = FirstTimeBelow(p.data(), q, t_n, h, floor);
+    if (!std::isnan(t) && !(t >= first)) first = t;
+  };
+  Eigen::MatrixXd& U = scratch_u_taylor_;
+  U.setZero(m(), q + 1);
+  StepPolynomial p(q + 1);
+  for (int j = 0; j < m(); ++j)
+    if (mode_[j] != BoundState::kFree) U(j, 0) = u_(j);
+  for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
+    const int j = free_[i];
+    U.row(j).noalias() = map_.row(i) * taylor;
+    U(j, 0) += map_offset_(i);
+    if (std::isfinite(lower_(j))) {
+      p = U.row(j);
+      p(0) -= lower_(j);
+      below(p, -tolerance);
+    }
+    if (std::isfinite(upper_(j))) {
+      p = -U.row(j);
+      p(0) += upper_(j);
+      below(p, -tolerance);
+    }
+  }
+  for (int j = 0; j < m(); ++j) {
+    // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
+    if (mode_[j] == BoundState::kFree || lower_(j) == upper_(j)) continue;
+    p.noalias() = dense_rows_.C.row(j) * taylor;
+    p.noalias() += dense_rows_.M.row(j) * U;
+    p(0) += lcs_rows_.c(j);
+    if (mode_[j] == BoundState::kUpper) p = -p;
+    below(p, -tolerance - f_slack);
+  }
+  return first;
 }
 
 bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,

@@ -89,6 +89,20 @@ class BoxModeSystem {
   Eigen::Index FirstViolation(const Eigen::Ref<const Eigen::VectorXd>& times,
                               const Eigen::Ref<const Eigen::MatrixXd>& X,
                               const Eigen::Ref<const Eigen::MatrixXd>& U, double f_slack) const;
+  /// Whether FirstViolationInStep covers the current mode: an LCS mode
+  /// whose u is affine in x by its dense map (or has no free component),
+  /// with dense rows. Its root functions are then polynomials in t along a
+  /// step's interpolant.
+  bool CoversSteps() const { return affine_ && dense_rows_.C.size() > 0 && ByMap(); }
+  /// The violations of FirstViolation, over a whole step [t_n − h, t_n]
+  /// whose x is Σ_k taylor.col(k) (t − t_n)ᵏ instead of at samples: a root
+  /// function that dips below its tolerance between the step's ends (a
+  /// contact grazed within one long step) is found wherever it dips, not
+  /// only where an output time falls. The earliest time found, or NaN.
+  /// @pre CoversSteps(), a Solve succeeded in the current mode,
+  /// taylor.cols() ≤ kMaxFloorDegree + 1.
+  double FirstViolationInStep(const Eigen::MatrixXd& taylor, double t_n, double h,
+                              double f_slack) const;
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
   /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a
@@ -275,6 +289,7 @@ class BoxModeSystem {
   Eigen::MatrixXd newton_Gu_;
   Eigen::PartialPivLU<Eigen::MatrixXd> newton_lu_;
   bool newton_lu_current_ = false;  // newton_lu_ factors this mode's G_u somewhere
+  mutable Eigen::MatrixXd scratch_u_taylor_;  // u's coefficients, FirstViolationInStep
   mutable Eigen::VectorXd scratch_F_;
   mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;

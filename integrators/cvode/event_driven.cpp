@@ -296,9 +296,10 @@ class EventDrivenRun {
   void Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
               const Eigen::Ref<const Eigen::VectorXd>& u);
   double SampleOutputs(double before);
+  double StepViolation();
   void DropSamplesFrom(double t);
-  /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step; false if CVODE
-  /// refuses one.
+  /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step (read once per
+  /// step); false if CVODE refuses one.
   bool ReadTaylor(double t_n, int q);
   void AddCvodeStats();
   bool Fail(IntegrationStatus status, const std::string& message);
@@ -324,6 +325,8 @@ class EventDrivenRun {
   // not allocate.
   std::vector<char> step_kept_;
   Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
+  double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
+  Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -376,8 +379,8 @@ void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x
 // interpolant. Returns the first sampled time where the mode no longer
 // holds (NaN if none): CVODE sees a root function only at step ends, so a
 // root that changes sign twice within one step shows only here (u driven by
-// t while x' = 0 lets a step span the horizon; a polynomial x grazes a
-// constraint within one long step).
+// t while x' = 0 lets a step span the horizon) or, for the modes it covers,
+// in StepViolation (a polynomial x grazes a constraint within one long step).
 double EventDrivenRun::SampleOutputs(double before) {
   // The times are non-decreasing (validated): the step's are a range of
   // them, found by bisection.
@@ -446,12 +449,16 @@ double EventDrivenRun::SampleOutputs(double before) {
   }
   if (kept == 0) return NAN;
   const auto samples = static_cast<Eigen::Index>(kept);
-  // A bound row's F may be off by what the state's error moves it (Holds).
-  const double state_error = options_.rtol * X.leftCols(samples).lpNorm<Eigen::Infinity>() +
-                             options_.atol;
-  const Eigen::Index out = system_.FirstViolation(
-      step_times.head(samples).matrix(), X.leftCols(samples), U.leftCols(samples),
-      system_.FSlack(t_n, Eigen::VectorXd(X.col(samples - 1)), state_error));
+  Eigen::Index out = -1;
+  // A mode StepViolation covers was checked over the whole step.
+  if (!system_.CoversSteps()) {
+    // A bound row's F may be off by what the state's error moves it (Holds).
+    const double state_error = options_.rtol * X.leftCols(samples).lpNorm<Eigen::Infinity>() +
+                               options_.atol;
+    out = system_.FirstViolation(
+        step_times.head(samples).matrix(), X.leftCols(samples), U.leftCols(samples),
+        system_.FSlack(t_n, Eigen::VectorXd(X.col(samples - 1)), state_error));
+  }
   sample_times.resize(first_sample + kept);
   trajectory_.states.resize(first_sample + kept);
   trajectory_.multipliers.resize(first_sample + kept);
@@ -472,6 +479,8 @@ void EventDrivenRun::DropSamplesFrom(double t) {
 }
 
 bool EventDrivenRun::ReadTaylor(double t_n, int q) {
+  if (taylor_time_ == t_n && taylor_.cols() == q + 1) return true;
+  taylor_time_ = NAN;
   taylor_.resize(x0_.size(), q + 1);
   double factorial = 1;
   for (int k = 0; k <= q; ++k) {
@@ -479,7 +488,36 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
     if (CVodeGetDky(cvode_.get(), t_n, k, dky_.get()) != CV_SUCCESS) return false;
     taylor_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size()) / factorial;
   }
+  taylor_time_ = t_n;
   return true;
+}
+
+// Where the mode stops holding within the last step, checked over all of
+// it when the mode's root functions are polynomials along the step
+// (BoxModeSystem::FirstViolationInStep): a constraint grazed between output
+// times is then found too. NaN when none is found, or when the mode is not
+// covered (SampleOutputs checks its samples instead).
+double EventDrivenRun::StepViolation() {
+  if (!system_.CoversSteps()) return NAN;
+  void* cvode = cvode_.get();
+  double t_n = 0, h = 0;
+  int q = 0;
+  CVodeGetCurrentTime(cvode, &t_n);
+  CVodeGetLastStep(cvode, &h);
+  CVodeGetLastOrder(cvode, &q);
+  if (!(h > 0) || !ReadTaylor(t_n, q)) return NAN;
+  // A bound row's F may be off by what the state's error moves it (Holds),
+  // the state's size taken at the step's ends.
+  double size = 0;
+  for (Eigen::Index i = 0; i < taylor_.rows(); ++i) {
+    double start = taylor_(i, q);
+    for (int k = q - 1; k >= 0; --k) start = taylor_(i, k) - h * start;
+    size = std::max({size, std::abs(start), std::abs(taylor_(i, 0))});
+  }
+  step_end_ = taylor_.col(0);
+  const double state_error = options_.rtol * size + options_.atol;
+  return system_.FirstViolationInStep(taylor_, t_n, h,
+                                      system_.FSlack(t_n, step_end_, state_error));
 }
 
 // CVODE goes on, with a warning only, when its steps no longer resolve t
@@ -938,6 +976,7 @@ bool EventDrivenRun::IntegrateModes() {
   while (true) {
     double t_reached = t_;
     const int flag = CVode(cvode, t_end_, y_.get(), &t_reached, CV_ONE_STEP);
+    taylor_time_ = NAN;
     if (!Check(flag, "CVode") || !StepsResolveTime()) return false;
     long steps = 0;
     CVodeGetNumSteps(cvode, &steps);
@@ -959,7 +998,9 @@ bool EventDrivenRun::IntegrateModes() {
       if (system_.reduced())
         trajectory_.stats.max_constraint_drift =
             std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
-      const double violated_at = SampleOutputs(t_);
+      const double in_step = StepViolation();
+      const double at_sample = SampleOutputs(t_);
+      const double violated_at = std::isnan(in_step) ? at_sample : in_step;
       double last_defined = t_;
       event = !std::isnan(violated_at) &&
               LocateMissedRoot(violated_at, last_defined) == MissedRoot::kLocated;

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "polynomial_floor.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace dvi::internal {
+namespace {
+
+using Coefficients = std::array<double, kMaxFloorDegree + 1>;
+
+constexpr int kMaxDepth = 40;
+constexpr int kMaxHalvings = 400;
+
+double Binomial(int n, int k) {
+  if (k < 0 || k > n) return 0;
+  double value = 1;
+  for (int i = 1; i <= k; ++i) value = value * (n - k + i) / i;
+  return value;
+}
+
+// b on [lo, lo + width] in τ; τ = 0 is the step's start.
+double Search(const Coefficients& b, int q, double lo, double width, int depth, int& halvings,
+              double floor) {
+  if (b[0] < floor) return lo;
+  if (*std::min_element(b.begin(), b.begin() + q + 1) >= floor) return NAN;
+  if (depth == kMaxDepth || ++halvings > kMaxHalvings) return b[q] < floor ? lo + width : NAN;
+  // de Casteljau at τ = ½: the left and right halves' coefficients.
+  Coefficients left{}, right{}, work = b;
+  left[0] = b[0];
+  right[q] = b[q];
+  for (int r = 1; r <= q; ++r) {
+    for (int i = 0; i <= q - r; ++i) work[i] = 0.5 * (work[i] + work[i + 1]);
+    left[r] = work[0];
+    right[q - r] = work[q - r];
+  }
+  const double half = width / 2;
+  const double found = Search(left, q, lo, half, depth + 1, halvings, floor);
+  if (!std::isnan(found)) return found;
+  return Search(right, q, lo + half, half, depth + 1, halvings, floor);
+}
+
+}  // namespace
+
+double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor) {
+  // With σ = (t_n − t)/h ∈ [0, 1], p = Σ e_k σᵏ, e_k = a_k (−h)ᵏ; with τ = 1 − σ
+  // (t = t_n − h + hτ), σᵏ = (1 − τ)ᵏ has the degree-q Bernstein coefficients
+  // C(q − i, k)/C(q, k), i = 0…q: no powers of h are expanded, so no
+  // cancellation.
+  Coefficients b{};
+  double scale = 1;
+  for (int k = 0; k <= q; ++k, scale *= -h) {
+    const double e = a[k] * scale;
+    const double denominator = Binomial(q, k);
+    for (int i = 0; i <= q - k; ++i) b[i] += e * Binomial(q - i, k) / denominator;
+  }
+  int halvings = 0;
+  const double tau = Search(b, q, 0, 1, 0, halvings, floor);
+  return std::isnan(tau) ? NAN : t_n - h + h * tau;
+}
+
+}  // namespace dvi::internal

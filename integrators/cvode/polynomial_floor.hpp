@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+namespace dvi::internal {
+
+/// The highest degree FirstTimeBelow takes: CVODE's Adams order limit (BDF
+/// stops at 5).
+inline constexpr int kMaxFloorDegree = 12;
+
+/// A time in [t_n − h, t_n] where p(t) = Σ_{k≤q} a[k] (t − t_n)ᵏ is below
+/// `floor` — the earliest one the search meets — or NaN when p ≥ floor is
+/// certified on the whole interval. p's Bernstein coefficients on an
+/// interval bound it from below there (their hull contains its graph), and
+/// halving by de Casteljau's algorithm tightens that bound quadratically, so
+/// a dip between any two sample points is found and a polynomial that
+/// stays above the floor is certified in a few halvings. Pieces narrower
+/// than 2⁻⁴⁰ h, or beyond a budget of halvings, count as certified.
+/// @pre 0 ≤ q ≤ kMaxFloorDegree, h > 0.
+double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor);
+
+}  // namespace dvi::internal
