@@ -2,6 +2,7 @@
 #include "box_mode.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -772,43 +773,60 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
   // Along the step u = k + K x and F = c + C x + M u are polynomials in t of
   // x's degree q: their coefficients are the map's and the rows' products
   // with x's, and FirstTimeBelow bounds each root function over the step.
-  using StepPolynomial =
-      Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, kMaxFloorDegree + 1>;
+  // Plain loops: at these sizes Eigen's product set-up costs more than the
+  // products (this runs once per step).
   const int q = static_cast<int>(taylor.cols()) - 1;
   const double tolerance = 1e3 * solver_.tolerance;
   double first = NAN;
-  const auto below = [&](StepPolynomial& p, double floor) {
+  std::array<double, kMaxFloorDegree + 1> p{};
+  const auto below = [&](double floor) {
     const double t = FirstTimeBelow(p.data(), q, t_n, h, floor);
     if (!std::isnan(t) && !(t >= first)) first = t;
   };
+  // Row-wise dot product of row (stride `stride`, `length` entries) with the
+  // columns of coefficients, added into p.
+  const auto add_product = [&](const double* row, Eigen::Index stride, Eigen::Index length,
+                               const Eigen::MatrixXd& coefficients) {
+    for (int k = 0; k <= q; ++k) {
+      const double* column = coefficients.col(k).data();
+      double sum = 0;
+      for (Eigen::Index i = 0; i < length; ++i) sum += row[i * stride] * column[i];
+      p[k] += sum;
+    }
+  };
   Eigen::MatrixXd& U = scratch_u_taylor_;
   U.setZero(m(), q + 1);
-  StepPolynomial p(q + 1);
   for (int j = 0; j < m(); ++j)
     if (mode_[j] != BoundState::kFree) U(j, 0) = u_(j);
   for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
     const int j = free_[i];
-    U.row(j).noalias() = map_.row(i) * taylor;
-    U(j, 0) += map_offset_(i);
+    std::fill(p.begin(), p.end(), 0.0);
+    add_product(map_.data() + i * n(), 1, n(), taylor);
+    p[0] += map_offset_(i);
+    for (int k = 0; k <= q; ++k) U(j, k) = p[k];
     if (std::isfinite(lower_(j))) {
-      p = U.row(j);
-      p(0) -= lower_(j);
-      below(p, -tolerance);
+      p[0] -= lower_(j);
+      below(-tolerance);
+      p[0] += lower_(j);
     }
     if (std::isfinite(upper_(j))) {
-      p = -U.row(j);
-      p(0) += upper_(j);
-      below(p, -tolerance);
+      for (int k = 0; k <= q; ++k) p[k] = -p[k];
+      p[0] += upper_(j);
+      below(-tolerance);
     }
   }
+  const Eigen::MatrixXd& C = dense_rows_.C;
+  const Eigen::MatrixXd& M = dense_rows_.M;
   for (int j = 0; j < m(); ++j) {
     // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
     if (mode_[j] == BoundState::kFree || lower_(j) == upper_(j)) continue;
-    p.noalias() = dense_rows_.C.row(j) * taylor;
-    p.noalias() += dense_rows_.M.row(j) * U;
-    p(0) += lcs_rows_.c(j);
-    if (mode_[j] == BoundState::kUpper) p = -p;
-    below(p, -tolerance - f_slack);
+    std::fill(p.begin(), p.end(), 0.0);
+    add_product(C.data() + j, C.rows(), n(), taylor);
+    add_product(M.data() + j, M.rows(), m(), U);
+    p[0] += lcs_rows_.c(j);
+    if (mode_[j] == BoundState::kUpper)
+      for (int k = 0; k <= q; ++k) p[k] = -p[k];
+    below(-tolerance - f_slack);
   }
   return first;
 }

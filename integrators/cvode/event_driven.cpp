@@ -396,7 +396,9 @@ double EventDrivenRun::SampleOutputs(double before) {
   CVodeGetCurrentTime(cvode, &t_n);
   CVodeGetLastStep(cvode, &h_u);
   CVodeGetLastOrder(cvode, &q);
-  const bool by_polynomial = static_cast<int>(end - next_output_) > q + 1 && ReadTaylor(t_n, q);
+  // StepViolation may have read the polynomial already.
+  const bool by_polynomial = (taylor_time_ == t_n && taylor_.cols() == q + 1) ||
+                             (static_cast<int>(end - next_output_) > q + 1 && ReadTaylor(t_n, q));
   // CVodeGetDky's own bound of the step, with its slack.
   const double step_start =
       t_n - h_u - 100 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + std::abs(h_u));

@@ -13,11 +13,23 @@ using Coefficients = std::array<double, kMaxFloorDegree + 1>;
 constexpr int kMaxDepth = 40;
 constexpr int kMaxHalvings = 400;
 
-double Binomial(int n, int k) {
-  if (k < 0 || k > n) return 0;
-  double value = 1;
-  for (int i = 1; i <= k; ++i) value = value * (n - k + i) / i;
-  return value;
+// The degree-q Bernstein coefficients of (1 − τ)ᵏ: C(q − i, k)/C(q, k) at
+// [q][k][i], i ≤ q − k (zero beyond).
+using BernsteinTable =
+    std::array<std::array<Coefficients, kMaxFloorDegree + 1>, kMaxFloorDegree + 1>;
+
+BernsteinTable MakeBernsteinTable() {
+  std::array<std::array<double, kMaxFloorDegree + 1>, kMaxFloorDegree + 1> binomial{};
+  for (int n = 0; n <= kMaxFloorDegree; ++n) {
+    binomial[n][0] = 1;
+    for (int k = 1; k <= n; ++k)
+      binomial[n][k] = binomial[n - 1][k - 1] + (k < n ? binomial[n - 1][k] : 0);
+  }
+  BernsteinTable table{};
+  for (int q = 0; q <= kMaxFloorDegree; ++q)
+    for (int k = 0; k <= q; ++k)
+      for (int i = 0; i <= q - k; ++i) table[q][k][i] = binomial[q - i][k] / binomial[q][k];
+  return table;
 }
 
 // b on [lo, lo + width] in τ; τ = 0 is the step's start.
@@ -48,12 +60,12 @@ double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor
   // (t = t_n − h + hτ), σᵏ = (1 − τ)ᵏ has the degree-q Bernstein coefficients
   // C(q − i, k)/C(q, k), i = 0…q: no powers of h are expanded, so no
   // cancellation.
+  static const BernsteinTable table = MakeBernsteinTable();
   Coefficients b{};
   double scale = 1;
   for (int k = 0; k <= q; ++k, scale *= -h) {
     const double e = a[k] * scale;
-    const double denominator = Binomial(q, k);
-    for (int i = 0; i <= q - k; ++i) b[i] += e * Binomial(q - i, k) / denominator;
+    for (int i = 0; i <= q - k; ++i) b[i] += e * table[q][k][i];
   }
   int halvings = 0;
   const double tau = Search(b, q, 0, 1, 0, halvings, floor);
