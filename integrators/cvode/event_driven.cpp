@@ -438,9 +438,11 @@ double EventDrivenRun::SampleOutputs(double before) {
     }
   }
   system_.SolveColumns(step_times.matrix(), X, U, step_kept_);
-  // A time whose x or u failed leaves its sample out.
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < count; ++k) {
+  // A time whose x or u failed leaves its sample out (rarely: the usual
+  // step keeps them all).
+  const bool all_kept = std::find(step_kept_.begin(), step_kept_.end(), 0) == step_kept_.end();
+  std::size_t kept = all_kept ? count : 0;
+  for (std::size_t k = 0; !all_kept && k < count; ++k) {
     if (!step_kept_[k]) continue;
     if (kept != k) {
       sample_times[first_sample + kept] = sample_times[first_sample + k];
