@@ -298,6 +298,12 @@ class EventDrivenRun {
   double SampleOutputs(double before);
   double StepViolation();
   void DropSamplesFrom(double t);
+  /// CVODE's last step: its end t_n, length h and order q.
+  struct Step {
+    double t_n = 0, h = 0;
+    int q = 0;
+  };
+  Step LastStep() const;
   /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step (read once per
   /// step); false if CVODE refuses one.
   bool ReadTaylor(double t_n, int q);
@@ -391,11 +397,7 @@ double EventDrivenRun::SampleOutputs(double before) {
   const std::size_t end = static_cast<std::size_t>(last - times.begin());
   if (end == next_output_) return NAN;
   void* cvode = cvode_.get();
-  double t_n = 0, h_u = 0;
-  int q = 0;
-  CVodeGetCurrentTime(cvode, &t_n);
-  CVodeGetLastStep(cvode, &h_u);
-  CVodeGetLastOrder(cvode, &q);
+  const auto [t_n, h_u, q] = LastStep();
   // StepViolation may have read the polynomial already.
   const bool by_polynomial = (taylor_time_ == t_n && taylor_.cols() == q + 1) ||
                              (static_cast<int>(end - next_output_) > q + 1 && ReadTaylor(t_n, q));
@@ -482,6 +484,15 @@ void EventDrivenRun::DropSamplesFrom(double t) {
                                           times.begin());
 }
 
+EventDrivenRun::Step EventDrivenRun::LastStep() const {
+  Step step;
+  void* cvode = cvode_.get();
+  CVodeGetCurrentTime(cvode, &step.t_n);
+  CVodeGetLastStep(cvode, &step.h);
+  CVodeGetLastOrder(cvode, &step.q);
+  return step;
+}
+
 bool EventDrivenRun::ReadTaylor(double t_n, int q) {
   if (taylor_time_ == t_n && taylor_.cols() == q + 1) return true;
   taylor_time_ = NAN;
@@ -503,12 +514,7 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
 // covered (SampleOutputs checks its samples instead).
 double EventDrivenRun::StepViolation() {
   if (!system_.CoversSteps()) return NAN;
-  void* cvode = cvode_.get();
-  double t_n = 0, h = 0;
-  int q = 0;
-  CVodeGetCurrentTime(cvode, &t_n);
-  CVodeGetLastStep(cvode, &h);
-  CVodeGetLastOrder(cvode, &q);
+  const auto [t_n, h, q] = LastStep();
   if (!(h > 0) || !ReadTaylor(t_n, q)) return NAN;
   // A bound row's F may be off by what the state's error moves it (Holds),
   // the state's size taken at the step's ends.
