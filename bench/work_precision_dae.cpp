@@ -8,8 +8,10 @@
 // (EulerMoreauOSI) over h, plus one attempt at Siconos' event-driven
 // LsodarOSI. Error = max over 1001 equispaced times of the error, and over
 // those and the exact solution's switch times. Goal per problem: at the
-// smallest error any time-stepping run reaches within the budget, `auto` is
-// ≥ 100× faster than that run. Usage and method: bench/README.md.
+// smallest error any time-stepping run reaches within the budget (errors
+// within round-off equal), `auto` is ≥ 100× faster than the cheapest
+// stepping run there, both timed side by side. Usage and method:
+// bench/README.md.
 //   work_precision_dae --csv PATH --goals PATH [--budget SECONDS] [--problem NAME]...
 // --problem (repeatable) limits the run to the named problems.
 #include <fcntl.h>
@@ -76,10 +78,28 @@ constexpr double kAutoStepPerHorizon = 1e-5;
 constexpr double kMinTimed = 0.02;
 constexpr double kRepeatedTotal = 0.1;
 constexpr double kGoalRatio = 100;
+// The goal's paired timing (PairTiming): rounds, as many as fit in
+// kPairedSeconds, at least kMinPairedRounds.
+constexpr int kMaxPairedRounds = 11;
+constexpr int kMinPairedRounds = 3;
+constexpr double kPairedSeconds = 20;
 // The LsodarOSI attempt runs in a child process (Siconos may abort) that is
 // killed after this many seconds.
 constexpr unsigned kProbeSeconds = 20;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// One run's outcome, before timing.
+struct RunResult {
+  double error = kInfinity;
+  double error_switches = kInfinity;
+  long steps = 0;
+  std::string note;
+  bool ok = false;
+  /// The integration's own wall and CPU time (Siconos: its timer's span);
+  /// < 0: those of the whole run are used.
+  double own_seconds = -1;
+  double own_cpu_seconds = -1;
+};
 
 struct Point {
   std::string problem;
@@ -97,19 +117,8 @@ struct Point {
   long steps = 0;
   std::string note;  ///< Failure (status: message), or auto's stepping intervals.
   bool ok = false;
-};
-
-// One run's outcome, before timing.
-struct RunResult {
-  double error = kInfinity;
-  double error_switches = kInfinity;
-  long steps = 0;
-  std::string note;
-  bool ok = false;
-  /// The integration's own wall and CPU time (Siconos: its timer's span);
-  /// < 0: those of the whole run are used.
-  double own_seconds = -1;
-  double own_cpu_seconds = -1;
+  /// The run again, for the goal's paired timing.
+  std::function<RunResult()> run;
 };
 
 std::string Fmt(const char* format, double value) {
@@ -181,34 +190,40 @@ RunResult Integrated(
   return result;
 }
 
-Point Measure(const DaeWorkPrecisionProblem& problem, const std::string& method,
-              const std::string& setting, double value, const std::function<RunResult()>& run) {
-  const auto timed = [&run](RunResult& result, double& wall, double& cpu) {
+// Wall and CPU seconds of run (its own timer where it has one), repeated
+// until kRepeatedTotal has passed and averaged when one run is shorter than
+// kMinTimed; result is the first run's.
+void TimeRun(const std::function<RunResult()>& run, RunResult& result, double& wall, double& cpu) {
+  const auto timed = [&run](RunResult& outcome, double& w, double& c) {
     const std::clock_t cpu_start = std::clock();
     const Clock::time_point start = Clock::now();
-    result = run();
-    wall = std::chrono::duration<double>(Clock::now() - start).count();
-    cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-    if (result.own_seconds >= 0) wall = result.own_seconds;
-    if (result.own_cpu_seconds >= 0) cpu = result.own_cpu_seconds;
+    outcome = run();
+    w = std::chrono::duration<double>(Clock::now() - start).count();
+    c = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+    if (outcome.own_seconds >= 0) w = outcome.own_seconds;
+    if (outcome.own_cpu_seconds >= 0) c = outcome.own_cpu_seconds;
   };
+  timed(result, wall, cpu);
+  if (wall >= kMinTimed) return;
+  double wall_sum = 0, cpu_sum = 0;
+  int count = 0;
+  while (wall_sum < kRepeatedTotal) {
+    RunResult repeat;
+    double w = 0, c = 0;
+    timed(repeat, w, c);
+    wall_sum += w;
+    cpu_sum += c;
+    ++count;
+  }
+  wall = wall_sum / count;
+  cpu = cpu_sum / count;
+}
+
+Point Measure(const DaeWorkPrecisionProblem& problem, const std::string& method,
+              const std::string& setting, double value, std::function<RunResult()> run) {
   RunResult result;
   double wall = 0, cpu = 0;
-  timed(result, wall, cpu);
-  if (wall < kMinTimed) {
-    double wall_sum = 0, cpu_sum = 0;
-    int count = 0;
-    while (wall_sum < kRepeatedTotal) {
-      RunResult repeat;
-      double w = 0, c = 0;
-      timed(repeat, w, c);
-      wall_sum += w;
-      cpu_sum += c;
-      ++count;
-    }
-    wall = wall_sum / count;
-    cpu = cpu_sum / count;
-  }
+  TimeRun(run, result, wall, cpu);
   Point point;
   point.problem = problem.name;
   point.method = method;
@@ -221,6 +236,7 @@ Point Measure(const DaeWorkPrecisionProblem& problem, const std::string& method,
   point.steps = result.steps;
   point.note = result.note;
   point.ok = result.ok;
+  point.run = std::move(run);
   return point;
 }
 
@@ -235,8 +251,9 @@ std::vector<Point> RunAdaptive(const DaeWorkPrecisionProblem& problem, bool with
     options.event.atol = problem.atol_fixed > 0 ? problem.atol_fixed : problem.atol_per_rtol * rtol;
     options.event.output_times = OutputTimes(problem);
     options.stepping.h = kAutoStepPerHorizon * problem.t_end;
-    points.push_back(
-        Measure(problem, with_auto ? "auto" : "event", "rtol = " + Fmt("%.0e", rtol), rtol, [&] {
+    points.push_back(Measure(
+        problem, with_auto ? "auto" : "event", "rtol = " + Fmt("%.0e", rtol), rtol,
+        [&problem, with_auto, options] {
           if (!with_auto) {
             return Integrated(problem, [&] {
               return IntegrateEventDriven(problem.lcs, problem.x0, 0, problem.t_end, options.event);
@@ -296,7 +313,8 @@ std::vector<Point> RunSteppingSweep(const DaeWorkPrecisionProblem& problem, bool
   for (long steps = kFirstStepCount; steps <= kMaxStepCount; steps *= 2) {
     const double h = problem.t_end / static_cast<double>(steps);
     const std::string setting = "h = " + Fmt("%.3g", h) + " (" + std::to_string(steps) + " steps)";
-    points.push_back(Measure(problem, method, setting, h, [&] {
+    points.push_back(Measure(problem, method, setting, h,
+                             [&problem, siconos, h, steps, theta, gamma, r0] {
       if (siconos) {
         SiconosSteppingOptions options;
         options.h = h;
@@ -444,6 +462,10 @@ struct CostAtError {
   double interpolated = kInfinity;
   const Point* cheapest = nullptr;
   double best_error = kInfinity;
+  /// The front's points interpolated between (above: null when the front's
+  /// cheapest point already reaches the target).
+  const Point* above = nullptr;
+  const Point* below = nullptr;
 };
 
 CostAtError CostAt(const std::vector<const Point*>& points, double target, ErrorGrid grid,
@@ -463,6 +485,8 @@ CostAtError CostAt(const std::vector<const Point*>& points, double target, Error
   }
   for (std::size_t k = 0; k < front.size(); ++k) {
     if (ErrorOn(*front[k], grid) > target) continue;
+    result.below = front[k];
+    if (k > 0) result.above = front[k - 1];
     if (k == 0) {
       result.interpolated = cost(*front[0]);
     } else {
@@ -490,18 +514,52 @@ struct Goal {
   /// fast method's best error, both interpolated.
   double stepping_at_fast_best = kInfinity;
   double fast_at_fast_best = kInfinity;
+  /// The fast method's points its time is interpolated between.
+  const Point* fast_above = nullptr;
+  const Point* fast_below = nullptr;
+  /// PairTiming's medians (NaN until it ran) and its number of rounds.
+  double paired_stepping_seconds = NAN;
+  double paired_fast_seconds = NAN;
+  int paired_rounds = 0;
   double target() const { return stepping ? ErrorOn(*stepping, grid) : kInfinity; }
   double ratio() const { return stepping ? stepping->seconds / fast_seconds : 0; }
   double cpu_ratio() const { return stepping ? stepping->cpu_seconds / fast_cpu_seconds : 0; }
-  bool pass() const { return std::isfinite(fast_seconds) && ratio() >= kGoalRatio; }
+  double paired_ratio() const { return paired_stepping_seconds / paired_fast_seconds; }
+  /// Judged on the paired timing where it ran: both sides timed in the same
+  /// rounds.
+  bool pass() const {
+    if (!std::isfinite(fast_seconds)) return false;
+    return (paired_rounds > 0 ? paired_ratio() : ratio()) >= kGoalRatio;
+  }
 };
 
+// 64ε times the largest |x| of the exact solution on the grid (of the
+// measured component): errors below it are round-off, equal whatever their
+// digits.
+double RoundOff(const DaeWorkPrecisionProblem& problem) {
+  double scale = 0;
+  for (const double t : Grid(problem.t_end)) {
+    const Eigen::VectorXd x = problem.exact(t);
+    scale = std::max(scale, problem.error_component < 0 ? x.lpNorm<Eigen::Infinity>()
+                                                        : std::abs(x(problem.error_component)));
+  }
+  return 64 * std::numeric_limits<double>::epsilon() * scale;
+}
+
+// The goal's stepping run is the cheapest of those at the smallest error any
+// stepping run reaches within the budget, errors within round-off being
+// equal: at N = 1000 every grid time is a step end, where implicit Euler is
+// exact for a piecewise-constant Filippov field, and both libraries'
+// stepping shows round-off there; the run with the fewest digits of it
+// (Siconos' 3.55e-14 in 4.67 ms against dvi's 3.77e-14 in 0.18 ms) is not
+// the best time-stepping at that error.
 Goal Judge(const std::vector<Point>& points, const std::string& problem,
-           const std::string& fast_method, ErrorGrid grid, double budget) {
+           const std::string& fast_method, ErrorGrid grid, double budget, double round_off) {
   Goal goal;
   goal.grid = grid;
   goal.fast_method = fast_method;
   std::vector<const Point*> fast, stepping;
+  double smallest = kInfinity;
   for (const Point& point : points) {
     if (point.problem != problem) continue;
     if (point.method == fast_method) fast.push_back(&point);
@@ -509,12 +567,19 @@ Goal Judge(const std::vector<Point>& points, const std::string& problem,
         point.method.rfind("stepping", 0) == 0 || point.method.rfind("siconos", 0) == 0;
     if (!is_stepping || !point.ok || point.seconds > budget) continue;
     stepping.push_back(&point);
-    if (goal.stepping == nullptr || ErrorOn(point, grid) < goal.target()) goal.stepping = &point;
+    smallest = std::min(smallest, ErrorOn(point, grid));
   }
+  const double equal = std::max(smallest, round_off);
+  for (const Point* point : stepping)
+    if (ErrorOn(*point, grid) <= equal &&
+        (goal.stepping == nullptr || point->seconds < goal.stepping->seconds))
+      goal.stepping = point;
   if (goal.stepping == nullptr) return goal;
   const CostAtError wall =
       CostAt(fast, goal.target(), grid, [](const Point& p) { return p.seconds; });
   goal.fast_seconds = wall.interpolated;
+  goal.fast_above = wall.above;
+  goal.fast_below = wall.below;
   goal.fast_cheapest = wall.cheapest;
   goal.fast_best_error = wall.best_error;
   goal.fast_cpu_seconds =
@@ -527,11 +592,63 @@ Goal Judge(const std::vector<Point>& points, const std::string& problem,
   return goal;
 }
 
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t middle = values.size() / 2;
+  return values.size() % 2 == 1 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
+}
+
+// The goal's two costs timed again side by side: in each round the stepping
+// run and the fast method's points that its time is interpolated between
+// are timed in turn (each as in the sweep), and the medians over the
+// rounds replace the sweep's times, the interpolation redone with them. The
+// sweep times each point once, minutes apart: this machine's speed drifts
+// by up to 1.5× between periods, which moved filippov2d's ratio of a 5 ms
+// stepping run to a 0.05 ms auto run between 67× and 151× from one run of
+// the same code to the next (bench/README.md).
+void PairTiming(Goal& goal) {
+  if (goal.stepping == nullptr || goal.fast_below == nullptr) return;
+  std::vector<const Point*> fast{goal.fast_below};
+  if (goal.fast_above != nullptr) fast.push_back(goal.fast_above);
+  // TimeRun repeats a run shorter than kMinTimed for kRepeatedTotal.
+  const auto round_share = [](const Point* point) {
+    return point->seconds < kMinTimed ? kRepeatedTotal : point->seconds;
+  };
+  double per_round = round_share(goal.stepping);
+  for (const Point* point : fast) per_round += round_share(point);
+  goal.paired_rounds = std::clamp(static_cast<int>(kPairedSeconds / per_round), kMinPairedRounds,
+                                  kMaxPairedRounds);
+  std::vector<double> stepping_times;
+  std::vector<std::vector<double>> fast_times(fast.size());
+  for (int round = 0; round < goal.paired_rounds; ++round) {
+    RunResult result;
+    double wall = 0, cpu = 0;
+    TimeRun(goal.stepping->run, result, wall, cpu);
+    stepping_times.push_back(wall);
+    for (std::size_t k = 0; k < fast.size(); ++k) {
+      TimeRun(fast[k]->run, result, wall, cpu);
+      fast_times[k].push_back(wall);
+    }
+  }
+  goal.paired_stepping_seconds = Median(stepping_times);
+  std::vector<Point> retimed;
+  for (std::size_t k = 0; k < fast.size(); ++k) {
+    retimed.push_back(*fast[k]);
+    retimed.back().seconds = Median(fast_times[k]);
+  }
+  std::vector<const Point*> pointers;
+  for (const Point& point : retimed) pointers.push_back(&point);
+  goal.paired_fast_seconds =
+      CostAt(pointers, goal.target(), goal.grid, [](const Point& p) { return p.seconds; })
+          .interpolated;
+}
+
 std::string GoalLine(const Goal& goal, double budget) {
   if (goal.stepping == nullptr) return "no stepping run succeeded within the budget: FAIL";
   const Point& s = *goal.stepping;
-  std::string line = "smallest stepping error within " + Fmt("%g", budget) +
-                     " s: " + Fmt("%.2e", goal.target()) + " (" + s.method + ", " + s.setting +
+  std::string line = "cheapest stepping run at the smallest error within " + Fmt("%g", budget) +
+                     " s (round-off equal): " + Fmt("%.2e", goal.target()) + " (" + s.method +
+                     ", " + s.setting +
                      ", " + Fmt("%.3g", s.seconds) + " s); " + goal.fast_method + " ";
   if (!std::isfinite(goal.fast_seconds)) {
     return line + "never reaches it (best " + Fmt("%.2e", goal.fast_best_error) +
@@ -540,11 +657,18 @@ std::string GoalLine(const Goal& goal, double budget) {
            " ms (interpolated): ratio " +
            Fmt("%.3g", goal.stepping_at_fast_best / goal.fast_at_fast_best) + "×";
   }
+  std::string paired;
+  if (goal.paired_rounds > 0)
+    paired = "; paired timing, medians of " + std::to_string(goal.paired_rounds) +
+             " interleaved rounds: stepping " + Fmt("%.3g", goal.paired_stepping_seconds) +
+             " s, " + goal.fast_method + " " + Fmt("%.3g", 1e3 * goal.paired_fast_seconds) +
+             " ms, ratio " + Fmt("%.3g", goal.paired_ratio()) + "×";
   return line + Fmt("%.3g", 1e3 * goal.fast_seconds) +
          " ms (interpolated; cheapest run at or below: " + goal.fast_cheapest->setting + ", " +
          Fmt("%.3g", 1e3 * goal.fast_cheapest->seconds) + " ms): ratio " +
-         Fmt("%.3g", goal.ratio()) + "× (CPU " + Fmt("%.3g", goal.cpu_ratio()) +
-         "×): " + (goal.pass() ? "PASS" : "FAIL") + " (goal ≥ " + Fmt("%g", kGoalRatio) + "×)";
+         Fmt("%.3g", goal.ratio()) + "× (CPU " + Fmt("%.3g", goal.cpu_ratio()) + "×)" + paired +
+         ": " + (goal.pass() ? "PASS" : "FAIL") + " (goal ≥ " + Fmt("%g", kGoalRatio) + "×" +
+         (goal.paired_rounds > 0 ? ", on the paired timing)" : ")");
 }
 
 std::string Cell(std::string text) {
@@ -650,35 +774,47 @@ int Main(int argc, char** argv) {
             << Fmt("%g", 1e3 * kMinTimed)
             << " ms; of the integration call alone, not the error evaluation (Siconos: its own "
                "timer, initialize() and the steps). speed-up: wall time of "
-               "the goal's stepping run (grid) / the row's.\n";
+               "the goal's stepping run (grid + switches) / the row's.\n";
   std::ofstream goals_csv(goals_path);
   if (!goals_csv) throw std::runtime_error("cannot write " + goals_path);
-  goals_csv << "problem,error_grid,target_error,stepping_method,stepping_setting,"
-               "stepping_seconds,auto_seconds,ratio,cpu_ratio,event_seconds,event_ratio,verdict\n";
-  int passed = 0, passed_switches = 0;
+  goals_csv << "problem,error_grid,role,target_error,stepping_method,stepping_setting,"
+               "stepping_seconds,auto_seconds,ratio,cpu_ratio,event_seconds,event_ratio,"
+               "paired_rounds,paired_stepping_seconds,paired_auto_seconds,paired_ratio,verdict\n";
+  int passed = 0, passed_grid_alone = 0;
   for (const DaeWorkPrecisionProblem& problem : problems) {
-    for (const ErrorGrid grid : {ErrorGrid::kGrid, ErrorGrid::kWithSwitches}) {
-      const Goal goal = Judge(points, problem.name, "auto", grid, budget);
-      const Goal event_goal = Judge(points, problem.name, "event", grid, budget);
-      const std::string grid_name = grid == ErrorGrid::kGrid ? "grid" : "grid + switches";
-      if (grid == ErrorGrid::kGrid) PrintProblem(problem, points, goal);
-      std::cout << "\nGoal (" << problem.name << ", " << grid_name
-                << "): " << GoalLine(goal, budget)
+    const double round_off = RoundOff(problem);
+    // The goal's max error is over [0, T]: the grid and the switch times,
+    // where time-stepping's interpolant has its largest error. The grid
+    // alone is reported for comparison: from N = 1000 on its times are step
+    // ends, where implicit Euler is exact for a piecewise-constant Filippov
+    // field, so it never sees time-stepping's O(h) error at the kinks.
+    for (const ErrorGrid grid : {ErrorGrid::kWithSwitches, ErrorGrid::kGrid}) {
+      const bool judged = grid == ErrorGrid::kWithSwitches;
+      Goal goal = Judge(points, problem.name, "auto", grid, budget, round_off);
+      PairTiming(goal);
+      const Goal event_goal = Judge(points, problem.name, "event", grid, budget, round_off);
+      const std::string grid_name = judged ? "grid + switches" : "grid";
+      if (judged) PrintProblem(problem, points, goal);
+      std::cout << "\n" << (judged ? "Goal" : "Grid alone, for comparison") << " ("
+                << problem.name << ", " << grid_name << "): " << GoalLine(goal, budget)
                 << "\nFor reference, event: " << GoalLine(event_goal, budget) << "\n";
-      (grid == ErrorGrid::kGrid ? passed : passed_switches) += goal.pass();
+      (judged ? passed : passed_grid_alone) += goal.pass();
       if (goal.stepping == nullptr) continue;
-      goals_csv << problem.name << ',' << grid_name << ',' << goal.target() << ','
-                << goal.stepping->method << ',' << Csv(goal.stepping->setting) << ','
-                << goal.stepping->seconds << ',' << goal.fast_seconds << ',' << goal.ratio() << ','
-                << goal.cpu_ratio() << ',' << event_goal.fast_seconds << ',' << event_goal.ratio()
-                << ',' << (goal.pass() ? "PASS" : "FAIL") << '\n';
+      goals_csv << problem.name << ',' << grid_name << ',' << (judged ? "goal" : "comparison")
+                << ',' << goal.target() << ',' << goal.stepping->method << ','
+                << Csv(goal.stepping->setting) << ',' << goal.stepping->seconds << ','
+                << goal.fast_seconds << ',' << goal.ratio() << ',' << goal.cpu_ratio() << ','
+                << event_goal.fast_seconds << ',' << event_goal.ratio() << ','
+                << goal.paired_rounds << ',' << goal.paired_stepping_seconds << ','
+                << goal.paired_fast_seconds << ',' << goal.paired_ratio() << ','
+                << (goal.pass() ? "PASS" : "FAIL") << '\n';
     }
   }
   std::cout << "\nSiconos' event-driven LsodarOSI on the bridge LCS (FirstOrderLinearTIDS/TIR, "
                "EventDriven with LCPs at the impact and acceleration levels): "
-            << lsodar << "\n\nGoals passed: " << passed << " of " << problems.size()
-            << " on the grid, " << passed_switches << " of " << problems.size()
-            << " on grid + switches\n";
+            << lsodar << "\n\nGoals passed (max error over [0, T]: grid and switch times): "
+            << passed << " of " << problems.size() << "; on the grid alone: " << passed_grid_alone
+            << " of " << problems.size() << "\n";
 
   std::ofstream csv(csv_path);
   if (!csv) throw std::runtime_error("cannot write " + csv_path);
