@@ -497,8 +497,15 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
   if (taylor_time_ == t_n && taylor_.cols() == q + 1) return true;
   taylor_time_ = NAN;
   taylor_.resize(x0_.size(), q + 1);
+  // A step that ended at t_n (not at a root or the stop time within it) left
+  // y(t_n) in y_: one CVodeGetDky call fewer per step.
+  int first = 0;
+  if (t_n == t_) {
+    taylor_.col(0) = Eigen::Map<const Eigen::VectorXd>(y_.data(), x0_.size());
+    first = 1;
+  }
   double factorial = 1;
-  for (int k = 0; k <= q; ++k) {
+  for (int k = first; k <= q; ++k) {
     if (k > 1) factorial *= k;
     if (CVodeGetDky(cvode_.get(), t_n, k, dky_.get()) != CV_SUCCESS) return false;
     taylor_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size()) / factorial;
