@@ -3,8 +3,10 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "check.hpp"
+#include "jacobian_check.hpp"
 
 namespace dvi {
 namespace {
@@ -75,19 +77,22 @@ void Dvi::CheckShapes(double t, const Eigen::VectorXd& x) const {
     DVI_THROW_UNLESS(out.size() == rows,
                      "Dvi." << name << ": wrote " << out.size() << " entries, expected " << rows);
   };
-  const auto check_jacobian = [&](const TimeStateJacobian& g, const char* name, int rows) {
+  const auto check_jacobian = [&](const TimeStateJacobian& g, const TimeStateFunction& of,
+                                  const char* name, const char* of_name, int rows) {
     Eigen::MatrixXd Jx(rows, n), Ju(rows, m);
     g(t, x, u, Jx, Ju);
     DVI_THROW_UNLESS(Jx.rows() == rows && Jx.cols() == n && Ju.rows() == rows && Ju.cols() == m,
                      "Dvi." << name << ": wrote Jx " << Jx.rows() << "×" << Jx.cols() << " and Ju "
                             << Ju.rows() << "×" << Ju.cols() << ", expected " << rows << "×" << n
                             << " and " << rows << "×" << m);
+    internal::CheckJacobianByDifferences(of, Jx, Ju, t, x, u, ("Dvi." + std::string(name)).c_str(),
+                                         ("Dvi." + std::string(of_name)).c_str());
   };
   check_vector(f, "f", n);
-  if (f_jacobian) check_jacobian(f_jacobian, "f_jacobian", n);
+  if (f_jacobian) check_jacobian(f_jacobian, f, "f_jacobian", "f", n);
   if (m == 0) return;
   check_vector(F, "F", m);
-  if (F_jacobian) check_jacobian(F_jacobian, "F_jacobian", m);
+  if (F_jacobian) check_jacobian(F_jacobian, F, "F_jacobian", "F", m);
   if (F_time_derivative) check_vector(F_time_derivative, "F_time_derivative", m);
 }
 

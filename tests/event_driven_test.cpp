@@ -571,6 +571,56 @@ TEST(EventDriven, FunctionsOfTheWrongShapeAreNamedByEveryIntegrator) {
   }
 }
 
+// x' = (−1 + u, ½), 0 ≤ u ⊥ x1 ≥ 0 from x0 = (1, 0): index two, reduced by
+// Theorem 5.2 at x1 = 0 with x(3) = (0, 1.5). A user F_jacobian with
+// ∂F/∂x2 = 1 instead of 0 made the reduced mode's u = 0.5 and its projection
+// skew: success with x(3) = (−0.404, 2.096), x1 < 0 on x1 ≥ 0. It is named
+// before any step, by every integrator. At a kink any subgradient is
+// accepted: F = x1 + |x2| with x2 ≡ 0 (x' = (−1 + u, 0)), ∂F/∂x2 = ±1.
+TEST(EventDriven, AWrongJacobianIsNamedBeforeAnyStep) {
+  const auto contact = [](double x2_rate, double dF_dx2, bool kink) {
+    Dvi dvi;
+    dvi.n = 2;
+    dvi.m = 1;
+    dvi.K = ConvexSet::Orthant(1);
+    dvi.f = [x2_rate](double, const Eigen::VectorXd&, const Eigen::VectorXd& u,
+                      Eigen::VectorXd& out) { out << -1 + u(0), x2_rate; };
+    dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                        Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+      Jx.setZero();
+      Ju << 1, 0;
+    };
+    dvi.F = [kink](double, const Eigen::VectorXd& x, const Eigen::VectorXd&,
+                   Eigen::VectorXd& out) { out << x(0) + (kink ? std::abs(x(1)) : 0.0); };
+    dvi.F_jacobian = [dF_dx2](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                              Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+      Jx << 1, dF_dx2;
+      Ju << 0;
+    };
+    return dvi;
+  };
+  const Eigen::Vector2d x0(1, 0);
+  const Dvi wrong = contact(0.5, 1, false);
+  const std::string name = "Dvi.F_jacobian: row 0 disagrees with central differences of Dvi.F";
+  ExpectThrowNaming([&] { IntegrateEventDriven(wrong, x0, 0, 3); }, name);
+  ExpectThrowNaming([&] { IntegrateTimeStepping(wrong, x0, 0, 3); }, name);
+  ExpectThrowNaming([&] { IntegrateAuto(wrong, x0, 0, 3); }, name);
+
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  for (const auto& [dvi, x2_end] : {std::pair{contact(0.5, 0, false), 1.5},
+                                    std::pair{contact(0, 1, true), 0.0},
+                                    std::pair{contact(0, -1, true), 0.0}}) {
+    const Trajectory trajectory = IntegrateEventDriven(dvi, x0, 0, 3, options);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    ASSERT_EQ(trajectory.events.size(), 1u);
+    EXPECT_NEAR(trajectory.events.front().time, 1, 1e-9);
+    EXPECT_NEAR(trajectory.states.back()(0), 0, 1e-9);
+    EXPECT_NEAR(trajectory.states.back()(1), x2_end, 1e-9);
+  }
+}
+
 TEST(EventDriven, RejectsInvalidInput) {
   EventDrivenOptions options;
   options.rtol = -1;

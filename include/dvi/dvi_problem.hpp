@@ -49,9 +49,13 @@ struct Dvi {
   /// K.dim() != m, naming the field.
   void Validate() const;
   /// Evaluates f, F and the optional functions once at (t, x) with u the
-  /// box-clipped origin. @throws InvalidInputError naming a function whose
+  /// box-clipped origin, and compares a given f_jacobian or F_jacobian with
+  /// central differences of f or F there (where those are reliable: g
+  /// smooth at the point). @throws InvalidInputError naming a function whose
   /// output has the wrong size (a resized out, or a Jacobian of the wrong
-  /// shape), which would otherwise corrupt memory later. Nothing is
+  /// shape), which would otherwise corrupt memory later, or a Jacobian whose
+  /// row disagrees with the differences by more than 1e-3 relative (a wrong
+  /// entry would make a reduced mode leave its constraint). Nothing is
   /// checked when x.size() != n: the integrators name x0 themselves.
   void CheckShapes(double t, const Eigen::VectorXd& x) const;
 };

@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "jacobian_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "check.hpp"
+
+namespace dvi::internal {
+namespace {
+
+// Central-difference steps along a direction scaled by max(1, |z_j|): the
+// larger one's truncation error (~h²) and the smaller one's rounding error
+// (~ε/h) both stay far below the tolerances below for a smooth g of O(1)
+// derivatives.
+constexpr double kLargeStep = 1e-3;
+constexpr double kSmallStep = 1e-4;
+// The differences count as reliable when the two central ones agree to this
+// and the forward and backward ones to kSmoothness (relative).
+constexpr double kReliable = 1e-5;
+constexpr double kSmoothness = 1e-2;
+// A Jacobian further than this (relative) from reliable differences is wrong.
+constexpr double kMismatch = 1e-3;
+
+}  // namespace
+
+void CheckJacobianByDifferences(const TimeStateFunction& g, const Eigen::MatrixXd& Jx,
+                                const Eigen::MatrixXd& Ju, double t, const Eigen::VectorXd& x,
+                                const Eigen::VectorXd& u, const char* name, const char* g_name) {
+  const Eigen::Index n = x.size(), m = u.size(), rows = Jx.rows();
+  if (!Jx.allFinite() || !Ju.allFinite()) return;
+  const auto value = [&](double s, const Eigen::VectorXd& wx, const Eigen::VectorXd& wu) {
+    Eigen::VectorXd out(rows);
+    g(t, x + s * wx, u + s * wu, out);
+    return out;
+  };
+  const Eigen::VectorXd center = value(0, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(m));
+  if (!center.allFinite()) return;
+  // Two directions with every component nonzero, alternating signs and all
+  // positive, so that no single wrong entry cancels in both.
+  for (int pattern = 0; pattern < 2; ++pattern) {
+    Eigen::VectorXd wx(n), wu(m);
+    for (Eigen::Index j = 0; j < n + m; ++j) {
+      const double sign = pattern == 1 || j % 2 == 0 ? 1.0 : -1.0;
+      const double weight = sign * (1 + 0.5 * static_cast<double>(j) / static_cast<double>(n + m));
+      if (j < n)
+        wx(j) = weight * std::max(1.0, std::abs(x(j)));
+      else
+        wu(j - n) = weight * std::max(1.0, std::abs(u(j - n)));
+    }
+    const Eigen::VectorXd exact = Jx * wx + Ju * wu;
+    const Eigen::VectorXd plus_large = value(kLargeStep, wx, wu);
+    const Eigen::VectorXd minus_large = value(-kLargeStep, wx, wu);
+    const Eigen::VectorXd plus_small = value(kSmallStep, wx, wu);
+    const Eigen::VectorXd minus_small = value(-kSmallStep, wx, wu);
+    if (!plus_large.allFinite() || !minus_large.allFinite() || !plus_small.allFinite() ||
+        !minus_small.allFinite())
+      return;
+    const Eigen::VectorXd large = (plus_large - minus_large) / (2 * kLargeStep);
+    const Eigen::VectorXd small = (plus_small - minus_small) / (2 * kSmallStep);
+    const Eigen::VectorXd forward = (plus_small - center) / kSmallStep;
+    const Eigen::VectorXd backward = (center - minus_small) / kSmallStep;
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const double scale = std::max({1.0, std::abs(small(i)), std::abs(exact(i))});
+      const bool reliable = std::abs(large(i) - small(i)) <= kReliable * scale &&
+                            std::abs(forward(i) - backward(i)) <= kSmoothness * scale;
+      DVI_THROW_UNLESS(!reliable || std::abs(exact(i) - small(i)) <= kMismatch * scale,
+                       name << ": row " << i << " disagrees with central differences of "
+                            << g_name << " at t = " << t << " (x = x0, u = "
+                            << u.transpose() << "): along a direction through (x, u) it gives "
+                            << exact(i) << ", the differences " << small(i)
+                            << " (a wrong or transposed entry, or Jx and Ju swapped?)");
+    }
+  }
+}
+
+}  // namespace dvi::internal
