@@ -34,7 +34,8 @@ void CheckJacobianByDifferences(const TimeStateFunction& g, const Eigen::MatrixX
     g(t, x + s * wx, u + s * wu, out);
     return out;
   };
-  const Eigen::VectorXd center = value(0, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(m));
+  Eigen::VectorXd center(rows);
+  g(t, x, u, center);
   if (!center.allFinite()) return;
   // Two directions with every component nonzero, alternating signs and all
   // positive, so that no single wrong entry cancels in both.

@@ -794,8 +794,10 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
       p[k] += sum;
     }
   };
+  // Room for the highest order once, so that order changes do not reallocate.
   Eigen::MatrixXd& U = scratch_u_taylor_;
-  U.setZero(m(), q + 1);
+  if (U.rows() != m()) U.resize(m(), kMaxFloorDegree + 1);
+  U.leftCols(q + 1).setZero();
   for (int j = 0; j < m(); ++j)
     if (mode_[j] != BoundState::kFree) U(j, 0) = u_(j);
   for (int i = 0; i < static_cast<int>(free_.size()); ++i) {

@@ -307,6 +307,10 @@ class EventDrivenRun {
   /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step (read once per
   /// step); false if CVODE refuses one.
   bool ReadTaylor(double t_n, int q);
+  /// Whether taylor_ holds the step ending at t_n, of order q.
+  bool HasTaylor(double t_n, int q) const {
+    return taylor_time_ == t_n && taylor_.cols() == q + 1;
+  }
   void AddCvodeStats();
   bool Fail(IntegrationStatus status, const std::string& message);
 
@@ -399,7 +403,7 @@ double EventDrivenRun::SampleOutputs(double before) {
   void* cvode = cvode_.get();
   const auto [t_n, h_u, q] = LastStep();
   // StepViolation may have read the polynomial already.
-  const bool by_polynomial = (taylor_time_ == t_n && taylor_.cols() == q + 1) ||
+  const bool by_polynomial = HasTaylor(t_n, q) ||
                              (static_cast<int>(end - next_output_) > q + 1 && ReadTaylor(t_n, q));
   // CVodeGetDky's own bound of the step, with its slack.
   const double step_start =
@@ -494,7 +498,7 @@ EventDrivenRun::Step EventDrivenRun::LastStep() const {
 }
 
 bool EventDrivenRun::ReadTaylor(double t_n, int q) {
-  if (taylor_time_ == t_n && taylor_.cols() == q + 1) return true;
+  if (HasTaylor(t_n, q)) return true;
   taylor_time_ = NAN;
   taylor_.resize(x0_.size(), q + 1);
   // A step that ended at t_n (not at a root or the stop time within it) left
