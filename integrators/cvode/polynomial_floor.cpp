@@ -53,23 +53,35 @@ double Search(const Coefficients& b, int q, double lo, double width, int depth, 
   return Search(right, q, lo + half, half, depth + 1, halvings, floor);
 }
 
-}  // namespace
-
-double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor) {
-  // With σ = (t_n − t)/h ∈ [0, 1], p = Σ e_k σᵏ, e_k = a_k (−h)ᵏ; with τ = 1 − σ
-  // (t = t_n − h + hτ), σᵏ = (1 − τ)ᵏ has the degree-q Bernstein coefficients
-  // C(q − i, k)/C(q, k), i = 0…q: no powers of h are expanded, so no
-  // cancellation.
+// p = Σ e_k σᵏ with σ = (t_n − t)/h ∈ [0, 1], the step's start at σ = 1.
+double FirstTimeBelowInSigma(const Coefficients& e, int q, double t_n, double h, double floor) {
+  // With τ = 1 − σ (t = t_n − h + hτ), σᵏ = (1 − τ)ᵏ has the degree-q
+  // Bernstein coefficients C(q − i, k)/C(q, k), i = 0…q: no powers are
+  // expanded, so no cancellation.
   static const BernsteinTable table = MakeBernsteinTable();
   Coefficients b{};
-  double scale = 1;
-  for (int k = 0; k <= q; ++k, scale *= -h) {
-    const double e = a[k] * scale;
-    for (int i = 0; i <= q - k; ++i) b[i] += e * table[q][k][i];
-  }
+  for (int k = 0; k <= q; ++k)
+    for (int i = 0; i <= q - k; ++i) b[i] += e[k] * table[q][k][i];
   int halvings = 0;
   const double tau = Search(b, q, 0, 1, 0, halvings, floor);
   return std::isnan(tau) ? NAN : t_n - h + h * tau;
+}
+
+}  // namespace
+
+double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor) {
+  // σ = (t_n − t)/h: e_k = a_k (−h)ᵏ.
+  Coefficients e{};
+  double scale = 1;
+  for (int k = 0; k <= q; ++k, scale *= -h) e[k] = a[k] * scale;
+  return FirstTimeBelowInSigma(e, q, t_n, h, floor);
+}
+
+double FirstTimeBelowScaled(const double* c, int q, double t_n, double h, double floor) {
+  // σ = −s: e_k = (−1)ᵏ c_k.
+  Coefficients e{};
+  for (int k = 0; k <= q; ++k) e[k] = k % 2 == 0 ? c[k] : -c[k];
+  return FirstTimeBelowInSigma(e, q, t_n, h, floor);
 }
 
 }  // namespace dvi::internal

@@ -18,4 +18,9 @@ inline constexpr int kMaxFloorDegree = 12;
 /// @pre 0 ≤ q ≤ kMaxFloorDegree, h > 0.
 double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor);
 
+/// The same for p(t) = Σ_{k≤q} c[k] sᵏ in the step's own variable
+/// s = (t − t_n)/h ∈ [−1, 0] (a StepInterpolant's coefficients): no powers
+/// of h, which a short step's would underflow.
+double FirstTimeBelowScaled(const double* c, int q, double t_n, double h, double floor);
+
 }  // namespace dvi::internal
