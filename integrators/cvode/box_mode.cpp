@@ -55,6 +55,11 @@ constexpr double kRateTolerance = 1e-6;
 // (O(ε^{1/3}), 6e-6), too coarse for a mode's equations. Two reach index
 // three: a position constraint of second-order dynamics.
 constexpr int kMaxNonlinearPasses = 2;
+// StepClearOfBounds takes the root functions' slopes this many times as
+// large: CVODE keeps a Jacobian for up to 20 steps, and re-evaluates it
+// once its Newton no longer converges with it, so the slopes it gives
+// have drifted less than this between evaluations.
+constexpr double kSlopeMargin = 2;
 
 // Forward differences of g(t, x, u) in x and u (rows = g's dimension), with
 // the usual √ε relative increment.
@@ -124,12 +129,15 @@ void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
   passes_ = 0;
   rows_split_ = false;
   newton_lu_current_ = false;
+  root_slopes_known_ = false;
   u_ = u;
   for (int j = 0; j < m(); ++j) {
     if (mode_[j] == BoundState::kFree) free_.push_back(j);
     if (mode_[j] == BoundState::kLower) u_(j) = lower_(j);
     if (mode_[j] == BoundState::kUpper) u_(j) = upper_(j);
   }
+  // A mode with no free component is never split (Solve has nothing to do).
+  if (affine_ && free_.empty()) AffineRootSlopes();
 }
 
 void BoxModeSystem::EvalF(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
@@ -495,6 +503,7 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
       map_offset_ = -mode_lu_.solve(free_c_ + free_M_ * u_bounds);
       map_ = -mode_lu_.solve(Eigen::MatrixXd(free_C_));
     }
+    AffineRootSlopes();
     return;
   }
   // Theorem 5.2/5.3's row operations on the free components, once per mode,
@@ -533,7 +542,16 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   Eigen::MatrixXd fx, fu;
   SmallFJacobians(t, x, u_, fx, fu);
   J = fx;
-  if (free_.empty()) return true;
+  root_slopes_known_ = false;
+  const bool slopes = m() > 0 && !affine_ && !reduced();
+  if (free_.empty()) {
+    if (slopes) {
+      Eigen::MatrixXd Fx, Fu;
+      FJacobians(t, x, u_, Fx, Fu);
+      UpdateRootSlopes(t, x, Fx, Fu, nullptr, Eigen::MatrixXd(0, n()));
+    }
+    return true;
+  }
   const int a = static_cast<int>(free_.size());
   Eigen::VectorXd G;
   Eigen::MatrixXd Gu, Gx, fua(n(), a);
@@ -542,7 +560,92 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
   if (!lu.isInvertible()) return false;
   // Implicit function theorem on G(t, x, u(t, x)) = 0.
-  J -= fua * lu.solve(Gx);
+  const Eigen::MatrixXd K = lu.solve(Gx);
+  J -= fua * K;
+  // An unreduced mode's ModeEquations left F's Jacobians in the scratch.
+  if (slopes) UpdateRootSlopes(t, x, scratch_Fx_, scratch_Fu_, &lu, K);
+  return true;
+}
+
+void BoxModeSystem::AffineRootSlopes() {
+  // K and the gradients are dense, (a + 2m)×n at most: a large LCS with
+  // many complementarity pairs goes without (its steps are then checked
+  // exactly, each one).
+  constexpr long kMaxSlopeEntries = 1 << 20;
+  root_slopes_known_ = false;
+  const int a = static_cast<int>(free_.size());
+  if (!(a == 0 || mode_regular_) || static_cast<long>(a + 2 * m()) * n() > kMaxSlopeEntries)
+    return;
+  Eigen::MatrixXd K(a, n());
+  if (map_.size() > 0)
+    K = -map_;
+  else if (a > 0)
+    K = mode_lu_.solve(Eigen::MatrixXd(free_C_));
+  root_gradients_.setZero(2 * m(), n());
+  root_slopes_t_.setZero(2 * m());
+  for (int i = 0; i < a; ++i)
+    root_gradients_.row(2 * free_[i]) = root_gradients_.row(2 * free_[i] + 1) = K.row(i).cwiseAbs();
+  const SparseMatrix C_rows = lcs_rows_.C.transpose();  // row j of C as column j
+  Eigen::RowVectorXd gradient(n());
+  for (int j = 0; j < m(); ++j) {
+    if (mode_[j] == BoundState::kFree) continue;
+    gradient.setZero();
+    for (SparseMatrix::InnerIterator it(C_rows, j); it; ++it) gradient(it.row()) += it.value();
+    for (int i = 0; i < a; ++i) gradient -= lcs_rows_.M.coeff(j, free_[i]) * K.row(i);
+    root_gradients_.row(2 * j) = gradient.cwiseAbs();
+  }
+  root_slopes_known_ = root_gradients_.allFinite();
+}
+
+void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
+                                     const Eigen::MatrixXd& Fu,
+                                     const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
+                                     const Eigen::MatrixXd& K) const {
+  // du_A = −K dx − k dt with k = G_u⁻¹ F_t,A (G = F_A); a bound row's F_j
+  // moves by (F_x,j − F_u,jA K) dx + (F_t,j − F_u,jA k) dt.
+  Eigen::VectorXd Ft;
+  FTimeDerivative(t, x, u_, Ft);
+  const int a = static_cast<int>(free_.size());
+  Eigen::VectorXd k;
+  if (a > 0) {
+    Eigen::VectorXd Ft_free(a);
+    for (int i = 0; i < a; ++i) Ft_free(i) = Ft(free_[i]);
+    k = lu->solve(Ft_free);
+  }
+  root_gradients_.setZero(2 * m(), n());
+  root_slopes_t_.setZero(2 * m());
+  for (int i = 0; i < a; ++i) {
+    const int j = free_[i];
+    root_gradients_.row(2 * j) = root_gradients_.row(2 * j + 1) = K.row(i).cwiseAbs();
+    root_slopes_t_(2 * j) = root_slopes_t_(2 * j + 1) = std::abs(k(i));
+  }
+  Eigen::RowVectorXd dx(n());
+  for (int j = 0; j < m(); ++j) {
+    if (mode_[j] == BoundState::kFree) continue;
+    dx = Fx.row(j);
+    double dt = Ft(j);
+    for (int i = 0; i < a; ++i) {
+      dx -= Fu(j, free_[i]) * K.row(i);
+      dt -= Fu(j, free_[i]) * k(i);
+    }
+    root_gradients_.row(2 * j) = dx.cwiseAbs();
+    root_slopes_t_(2 * j) = std::abs(dt);
+  }
+  root_slopes_known_ = root_gradients_.allFinite() && root_slopes_t_.allFinite();
+}
+
+bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end,
+                                      const Eigen::VectorXd& dx, double h) const {
+  if (!root_slopes_known_) return false;
+  const double floor = -1e3 * solver_.tolerance;
+  Eigen::VectorXd& moves = scratch_root_moves_;
+  moves.noalias() = root_gradients_ * dx;
+  for (int slot = 0; slot < 2 * m(); ++slot) {
+    const double move = kSlopeMargin * (moves(slot) + root_slopes_t_(slot) * h);
+    if (!(std::max(g_start[slot], g_end[slot]) - move > floor) ||
+        !(std::abs(g_end[slot] - g_start[slot]) <= move))
+      return false;
+  }
   return true;
 }
 
@@ -773,8 +876,8 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
   // Along the step u = k + K x and F = c + C x + M u are polynomials in t of
   // x's degree q: their coefficients are the map's and the rows' products
   // with x's, and FirstTimeBelow bounds each root function over the step.
-  // Plain loops: at these sizes Eigen's product set-up costs more than the
-  // products (this runs once per step).
+  // Plain loops for a small mode: at these sizes Eigen's product set-up
+  // costs more than the products (this runs once per step).
   const int q = static_cast<int>(taylor.cols()) - 1;
   const double tolerance = 1e3 * solver_.tolerance;
   double first = NAN;
@@ -794,18 +897,32 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
       p[k] += sum;
     }
   };
-  // Room for the highest order once, so that order changes do not reallocate.
+  // u's coefficients, room for the highest order once, so that order
+  // changes do not reallocate.
   Eigen::MatrixXd& U = scratch_u_taylor_;
   if (U.rows() != m()) U.resize(m(), kMaxFloorDegree + 1);
   U.leftCols(q + 1).setZero();
   for (int j = 0; j < m(); ++j)
     if (mode_[j] != BoundState::kFree) U(j, 0) = u_(j);
-  for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
-    const int j = free_[i];
-    std::fill(p.begin(), p.end(), 0.0);
-    add_product(map_.data() + i * n(), 1, n(), taylor);
-    p[0] += map_offset_(i);
-    for (int k = 0; k <= q; ++k) U(j, k) = p[k];
+  if (map_.size() > 0) {
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
+      std::fill(p.begin(), p.end(), 0.0);
+      add_product(map_.data() + i * n(), 1, n(), taylor);
+      p[0] += map_offset_(i);
+      for (int k = 0; k <= q; ++k) U(free_[i], k) = p[k];
+    }
+  } else if (!free_.empty()) {
+    // A large mode keeps the sparse C_α and G_u's LU: u_α's coefficients
+    // are −G_u⁻¹ C_α y⁽ᵏ⁾/k!, the constant one also −G_u⁻¹ (c_α + M_α u at
+    // its bounds).
+    Eigen::MatrixXd W = free_C_ * taylor;
+    W.col(0) += free_c_ + free_M_ * U.col(0);
+    const Eigen::MatrixXd U_free = -mode_lu_.solve(W);
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i)
+      U.row(free_[i]).head(q + 1) = U_free.row(i);
+  }
+  for (const int j : free_) {
+    for (int k = 0; k <= q; ++k) p[k] = U(j, k);
     if (std::isfinite(lower_(j))) {
       p[0] -= lower_(j);
       below(-tolerance);
@@ -817,20 +934,48 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
       below(-tolerance);
     }
   }
-  const Eigen::MatrixXd& C = dense_rows_.C;
-  const Eigen::MatrixXd& M = dense_rows_.M;
+  if (static_cast<int>(free_.size()) == m()) return first;
+  const bool dense = dense_rows_.C.size() > 0;
+  // A large LCS: F's coefficients for all rows at once, by sparse products.
+  Eigen::MatrixXd F_coefficients;
+  if (!dense) {
+    F_coefficients = lcs_rows_.C * taylor;
+    F_coefficients.noalias() += lcs_rows_.M * U.leftCols(q + 1);
+  }
   for (int j = 0; j < m(); ++j) {
     // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
     if (mode_[j] == BoundState::kFree || lower_(j) == upper_(j)) continue;
     std::fill(p.begin(), p.end(), 0.0);
-    add_product(C.data() + j, C.rows(), n(), taylor);
-    add_product(M.data() + j, M.rows(), m(), U);
+    if (dense) {
+      add_product(dense_rows_.C.data() + j, dense_rows_.C.rows(), n(), taylor);
+      add_product(dense_rows_.M.data() + j, dense_rows_.M.rows(), m(), U);
+    } else {
+      for (int k = 0; k <= q; ++k) p[k] = F_coefficients(j, k);
+    }
     p[0] += lcs_rows_.c(j);
     if (mode_[j] == BoundState::kUpper)
       for (int k = 0; k <= q; ++k) p[k] = -p[k];
     below(-tolerance - f_slack);
   }
   return first;
+}
+
+void BoxModeSystem::RootFloors(double f_slack, Eigen::VectorXd& floors) const {
+  const double tolerance = 1e3 * solver_.tolerance;
+  floors.setConstant(2 * m(), -std::numeric_limits<double>::infinity());
+  for (int j = 0; j < m(); ++j) {
+    switch (mode_[j]) {
+      case BoundState::kFree:
+        if (std::isfinite(lower_(j))) floors(2 * j) = -tolerance;
+        if (std::isfinite(upper_(j))) floors(2 * j + 1) = -tolerance;
+        break;
+      case BoundState::kLower:
+      case BoundState::kUpper:
+        // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
+        if (lower_(j) != upper_(j)) floors(2 * j) = -tolerance - f_slack;
+        break;
+    }
+  }
 }
 
 bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,

@@ -90,10 +90,15 @@ class BoxModeSystem {
                               const Eigen::Ref<const Eigen::MatrixXd>& X,
                               const Eigen::Ref<const Eigen::MatrixXd>& U, double f_slack) const;
   /// Whether FirstViolationInStep covers the current mode: an LCS mode
-  /// whose u is affine in x by its dense map (or has no free component),
-  /// with dense rows. Its root functions are then polynomials in t along a
-  /// step's interpolant.
-  bool CoversSteps() const { return affine_ && dense_rows_.C.size() > 0 && ByMap(); }
+  /// whose u is affine in x (by its dense map or G_u's LU; no free
+  /// component, trivially). Its root functions are then polynomials in t
+  /// along a step's interpolant.
+  bool CoversSteps() const {
+    return affine_ && (free_.empty() || (rows_split_ && mode_regular_));
+  }
+  /// Whether the LCS's rows are small enough to be kept dense (checks of
+  /// samples and steps by plain products).
+  bool HasDenseRows() const { return dense_rows_.C.size() > 0; }
   /// The violations of FirstViolation, over a whole step [t_n − h, t_n]
   /// whose x is Σ_k taylor.col(k) (t − t_n)ᵏ instead of at samples: a root
   /// function that dips below its tolerance between the step's ends (a
@@ -103,6 +108,25 @@ class BoxModeSystem {
   /// taylor.cols() ≤ kMaxFloorDegree + 1.
   double FirstViolationInStep(const Eigen::MatrixXd& taylor, double t_n, double h,
                               double f_slack) const;
+  /// Holds' floor for each root slot (Roots' order): −tolerance for a free
+  /// u's bounds, −tolerance − f_slack for a bound row's F, −∞ for an unused
+  /// slot.
+  void RootFloors(double f_slack, Eigen::VectorXd& floors) const;
+  /// Whether no root function can fall to Holds' tolerance within a step
+  /// whose ends have the root values g_start and g_end (Roots' slots), by
+  /// the slopes of the last RhsJacobian (an LCS mode's, fixed): a root
+  /// function is at least its value at an end less |∂g/∂x|·dx (dx_i: how
+  /// far x_i moves within the step) and |∂g/∂t| h, those taken
+  /// kSlopeMargin times as large for their drift between Jacobians. False
+  /// when the mode has no slopes (a reduced nonlinear mode, no RhsJacobian
+  /// since a nonlinear mode was entered, an LCS mode too large for them),
+  /// or when a root function changed between the ends by more than they
+  /// allow (stale slopes: one taken where it was stationary).
+  bool StepClearOfBounds(const double* g_start, const double* g_end, const Eigen::VectorXd& dx,
+                         double h) const;
+  /// Whether the DVI is an LCS (its modes' root functions have x's degree
+  /// along a step).
+  bool affine() const { return affine_; }
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
   /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a
@@ -181,6 +205,15 @@ class BoxModeSystem {
                   Eigen::MatrixXd& Fx, Eigen::MatrixXd& Fu) const;
   void SmallFJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                        Eigen::MatrixXd& fx, Eigen::MatrixXd& fu) const;
+  /// An LCS mode's root slopes, constant in it: u_α's gradients are the
+  /// rows of K = −G_u⁻¹ C_α, a bound row's F_j's C_j + M_jα K.
+  void AffineRootSlopes();
+  /// The root functions' slopes at (t, x, u_) for StepClearOfBounds, from
+  /// F's Jacobians and K = G_u⁻¹ G_x (du_A/dx = −K) by lu = G_u's factors
+  /// (null, K empty when no component is free).
+  void UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
+                        const Eigen::MatrixXd& Fu, const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
+                        const Eigen::MatrixXd& K) const;
   /// SelectMode's first choice for the components near_bound (β) of a
   /// strongly regular vi: each leaves or keeps its bound by the sign of its
   /// right derivative (v = u̇ and Ḟ, from the derivative MLCP). False when
@@ -290,6 +323,12 @@ class BoxModeSystem {
   Eigen::PartialPivLU<Eigen::MatrixXd> newton_lu_;
   bool newton_lu_current_ = false;  // newton_lu_ factors this mode's G_u somewhere
   mutable Eigen::MatrixXd scratch_u_taylor_;  // u's coefficients, FirstViolationInStep
+  // |∂g/∂x| and |∂g/∂t| of each root slot (StepClearOfBounds): at the
+  // last RhsJacobian of a nonlinear, unreduced mode; an LCS mode's, fixed.
+  mutable Eigen::MatrixXd root_gradients_;  // |∂g/∂x| entrywise, 2m × n
+  mutable Eigen::VectorXd root_slopes_t_;
+  mutable Eigen::VectorXd scratch_root_moves_;
+  mutable bool root_slopes_known_ = false;
   mutable Eigen::VectorXd scratch_F_;
   mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;
