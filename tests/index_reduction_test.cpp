@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -127,6 +128,143 @@ TEST(IndexReduction, ContactGrazedWithinOneStepIsFoundBetweenOutputTimes) {
       EXPECT_EQ(trajectory.times.back(), 10) << D;
       EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << D << ", " << grid.size();
     }
+  }
+}
+
+// The same graze through the general Dvi path (Newton in each mode, no
+// affine map): its root functions are not polynomials along a step, so the
+// step is checked at interior points and the root functions' interpolant
+// bounded over it. Before, only the output samples were checked, and the
+// grids that miss the window reported success with the unconstrained x1(10).
+TEST(IndexReduction, NonlinearPathFindsAContactGrazedWithinOneStep) {
+  const double c = std::sqrt(2.002);
+  const std::vector<std::vector<double>> output_grids = {{0, c, 10}, {0, 10}, {0, 0.5, 9}, {}};
+  for (const auto& [D, exact] : {std::pair{1.0, 36.8508521441}, std::pair{0.0, 36.8517950769}}) {
+    for (const auto& grid : output_grids) {
+      Eigen::Matrix2d A;
+      A << 0, 1, 0, 0;
+      const Dvi dvi = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
+                                 Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
+                                 Eigen::VectorXd::Zero(1))
+                          .ToDvi();
+      EventDrivenOptions options = Tight();
+      options.output_times = grid;
+      const Trajectory trajectory =
+          IntegrateEventDriven(dvi, Eigen::Vector2d(1, -c), 0, 10, options);
+      ASSERT_TRUE(trajectory.succeeded()) << D << ": " << trajectory.message;
+      EXPECT_EQ(trajectory.events.size(), 2u) << D << ", " << grid.size() << " output times";
+      ASSERT_FALSE(trajectory.events.empty());
+      EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8) << D;
+      EXPECT_EQ(trajectory.times.back(), 10) << D;
+      EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << D << ", " << grid.size();
+    }
+  }
+}
+
+// The graze with a root function that is no polynomial along a step:
+// 0 ≤ u ⊥ sinh(x1) + u ≥ 0. Contact begins where x1 = 0, at the same
+// t1 = c − √0.002; while it lasts x1' = x2 − sinh(x1), with no closed form,
+// so x(10) is compared with a run whose 10001 output times see the dip.
+TEST(IndexReduction, NonlinearRootFunctionGrazedWithinOneStepIsFound) {
+  const double c = std::sqrt(2.002);
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 1;
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = Eigen::Vector2d(x(1) + u(0), 1);
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = Eigen::VectorXd::Constant(1, std::sinh(x(0)) + u(0));
+  };
+  dvi.K = ConvexSet::Orthant(1);
+  const auto run = [&](std::vector<double> grid) {
+    EventDrivenOptions options = Tight();
+    options.output_times = std::move(grid);
+    return IntegrateEventDriven(dvi, Eigen::Vector2d(1, -c), 0, 10, options);
+  };
+  const Trajectory reference = run(testing::Linspace(0, 10, 10001));
+  ASSERT_TRUE(reference.succeeded()) << reference.message;
+  ASSERT_EQ(reference.events.size(), 2u);
+  for (const auto& grid : std::vector<std::vector<double>>{{0, 10}, {0, 0.5, 9}, {}}) {
+    const Trajectory trajectory = run(grid);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    ASSERT_EQ(trajectory.events.size(), 2u) << grid.size() << " output times";
+    EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8);
+    EXPECT_NEAR(trajectory.events.back().time, reference.events.back().time, 1e-8);
+    EXPECT_NEAR(trajectory.states.back()(0), reference.states.back()(0), 1e-8) << grid.size();
+  }
+}
+
+// A graze driven by F's own time dependence, which the steps of x need not
+// resolve: x' = u, 0 ≤ u ⊥ x + cos t + 0.999 + u ≥ 0, x0 = 0. While u = 0,
+// x' = 0 and CVODE crosses [0, 10] in three steps, but F dips below 0
+// around t = π (and 3π) over windows 0.09 wide. Contact begins where
+// cos t = −0.999, at t1 = π − acos(0.999) (x = 0 until then). The step's
+// interpolants are halved until they resolve F; before, every grid but a
+// dense one reported success with x(10) = 0 (found by probing).
+TEST(IndexReduction, TimeDrivenGrazeWithinOneStepIsFound) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u;
+  };
+  dvi.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = Eigen::VectorXd::Constant(1, x(0) + std::cos(t) + 0.999 + u(0));
+  };
+  dvi.K = ConvexSet::Orthant(1);
+  const auto run = [&](std::vector<double> grid) {
+    EventDrivenOptions options = Tight();
+    options.output_times = std::move(grid);
+    return IntegrateEventDriven(dvi, Eigen::VectorXd::Zero(1), 0, 10, options);
+  };
+  const Trajectory reference = run(testing::Linspace(0, 10, 10001));
+  ASSERT_TRUE(reference.succeeded()) << reference.message;
+  ASSERT_EQ(reference.events.size(), 4u);
+  for (const auto& grid : std::vector<std::vector<double>>{{0, 10}, {0, 0.5, 9}, {}}) {
+    const Trajectory trajectory = run(grid);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    ASSERT_EQ(trajectory.events.size(), 4u) << grid.size() << " output times";
+    EXPECT_NEAR(trajectory.events.front().time, M_PI - std::acos(0.999), 1e-8);
+    for (std::size_t k = 1; k < 4; ++k)
+      EXPECT_NEAR(trajectory.events[k].time, reference.events[k].time, 1e-8) << k;
+    EXPECT_GT(trajectory.states.back()(0), 1e-4);
+    EXPECT_NEAR(trajectory.states.back()(0), reference.states.back()(0), 1e-9) << grid.size();
+  }
+}
+
+// The first graze in an LCS too large for dense rows (the two states of
+// ContactGrazedWithinOneStepIsFoundBetweenOutputTimes with D = 1, and 4198
+// constant ones): its steps are screened by the root functions' slopes
+// and, near the constraint, bounded exactly through G_u's LU and sparse
+// products. The exact x1(10) is that test's. Before, such an LCS was
+// checked at its output times only.
+TEST(IndexReduction, LargeLcsFindsAContactGrazedWithinOneStep) {
+  constexpr int n = 4200;
+  const double c = std::sqrt(2.002);
+  SparseMatrix A(n, n), B(n, 1), C(1, n), D(1, 1);
+  A.insert(0, 1) = 1;
+  B.insert(0, 0) = 1;
+  C.insert(0, 0) = 1;
+  D.insert(0, 0) = 1;
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(n), x0 = Eigen::VectorXd::Ones(n);
+  p(1) = 1;
+  x0(1) = -c;
+  for (const auto& grid : std::vector<std::vector<double>>{{0, 10}, {}}) {
+    // CVODE's error norm is an RMS over all n states: the constant ones
+    // make it √n looser on x1 than the 2-state test's.
+    EventDrivenOptions options;
+    options.rtol = 1e-12;
+    options.atol = 1e-14;
+    options.output_times = grid;
+    const Trajectory trajectory =
+        IntegrateEventDriven(Lcs::Sparse(A, B, C, D, p, Eigen::VectorXd::Zero(1)), x0, 0, 10,
+                             options);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    ASSERT_EQ(trajectory.events.size(), 2u) << grid.size() << " output times";
+    EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8);
+    EXPECT_NEAR(trajectory.states.back()(0), 36.8508521441, 1e-8) << grid.size();
+    EXPECT_EQ(trajectory.states.back()(n - 1), 1);
   }
 }
 

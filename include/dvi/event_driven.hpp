@@ -57,13 +57,13 @@ struct EventDrivenOptions {
   /// Times to sample (ascending, within [t0, t_end]), interpolated with
   /// CVODE's dense output; empty samples every accepted step. Either way t0,
   /// t_end and every event time (u the right limit) are also sampled.
-  /// CVODE checks the mode's root functions at step ends only; a sample
-  /// where the mode no longer holds (a free u out of its bounds, a bound
-  /// u's F of the wrong sign) reveals a root crossed twice within a step
-  /// (u driven by t while x' = 0, or a polynomial x grazing a constraint,
-  /// lets a step grow long), and the event is located before it. Without
-  /// output times, or where the excursion falls between samples, bound
-  /// h_max.
+  /// CVODE checks the mode's root functions at step ends only; the
+  /// integrator checks each step over its whole length as well (README:
+  /// exactly in an LCS mode, by interpolation at nodes halved until it
+  /// resolves them in a nonlinear one), and every sample, so that a root
+  /// crossed twice within a step (u driven by t while x' = 0, or a
+  /// polynomial x grazing a constraint, lets a step grow long) is located
+  /// whatever the output times.
   std::vector<double> output_times;
   /// Limit on mode changes over the whole run, > 0.
   long max_events = 100'000;

@@ -26,6 +26,7 @@
 #include "output_times_check.hpp"
 #include "kkt_lifting.hpp"
 #include "dvi/matrix_classes.hpp"
+#include "step_interpolant.hpp"
 #include "sundials_handles.hpp"
 
 namespace dvi {
@@ -80,6 +81,9 @@ using internal::BoxMode;
 using internal::BoxModeSystem;
 using internal::FlagName;
 using internal::GuardedCallback;
+using internal::kMaxInterpolantDegree;
+using internal::PieceBound;
+using internal::StepInterpolant;
 
 // Look-ahead length at a degenerate event, relative to the horizon.
 constexpr double kLookAheadFraction = 1e-5;
@@ -108,9 +112,11 @@ struct CallbackData {
   Eigen::VectorXd projected_error;
   Eigen::MatrixXd J;
   SparseMatrix sparse_J;  // KLU: the current mode's (constant) Jacobian
-  // The root functions' last evaluation: its time, their least value and
-  // whether one was NaN (F undefined there: CVODE sees no sign change).
+  // The root functions' last evaluation: its time, their values, their
+  // least value and whether one was NaN (F undefined there: CVODE sees no
+  // sign change).
   double root_time = NAN;
+  Eigen::VectorXd roots;
   double least_root = 0;
   bool root_undefined = false;
   std::exception_ptr error;
@@ -219,6 +225,7 @@ int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
     if (!data.system->Solve(t, data.x)) return -1;
     data.system->Roots(t, data.x, g);
     data.root_time = t;
+    std::copy(g, g + 2 * data.system->m(), data.roots.data());
     data.least_root = *std::min_element(g, g + 2 * data.system->m());
     data.root_undefined = std::any_of(g, g + 2 * data.system->m(),
                                       [](double value) { return std::isnan(value); });
@@ -297,6 +304,11 @@ class EventDrivenRun {
               const Eigen::Ref<const Eigen::VectorXd>& u);
   double SampleOutputs(double before);
   double StepViolation();
+  bool StepClear(double t_n, double h);
+  double PieceViolation(double t_n, double h, int q, const StepInterpolant& interpolant,
+                        double s_start, double s_end, const Eigen::VectorXd& g_start,
+                        const Eigen::VectorXd& g_end, int depth);
+  bool RootsOnStep(double t_n, int q, double t, double* g);
   void DropSamplesFrom(double t);
   /// CVODE's last step: its end t_n, length h and order q.
   struct Step {
@@ -337,6 +349,16 @@ class EventDrivenRun {
   Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
   double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
   Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
+  // StepClear and PieceViolation: the step's start and end roots (the last
+  // step's end, x and x' there, for the next step's start in the mode), x
+  // at a node and the root slots' floors (their slack applied or not).
+  Eigen::VectorXd start_roots_, end_roots_, end_x_, end_rate_, step_moves_;
+  double end_roots_time_ = NAN;
+  bool start_known_ = false;
+  Eigen::VectorXd node_x_;
+  Eigen::VectorXd root_floors_;
+  double f_slack_ = 0;
+  bool slack_applied_ = false;
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -388,9 +410,9 @@ void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x
 // Samples the output times before `before` from the last step's
 // interpolant. Returns the first sampled time where the mode no longer
 // holds (NaN if none): CVODE sees a root function only at step ends, so a
-// root that changes sign twice within one step shows only here (u driven by
-// t while x' = 0 lets a step span the horizon) or, for the modes it covers,
-// in StepViolation (a polynomial x grazes a constraint within one long step).
+// root that changes sign twice within one step (u driven by t while x' = 0
+// lets a step span the horizon, a polynomial x grazes a constraint) shows
+// only here or in StepViolation, which checks each whole step.
 double EventDrivenRun::SampleOutputs(double before) {
   // The times are non-decreasing (validated): the step's are a range of
   // them, found by bisection.
@@ -519,14 +541,35 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
 }
 
 // Where the mode stops holding within the last step, checked over all of
-// it when the mode's root functions are polynomials along the step
-// (BoxModeSystem::FirstViolationInStep): a constraint grazed between output
-// times is then found too. NaN when none is found, or when the mode is not
-// covered (SampleOutputs checks its samples instead).
+// it: a constraint grazed between output times is found too. In a mode
+// whose root functions are polynomials along the step (an LCS mode with an
+// affine u) they are bounded exactly (BoxModeSystem::FirstViolationInStep);
+// in any other, through their interpolant (PieceViolation). Where that
+// costs more than a small LCS's few products (reading the step's
+// polynomial is O(q² n)), a step whose root functions stay clear of their
+// bounds by their slopes (StepClear) is passed first. NaN when none is
+// found.
 double EventDrivenRun::StepViolation() {
-  if (!system_.CoversSteps()) return NAN;
   const auto [t_n, h, q] = LastStep();
-  if (!(h > 0) || !ReadTaylor(t_n, q)) return NAN;
+  if (!(h > 0) || dvi_.m == 0) return NAN;
+  const bool exact = system_.CoversSteps();
+  if (!(exact && system_.HasDenseRows()) && StepClear(t_n, h)) return NAN;
+  if (!ReadTaylor(t_n, q)) return NAN;
+  if (!exact) {
+    if (end_roots_time_ != t_n) {  // StepClear could not take them
+      end_roots_.resize(2 * dvi_.m);
+      if (!RootsOnStep(t_n, q, t_n, end_roots_.data())) return t_n;
+    }
+    system_.RootFloors(0, root_floors_);
+    slack_applied_ = false;
+    const StepInterpolant& interpolant = StepInterpolant::OfDegree(
+        system_.affine() ? std::min(q, kMaxInterpolantDegree) : std::clamp(q, 2, 3));
+    if (!start_known_) {
+      start_roots_.resize(2 * dvi_.m);
+      if (!RootsOnStep(t_n, q, t_n - h, start_roots_.data())) return t_n - h;
+    }
+    return PieceViolation(t_n, h, q, interpolant, -1, 0, start_roots_, end_roots_, 0);
+  }
   // A bound row's F may be off by what the state's error moves it (Holds),
   // the state's size taken at the step's ends.
   double size = 0;
@@ -539,6 +582,115 @@ double EventDrivenRun::StepViolation() {
   const double state_error = options_.rtol * size + options_.atol;
   return system_.FirstViolationInStep(taylor_, t_n, h,
                                       system_.FSlack(t_n, step_end_, state_error));
+}
+
+// Whether the root functions stay clear of their bounds over the last
+// step by their slopes (BoxModeSystem::StepClearOfBounds), from their values
+// at its ends: the end's are CVODE's (it evaluates the root functions at
+// every step's end), the start's the last step's end's, kept here with x
+// and x' there (start_known_ tells whether they are this step's start).
+bool EventDrivenRun::StepClear(double t_n, double h) {
+  // CVODE's t_n − h is the last step's end up to rounding.
+  start_known_ = std::abs(end_roots_time_ - (t_n - h)) <=
+                 4 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + h);
+  if (start_known_) start_roots_.swap(end_roots_);
+  end_roots_time_ = NAN;
+  if (data_.root_time == t_n && !data_.root_undefined) {
+    end_roots_ = data_.roots;
+  } else {
+    node_x_ = Eigen::Map<const Eigen::VectorXd>(y_.data(), x0_.size());
+    if (t_n != t_ || !system_.Solve(t_n, node_x_)) return false;
+    end_roots_.resize(2 * dvi_.m);
+    system_.Roots(t_n, node_x_, end_roots_.data());
+  }
+  if (CVodeGetDky(cvode_.get(), t_n, 1, dky_.get()) != CV_SUCCESS) return false;
+  const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(dky_.data(), x0_.size());
+  bool clear = false;
+  if (start_known_) {
+    // How far each x_i moves from x_n within the step: the Bernstein hull
+    // of the cubic Hermite interpolant of the ends' x and x' (the step's
+    // own polynomial to O(h⁴)), kMoveMargin times as far for the difference.
+    constexpr double kMoveMargin = 1.5;
+    step_moves_ = kMoveMargin * (end_x_ - x_n)
+                                    .cwiseAbs()
+                                    .cwiseMax((end_x_ + (h / 3) * end_rate_ - x_n).cwiseAbs())
+                                    .cwiseMax((h / 3) * rate.cwiseAbs());
+    clear = system_.StepClearOfBounds(start_roots_.data(), end_roots_.data(), step_moves_, h);
+  }
+  end_x_ = x_n;
+  end_rate_ = rate;
+  end_roots_time_ = t_n;
+  return clear;
+}
+
+// The root functions at t on the last step's polynomial (taylor_, read at
+// t_n, of order q); false where the mode's Newton fails there.
+bool EventDrivenRun::RootsOnStep(double t_n, int q, double t, double* g) {
+  node_x_ = taylor_.col(q);
+  for (int k = q - 1; k >= 0; --k) node_x_ = taylor_.col(k) + (t - t_n) * node_x_;
+  if (!system_.Solve(t, node_x_)) return false;
+  system_.Roots(t, node_x_, g);
+  return true;
+}
+
+// The piece [t_n + h s_start, t_n + h s_end] of the last step, whose ends'
+// root values are g_start and g_end: the root functions at the
+// interpolant's interior nodes and its extra node, and the polynomials
+// through them bounded over the piece (StepInterpolant::Bound), so a dip
+// between the nodes is found as well as one at them. A dip counts once the
+// root functions themselves confirm it at its lowest point; a piece too long
+// for the degree to tell (the error estimate reaches the floor, or a dip is
+// not confirmed) is halved, kMaxPieceDepth times at most: a root function
+// driven by t (F's own time dependence) varies on scales the steps of x
+// need not resolve. A point where the mode's Newton fails is returned for
+// LocateMissedRoot to tell a crossing from an undefined F.
+double EventDrivenRun::PieceViolation(double t_n, double h, int q,
+                                      const StepInterpolant& interpolant, double s_start,
+                                      double s_end, const Eigen::VectorXd& g_start,
+                                      const Eigen::VectorXd& g_end, int depth) {
+  constexpr int kMaxPieceDepth = 8;
+  const double t_end = t_n + h * s_end, width = h * (s_end - s_start);
+  const int degree = interpolant.degree();
+  const int m2 = 2 * dvi_.m;
+  Eigen::MatrixXd values(m2, degree + 1);
+  values.col(0) = g_start;
+  values.col(degree) = g_end;
+  for (int i = 1; i < degree; ++i) {
+    const double t = t_end + width * interpolant.node(i);
+    if (!RootsOnStep(t_n, q, t, values.col(i).data())) return t;
+  }
+  // An LCS's root functions have x's degree: its interpolant is exact.
+  Eigen::VectorXd extra(system_.affine() ? 0 : m2);
+  const double t_extra = t_end + width * interpolant.extra_node();
+  if (extra.size() > 0 && !RootsOnStep(t_n, q, t_extra, extra.data())) return t_extra;
+  PieceBound bound = interpolant.Bound(values, extra, root_floors_, t_end, width);
+  if ((!std::isnan(bound.dip) || bound.uncertain) && !slack_applied_) {
+    // A bound row's F may be off by what the state's error moves it
+    // (Holds): that slack costs F's Jacobians, so only a piece that dips
+    // pays it.
+    node_x_ = taylor_.col(0);
+    const double state_error = options_.rtol * node_x_.lpNorm<Eigen::Infinity>() + options_.atol;
+    f_slack_ = system_.FSlack(t_n, node_x_, state_error);
+    system_.RootFloors(f_slack_, root_floors_);
+    slack_applied_ = true;
+    bound = interpolant.Bound(values, extra, root_floors_, t_end, width);
+  }
+  if (!std::isnan(bound.dip)) {
+    extra.resize(m2);
+    if (!RootsOnStep(t_n, q, bound.dip, extra.data())) return bound.dip;
+    if (system_.FirstViolation(Eigen::VectorXd::Constant(1, bound.dip), node_x_, system_.u(),
+                               f_slack_) >= 0)
+      return bound.dip;
+    bound.uncertain = true;
+  }
+  if (!bound.uncertain || depth == kMaxPieceDepth) return NAN;
+  const double s_middle = (s_start + s_end) / 2, t_middle = t_n + h * s_middle;
+  Eigen::VectorXd g_middle(m2);
+  if (!RootsOnStep(t_n, q, t_middle, g_middle.data())) return t_middle;
+  const double left = PieceViolation(t_n, h, q, interpolant, s_start, s_middle, g_start, g_middle,
+                                     depth + 1);
+  if (!std::isnan(left)) return left;
+  return PieceViolation(t_n, h, q, interpolant, s_middle, s_end, g_middle, g_end, depth + 1);
 }
 
 // CVODE goes on, with a warning only, when its steps no longer resolve t
@@ -964,6 +1116,7 @@ bool EventDrivenRun::IntegrateModes() {
   void* cvode = cvode_.get();
   data_.system = &system_;
   data_.x.resize(x0_.size());
+  data_.roots.resize(2 * dvi_.m);
   t_ = t0_;
   mode_start_ = t0_;
   if (!EnterSparseJacobian()) return false;
@@ -1019,17 +1172,21 @@ bool EventDrivenRun::IntegrateModes() {
       if (system_.reduced())
         trajectory_.stats.max_constraint_drift =
             std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
+      // The step's check and the samples' may each see a violation the
+      // other misses: the earlier is located first.
       const double in_step = StepViolation();
       const double at_sample = SampleOutputs(t_);
-      const double violated_at = std::isnan(in_step) ? at_sample : in_step;
+      const double first = std::fmin(in_step, at_sample), second = std::fmax(in_step, at_sample);
       double last_defined = t_;
-      event = !std::isnan(violated_at) &&
-              LocateMissedRoot(violated_at, last_defined) == MissedRoot::kLocated;
+      event = !std::isnan(first) && LocateMissedRoot(first, last_defined) == MissedRoot::kLocated;
+      if (!event && second > first)
+        event = LocateMissedRoot(second, last_defined) == MissedRoot::kLocated;
       if (event) DropSamplesFrom(t_);
     }
     if (event) {
       SampleOutputs(t_);
       AddCvodeStats();
+      end_roots_time_ = NAN;  // the next step starts in another mode
       Eigen::VectorXd x = y;
       const Eigen::VectorXd x_left = x, u_left = system_.u();
       if (!HandleEvent(t_, x)) {
