@@ -105,58 +105,35 @@ TEST(IndexReduction, ContactAtALargeTimeOvershootsWithinTheStateError) {
 // checking its samples, it found the contact only when an output time fell
 // in the window (with output times {0, 10}: x1(10) off by 5.7e-5 for D = 1,
 // 1e-3 for D = 0). The root functions' polynomials over each step find it
-// whatever the output times.
+// whatever the output times. The same LCS as a general Dvi (Newton in each
+// mode, no affine map) takes the nonlinear modes' check, interpolation at
+// the step's nodes, which the samples alone were until 2af181e.
 // Exact x1(10): 36.8508521441 for D = 1 (u = max(0, −x1)); for D = 0, x1
 // rests at 0 from t1 = c − √0.002 to c, then (t − c)²/2: 36.8517950769.
 TEST(IndexReduction, ContactGrazedWithinOneStepIsFoundBetweenOutputTimes) {
   const double c = std::sqrt(2.002);
   const std::vector<std::vector<double>> output_grids = {{0, c, 10}, {0, 10}, {0, 0.5, 9}, {}};
   for (const auto& [D, exact] : {std::pair{1.0, 36.8508521441}, std::pair{0.0, 36.8517950769}}) {
-    for (const auto& grid : output_grids) {
-      Eigen::Matrix2d A;
-      A << 0, 1, 0, 0;
-      const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
-                                 Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
-                                 Eigen::VectorXd::Zero(1));
-      EventDrivenOptions options = Tight();
-      options.output_times = grid;
-      const Trajectory trajectory =
-          IntegrateEventDriven(lcs, Eigen::Vector2d(1, -c), 0, 10, options);
-      ASSERT_TRUE(trajectory.succeeded()) << D << ": " << trajectory.message;
-      EXPECT_EQ(trajectory.events.size(), 2u) << D << ", " << grid.size() << " output times";
-      EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8) << D;
-      EXPECT_EQ(trajectory.times.back(), 10) << D;
-      EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << D << ", " << grid.size();
-    }
-  }
-}
-
-// The same graze through the general Dvi path (Newton in each mode, no
-// affine map): its root functions are not polynomials along a step, so the
-// step is checked at interior points and the root functions' interpolant
-// bounded over it. Before, only the output samples were checked, and the
-// grids that miss the window reported success with the unconstrained x1(10).
-TEST(IndexReduction, NonlinearPathFindsAContactGrazedWithinOneStep) {
-  const double c = std::sqrt(2.002);
-  const std::vector<std::vector<double>> output_grids = {{0, c, 10}, {0, 10}, {0, 0.5, 9}, {}};
-  for (const auto& [D, exact] : {std::pair{1.0, 36.8508521441}, std::pair{0.0, 36.8517950769}}) {
-    for (const auto& grid : output_grids) {
-      Eigen::Matrix2d A;
-      A << 0, 1, 0, 0;
-      const Dvi dvi = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
-                                 Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
-                                 Eigen::VectorXd::Zero(1))
-                          .ToDvi();
-      EventDrivenOptions options = Tight();
-      options.output_times = grid;
-      const Trajectory trajectory =
-          IntegrateEventDriven(dvi, Eigen::Vector2d(1, -c), 0, 10, options);
-      ASSERT_TRUE(trajectory.succeeded()) << D << ": " << trajectory.message;
-      EXPECT_EQ(trajectory.events.size(), 2u) << D << ", " << grid.size() << " output times";
-      ASSERT_FALSE(trajectory.events.empty());
-      EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8) << D;
-      EXPECT_EQ(trajectory.times.back(), 10) << D;
-      EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << D << ", " << grid.size();
+    Eigen::Matrix2d A;
+    A << 0, 1, 0, 0;
+    const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
+                               Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
+                               Eigen::VectorXd::Zero(1));
+    for (const bool as_dvi : {false, true}) {
+      for (const auto& grid : output_grids) {
+        EventDrivenOptions options = Tight();
+        options.output_times = grid;
+        const Trajectory trajectory =
+            as_dvi ? IntegrateEventDriven(lcs.ToDvi(), Eigen::Vector2d(1, -c), 0, 10, options)
+                   : IntegrateEventDriven(lcs, Eigen::Vector2d(1, -c), 0, 10, options);
+        const std::string what = (as_dvi ? "Dvi, D = " : "Lcs, D = ") + std::to_string(D) +
+                                 ", " + std::to_string(grid.size()) + " output times";
+        ASSERT_TRUE(trajectory.succeeded()) << what << ": " << trajectory.message;
+        ASSERT_EQ(trajectory.events.size(), 2u) << what;
+        EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8) << what;
+        EXPECT_EQ(trajectory.times.back(), 10) << what;
+        EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << what;
+      }
     }
   }
 }
