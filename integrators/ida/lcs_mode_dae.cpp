@@ -23,7 +23,9 @@ LcsModeDae::LcsModeDae(const Lcs& lcs)
     : n_(lcs.n()),
       m_(lcs.m()),
       flow_{lcs.p, lcs.A, lcs.B},
-      lcs_rows_{lcs.q, lcs.C, lcs.D} {
+      lcs_rows_{lcs.q, lcs.C, lcs.D},
+      abs_C_(lcs.C.cwiseAbs()),
+      abs_D_(lcs.D.cwiseAbs()) {
   std::tie(lower_, upper_) = lcs.K.BoxBounds();
   x_rows_.reserve(lcs.A.nonZeros() + lcs.B.nonZeros() + n_);
   for (int i = 0; i < n_; ++i) x_rows_.emplace_back(i, i, 0.0);
@@ -367,6 +369,46 @@ void LcsModeDae::Roots(const double* y, double* g) const {
         g[2 * j + 1] = 1.0;
         break;
     }
+  }
+}
+
+void LcsModeDae::RootPolynomials(const Eigen::MatrixXd& Y, Eigen::MatrixXd& G) const {
+  const Eigen::Index q = Y.cols() - 1;
+  G.resize(2 * m_, q + 1);
+  const Eigen::VectorXd y = Y.col(0);
+  Eigen::VectorXd g(2 * m_);
+  Roots(y.data(), g.data());
+  G.col(0) = g;
+  // Beyond the constant term only the linear part of w = C x + D u + q.
+  Eigen::MatrixXd W = lcs_rows_.C * Y.topRows(n_).rightCols(q);
+  W.noalias() += lcs_rows_.M * Y.bottomRows(m_).rightCols(q);
+  for (int j = 0; j < m_; ++j) {
+    for (Eigen::Index k = 1; k <= q; ++k) {
+      switch (mode_[j]) {
+        case BoundState::kFree:
+          G(2 * j, k) = std::isfinite(lower_(j)) ? Y(n_ + j, k) : 0.0;
+          G(2 * j + 1, k) = std::isfinite(upper_(j)) ? -Y(n_ + j, k) : 0.0;
+          break;
+        case BoundState::kLower:
+          G(2 * j, k) = W(j, k - 1);
+          G(2 * j + 1, k) = 0;
+          break;
+        case BoundState::kUpper:
+          G(2 * j, k) = -W(j, k - 1);
+          G(2 * j + 1, k) = 0;
+          break;
+      }
+    }
+  }
+}
+
+void LcsModeDae::RootMoves(const Eigen::VectorXd& dy, Eigen::VectorXd& moves) const {
+  const Eigen::VectorXd w_moves = abs_C_ * dy.head(n_) + abs_D_ * dy.tail(m_);
+  moves.resize(2 * m_);
+  for (int j = 0; j < m_; ++j) {
+    const bool free = mode_[j] == BoundState::kFree;
+    moves(2 * j) = free ? dy(n_ + j) : w_moves(j);
+    moves(2 * j + 1) = free ? dy(n_ + j) : 0.0;
   }
 }
 

@@ -99,6 +99,14 @@ class LcsModeDae {
   /// infinite bound); a lower-bound one w_j = (C x + D u + q)_j, an
   /// upper-bound one −w_j, the second slot 1.
   void Roots(const double* y, double* g) const;
+  /// The root functions along a step whose y is Σ_k Y.col(k) (t − t_n)ᵏ:
+  /// row `slot` of G holds g_slot's coefficients (Roots' slots). Affine in
+  /// y, they are polynomials of y's degree.
+  void RootPolynomials(const Eigen::MatrixXd& Y, Eigen::MatrixXd& G) const;
+  /// How far each root function moves when each y_i moves by at most dy_i:
+  /// their gradients are fixed in a mode (a free u_j's a unit vector, a
+  /// bound row's (C_j, D_j)).
+  void RootMoves(const Eigen::VectorXd& dy, Eigen::VectorXd& moves) const;
   /// max |Φ(x)| over the u-free combinations of the passes: the drift of (5.7).
   double Drift(const double* y) const;
 
@@ -107,6 +115,7 @@ class LcsModeDae {
   int m_;
   AffineFlow flow_;
   AffineRows lcs_rows_;  // q, C, D
+  SparseMatrix abs_C_, abs_D_;  // |C|, |D| entrywise, for RootMoves
   Eigen::VectorXd lower_, upper_;
 
   BoxMode mode_;

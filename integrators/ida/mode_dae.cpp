@@ -2,10 +2,12 @@
 #include "dvi/mode_dae.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -17,6 +19,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "../cvode/polynomial_floor.hpp"
 #include "../cvode/sundials_handles.hpp"
 #include "check.hpp"
 #include "output_times_check.hpp"
@@ -149,7 +152,8 @@ class ModeDaeRun {
  private:
   bool Start();
   bool Integrate();
-  bool HandleRoot(double t);
+  bool HandleRoot(double t, const std::vector<int>& roots);
+  double MissedRoot(std::vector<int>& roots);
   bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
                   const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u);
   bool ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
@@ -199,6 +203,11 @@ class ModeDaeRun {
   long reduced_modes_ = 0;  // modes entered with rows differentiated
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
   std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
+  Eigen::MatrixXd step_taylor_, step_roots_;  // MissedRoot's polynomials
+  // MissedRoot's screen: the last step's end, its y, y' and root values
+  // (the next step's start), and the root functions' moves.
+  double step_end_time_ = NAN;
+  Eigen::VectorXd end_y_, end_yp_, end_roots_, start_roots_, root_moves_;
   // A root that left the mode unchanged, until a step shows the mode holds.
   double kept_mode_time_ = 0;
   Eigen::VectorXd kept_mode_y_;
@@ -284,6 +293,7 @@ bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Ei
     }
   }
   checked_at_x_ = false;
+  step_end_time_ = NAN;  // MissedRoot's kept step end is another mode's
   if (dae_.passes() > 0) ++reduced_modes_;
   Eigen::VectorXd xdot;
   dae_.StateDerivative(x, u, xdot);
@@ -455,13 +465,12 @@ bool ModeDaeRun::Start() {
   return true;
 }
 
-// A root: the new mode from the modified LCP at the root's state. A root
-// function that only touched zero leaves the mode as it is (no event, IDA
-// goes on); a real change is recorded, guarded against chattering, and the
-// integration restarts from consistent values.
-bool ModeDaeRun::HandleRoot(double t) {
-  std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
-  if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo")) return false;
+// A root at t (y_ the state there; roots: which root functions crossed, as
+// IDAGetRootInfo gives them): the new mode from the modified LCP at the
+// root's state. A root function that only touched zero leaves the mode as
+// it is (no event, IDA goes on); a real change is recorded, guarded against
+// chattering, and the integration restarts from consistent values.
+bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
   const BoxMode old_mode = dae_.mode();
   std::vector<bool> leaving(m_, false);
   for (int j = 0; j < m_; ++j)
@@ -508,6 +517,76 @@ bool ModeDaeRun::HandleRoot(double t) {
   if (!EnterMode(t, mode, x, u)) return false;
   Sample(t);
   return true;
+}
+
+// IDA sees the root functions only at step ends: one that dips below zero
+// and back within a step (a contact grazed by a long step) would pass
+// unseen. An LCS mode's root functions are affine in y, so along the step's
+// interpolant they are polynomials of its order (RootPolynomials), bounded
+// over the whole step by their Bernstein hulls (FirstTimeBelow). Reading
+// that polynomial costs O(q² n), so a step whose root functions stay clear
+// of their bounds by how far y moves (their gradients are fixed, and y
+// moves within the Bernstein hull of the cubic Hermite interpolant of its
+// ends' y and y', to O(h⁴), taken twice as far) is passed first. Returns the
+// first zero of the earliest root function that falls below
+// ModeStillHolds' tolerance, with roots marking it as IDAGetRootInfo
+// would, or NaN. @pre y_, yp_: the step's end, where IDASolve left them.
+double ModeDaeRun::MissedRoot(std::vector<int>& roots) {
+  void* ida = ida_.get();
+  double t_n = 0, h = 0;
+  int q = 0;
+  if (m_ == 0 || IDAGetCurrentTime(ida, &t_n) != IDA_SUCCESS ||
+      IDAGetLastStep(ida, &h) != IDA_SUCCESS || IDAGetLastOrder(ida, &q) != IDA_SUCCESS ||
+      !(h > 0) || q < 1 || q > internal::kMaxFloorDegree)
+    return NAN;
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size()), yp(yp_.data(), dae_.size());
+  const double tolerance = u_tolerance_ * (1 + y.lpNorm<Eigen::Infinity>());
+  // IDA's t_n − h is the last step's end up to rounding.
+  const bool start_known = std::abs(step_end_time_ - (t_n - h)) <=
+                           4 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + h);
+  start_roots_.swap(end_roots_);
+  end_roots_.resize(2 * m_);
+  dae_.Roots(y.data(), end_roots_.data());
+  bool clear = false;
+  if (start_known) {
+    constexpr double kMoveMargin = 2;
+    Eigen::VectorXd dy = (end_y_ - y).cwiseAbs();
+    dy = dy.cwiseMax((end_y_ + (h / 3) * end_yp_ - y).cwiseAbs()).cwiseMax((h / 3) * yp.cwiseAbs());
+    dae_.RootMoves(kMoveMargin * dy, root_moves_);
+    clear = true;
+    for (int slot = 0; clear && slot < 2 * m_; ++slot)
+      clear = std::max(start_roots_(slot), end_roots_(slot)) - root_moves_(slot) > -tolerance;
+  }
+  end_y_ = y;
+  end_yp_ = yp;
+  step_end_time_ = t_n;
+  if (clear) return NAN;
+  step_taylor_.resize(dae_.size(), q + 1);
+  double factorial = 1;
+  for (int k = 0; k <= q; ++k) {
+    if (k > 1) factorial *= k;
+    if (IDAGetDky(ida, t_n, k, dky_.get()) != IDA_SUCCESS) return NAN;
+    step_taylor_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), dae_.size()) / factorial;
+  }
+  dae_.RootPolynomials(step_taylor_, step_roots_);
+  std::array<double, internal::kMaxFloorDegree + 1> coefficients{};
+  double first = NAN;
+  int first_slot = -1;
+  for (int slot = 0; slot < 2 * m_; ++slot) {
+    for (int k = 0; k <= q; ++k) coefficients[k] = step_roots_(slot, k);
+    if (std::isnan(internal::FirstTimeBelow(coefficients.data(), q, t_n, h, -tolerance)))
+      continue;
+    // Its first zero: the search meets the earliest point below 0 first.
+    const double zero = internal::FirstTimeBelow(coefficients.data(), q, t_n, h, 0);
+    if (!(zero >= first)) {
+      first = zero;
+      first_slot = slot;
+    }
+  }
+  if (first_slot < 0) return NAN;
+  roots.assign(2 * static_cast<std::size_t>(m_), 0);
+  roots[first_slot] = -1;
+  return first;
 }
 
 // IDA's first step is 0.5/‖y'‖ in its weighted norm, which overflows when
@@ -573,14 +652,31 @@ bool ModeDaeRun::Integrate() {
     if (flag == IDA_ILL_INPUT && FirstStepOverflows()) return false;
     if (!Check(flag, "IDASolve")) return false;
     t_ = t_return;
-    if (flag != IDA_ROOT_RETURN && !ModeStillHolds()) return false;
+    if (flag != IDA_ROOT_RETURN) {
+      std::vector<int> roots;
+      const double missed = MissedRoot(roots);
+      if (!std::isnan(missed) && IDAGetDky(ida_.get(), missed, 0, y_.get()) == IDA_SUCCESS) {
+        SampleOutputs(missed);
+        t_ = missed;
+        if (!HandleRoot(missed, roots)) return false;
+        // A new mode restarted IDA at the root; a kept one goes on from the
+        // step's end.
+        if (kept_mode_y_.size() == 0 || kept_mode_time_ != missed) continue;
+        if (!Check(IDAGetDky(ida_.get(), t_return, 0, y_.get()), "IDAGetDky")) return false;
+        t_ = t_return;
+      }
+      if (!ModeStillHolds()) return false;
+    }
     // Theorem 5.3 only keeps d/dt Φ(x) = 0; Φ(x) itself is
     // held by BDF, which preserves linear invariants up to the Newton error.
     stats.max_constraint_drift = std::max(stats.max_constraint_drift, dae_.Drift(y_.data()));
     SampleOutputs(t_return);
     const bool done = flag == IDA_TSTOP_RETURN || t_return >= t_end_;
     if (flag == IDA_ROOT_RETURN) {
-      if (!HandleRoot(t_return)) return false;
+      std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
+      if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo") ||
+          !HandleRoot(t_return, roots))
+        return false;
     } else if (options_.output_times.empty() && !done) {
       Sample(t_return);
     }
