@@ -562,6 +562,10 @@ double EventDrivenRun::StepViolation() {
     }
     system_.RootFloors(0, root_floors_);
     slack_applied_ = false;
+    // An LCS mode here (G_u singular at the split: no affine map) has root
+    // functions of x's degree, which its interpolant reproduces. A
+    // nonlinear one's are resolved by halving pieces rather than by degree:
+    // 2 or 3, so that a step that needs no halving costs 2–3 solves.
     const StepInterpolant& interpolant = StepInterpolant::OfDegree(
         system_.affine() ? std::min(q, kMaxInterpolantDegree) : std::clamp(q, 2, 3));
     if (!start_known_) {

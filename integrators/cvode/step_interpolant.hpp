@@ -8,7 +8,7 @@
 namespace dvi::internal {
 
 /// The highest degree a StepInterpolant takes: a BDF step's (order 5), and
-/// the cap for Adams' higher orders (a node is a Newton solve).
+/// the cap for Adams' higher orders (each node costs a solve of u).
 inline constexpr int kMaxInterpolantDegree = 5;
 
 /// What bounding interpolated functions over a piece of a step found.
