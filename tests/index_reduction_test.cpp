@@ -97,10 +97,7 @@ TEST(IndexReduction, ContactAtALargeTimeOvershootsWithinTheStateError) {
   }
 }
 
-// x1' = x2 + u, x2' = 1, 0 ≤ u ⊥ x1 + D u ≥ 0, x0 = (1, −c), c = √2.002:
-// unconstrained, x1 = 1 − ct + t²/2 dips to −0.001 over a window 0.09 wide
-// around t = c. x is a polynomial, so BDF's steps grow past the window: no
-// step end sees the root. Event reported success with the unconstrained
+// testing::GrazingContact: event reported success with the unconstrained
 // x1(10) = 36.8507950753 and w = −1e-3 at t = c (found by probing); then,
 // checking its samples, it found the contact only when an output time fell
 // in the window (with output times {0, 10}: x1(10) off by 5.7e-5 for D = 1,
@@ -108,29 +105,24 @@ TEST(IndexReduction, ContactAtALargeTimeOvershootsWithinTheStateError) {
 // whatever the output times. The same LCS as a general Dvi (Newton in each
 // mode, no affine map) takes the nonlinear modes' check, interpolation at
 // the step's nodes, which the samples alone were until 2af181e.
-// Exact x1(10): 36.8508521441 for D = 1 (u = max(0, −x1)); for D = 0, x1
-// rests at 0 from t1 = c − √0.002 to c, then (t − c)²/2: 36.8517950769.
 TEST(IndexReduction, ContactGrazedWithinOneStepIsFoundBetweenOutputTimes) {
   const double c = std::sqrt(2.002);
   const std::vector<std::vector<double>> output_grids = {{0, c, 10}, {0, 10}, {0, 0.5, 9}, {}};
-  for (const auto& [D, exact] : {std::pair{1.0, 36.8508521441}, std::pair{0.0, 36.8517950769}}) {
-    Eigen::Matrix2d A;
-    A << 0, 1, 0, 0;
-    const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
-                               Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
-                               Eigen::VectorXd::Zero(1));
+  for (const auto& [D, exact] : testing::kGrazingCases) {
+    const Lcs lcs = testing::GrazingContact(D);
     for (const bool as_dvi : {false, true}) {
       for (const auto& grid : output_grids) {
         EventDrivenOptions options = Tight();
         options.output_times = grid;
-        const Trajectory trajectory =
-            as_dvi ? IntegrateEventDriven(lcs.ToDvi(), Eigen::Vector2d(1, -c), 0, 10, options)
-                   : IntegrateEventDriven(lcs, Eigen::Vector2d(1, -c), 0, 10, options);
+        const Eigen::VectorXd x0 = testing::GrazingContactStart();
+        const Trajectory trajectory = as_dvi
+                                          ? IntegrateEventDriven(lcs.ToDvi(), x0, 0, 10, options)
+                                          : IntegrateEventDriven(lcs, x0, 0, 10, options);
         const std::string what = (as_dvi ? "Dvi, D = " : "Lcs, D = ") + std::to_string(D) +
                                  ", " + std::to_string(grid.size()) + " output times";
         ASSERT_TRUE(trajectory.succeeded()) << what << ": " << trajectory.message;
         ASSERT_EQ(trajectory.events.size(), 2u) << what;
-        EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8) << what;
+        EXPECT_NEAR(trajectory.events.front().time, testing::GrazingContactTime(), 1e-8) << what;
         EXPECT_EQ(trajectory.times.back(), 10) << what;
         EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << what;
       }
@@ -211,14 +203,12 @@ TEST(IndexReduction, TimeDrivenGrazeWithinOneStepIsFound) {
 }
 
 // The first graze in an LCS too large for dense rows (the two states of
-// ContactGrazedWithinOneStepIsFoundBetweenOutputTimes with D = 1, and 4198
-// constant ones): its steps are screened by the root functions' slopes
-// and, near the constraint, bounded exactly through G_u's LU and sparse
-// products. The exact x1(10) is that test's. Before, such an LCS was
-// checked at its output times only.
+// testing::GrazingContact with D = 1, and 4198 constant ones): its steps
+// are screened by the root functions' slopes and, near the constraint,
+// bounded exactly through G_u's LU and sparse products. Before, such an
+// LCS was checked at its output times only.
 TEST(IndexReduction, LargeLcsFindsAContactGrazedWithinOneStep) {
   constexpr int n = 4200;
-  const double c = std::sqrt(2.002);
   SparseMatrix A(n, n), B(n, 1), C(1, n), D(1, 1);
   A.insert(0, 1) = 1;
   B.insert(0, 0) = 1;
@@ -226,7 +216,7 @@ TEST(IndexReduction, LargeLcsFindsAContactGrazedWithinOneStep) {
   D.insert(0, 0) = 1;
   Eigen::VectorXd p = Eigen::VectorXd::Zero(n), x0 = Eigen::VectorXd::Ones(n);
   p(1) = 1;
-  x0(1) = -c;
+  x0.head(2) = testing::GrazingContactStart();
   for (const auto& grid : std::vector<std::vector<double>>{{0, 10}, {}}) {
     // CVODE's error norm is an RMS over all n states: the constant ones
     // make it √n looser on x1 than the 2-state test's.
@@ -239,8 +229,9 @@ TEST(IndexReduction, LargeLcsFindsAContactGrazedWithinOneStep) {
                              options);
     ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
     ASSERT_EQ(trajectory.events.size(), 2u) << grid.size() << " output times";
-    EXPECT_NEAR(trajectory.events.front().time, c - std::sqrt(0.002), 1e-8);
-    EXPECT_NEAR(trajectory.states.back()(0), 36.8508521441, 1e-8) << grid.size();
+    EXPECT_NEAR(trajectory.events.front().time, testing::GrazingContactTime(), 1e-8);
+    EXPECT_NEAR(trajectory.states.back()(0), testing::kGrazingCases[0].x1_at_10, 1e-8)
+        << grid.size();
     EXPECT_EQ(trajectory.states.back()(n - 1), 1);
   }
 }

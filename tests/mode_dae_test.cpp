@@ -15,6 +15,7 @@
 #include "dvi/time_stepping.hpp"
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi {
 namespace {
@@ -420,31 +421,22 @@ TEST(ModeDae, OverflowingFirstStepIsNamed) {
   }
 }
 
-// The graze of IndexReduction.ContactGrazedWithinOneStepIsFoundBetweenOutputTimes
-// on IDA: x1' = x2 + u, x2' = 1, 0 ≤ u ⊥ x1 + D u ≥ 0, x0 = (1, −√2.002).
-// x1 dips to −1e-3 over a window 0.09 wide that no step end sees; IDA
-// reported success with the unconstrained x1(10) = 36.8507950753 whatever
-// the output times (its samples were not checked either). Each step's root
-// polynomials now find it. Exact x1(10): 36.8508521441 (D = 1),
-// 36.8517950769 (D = 0).
+// testing::GrazingContact on IDA: IDA reported success with the
+// unconstrained x1(10) = 36.8507950753 whatever the output times (its
+// samples were not checked either). Each step's root polynomials now find it.
 TEST(ModeDae, ContactGrazedWithinOneStepIsFound) {
-  const double c = std::sqrt(2.002);
-  for (const auto& [D, exact] : {std::pair{1.0, 36.8508521441}, std::pair{0.0, 36.8517950769}}) {
-    Eigen::Matrix2d A;
-    A << 0, 1, 0, 0;
-    const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
-                               Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
-                               Eigen::VectorXd::Zero(1));
+  for (const auto& [D, exact] : testing::kGrazingCases) {
     for (const auto& grid :
          std::vector<std::vector<double>>{{0, 10}, {}, testing::Linspace(0, 10, 1001)}) {
       ModeDaeOptions options;
       options.rtol = 1e-10;
       options.atol = 1e-12;
       options.output_times = grid;
-      const Trajectory result = IntegrateModeDae(lcs, Eigen::Vector2d(1, -c), 0, 10, options);
+      const Trajectory result = IntegrateModeDae(testing::GrazingContact(D),
+                                                 testing::GrazingContactStart(), 0, 10, options);
       ASSERT_TRUE(result.succeeded()) << D << ": " << result.message;
       ASSERT_EQ(result.events.size(), 2u) << D << ", " << grid.size() << " output times";
-      EXPECT_NEAR(result.events.front().time, c - std::sqrt(0.002), 1e-8) << D;
+      EXPECT_NEAR(result.events.front().time, testing::GrazingContactTime(), 1e-8) << D;
       EXPECT_EQ(result.times.back(), 10) << D;
       EXPECT_NEAR(result.states.back()(0), exact, 1e-8) << D << ", " << grid.size();
     }

@@ -573,6 +573,8 @@ void BoxModeSystem::AffineRootSlopes() {
   // exactly, each one).
   constexpr long kMaxSlopeEntries = 1 << 20;
   root_slopes_known_ = false;
+  // A small LCS checks every step exactly (StepViolation): no slopes.
+  if (HasDenseRows()) return;
   const int a = static_cast<int>(free_.size());
   if (!(a == 0 || mode_regular_) || static_cast<long>(a + 2 * m()) * n() > kMaxSlopeEntries)
     return;

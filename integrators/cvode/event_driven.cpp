@@ -611,14 +611,10 @@ bool EventDrivenRun::StepClear(double t_n, double h) {
   const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(dky_.data(), x0_.size());
   bool clear = false;
   if (start_known_) {
-    // How far each x_i moves from x_n within the step: the Bernstein hull
-    // of the cubic Hermite interpolant of the ends' x and x' (the step's
-    // own polynomial to O(h⁴)), kMoveMargin times as far for the difference.
+    // How far each x_i moves from x_n within the step (HermiteMoves),
+    // kMoveMargin times as far for the step's own polynomial.
     constexpr double kMoveMargin = 1.5;
-    step_moves_ = kMoveMargin * (end_x_ - x_n)
-                                    .cwiseAbs()
-                                    .cwiseMax((end_x_ + (h / 3) * end_rate_ - x_n).cwiseAbs())
-                                    .cwiseMax((h / 3) * rate.cwiseAbs());
+    internal::HermiteMoves(end_x_, end_rate_, x_n, rate, h, kMoveMargin, step_moves_);
     clear = system_.StepClearOfBounds(start_roots_.data(), end_roots_.data(), step_moves_, h);
   }
   end_x_ = x_n;

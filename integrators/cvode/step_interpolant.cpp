@@ -44,6 +44,17 @@ const StepInterpolant& StepInterpolant::OfDegree(int degree) {
   return table[degree - 1];
 }
 
+void HermiteMoves(const Eigen::VectorXd& y_start, const Eigen::VectorXd& rate_start,
+                  const Eigen::Ref<const Eigen::VectorXd>& y_end,
+                  const Eigen::Ref<const Eigen::VectorXd>& rate_end, double h, double margin,
+                  Eigen::VectorXd& moves) {
+  // Bernstein coefficients y_start, y_start + h y'_start/3, y_end − h y'_end/3, y_end.
+  moves = margin * (y_start - y_end)
+                       .cwiseAbs()
+                       .cwiseMax((y_start + (h / 3) * rate_start - y_end).cwiseAbs())
+                       .cwiseMax((h / 3) * rate_end.cwiseAbs());
+}
+
 PieceBound StepInterpolant::Bound(const Eigen::MatrixXd& values, const Eigen::VectorXd& extra,
                                   const Eigen::VectorXd& floors, double t_end,
                                   double width) const {

@@ -11,6 +11,15 @@ namespace dvi::internal {
 /// the cap for Adams' higher orders (each node costs a solve of u).
 inline constexpr int kMaxInterpolantDegree = 5;
 
+/// moves_i: how far y_i moves from y_end within a step of length h whose
+/// ends have y_start, y'_start and y_end, y'_end, times margin: the
+/// Bernstein hull of their cubic Hermite interpolant, which is the step's
+/// own polynomial to O(h⁴) (the margin covers the difference).
+void HermiteMoves(const Eigen::VectorXd& y_start, const Eigen::VectorXd& rate_start,
+                  const Eigen::Ref<const Eigen::VectorXd>& y_end,
+                  const Eigen::Ref<const Eigen::VectorXd>& rate_end, double h, double margin,
+                  Eigen::VectorXd& moves);
+
 /// What bounding interpolated functions over a piece of a step found.
 struct PieceBound {
   /// The lowest point of the earliest dip of an interpolant below its

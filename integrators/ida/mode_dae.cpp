@@ -20,6 +20,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "../cvode/polynomial_floor.hpp"
+#include "../cvode/step_interpolant.hpp"
 #include "../cvode/sundials_handles.hpp"
 #include "check.hpp"
 #include "output_times_check.hpp"
@@ -205,9 +206,9 @@ class ModeDaeRun {
   std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
   Eigen::MatrixXd step_taylor_, step_roots_;  // MissedRoot's polynomials
   // MissedRoot's screen: the last step's end, its y, y' and root values
-  // (the next step's start), and the root functions' moves.
+  // (the next step's start), and how far y and the root functions move.
   double step_end_time_ = NAN;
-  Eigen::VectorXd end_y_, end_yp_, end_roots_, start_roots_, root_moves_;
+  Eigen::VectorXd end_y_, end_yp_, end_roots_, start_roots_, step_moves_, root_moves_;
   // A root that left the mode unchanged, until a step shows the mode holds.
   double kept_mode_time_ = 0;
   Eigen::VectorXd kept_mode_y_;
@@ -525,9 +526,8 @@ bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
 // interpolant they are polynomials of its order (RootPolynomials), bounded
 // over the whole step by their Bernstein hulls (FirstTimeBelow). Reading
 // that polynomial costs O(q² n), so a step whose root functions stay clear
-// of their bounds by how far y moves (their gradients are fixed, and y
-// moves within the Bernstein hull of the cubic Hermite interpolant of its
-// ends' y and y', to O(h⁴), taken twice as far) is passed first. Returns the
+// of their bounds by how far y moves (their gradients are fixed; y's moves
+// by HermiteMoves, taken twice as far) is passed first. Returns the
 // first zero of the earliest root function that falls below
 // ModeStillHolds' tolerance, with roots marking it as IDAGetRootInfo
 // would, or NaN. @pre y_, yp_: the step's end, where IDASolve left them.
@@ -550,9 +550,8 @@ double ModeDaeRun::MissedRoot(std::vector<int>& roots) {
   bool clear = false;
   if (start_known) {
     constexpr double kMoveMargin = 2;
-    Eigen::VectorXd dy = (end_y_ - y).cwiseAbs();
-    dy = dy.cwiseMax((end_y_ + (h / 3) * end_yp_ - y).cwiseAbs()).cwiseMax((h / 3) * yp.cwiseAbs());
-    dae_.RootMoves(kMoveMargin * dy, root_moves_);
+    internal::HermiteMoves(end_y_, end_yp_, y, yp, h, kMoveMargin, step_moves_);
+    dae_.RootMoves(step_moves_, root_moves_);
     clear = true;
     for (int slot = 0; clear && slot < 2 * m_; ++slot)
       clear = std::max(start_roots_(slot), end_roots_(slot)) - root_moves_(slot) > -tolerance;

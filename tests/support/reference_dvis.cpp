@@ -122,4 +122,16 @@ Dvi ParticleOnACircle() {
   return dvi;
 }
 
+Lcs GrazingContact(double D) {
+  Eigen::Matrix2d A;
+  A << 0, 1, 0, 0;
+  return Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
+                    Eigen::MatrixXd::Constant(1, 1, D), Eigen::Vector2d(0, 1),
+                    Eigen::VectorXd::Zero(1));
+}
+
+Eigen::VectorXd GrazingContactStart() { return Eigen::Vector2d(1, -std::sqrt(2.002)); }
+
+double GrazingContactTime() { return std::sqrt(2.002) - std::sqrt(0.002); }
+
 }  // namespace dvi::testing

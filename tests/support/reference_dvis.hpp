@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/dvi_problem.hpp"
+#include "dvi/lcs.hpp"
 
 namespace dvi::testing {
 
@@ -55,5 +56,23 @@ Dvi RestingMass();
 inline constexpr double kGravity = 9.81;
 inline constexpr double kRadius = 1.0;
 Dvi ParticleOnACircle();
+
+/// A contact grazed within one long step, as an LCS:
+///   x1' = x2 + u,  x2' = 1,  0 ≤ u ⊥ x1 + D u ≥ 0,
+/// from GrazingContactStart() = (1, −c), c = √2.002. Unconstrained,
+/// x1 = 1 − ct + t²/2 dips to −0.001 over a window 0.09 wide around t = c;
+/// x is a polynomial, so BDF's steps grow past the window and no step end
+/// sees the root. Contact begins at GrazingContactTime() = c − √0.002.
+Lcs GrazingContact(double D);
+Eigen::VectorXd GrazingContactStart();
+double GrazingContactTime();
+
+/// Exact x1(10) of GrazingContact: for D = 1, u = max(0, −x1); for D = 0,
+/// x1 rests at 0 from the contact to c, then (t − c)²/2.
+struct GrazingCase {
+  double D;
+  double x1_at_10;
+};
+inline constexpr GrazingCase kGrazingCases[] = {{1.0, 36.8508521441}, {0.0, 36.8517950769}};
 
 }  // namespace dvi::testing
