@@ -42,8 +42,15 @@ constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 // RHS of (5.2) must be smooth to round-off for CVODE's error estimates.
 constexpr double kNewtonStepTolerance = 16 * kEpsilon;
 constexpr int kMaxNewtonIterations = 50;
-// Solve keeps G_u's factors while each step cuts the residual at least this much.
+// Solve keeps G_u's factors while each step cuts the residual at least this
+// much and, at that rate, reaches round-off within kMaxChordSteps more steps
+// (fresh factors converge quadratically; 6 is the cheapest on the
+// work-precision problems, between 3 and 10).
 constexpr double kChordContraction = 0.25;
+constexpr double kMaxChordSteps = 6;
+// Pivots of a partial-pivoting LU within this ratio of each other pass as
+// nonsingular without estimating the condition number (Regular).
+constexpr double kPivotSpread = 1e-6;
 // Fixed-point iterations of the look-ahead step at an event.
 constexpr int kMaxLookAheadIterations = 6;
 // ResolveByRates: a rate below this, relative to the rates' scale, is zero
@@ -61,20 +68,23 @@ constexpr int kMaxNonlinearPasses = 2;
 // have drifted less than this between evaluations.
 constexpr double kSlopeMargin = 2;
 
-// Forward differences of g(t, x, u) in x and u (rows = g's dimension), with
-// the usual √ε relative increment.
+// Forward differences of g(t, x, u) in u and, when Jx is given, in x (rows
+// = g's dimension), from base = g(t, x, u), with the usual √ε relative
+// increment.
 void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Eigen::VectorXd& x,
-                        const Eigen::VectorXd& u, Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+                        const Eigen::VectorXd& u, const Eigen::VectorXd& base,
+                        Eigen::MatrixXd* Jx, Eigen::MatrixXd& Ju) {
   const double root_eps = std::sqrt(kEpsilon);
-  Eigen::VectorXd base(rows), shifted(rows);
-  g(t, x, u, base);
-  Eigen::VectorXd xs = x;
-  for (int k = 0; k < x.size(); ++k) {
-    const double step = root_eps * std::max(1.0, std::abs(x(k)));
-    xs(k) = x(k) + step;
-    g(t, xs, u, shifted);
-    Jx.col(k) = (shifted - base) / step;
-    xs(k) = x(k);
+  Eigen::VectorXd shifted(rows);
+  if (Jx) {
+    Eigen::VectorXd xs = x;
+    for (int k = 0; k < x.size(); ++k) {
+      const double step = root_eps * std::max(1.0, std::abs(x(k)));
+      xs(k) = x(k) + step;
+      g(t, xs, u, shifted);
+      Jx->col(k) = (shifted - base) / step;
+      xs(k) = x(k);
+    }
   }
   Eigen::VectorXd us = u;
   for (int k = 0; k < u.size(); ++k) {
@@ -84,6 +94,31 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
     Ju.col(k) = (shifted - base) / step;
     us(k) = u(k);
   }
+}
+
+// Whether an LU's matrix is nonsingular: its reciprocal condition number
+// above a·ε. Eigen's estimate of it costs several solves with allocations,
+// more than the factorization at a few free components, and is taken only
+// when U's pivots spread beyond kPivotSpread: under partial pivoting a
+// nearly singular matrix shows as a small pivot but for contrived cases
+// (Kahan's matrix), which the estimate is left to catch at a wider spread.
+bool Regular(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
+  const auto pivots = lu.matrixLU().diagonal().cwiseAbs();
+  if (!pivots.allFinite()) return false;
+  if (pivots.minCoeff() >= kPivotSpread * pivots.maxCoeff()) return true;
+  return lu.rcond() > static_cast<double>(pivots.size()) * kEpsilon;
+}
+
+// Whether the chord method (Newton on kept factors of G_u) should give
+// way to fresh factors: its residual fell from `previous` to `norm`, too
+// little, or at a rate that needs more than kMaxChordSteps further steps to
+// reach round-off.
+bool ChordTooSlow(double norm, double previous) {
+  const double rate = norm / previous;
+  if (!(rate <= kChordContraction)) return true;
+  if (norm == 0 || rate == 0) return false;
+  const double steps_left = std::log(kEpsilon / norm) / std::log(rate);
+  return steps_left > kMaxChordSteps;
 }
 
 }  // namespace
@@ -130,6 +165,8 @@ void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
   rows_split_ = false;
   newton_lu_current_ = false;
   root_slopes_known_ = false;
+  tangent_known_ = false;
+  anchored_ = false;
   u_ = u;
   for (int j = 0; j < m(); ++j) {
     if (mode_[j] == BoundState::kFree) free_.push_back(j);
@@ -150,20 +187,26 @@ void BoxModeSystem::FJacobians(double t, const Eigen::VectorXd& x, const Eigen::
                                Eigen::MatrixXd& Fx, Eigen::MatrixXd& Fu) const {
   Fx.resize(m(), n());
   Fu.resize(m(), m());
-  if (dvi_.F_jacobian)
+  if (dvi_.F_jacobian) {
     dvi_.F_jacobian(t, x, u, Fx, Fu);
-  else
-    ForwardDifferences(dvi_.F, m(), t, x, u, Fx, Fu);
+    return;
+  }
+  Eigen::VectorXd base(m());
+  dvi_.F(t, x, u, base);
+  ForwardDifferences(dvi_.F, m(), t, x, u, base, &Fx, Fu);
 }
 
 void BoxModeSystem::SmallFJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                     Eigen::MatrixXd& fx, Eigen::MatrixXd& fu) const {
   fx.resize(n(), n());
   fu.resize(n(), m());
-  if (dvi_.f_jacobian)
+  if (dvi_.f_jacobian) {
     dvi_.f_jacobian(t, x, u, fx, fu);
-  else
-    ForwardDifferences(dvi_.f, n(), t, x, u, fx, fu);
+    return;
+  }
+  Eigen::VectorXd base(n());
+  dvi_.f(t, x, u, base);
+  ForwardDifferences(dvi_.f, n(), t, x, u, base, &fx, fu);
 }
 
 void BoxModeSystem::FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
@@ -272,7 +315,12 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
   // from allocating per iteration.
   if (reductions_.empty()) {
     EvalF(t, x, u, scratch_F_);
-    if (Gu || Gx) FJacobians(t, x, u, scratch_Fx_, scratch_Fu_);
+    if (Gx || (Gu && dvi_.F_jacobian)) {
+      FJacobians(t, x, u, scratch_Fx_, scratch_Fu_);
+    } else if (Gu) {  // Newton's G_u alone: differences in u only, from F here
+      scratch_Fu_.resize(m(), m());
+      ForwardDifferences(dvi_.F, m(), t, x, u, scratch_F_, nullptr, scratch_Fu_);
+    }
   } else {
     PassRows(reductions_, static_cast<int>(reductions_.size()), t, x, u, scratch_F_,
              Gu ? &scratch_Fu_ : nullptr, Gx ? &scratch_Fx_ : nullptr);
@@ -297,13 +345,23 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
   }
   if (affine_) return SolveLcsMode(x, why);
   // Newton with G_u's factors kept from call to call while they still cut
-  // the residual by kChordContraction per step (the chord method): a mode's
+  // the residual fast enough (the chord method, ChordTooSlow): a mode's
   // G_u moves little between the right-hand side's calls, and its LU is the
   // O(a³) part (half the run at a = 50 free components).
   Eigen::VectorXd& u = newton_u_;
   u = u_;
+  if (tangent_known_ && anchored_) {
+    // Implicit function theorem: u_A moves by −(K dx + k dt) from the last
+    // solution. Newton starts O(|dx|²) from the root rather than O(|dx|),
+    // to the extent that K, kept from CVODE's last Jacobian, is current.
+    anchor_dx_ = x - anchor_x_;
+    step_.noalias() = tangent_x_ * anchor_dx_;
+    step_ += (t - anchor_t_) * tangent_t_;
+    for (int i = 0; i < a; ++i) u(free_[i]) -= step_(i);
+  }
   bool fresh = !newton_lu_current_;
   double previous_norm = std::numeric_limits<double>::infinity();
+  double previous_step_norm = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     ++newton_iterations_;
     ModeEquations(t, x, u, residual_, fresh ? &newton_Gu_ : nullptr, nullptr);
@@ -314,15 +372,19 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     // the equations' own round-off (differenced rows of a second pass end
     // there before Newton's step reaches round-off).
     if (norm == 0 || (norm >= previous_norm && norm <= solver_.tolerance)) {
-      u_ = u;
+      Accept(t, x);
       return true;
     }
-    if (!fresh && !(norm <= kChordContraction * previous_norm) && iteration > 0) {
-      // The kept factors no longer contract: back to the last iterate, and
-      // G_u there.
-      for (int i = 0; i < a; ++i) u(free_[i]) += step_(i);
+    if (!fresh && iteration > 0 && ChordTooSlow(norm, previous_norm)) {
+      // The kept factors contract too slowly: G_u afresh at this iterate,
+      // or at the last one where they did not contract at all.
+      if (norm < previous_norm)
+        previous_norm = norm;
+      else
+        for (int i = 0; i < a; ++i) u(free_[i]) += step_(i);
       ModeEquations(t, x, u, residual_, &newton_Gu_, nullptr);
       fresh = true;
+      previous_step_norm = std::numeric_limits<double>::infinity();
     } else if (!std::isfinite(norm)) {
       break;
     } else {
@@ -331,7 +393,7 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     if (fresh) {
       newton_lu_.compute(newton_Gu_);
       newton_lu_current_ = true;
-      if (!(newton_lu_.rcond() > a * kEpsilon)) {
+      if (!Regular(newton_lu_)) {
         newton_lu_current_ = false;
         if (why) {
           std::ostringstream message;
@@ -353,15 +415,40 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
       u(free_[i]) -= step_(i);
       u_norm = std::max(u_norm, std::abs(u(free_[i])));
     }
-    if (step_.lpNorm<Eigen::Infinity>() <= kNewtonStepTolerance * (1 + u_norm)) {
+    const double step_norm = step_.lpNorm<Eigen::Infinity>();
+    const double round_off = kNewtonStepTolerance * (1 + u_norm);
+    // The error this step leaves is ρ/(1 − ρ)·|step| with ρ the last two
+    // steps' contraction, and the residual ρ·|G|: at round-off and within
+    // the tolerance, u is taken without evaluating G there again.
+    const double rate = step_norm / previous_step_norm;
+    if (std::isfinite(previous_step_norm) && rate < 1 &&
+        rate * step_norm <= (1 - rate) * round_off && rate * norm <= solver_.tolerance) {
+      Accept(t, x);
+      return true;
+    }
+    previous_step_norm = step_norm;
+    if (step_norm <= round_off) {
+      // A step at round-off moves G by as little: within the tolerance
+      // before it, within it after.
+      if (norm <= solver_.tolerance) {
+        Accept(t, x);
+        return true;
+      }
       ModeEquations(t, x, u, residual_, nullptr, nullptr);
       if (!(residual_.lpNorm<Eigen::Infinity>() <= solver_.tolerance)) break;
-      u_ = u;
+      Accept(t, x);
       return true;
     }
   }
   if (why) *why = "Newton on the free components of the mode did not converge";
   return false;
+}
+
+void BoxModeSystem::Accept(double t, const Eigen::VectorXd& x) {
+  u_ = newton_u_;
+  anchor_t_ = t;
+  anchor_x_ = x;
+  anchored_ = true;
 }
 
 bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
@@ -562,6 +649,9 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   // Implicit function theorem on G(t, x, u(t, x)) = 0.
   const Eigen::MatrixXd K = lu.solve(Gx);
   J -= fua * K;
+  tangent_x_ = K;
+  tangent_t_.setZero(a);
+  tangent_known_ = true;
   // An unreduced mode's ModeEquations left F's Jacobians in the scratch.
   if (slopes) UpdateRootSlopes(t, x, scratch_Fx_, scratch_Fu_, &lu, K);
   return true;
@@ -613,6 +703,7 @@ void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const E
     Eigen::VectorXd Ft_free(a);
     for (int i = 0; i < a; ++i) Ft_free(i) = Ft(free_[i]);
     k = lu->solve(Ft_free);
+    tangent_t_ = k;
   }
   root_gradients_.setZero(2 * m(), n());
   root_slopes_t_.setZero(2 * m());

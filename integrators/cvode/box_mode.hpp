@@ -260,6 +260,8 @@ class BoxModeSystem {
   /// Solve for an LCS: u_α from the mode's affine map or its kept
   /// factors, no allocation.
   bool SolveLcsMode(const Eigen::VectorXd& x, std::string* why);
+  /// Newton's iterate as u(t, x), the anchor of the next start.
+  void Accept(double t, const Eigen::VectorXd& x);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
   /// SelectReducedMode for an LCS: passes on its matrices until the
   /// modified LCP's solution is strongly regular.
@@ -329,6 +331,15 @@ class BoxModeSystem {
   mutable Eigen::VectorXd root_slopes_t_;
   mutable Eigen::VectorXd scratch_root_moves_;
   mutable bool root_slopes_known_ = false;
+  // Newton's first-order start on a nonlinear mode: du_A = −(K dx + k dt),
+  // K = G_u⁻¹ G_x and k = G_u⁻¹ G_t at the last RhsJacobian (k zero for a
+  // reduced mode), from the last solution (anchor_t_, anchor_x_, u_).
+  mutable Eigen::MatrixXd tangent_x_;
+  mutable Eigen::VectorXd tangent_t_;
+  mutable bool tangent_known_ = false;
+  double anchor_t_ = 0;
+  Eigen::VectorXd anchor_x_, anchor_dx_;
+  bool anchored_ = false;
   mutable Eigen::VectorXd scratch_F_;
   mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;

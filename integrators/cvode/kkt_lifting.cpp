@@ -135,8 +135,10 @@ void AddKktTerms(const Structure& s, const Eigen::VectorXd& z, Eigen::VectorXd& 
   for (const Part& p : s.parts) {
     const auto u = z.segment(p.offset, p.size);
     if (p.is_ball) {
+      // d = u − centre as an expression: this runs at every F evaluation,
+      // where a vector would be an allocation.
       const double mu = z(mu0 + p.inequality_offset);
-      const Eigen::VectorXd d = u - p.center;
+      const auto d = u - p.center;
       out.segment(p.offset, p.size) += mu * d;
       out(mu0 + p.inequality_offset) = 0.5 * (p.radius * p.radius - d.squaredNorm());
       if (Jz) {
