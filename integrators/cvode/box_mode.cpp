@@ -109,6 +109,27 @@ bool Regular(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
   return lu.rcond() > static_cast<double>(pivots.size()) * kEpsilon;
 }
 
+// x = A⁻¹ b from A's partial-pivoting LU by plain substitution: at a few
+// free components Eigen's blocked triangular solvers cost several times the
+// arithmetic (this runs at every Newton step of every right-hand side).
+void SolveSmall(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu, const Eigen::VectorXd& b,
+                Eigen::VectorXd& x) {
+  constexpr Eigen::Index kLargest = 16;
+  const Eigen::MatrixXd& LU = lu.matrixLU();
+  const Eigen::Index a = LU.rows();
+  if (a > kLargest) {
+    x = lu.solve(b);
+    return;
+  }
+  x = lu.permutationP() * b;
+  for (Eigen::Index i = 1; i < a; ++i)  // L, unit diagonal
+    for (Eigen::Index k = 0; k < i; ++k) x(i) -= LU(i, k) * x(k);
+  for (Eigen::Index i = a - 1; i >= 0; --i) {  // U
+    for (Eigen::Index k = i + 1; k < a; ++k) x(i) -= LU(i, k) * x(k);
+    x(i) /= LU(i, i);
+  }
+}
+
 // Whether the chord method (Newton on kept factors of G_u) should give
 // way to fresh factors: its residual fell from `previous` to `norm`, too
 // little, or at a rate that needs more than kMaxChordSteps further steps to
@@ -409,7 +430,7 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
         return false;
       }
     }
-    step_ = newton_lu_.solve(residual_);
+    SolveSmall(newton_lu_, residual_, step_);
     double u_norm = 0;
     for (int i = 0; i < a; ++i) {
       u(free_[i]) -= step_(i);
