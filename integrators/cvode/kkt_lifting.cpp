@@ -174,6 +174,8 @@ struct Scratch {
   Eigen::MatrixXd Fx;
   Eigen::MatrixXd Fu;
   Eigen::VectorXd unused_values;  // F̃, which AddKktTerms writes with the Jacobian
+  Eigen::VectorXd f_u;  // u for f and its Jacobian (f's calls may interleave F's)
+  Eigen::MatrixXd fu;
 };
 
 KktLifting LiftToBox(const Dvi& dvi) {
@@ -188,16 +190,20 @@ KktLifting LiftToBox(const Dvi& dvi) {
   lifted.m = dim;
   lifted.K = ConvexSet::Box(s->lower, s->upper);
   const int m = s->m;
-  lifted.f = [f = dvi.f, m](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
-                            Eigen::VectorXd& out) { f(t, x, z.head(m), out); };
+  lifted.f = [f = dvi.f, m, scratch](double t, const Eigen::VectorXd& x,
+                                     const Eigen::VectorXd& z, Eigen::VectorXd& out) {
+    scratch->f_u = z.head(m);
+    f(t, x, scratch->f_u, out);
+  };
   if (dvi.f_jacobian) {
-    lifted.f_jacobian = [J = dvi.f_jacobian, m](double t, const Eigen::VectorXd& x,
-                                                const Eigen::VectorXd& z, Eigen::MatrixXd& Jx,
-                                                Eigen::MatrixXd& Jz) {
-      Eigen::MatrixXd Ju(Jx.rows(), m);
-      J(t, x, z.head(m), Jx, Ju);
+    lifted.f_jacobian = [J = dvi.f_jacobian, m, scratch](double t, const Eigen::VectorXd& x,
+                                                         const Eigen::VectorXd& z,
+                                                         Eigen::MatrixXd& Jx, Eigen::MatrixXd& Jz) {
+      scratch->f_u = z.head(m);
+      scratch->fu.resize(Jx.rows(), m);
+      J(t, x, scratch->f_u, Jx, scratch->fu);
       Jz.setZero();
-      Jz.leftCols(m) = Ju;
+      Jz.leftCols(m) = scratch->fu;
     };
   }
   lifted.F = [F = dvi.F, s, scratch](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
