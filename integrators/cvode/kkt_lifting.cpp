@@ -174,8 +174,9 @@ struct Scratch {
   Eigen::MatrixXd Fx;
   Eigen::MatrixXd Fu;
   Eigen::VectorXd unused_values;  // F̃, which AddKktTerms writes with the Jacobian
-  Eigen::VectorXd f_u;  // u for f and its Jacobian (f's calls may interleave F's)
-  Eigen::MatrixXd fu;
+  // u for f and its Jacobian, and f_u (f's calls may interleave F's).
+  Eigen::VectorXd f_input;
+  Eigen::MatrixXd f_u;
 };
 
 KktLifting LiftToBox(const Dvi& dvi) {
@@ -192,18 +193,18 @@ KktLifting LiftToBox(const Dvi& dvi) {
   const int m = s->m;
   lifted.f = [f = dvi.f, m, scratch](double t, const Eigen::VectorXd& x,
                                      const Eigen::VectorXd& z, Eigen::VectorXd& out) {
-    scratch->f_u = z.head(m);
-    f(t, x, scratch->f_u, out);
+    scratch->f_input = z.head(m);
+    f(t, x, scratch->f_input, out);
   };
   if (dvi.f_jacobian) {
     lifted.f_jacobian = [J = dvi.f_jacobian, m, scratch](double t, const Eigen::VectorXd& x,
                                                          const Eigen::VectorXd& z,
                                                          Eigen::MatrixXd& Jx, Eigen::MatrixXd& Jz) {
-      scratch->f_u = z.head(m);
-      scratch->fu.resize(Jx.rows(), m);
-      J(t, x, scratch->f_u, Jx, scratch->fu);
+      scratch->f_input = z.head(m);
+      scratch->f_u.resize(Jx.rows(), m);
+      J(t, x, scratch->f_input, Jx, scratch->f_u);
       Jz.setZero();
-      Jz.leftCols(m) = scratch->fu;
+      Jz.leftCols(m) = scratch->f_u;
     };
   }
   lifted.F = [F = dvi.F, s, scratch](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z,
