@@ -38,7 +38,8 @@ namespace dvi::internal {
 /// Also the mode's validity as 2m root functions, all positive inside the mode:
 /// a free u_j gives u_j − l_j and ū_j − u_j, a lower-bound one F_j, an upper-
 /// bound one −F_j (the sign that holds it there); the other slots are 1.
-/// The multiplier of the last evaluation warm-starts the next Newton solve.
+/// The multiplier of the last evaluation, moved along the mode's tangent
+/// du/dx, starts the next Newton solve.
 /// lcs_rows_ as checks of many samples use them: C and M dense when small
 /// (else empty), and max_i |C_i|₁.
 struct DenseAffineRows {
@@ -71,7 +72,8 @@ class BoxModeSystem {
   const Eigen::VectorXd& u() const { return u_; }
   long newton_iterations() const { return newton_iterations_; }
 
-  /// u(t, x) of the current mode by Newton from the last u. False (with why)
+  /// u(t, x) of the current mode by Newton from the last u (moved along the
+  /// tangent of the last RhsJacobian in a nonlinear mode). False (with why)
   /// when G_u is singular (F_u[A, A], or (5.8) for a reduced mode) or Newton
   /// does not converge.
   bool Solve(double t, const Eigen::VectorXd& x, std::string* why = nullptr);
