@@ -104,7 +104,7 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
 // (Kahan's matrix), which the estimate is left to catch at a wider spread.
 bool Regular(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
   const auto pivots = lu.matrixLU().diagonal().cwiseAbs();
-  if (!pivots.allFinite()) return false;
+  if (!pivots.allFinite() || !(pivots.minCoeff() > 0)) return false;  // a zero matrix too
   if (pivots.minCoeff() >= kPivotSpread * pivots.maxCoeff()) return true;
   return lu.rcond() > static_cast<double>(pivots.size()) * kEpsilon;
 }
