@@ -100,8 +100,8 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
 // above a·ε. Eigen's estimate of it costs several solves with allocations,
 // more than the factorization at a few free components, and is taken only
 // when U's pivots spread beyond kPivotSpread: under partial pivoting a
-// nearly singular matrix shows as a small pivot but for contrived cases
-// (Kahan's matrix), which the estimate is left to catch at a wider spread.
+// nearly singular matrix shows as a small pivot, contrived cases (Kahan's
+// matrix) apart, which pass unestimated.
 bool Regular(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
   const auto pivots = lu.matrixLU().diagonal().cwiseAbs();
   if (!pivots.allFinite() || !(pivots.minCoeff() > 0)) return false;  // a zero matrix too
