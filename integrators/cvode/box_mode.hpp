@@ -212,7 +212,8 @@ class BoxModeSystem {
   void AffineRootSlopes();
   /// The root functions' slopes at (t, x, u_) for StepClearOfBounds, from
   /// F's Jacobians and K = G_u⁻¹ G_x (du_A/dx = −K) by lu = G_u's factors
-  /// (null, K empty when no component is free).
+  /// (null, K empty when no component is free). The k = G_u⁻¹ F_t,A it
+  /// forms on the way is also Newton's tangent in t (tangent_t_).
   void UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
                         const Eigen::MatrixXd& Fu, const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
                         const Eigen::MatrixXd& K) const;
