@@ -238,10 +238,6 @@ int RootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
 int ProjectionCallback(realtype t, N_Vector y, N_Vector corr, realtype, N_Vector err,
                        void* user_data) {
   auto& data = *static_cast<CallbackData*>(user_data);
-  if (!data.system->reduced()) {  // nothing to keep: every step of an index-one mode
-    N_VConst(0.0, corr);
-    return 0;
-  }
   return GuardedCallback(data.error, [&] {
     if (!Load(data, t, y)) return NonFinite(data, t, "projection", true);
     Eigen::VectorXd& error = data.projected_error;
@@ -293,6 +289,7 @@ class EventDrivenRun {
   bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode);
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
+  bool ProjectReducedModesOnly();
   bool StillHolds();
   enum class MissedRoot { kLocated, kNone, kUndefined };
   MissedRoot LocateMissedRoot(double t_until, double& last_defined);
@@ -1118,6 +1115,16 @@ bool EventDrivenRun::FailWhereFIsUndefined(double last_defined) {
                   "F's domain)");
 }
 
+// CVODE projects every step once a projection function is set, and pays
+// for it in vector updates even when the correction is zero. Only a reduced
+// mode has constraints Φ = 0 to keep (ProjectionCallback): the others run
+// with projection off. Called where a mode starts, after CVodeReInit.
+bool EventDrivenRun::ProjectReducedModesOnly() {
+  if (dvi_.m == 0 || options_.method != OdeMethod::kBdf) return true;
+  return Check(CVodeSetProjFrequency(cvode_.get(), system_.reduced() ? 1 : 0),
+               "CVodeSetProjFrequency");
+}
+
 bool EventDrivenRun::IntegrateModes() {
   void* cvode = cvode_.get();
   data_.system = &system_;
@@ -1148,7 +1155,8 @@ bool EventDrivenRun::IntegrateModes() {
   // CVODE projects BDF steps only; under Adams the drift of reduced modes is
   // measured, not corrected.
   if (dvi_.m > 0 && options_.method == OdeMethod::kBdf &&
-      !Check(CVodeSetProjFn(cvode, ProjectionCallback), "CVodeSetProjFn"))
+      (!Check(CVodeSetProjFn(cvode, ProjectionCallback), "CVodeSetProjFn") ||
+       !ProjectReducedModesOnly()))
     return false;
   segment_open_ = true;
 
@@ -1207,7 +1215,8 @@ bool EventDrivenRun::IntegrateModes() {
         return true;
       }
       if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
-          !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime"))
+          !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
+          !ProjectReducedModesOnly())
         return false;
       mode_start_ = t_;
       segment_open_ = true;
