@@ -361,7 +361,7 @@ int Main(int argc, char** argv) {
                    problems.end());
     if (problems.empty()) {
       std::cerr << "work_precision: --problem " << only
-                << ": no such problem (decay, diode, oscillator, ball)\n";
+                << ": no such problem (decay, diode, oscillator, ball, rectifier)\n";
       return 2;
     }
   }

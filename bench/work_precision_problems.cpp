@@ -80,18 +80,10 @@ WorkPrecisionProblem BallSpiral(int output_count) {
   return problem;
 }
 
-// testing::SaturatedOscillator, many kinks, against a tight event run.
-WorkPrecisionProblem SaturatedOscillator(int output_count) {
-  WorkPrecisionProblem problem;
-  problem.name = "oscillator";
-  problem.title = "nonlinear strongly monotone 3-D box DVI, x0 = (2.5, 0, 1), [0, 10]";
-
-  problem.dvi = testing::SaturatedOscillator();
-  problem.x0 = Eigen::Vector3d(2.5, 0, 1);
-  problem.t_end = 10;
-  problem.output_times = testing::Linspace(0, 10, output_count);
-
-  // The reference, and a run at ten times its tolerance to estimate its error.
+// problem.exact and problem.schedule from an event run at rtol = 1e-13 (for
+// problems without a closed form), with its distance to an rtol = 1e-12 run
+// as the reference's error estimate.
+void ReferenceFromEventRun(WorkPrecisionProblem& problem) {
   EventDrivenOptions options;
   options.rtol = 1e-13;
   options.atol = 1e-15;
@@ -103,7 +95,7 @@ WorkPrecisionProblem SaturatedOscillator(int output_count) {
   const Trajectory check =
       IntegrateEventDriven(problem.dvi, problem.x0, problem.t0, problem.t_end, options);
   if (!reference.succeeded() || !check.succeeded())
-    throw std::runtime_error("oscillator reference run failed: " + reference.message +
+    throw std::runtime_error(problem.name + " reference run failed: " + reference.message +
                              check.message);
   double distance = 0;
   for (const double t : problem.output_times) {
@@ -116,15 +108,12 @@ WorkPrecisionProblem SaturatedOscillator(int output_count) {
                  << distance << ")";
   problem.reference = reference_text.str();
 
-  // The mode at t0 from u0 (no component is degenerate there), then each
-  // event moves one component; simultaneous events share a segment start.
-  constexpr double kBoundTolerance = 1e-9;
-  const Eigen::VectorXd& u0 = reference.multipliers.front();
-  ModeSegment segment{problem.t0, problem.t_end, std::vector<MultiplierBound>(3)};
-  for (int j = 0; j < 3; ++j)
-    segment.mode[j] = u0(j) <= -1 + kBoundTolerance  ? MultiplierBound::kLower
-                      : u0(j) >= 1 - kBoundTolerance ? MultiplierBound::kUpper
-                                                     : MultiplierBound::kFree;
+  // The mode the VI selects at t0, then each event moves one component;
+  // simultaneous events share a segment start.
+  IndexOneRhs rhs(problem.dvi);
+  if (!rhs.SelectMode(problem.t0, problem.x0))
+    throw std::runtime_error(problem.name + ": no mode at t0: " + rhs.message());
+  ModeSegment segment{problem.t0, problem.t_end, rhs.mode()};
   for (const Event& event : reference.events) {
     if (event.time > segment.from) {
       segment.to = event.time;
@@ -137,6 +126,46 @@ WorkPrecisionProblem SaturatedOscillator(int output_count) {
   }
   segment.to = problem.t_end;
   problem.schedule.push_back(segment);
+}
+
+// testing::SaturatedOscillator, 15 kinks, against a tight event run.
+WorkPrecisionProblem SaturatedOscillator(int output_count) {
+  WorkPrecisionProblem problem;
+  problem.name = "oscillator";
+  problem.title = "nonlinear strongly monotone 3-D box DVI, x0 = (2.5, 0, 1), [0, 10]";
+  problem.dvi = testing::SaturatedOscillator();
+  problem.x0 = Eigen::Vector3d(2.5, 0, 1);
+  problem.t_end = 10;
+  problem.output_times = testing::Linspace(0, 10, output_count);
+  ReferenceFromEventRun(problem);
+  return problem;
+}
+
+// Half-wave rectifier: a sine source charges C through an ideal diode in
+// series with Rd (R = C = 1, Rd = ½), v' = −v + u, 0 ≤ u ⊥ u/2 + v − sin ωt
+// ≥ 0. 100 periods over [0, 20]: the diode turns on and off 199 times, so
+// here a kink's cost to a method without events is paid 199 times over.
+WorkPrecisionProblem HalfWaveRectifier(int output_count) {
+  constexpr double kPeriods = 100, kEnd = 20, kRd = 0.5;
+  constexpr double kOmega = 2 * 3.14159265358979323846 * kPeriods / kEnd;
+  WorkPrecisionProblem problem;
+  problem.name = "rectifier";
+  problem.title = "half-wave rectifier v' = -v + u, 0 <= u _|_ u/2 + v - sin(10 pi t) >= 0, "
+                  "v0 = 1, [0, 20] (100 periods)";
+  problem.dvi.n = 1;
+  problem.dvi.m = 1;
+  problem.dvi.K = ConvexSet::Orthant(1);
+  problem.dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                     Eigen::VectorXd& out) { out.resize(1); out << -x(0) + u(0); };
+  problem.dvi.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                     Eigen::VectorXd& out) {
+    out.resize(1);
+    out << kRd * u(0) + x(0) - std::sin(kOmega * t);
+  };
+  problem.x0 = Eigen::VectorXd::Constant(1, 1);
+  problem.t_end = kEnd;
+  problem.output_times = testing::Linspace(0, kEnd, output_count);
+  ReferenceFromEventRun(problem);
   return problem;
 }
 
@@ -148,6 +177,7 @@ std::vector<WorkPrecisionProblem> MakeWorkPrecisionProblems(int output_count) {
   problems.push_back(DiodeCircuit(output_count));
   problems.push_back(SaturatedOscillator(output_count));
   problems.push_back(BallSpiral(output_count));
+  problems.push_back(HalfWaveRectifier(output_count));
   return problems;
 }
 

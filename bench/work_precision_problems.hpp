@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The four index-one DVIs of the work-precision benchmark (README, last
+// The five index-one DVIs of the work-precision benchmark (README, last
 // section), each with its solution at the output times and its mode schedule
 // (the switch times the oracle integrates between).
 #pragma once
@@ -38,9 +38,10 @@ struct WorkPrecisionProblem {
                                        ///< IndexOneRhs::mode_size() entries.
 };
 
-/// The four problems, sampled at output_count equispaced times. The third
-/// one's reference and schedule come from an event run at rtol = 1e-13.
-/// @throws std::runtime_error when that reference run fails.
+/// The five problems, sampled at output_count equispaced times. The
+/// oscillator's and the rectifier's references and schedules come from
+/// event runs at rtol = 1e-13.
+/// @throws std::runtime_error when such a reference run fails.
 std::vector<WorkPrecisionProblem> MakeWorkPrecisionProblems(int output_count);
 
 /// max_k ‖states[k] − exact[k]‖∞; +∞ when a state is missing or not finite.
