@@ -42,6 +42,7 @@ constexpr double kAdaptiveBudget = 3;
 // relative test dominates, as in tests/event_driven_test.cpp.
 constexpr double kAtolPerRtol = 1e-2;
 constexpr double kTargetError = 1e-8;
+constexpr double kLastProportionalTolerance = 1e-10;
 // A run shorter than kMinTimed is repeated for kRepeatedTotal, in
 // kTimingWindows windows, and the least of the windows' means taken (clock
 // resolution and warm caches; a shared machine's other work slows some
@@ -321,6 +322,36 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
                both && event_evals <= 1.5 * oracle_evals);
 }
 
+// What error a tolerance buys: per adaptive method, the largest max error /
+// rtol over the tolerances 1e-3 … 1e-10 (tighter ones meet round-off
+// and the references' own error), and how often a tighter rtol gave a
+// larger error. A kink stepped over without an event shows up in both.
+void PrintToleranceProportionality(const std::vector<Point>& points,
+                                   const std::vector<WorkPrecisionProblem>& problems) {
+  std::cout << "\n### Error per tolerance\n\nworst max error / rtol over rtol = 1e-3 … 1e-13 "
+               "(at that rtol); tighter rtol, larger error: how many times\n\n"
+               "| problem | event | cvode | dopri5 | rosenbrock4 | oracle |\n"
+               "|---|---|---|---|---|---|\n";
+  for (const WorkPrecisionProblem& problem : problems) {
+    std::cout << "| " << problem.name;
+    for (const char* method : {"event", "cvode", "dopri5", "rosenbrock4", "oracle"}) {
+      double worst = 0, worst_rtol = 0, last_error = 0;
+      int larger = 0;
+      for (const Point& point : Select(points, problem.name, method)) {
+        if (!point.ok() || point.value < kLastProportionalTolerance) continue;
+        if (point.error / point.value > worst) {
+          worst = point.error / point.value;
+          worst_rtol = point.value;
+        }
+        if (last_error > 0 && point.error > last_error) ++larger;
+        last_error = point.error;
+      }
+      std::cout << " | " << Format(worst, 2) << " (" << Format(worst_rtol, 1) << "); " << larger;
+    }
+    std::cout << " |\n";
+  }
+}
+
 void WriteCsv(const std::vector<Point>& points, const std::string& path) {
   std::ofstream csv(path);
   if (!csv) throw std::runtime_error("cannot write " + path);
@@ -409,6 +440,7 @@ int Main(int argc, char** argv) {
   for (const WorkPrecisionProblem& problem : problems)
     JudgeProblem(points, problem.name, budget, verdicts);
   std::cout << "\n" << verdicts.passed << " goals passed, " << verdicts.failed << " failed\n";
+  PrintToleranceProportionality(points, problems);
   WriteCsv(points, csv_path);
   std::cout << "CSV: " << csv_path << "\n";
   return 0;
