@@ -328,7 +328,7 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
 // larger error. A kink stepped over without an event shows up in both.
 void PrintToleranceProportionality(const std::vector<Point>& points,
                                    const std::vector<WorkPrecisionProblem>& problems) {
-  std::cout << "\n### Error per tolerance\n\nworst max error / rtol over rtol = 1e-3 … 1e-13 "
+  std::cout << "\n### Error per tolerance\n\nworst max error / rtol over rtol = 1e-3 … 1e-10 "
                "(at that rtol); tighter rtol, larger error: how many times\n\n"
                "| problem | event | cvode | dopri5 | rosenbrock4 | oracle |\n"
                "|---|---|---|---|---|---|\n";
