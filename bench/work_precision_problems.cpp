@@ -143,8 +143,8 @@ WorkPrecisionProblem SaturatedOscillator(int output_count) {
 
 // Half-wave rectifier: a sine source charges C through an ideal diode in
 // series with Rd (R = C = 1, Rd = ½), v' = −v + u, 0 ≤ u ⊥ u/2 + v − sin ωt
-// ≥ 0. 100 periods over [0, 20]: the diode turns on and off 199 times, so
-// here a kink's cost to a method without events is paid 199 times over.
+// ≥ 0. 100 periods over [0, 20]: the diode switches 200 times, so here a
+// kink's cost to a method without events is paid 200 times over.
 WorkPrecisionProblem HalfWaveRectifier(int output_count) {
   constexpr double kPeriods = 100, kEnd = 20, kRd = 0.5;
   constexpr double kOmega = 2 * 3.14159265358979323846 * kPeriods / kEnd;
