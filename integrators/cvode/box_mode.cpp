@@ -96,6 +96,22 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
   }
 }
 
+// g's Jacobians in x and u (rows = g's dimension): g_jacobian's when given,
+// else forward differences from g at (t, x, u).
+void Jacobians(const TimeStateFunction& g, const TimeStateJacobian& g_jacobian, int rows, double t,
+               const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::MatrixXd& Jx,
+               Eigen::MatrixXd& Ju) {
+  Jx.resize(rows, x.size());
+  Ju.resize(rows, u.size());
+  if (g_jacobian) {
+    g_jacobian(t, x, u, Jx, Ju);
+    return;
+  }
+  Eigen::VectorXd base(rows);
+  g(t, x, u, base);
+  ForwardDifferences(g, rows, t, x, u, base, &Jx, Ju);
+}
+
 // Whether an LU's matrix is nonsingular: its reciprocal condition number
 // above a·ε. Eigen's estimate of it costs several solves with allocations,
 // more than the factorization at a few free components, and is taken only
@@ -206,28 +222,12 @@ void BoxModeSystem::EvalF(double t, const Eigen::VectorXd& x, const Eigen::Vecto
 
 void BoxModeSystem::FJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                Eigen::MatrixXd& Fx, Eigen::MatrixXd& Fu) const {
-  Fx.resize(m(), n());
-  Fu.resize(m(), m());
-  if (dvi_.F_jacobian) {
-    dvi_.F_jacobian(t, x, u, Fx, Fu);
-    return;
-  }
-  Eigen::VectorXd base(m());
-  dvi_.F(t, x, u, base);
-  ForwardDifferences(dvi_.F, m(), t, x, u, base, &Fx, Fu);
+  Jacobians(dvi_.F, dvi_.F_jacobian, m(), t, x, u, Fx, Fu);
 }
 
 void BoxModeSystem::SmallFJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                     Eigen::MatrixXd& fx, Eigen::MatrixXd& fu) const {
-  fx.resize(n(), n());
-  fu.resize(n(), m());
-  if (dvi_.f_jacobian) {
-    dvi_.f_jacobian(t, x, u, fx, fu);
-    return;
-  }
-  Eigen::VectorXd base(n());
-  dvi_.f(t, x, u, base);
-  ForwardDifferences(dvi_.f, n(), t, x, u, base, &fx, fu);
+  Jacobians(dvi_.f, dvi_.f_jacobian, n(), t, x, u, fx, fu);
 }
 
 void BoxModeSystem::FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,

@@ -289,6 +289,9 @@ class EventDrivenRun {
   bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode);
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
+  // CVODE projects BDF steps only; under Adams the drift of reduced modes is
+  // measured, not corrected.
+  bool ProjectsSteps() const { return dvi_.m > 0 && options_.method == OdeMethod::kBdf; }
   bool ProjectReducedModesOnly();
   bool StillHolds();
   enum class MissedRoot { kLocated, kNone, kUndefined };
@@ -1120,7 +1123,7 @@ bool EventDrivenRun::FailWhereFIsUndefined(double last_defined) {
 // mode has constraints Φ = 0 to keep (ProjectionCallback): the others run
 // with projection off. Called where a mode starts, after CVodeReInit.
 bool EventDrivenRun::ProjectReducedModesOnly() {
-  if (dvi_.m == 0 || options_.method != OdeMethod::kBdf) return true;
+  if (!ProjectsSteps()) return true;
   return Check(CVodeSetProjFrequency(cvode_.get(), system_.reduced() ? 1 : 0),
                "CVodeSetProjFrequency");
 }
@@ -1152,9 +1155,7 @@ bool EventDrivenRun::IntegrateModes() {
       (!Check(CVodeRootInit(cvode, 2 * dvi_.m, RootCallback), "CVodeRootInit") ||
        !Check(CVodeSetRootDirection(cvode, directions.data()), "CVodeSetRootDirection")))
     return false;
-  // CVODE projects BDF steps only; under Adams the drift of reduced modes is
-  // measured, not corrected.
-  if (dvi_.m > 0 && options_.method == OdeMethod::kBdf &&
+  if (ProjectsSteps() &&
       (!Check(CVodeSetProjFn(cvode, ProjectionCallback), "CVodeSetProjFn") ||
        !ProjectReducedModesOnly()))
     return false;
