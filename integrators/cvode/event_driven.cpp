@@ -1155,8 +1155,15 @@ bool EventDrivenRun::IntegrateModes() {
       (!Check(CVodeRootInit(cvode, 2 * dvi_.m, RootCallback), "CVodeRootInit") ||
        !Check(CVodeSetRootDirection(cvode, directions.data()), "CVodeSetRootDirection")))
     return false;
+  // The error estimate is not projected: in a mode whose constraints fix
+  // the whole state (a diode clamping v to a sine source) the projected
+  // estimate is zero, so steps grew without bound while only their
+  // projected ends stayed right and the interpolant between them was off
+  // by volts (issue 27). Unprojected, error control sees the error that
+  // the interpolant carries.
   if (ProjectsSteps() &&
       (!Check(CVodeSetProjFn(cvode, ProjectionCallback), "CVodeSetProjFn") ||
+       !Check(CVodeSetProjErrEst(cvode, SUNFALSE), "CVodeSetProjErrEst") ||
        !ProjectReducedModesOnly()))
     return false;
   segment_open_ = true;
