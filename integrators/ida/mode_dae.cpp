@@ -164,6 +164,8 @@ class ModeDaeRun {
   bool LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, BoxMode& mode,
                      Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead, std::string& why);
   std::string DescribeMode(const BoxMode& mode) const;
+  bool Restart(double t);
+  bool RestartAtKeptRoot();
   bool EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
   bool Check(int flag, const char* call);
   bool FirstStepOverflows();
@@ -212,6 +214,7 @@ class ModeDaeRun {
   // A root that left the mode unchanged, until a step shows the mode holds.
   double kept_mode_time_ = 0;
   Eigen::VectorXd kept_mode_y_;
+  bool restarted_at_kept_root_ = false;  // once per kept root
   std::unique_ptr<internal::OneStepMethod> look_ahead_;  // made at its first use
   // The consistent values of ChooseMode's last check, and whether that
   // check was of the chosen mode at the event's x. A successful ChooseMode
@@ -275,6 +278,26 @@ long ModeDaeRun::Steps() const {
   return trajectory_.stats.steps + steps;
 }
 
+// Restarts IDA at (t, y_, yp_), at order one.
+bool ModeDaeRun::Restart(double t) {
+  CollectIdaStats();
+  return Check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit") &&
+         Check(IDASetStopTime(ida_.get(), t_end_), "IDASetStopTime");
+}
+
+// A mode kept at a root whose root function stays exactly zero just after
+// it (F of a diode just turned off, with F' = 0 there too: F grows as δ²,
+// below round-off) makes IDA's next search fail (IDARcheck2: "root found at
+// and very near t"). A restart there takes the function as zero at the
+// start instead, inactive until it moves away (IDARcheck1).
+// @pre IDASolve refused to step from the kept root (IDA_ILL_INPUT).
+bool ModeDaeRun::RestartAtKeptRoot() {
+  if (kept_mode_y_.size() == 0 || kept_mode_time_ != t_ || restarted_at_kept_root_) return false;
+  restarted_at_kept_root_ = true;
+  return Check(IDAGetDky(ida_.get(), t_, 0, y_.get()), "IDAGetDky") &&
+         Check(IDAGetDky(ida_.get(), t_, 1, yp_.get()), "IDAGetDky") && Restart(t_);
+}
+
 // Enters `mode` at (t, x, u): consistent values (x onto the differentiated
 // rows' constraints, u from (5.8)), a fresh KLU analysis of the mode's
 // pattern, and IDA (re)started there — BDF restarts at order one, as the
@@ -306,11 +329,7 @@ bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Ei
   t_ = t;
   if (klu_ && !klu_->Reset(dae_.nonzeros()))
     return Fail(IntegrationStatus::kStepFailure, "mode-dae: the KLU matrix cannot be resized");
-  if (initialized_) {
-    CollectIdaStats();
-    return Check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit") &&
-           Check(IDASetStopTime(ida_.get(), t_end_), "IDASetStopTime");
-  }
+  if (initialized_) return Restart(t);
   initialized_ = true;
   void* ida = ida_.get();
   SUNMatrix matrix = klu_ ? klu_->matrix() : dense_->matrix();
@@ -482,6 +501,7 @@ bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
   Eigen::VectorXd u;
   if (!ChooseMode(t, x, y.tail(m_), leaving, mode, u)) return false;
   if (mode == old_mode) {  // ChooseMode left the DAE in it
+    restarted_at_kept_root_ = false;
     kept_mode_time_ = t;
     kept_mode_y_ = y;
     return true;
@@ -649,6 +669,7 @@ bool ModeDaeRun::Integrate() {
     double t_return = t_;
     const int flag = IDASolve(ida_.get(), t_end_, &t_return, y_.get(), yp_.get(), IDA_ONE_STEP);
     if (flag == IDA_ILL_INPUT && FirstStepOverflows()) return false;
+    if (flag == IDA_ILL_INPUT && RestartAtKeptRoot()) continue;
     if (!Check(flag, "IDASolve")) return false;
     t_ = t_return;
     if (flag != IDA_ROOT_RETURN) {
@@ -676,6 +697,7 @@ bool ModeDaeRun::Integrate() {
       if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo") ||
           !HandleRoot(t_return, roots))
         return false;
+
     } else if (options_.output_times.empty() && !done) {
       Sample(t_return);
     }
