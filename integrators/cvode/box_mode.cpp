@@ -1185,9 +1185,11 @@ bool BoxModeSystem::ResolveByRates(double t, const Eigen::VectorXd& x, const Sol
   return true;
 }
 
-bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
-                               double delta, bool every_component, BoxMode& mode,
-                               long* vi_solves, long* iterations, std::string* why) const {
+BoxModeSystem::Selection BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x,
+                                                   const SolveResult& vi, double delta,
+                                                   bool every_component, BoxMode& mode,
+                                                   long* vi_solves, long* iterations,
+                                                   std::string* why) const {
   // Degeneracy tolerance: well above the VI's residual, well below the
   // O(delta) changes the look-ahead resolves.
   const double tolerance = 1e3 * solver_.tolerance;
@@ -1207,9 +1209,9 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
       near_bound.push_back(j);
     }
   }
-  if (near_bound.empty()) return true;
+  if (near_bound.empty()) return Selection::kChosen;
   if (!every_component && ResolveByRates(t, x, vi, near_bound, mode, vi_solves, iterations))
-    return true;
+    return Selection::kChosen;
   // Look-ahead: the backward-Euler step x_δ = x + δ f(t + δ, x_δ, u_δ),
   // u_δ ∈ SOL(K, F(t + δ, x_δ, ·)), by fixed-point iteration from the forward
   // Euler guess. Under index one u is Lipschitz, the iteration contracts and
@@ -1229,7 +1231,7 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
       message << "the look-ahead VI at t = " << t + delta << " is not solved ("
               << ToString(ahead.status) << ", residual " << ahead.residual << ")";
       if (why) *why = message.str();
-      return false;
+      return Selection::kViNotSolved;
     }
     BoxMode candidate = mode;
     for (const int j : near_bound) {
@@ -1243,7 +1245,7 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
     }
     if (iteration > 0 && candidate == previous) {
       mode = std::move(candidate);
-      return true;
+      return Selection::kChosen;
     }
     previous = std::move(candidate);
     dvi_.f(t + delta, x_ahead, ahead.z, xdot);
@@ -1257,7 +1259,7 @@ bool BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x, const SolveRe
             << "not a P-matrix there)";
     *why = message.str();
   }
-  return false;
+  return Selection::kChattering;
 }
 
 bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,

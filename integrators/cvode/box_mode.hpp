@@ -174,12 +174,13 @@ class BoxModeSystem {
   /// one of many — the mode it has
   /// after a backward-Euler look-ahead step of length delta, solved by
   /// fixed-point iteration until two iterates agree on the mode. The
-  /// look-ahead solves are added to *vi_solves and *iterations. False (with
-  /// why) when a look-ahead VI is not solved or the iterates keep alternating
-  /// between modes (chattering).
-  bool SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi, double delta,
-                  bool every_component, BoxMode& mode, long* vi_solves, long* iterations,
-                  std::string* why) const;
+  /// look-ahead solves are added to *vi_solves and *iterations. Otherwise
+  /// (with why) a look-ahead VI was not solved, or the iterates keep
+  /// alternating between modes (chattering).
+  enum class Selection { kChosen, kViNotSolved, kChattering };
+  Selection SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi, double delta,
+                       bool every_component, BoxMode& mode, long* vi_solves, long* iterations,
+                       std::string* why) const;
   /// Whether the current mode holds at (t, x) after Solve: every root
   /// function ≥ −tolerance (a free u within its bounds, a bound component's
   /// F of the right sign), a bound F also within what an error of

@@ -790,8 +790,10 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
     x = x_event;
   }
   std::string look_ahead_why;
-  if (system_.SelectMode(t, x, vi, delta, !regular.holds, mode, &stats.vi_solves,
-                         &stats.solver_iterations, &look_ahead_why) &&
+  const BoxModeSystem::Selection selection =
+      system_.SelectMode(t, x, vi, delta, !regular.holds, mode, &stats.vi_solves,
+                         &stats.solver_iterations, &look_ahead_why);
+  if (selection == BoxModeSystem::Selection::kChosen &&
       TryMode(t, x, mode, vi.z, look_ahead_why)) {
     if (!regular.holds) ++look_ahead_selections_;
     return true;
@@ -799,8 +801,13 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   std::ostringstream message;
   message << "event: at t = " << t << ": ";
   if (regular.holds) {
+    // An unsolved look-ahead VI is a numerical failure, not evidence of
+    // chattering.
     message << "mode " << Describe(mode) << ": " << look_ahead_why;
-    return Fail(IntegrationStatus::kEventAccumulation, message.str());
+    return Fail(selection == BoxModeSystem::Selection::kViNotSolved
+                    ? IntegrationStatus::kStepFailure
+                    : IntegrationStatus::kEventAccumulation,
+                message.str());
   }
   x = x_event;
   message << "not index one: u is not strongly regular (" << regular.reason
