@@ -27,6 +27,7 @@ std::string_view ToString(IntegrationStatus status) {
     case IntegrationStatus::kMaxSteps: return "max-steps";
     case IntegrationStatus::kEventAccumulation: return "event-accumulation";
     case IntegrationStatus::kNotIndexOne: return "not-index-one";
+    case IntegrationStatus::kUncertified: return "uncertified";
   }
   return "unknown";
 }
@@ -45,6 +46,7 @@ std::string_view ToString(EventKind kind) {
 Eigen::VectorXd Trajectory::StateAt(double t) const {
   const size_t k = SampleAtOrAfter(times, t);
   if (times[k] == t) return states[k];
+  if (dense.Covers(t)) return dense.State(t);
   const double s = (t - times[k - 1]) / (times[k] - times[k - 1]);
   return (1 - s) * states[k - 1] + s * states[k];
 }

@@ -234,8 +234,12 @@ TEST(EventDriven, NonlinearBoxDviErrorIsProportionalToTolerance) {
 // in (u, μ)) and the saturated oscillator it takes 4.5 and 7.3 iterations
 // per right-hand side (roots and events included), where starting from the
 // last u and running until the residual stagnated took 8.9 and 14.6. The
-// answers are the exact spiral and the events of the reference.
+// answers are the exact spiral and the events of the reference. Newton
+// also solves at each step's midpoint for the certificate's ODE defect
+// (one solve per step besides the right-hand sides): the bounds count per
+// solve.
 TEST(EventDriven, NewtonInANonlinearModeStartsFromTheTangent) {
+  const auto solves = [](const Trajectory& run) { return run.stats.rhs_evals + run.stats.steps; };
   EventDrivenOptions options;
   options.rtol = 1e-8;
   options.atol = 1e-10;
@@ -248,19 +252,19 @@ TEST(EventDriven, NewtonInANonlinearModeStartsFromTheTangent) {
   const Trajectory ball_steps =
       IntegrateEventDriven(testing::BallSpiral(), Eigen::Vector2d(3, 0), 0, 5, options);
   ASSERT_TRUE(ball_steps.succeeded()) << ball_steps.message;
-  EXPECT_LE(ball_steps.stats.solver_iterations, 6 * ball_steps.stats.rhs_evals);
-  RecordProperty("ball_iterations_per_rhs",
+  EXPECT_LE(ball_steps.stats.solver_iterations, 6 * solves(ball_steps));
+  RecordProperty("ball_iterations_per_solve",
                  Scientific(static_cast<double>(ball_steps.stats.solver_iterations) /
-                            static_cast<double>(ball_steps.stats.rhs_evals)));
+                            static_cast<double>(solves(ball_steps))));
 
   const Trajectory oscillator =
       IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
   ASSERT_TRUE(oscillator.succeeded()) << oscillator.message;
   EXPECT_EQ(oscillator.events.size(), 15u);
-  EXPECT_LE(oscillator.stats.solver_iterations, 10 * oscillator.stats.rhs_evals);
-  RecordProperty("oscillator_iterations_per_rhs",
+  EXPECT_LE(oscillator.stats.solver_iterations, 10 * solves(oscillator));
+  RecordProperty("oscillator_iterations_per_solve",
                  Scientific(static_cast<double>(oscillator.stats.solver_iterations) /
-                            static_cast<double>(oscillator.stats.rhs_evals)));
+                            static_cast<double>(solves(oscillator))));
 }
 
 // x1' = x2, x2' = u, 0 ≤ u ⊥ x1 ≥ 0 at x0 = (0, −1): every u ≥ 0 solves the

@@ -94,6 +94,9 @@ struct EventDrivenOptions {
   /// linear_solver there. kAuto (the default) takes KLU wherever it applies
   /// from kKluMinStates states on.
   LinearSolver linear_solver = LinearSolver::kAuto;
+  /// Every step's interpolant in Trajectory::dense ((q + 1)·n doubles per
+  /// step, q ≤ 5 under BDF): by default when output_times is empty.
+  DenseOutputPolicy dense_output = DenseOutputPolicy::kAuto;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

@@ -38,6 +38,10 @@ struct ModeDaeOptions {
   /// empty samples every accepted step. t0, t_end and events are sampled too.
   std::vector<double> output_times;
   long max_events = 100'000;  ///< Mode changes over the run, > 0.
+  /// Every step's interpolant in Trajectory::dense ((q + 1)·(n + m)
+  /// doubles per step, of which x is kept): by default when output_times
+  /// is empty.
+  DenseOutputPolicy dense_output = DenseOutputPolicy::kAuto;
   /// Sparse KLU linear solver; false uses a dense one (small systems).
   bool sparse = true;
   /// Options of the LCP solves at t0 and at events.

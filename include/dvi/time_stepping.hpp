@@ -76,6 +76,9 @@ struct TimeSteppingOptions {
   /// are also sampled. Sampling only what is asked keeps memory O(n) for large
   /// systems.
   std::vector<double> output_times;
+  /// Every step's line x̂ᴴ in Trajectory::dense (2n doubles per step): by
+  /// default when output_times is empty.
+  DenseOutputPolicy dense_output = DenseOutputPolicy::kAuto;
   /// Record mode changes as events (and sample them). Off for huge systems
   /// where many components switch every step.
   bool record_events = true;

@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "dvi/certificate.hpp"
+#include "dvi/dense_output.hpp"
 #include "dvi/vector_samples.hpp"
 
 namespace dvi {
@@ -25,9 +27,13 @@ enum class IntegrationStatus {
   /// procedure of Theorems 5.2/5.3 does not reduce it; the message names the
   /// failed condition.
   kNotIndexOne,
+  /// The run reached the final time but its output violates the VI or the
+  /// ODE beyond the bounds of its Certificate; the message names the time
+  /// and the component.
+  kUncertified,
 };
 /// "success", "step-failure", "step-size-too-small", "max-steps",
-/// "event-accumulation", "not-index-one".
+/// "event-accumulation", "not-index-one", "uncertified".
 std::string_view ToString(IntegrationStatus status);
 
 /// A change of the active set (the mode) of u.
@@ -80,9 +86,10 @@ struct StepRecord {
 };
 
 /// The result of an integration: samples of x and u, events, the method per
-/// interval, and statistics. For time-stepping the samples are the paper's
-/// interpolants (Sect. 7): x̂ᴴ piecewise linear through the steps, ûᴴ
-/// piecewise constant, ûᴴ(t) = u^{i+1} on (t_i, t_{i+1}].
+/// interval, statistics, the dense state between samples, and the run's
+/// certificate. For time-stepping the samples are the paper's interpolants
+/// (Sect. 7): x̂ᴴ piecewise linear through the steps, ûᴴ piecewise
+/// constant, ûᴴ(t) = u^{i+1} on (t_i, t_{i+1}].
 struct Trajectory {
   IntegrationStatus status = IntegrationStatus::kSuccess;
   std::string message;  ///< Why it stopped when status != kSuccess (time, step, residual).
@@ -95,13 +102,20 @@ struct Trajectory {
   std::vector<MethodInterval> intervals;
   std::vector<StepRecord> step_log;  ///< Time-stepping: one record per accepted step.
   IntegrationStats stats;
+  /// Every accepted step's interpolant (empty when the integrator's
+  /// dense_output option is off).
+  DenseOutput dense;
+  /// The output checked against the VI and the ODE (certificate.hpp).
+  Certificate certificate;
 
   bool succeeded() const { return status == IntegrationStatus::kSuccess; }
   int state_dim() const { return static_cast<int>(states.dim()); }
   int multiplier_dim() const { return static_cast<int>(multipliers.dim()); }
   double final_time() const { return times.empty() ? 0 : times.back(); }
 
-  /// x at time t, linear between samples (x̂ᴴ when every step is a sample).
+  /// x at time t: from the dense output where it covers t (the step's own
+  /// interpolant, at the integrator's accuracy), else linear between
+  /// samples (x̂ᴴ when every step is a sample).
   /// @throws InvalidInputError when t lies outside [times.front(), times.back()].
   Eigen::VectorXd StateAt(double t) const;
   /// u at time t: at a sample time its value there, between samples the

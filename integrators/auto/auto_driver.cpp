@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../cvode/event_driven_validated.hpp"
+#include "../ida/mode_dae_validated.hpp"
 #include "check.hpp"
 #include "output_times_check.hpp"
 #include "dvi/mode_dae.hpp"
@@ -56,11 +57,17 @@ constexpr double kRatioSpread = 1.1;
 // several components of u switch at one crossing.
 constexpr double kSameTimeFraction = 1e-12;
 
-// Runs event-driven integration from (t, x) to the end with `options`, whose
-// output times are the run's; runs time-stepping from (t_a, x_a) to t_b,
-// sampling `outputs`.
-using EventMethod = std::function<Trajectory(double t, const Eigen::VectorXd& x,
-                                             const EventDrivenOptions& options)>;
+// An event-driven back-end: `run` integrates from (t, x) to the end with
+// `options`, whose output times are the run's, leaving its rows unchecked;
+// `certify` checks the first `rows` of them against the VI (the row where a
+// failed run stops gives way to time-stepping's).
+struct EventMethod {
+  std::function<Trajectory(double t, const Eigen::VectorXd& x, const EventDrivenOptions& options)>
+      run;
+  std::function<void(Trajectory& part, std::size_t rows, const EventDrivenOptions& options)>
+      certify;
+};
+// Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`.
 using SteppingMethod = std::function<Trajectory(double t_a, const Eigen::VectorXd& x_a, double t_b,
                                                 std::vector<double> outputs)>;
 
@@ -158,8 +165,8 @@ ZenoPrediction PredictAccumulation(const std::vector<Event>& events, double same
 }
 
 // Appends a part of the run: samples (a junction sample at the same time is
-// replaced by the part's, whose u is the right limit), events, step records
-// and statistics.
+// replaced by the part's, whose u is the right limit), dense output, the
+// certificate, events, step records and statistics.
 void Append(Trajectory& whole, Trajectory&& part) {
   if (whole.times.empty()) {
     // The first part (the whole run when event-driven succeeds): its
@@ -177,6 +184,11 @@ void Append(Trajectory& whole, Trajectory&& part) {
     whole.states.append(part.states);
     whole.multipliers.append(part.multipliers);
   }
+  if (!part.dense.empty()) {
+    whole.dense.TruncateAfter(part.dense.begin());
+    whole.dense.Append(part.dense);
+  }
+  whole.certificate.Merge(part.certificate);
   whole.events.insert(whole.events.end(), part.events.begin(), part.events.end());
   whole.step_log.insert(whole.step_log.end(), part.step_log.begin(), part.step_log.end());
   IntegrationStats& sum = whole.stats;
@@ -222,12 +234,18 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
       clipped = options.event;
       clipped.output_times = Clip(outputs, t, t_end, false);
     }
-    Trajectory run = event(t, x, as_given ? options.event : clipped);
-    const bool succeeded = run.succeeded();
+    const EventDrivenOptions& run_options = as_given ? options.event : clipped;
+    Trajectory run = event.run(t, x, run_options);
     // The part the run integrated well: all of its samples (its last is the
     // state where it stopped, located by CVODE / IDA).
     const double t_a = run.times.empty() ? t : run.times.back();
     const Eigen::VectorXd x_a = run.times.empty() ? x : Eigen::VectorXd(run.states.back());
+    // A failed run's rows at t_a give way to time-stepping's first row there.
+    std::size_t output_rows = run.times.size();
+    if (!run.succeeded() && t_end - t_a > same_time)
+      while (output_rows > 0 && run.times[output_rows - 1] >= t_a) --output_rows;
+    event.certify(run, output_rows, run_options);
+    const bool succeeded = run.succeeded();
     if (t_a > t) {
       whole.intervals.push_back({t, t_a, "event",
                                  (t > t0 ? "back to event-driven after time-stepping; " : "") +
@@ -333,10 +351,13 @@ Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, d
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(dvi, options);
     // Each interval's options are the validated ones, or a clipped copy.
-    const EventMethod event = [&](double t, const Eigen::VectorXd& x,
-                                  const EventDrivenOptions& run) {
-      return internal::IntegrateEventDrivenValidated(dvi, nullptr, x, t, t_end, run);
-    };
+    const EventMethod event{
+        [&](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
+          return internal::IntegrateEventDrivenValidated(dvi, nullptr, x, t, t_end, run);
+        },
+        [&](Trajectory& part, std::size_t rows, const EventDrivenOptions& run) {
+          internal::CertifyEventDriven(dvi, nullptr, run, rows, part);
+        }};
     return Drive(event, stepping, x0, t0, t_end, options);
   });
 }
@@ -353,21 +374,30 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
     // The Dvi only for CVODE's intervals: a circuit on IDA is not copied.
     const Dvi dvi = mode_dae ? Dvi() : lcs.ToDvi();
     // Each interval's options are the validated ones, or a clipped copy.
-    const EventMethod event = [&](double t, const Eigen::VectorXd& x,
-                                  const EventDrivenOptions& run) {
-      if (mode_dae) {
-        ModeDaeOptions dae;
-        dae.rtol = run.rtol;
-        dae.atol = run.atol;
-        dae.max_steps = run.max_steps;
-        dae.h_max = run.h_max;
-        dae.output_times = run.output_times;
-        dae.max_events = run.max_events;
-        dae.solver = run.solver;
-        return IntegrateModeDae(lcs, x, t, t_end, dae);
-      }
-      return internal::IntegrateEventDrivenValidated(dvi, &lcs, x, t, t_end, run);
+    const auto dae_options = [](const EventDrivenOptions& run) {
+      ModeDaeOptions dae;
+      dae.rtol = run.rtol;
+      dae.atol = run.atol;
+      dae.max_steps = run.max_steps;
+      dae.h_max = run.h_max;
+      dae.output_times = run.output_times;
+      dae.max_events = run.max_events;
+      dae.solver = run.solver;
+      dae.dense_output = run.dense_output;
+      return dae;
     };
+    const EventMethod event{
+        [&](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
+          if (mode_dae)
+            return internal::IntegrateModeDaeUncertified(lcs, x, t, t_end, dae_options(run));
+          return internal::IntegrateEventDrivenValidated(dvi, &lcs, x, t, t_end, run);
+        },
+        [&](Trajectory& part, std::size_t rows, const EventDrivenOptions& run) {
+          if (mode_dae)
+            internal::CertifyModeDae(lcs, dae_options(run), rows, part);
+          else
+            internal::CertifyEventDriven(dvi, &lcs, run, rows, part);
+        }};
     return Drive(event, stepping, x0, t0, t_end, options);
   });
 }

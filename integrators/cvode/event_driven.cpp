@@ -20,10 +20,12 @@
 
 #include "../ida/ida_handles.hpp"
 #include "box_mode.hpp"
+#include "certify.hpp"
 #include "check.hpp"
 #include "dvi/error.hpp"
 #include "event_driven_validated.hpp"
 #include "output_times_check.hpp"
+#include "rounding_floor.hpp"
 #include "kkt_lifting.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "step_interpolant.hpp"
@@ -310,6 +312,7 @@ class EventDrivenRun {
                         const Eigen::VectorXd& g_end, int depth);
   bool RootsOnStep(double t_n, int q, double t, double* g);
   void DropSamplesFrom(double t);
+  void RecordStep(double end);
   /// CVODE's last step: its end t_n, length h and order q.
   struct Step {
     double t_n = 0, h = 0;
@@ -349,6 +352,10 @@ class EventDrivenRun {
   Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
   double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
   Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
+  // RecordStep's scratch: x, x' and f at a step's midpoint, the step's
+  // scaled Taylor coefficients.
+  Eigen::VectorXd defect_x_, defect_rate_, defect_f_, defect_rounding_;
+  Eigen::MatrixXd scaled_taylor_;
   // StepClear and PieceViolation: the step's start and end roots (the last
   // step's end, x and x' there, for the next step's start in the mode), x
   // at a node and the root slots' floors (their slack applied or not).
@@ -514,6 +521,43 @@ void EventDrivenRun::DropSamplesFrom(double t) {
   const auto& times = options_.output_times;
   next_output_ = static_cast<std::size_t>(std::lower_bound(times.begin(), times.end(), t) -
                                           times.begin());
+}
+
+// Keeps the last step's interpolant over [t_n − h, end] (end: the step's
+// end, or the event that cut it short) as dense output, and measures its
+// ODE defect at the midpoint with u from the step's mode there
+// (Certificate). A step whose interpolant CVODE refuses, or whose mode's
+// Newton fails at the midpoint, is left out of both.
+void EventDrivenRun::RecordStep(double end) {
+  const auto [t_n, h, q] = LastStep();
+  const double begin = t_n - h;
+  if (!(h > 0) || !(end > begin) || !ReadTaylor(t_n, q)) return;
+  const double mid = begin + (end - begin) / 2;
+  Eigen::VectorXd& x = defect_x_;
+  Eigen::VectorXd& rate = defect_rate_;
+  x = taylor_.col(q);
+  rate = q * taylor_.col(q);
+  for (int k = q - 1; k >= 0; --k) {
+    x = taylor_.col(k) + (mid - t_n) * x;
+    if (k >= 1) rate = k * taylor_.col(k) + (mid - t_n) * rate;
+  }
+  if (system_.Solve(mid, x)) {
+    Eigen::VectorXd& f = defect_f_;
+    f.resize(x.size());
+    dvi_.f(mid, x, system_.u(), f);
+    // h·x̂' sums the terms k·c_k s^{k−1}, |s| ≤ 1; f its own.
+    Eigen::VectorXd& rounding = defect_rounding_;
+    rounding = (end - begin) * f.cwiseAbs();
+    for (int k = 1; k <= q; ++k) rounding += k * std::pow(h, k) * taylor_.col(k).cwiseAbs();
+    rounding *= internal::kRoundingUlps * std::numeric_limits<double>::epsilon();
+    internal::AddOdeDefect(mid, end - begin, rate, f, x, rounding, options_.rtol, options_.atol,
+                           trajectory_.certificate.ode);
+  }
+  if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
+  Eigen::MatrixXd& scaled = scaled_taylor_;
+  scaled = taylor_;
+  for (int k = 1; k <= q; ++k) scaled.col(k) *= std::pow(h, k);
+  trajectory_.dense.Append(begin, end, t_n, h, scaled);
 }
 
 EventDrivenRun::Step EventDrivenRun::LastStep() const {
@@ -1170,7 +1214,8 @@ bool EventDrivenRun::IntegrateModes() {
   // the interpolant carries.
   if (ProjectsSteps() &&
       (!Check(CVodeSetProjFn(cvode, ProjectionCallback), "CVodeSetProjFn") ||
-       !Check(CVodeSetProjErrEst(cvode, SUNFALSE), "CVodeSetProjErrEst") ||
+       !Check(CVodeSetProjErrEst(cvode, internal::g_project_error_estimate_for_testing),
+              "CVodeSetProjErrEst") ||
        !ProjectReducedModesOnly()))
     return false;
   segment_open_ = true;
@@ -1212,6 +1257,7 @@ bool EventDrivenRun::IntegrateModes() {
         event = LocateMissedRoot(second, last_defined) == MissedRoot::kLocated;
       if (event) DropSamplesFrom(t_);
     }
+    RecordStep(t_);
     if (event) {
       SampleOutputs(t_);
       AddCvodeStats();
@@ -1289,6 +1335,8 @@ Trajectory EventDrivenRun::Run() {
 
 namespace internal {
 
+bool g_project_error_estimate_for_testing = false;
+
 // lcs: the LCS that dvi is (F affine, see BoxModeSystem), or null.
 Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
                                          double t0, double t_end,
@@ -1332,6 +1380,20 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
   return internal::Unlift(run.Run(), lifting);
 }
 
+void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options,
+                        std::size_t rows, Trajectory& trajectory) {
+  const RowCertifier certifier =
+      lcs ? RowCertifier(*lcs, options.solver) : RowCertifier(dvi, options.solver);
+  CertifyRows(certifier, options.rtol, options.atol, rows, trajectory);
+  std::ostringstream basis;
+  basis << "event-driven: VI residual <= " << Certificate::kViSafety << "·(solver tolerance "
+        << options.solver.tolerance << " + |F_x|·(rtol·|x| + atol)), ODE defect h·|x' - f| <= "
+        << Certificate::kOdeSafety
+        << "·(rtol·|x| + atol) in the weighted RMS norm at each step's midpoint, rtol = "
+        << options.rtol << ", atol = " << options.atol;
+  ConcludeCertificate(basis.str(), trajectory);
+}
+
 }  // namespace internal
 
 Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
@@ -1339,7 +1401,10 @@ Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, doubl
   dvi.Validate();
   dvi.CheckShapes(t0, x0);
   options.Validate();
-  return internal::IntegrateEventDrivenValidated(dvi, nullptr, x0, t0, t_end, options);
+  Trajectory trajectory =
+      internal::IntegrateEventDrivenValidated(dvi, nullptr, x0, t0, t_end, options);
+  internal::CertifyEventDriven(dvi, nullptr, options, trajectory.times.size(), trajectory);
+  return trajectory;
 }
 
 Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
@@ -1348,7 +1413,9 @@ Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, doubl
   const Dvi dvi = lcs.ToDvi();
   dvi.Validate();
   options.Validate();
-  return internal::IntegrateEventDrivenValidated(dvi, &lcs, x0, t0, t_end, options);
+  Trajectory trajectory = internal::IntegrateEventDrivenValidated(dvi, &lcs, x0, t0, t_end, options);
+  internal::CertifyEventDriven(dvi, &lcs, options, trajectory.times.size(), trajectory);
+  return trajectory;
 }
 
 }  // namespace dvi

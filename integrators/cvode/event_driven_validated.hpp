@@ -16,8 +16,19 @@ namespace dvi::internal {
 /// per call, not once per interval. `lcs`, when given, is the LCS that `dvi`
 /// is (lcs->ToDvi()). x0, t0, t_end and the linear solver's fit to the
 /// problem are still checked.
+/// Its rows are not yet checked against the VI (CertifyEventDriven: the
+/// driver drops the row where a failed run stops before it is output).
 Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
                                          double t0, double t_end,
                                          const EventDrivenOptions& options);
+/// Checks the first `rows` rows of an event-driven run against dvi's VI
+/// (lcs, when given, is the LCS that dvi is) and concludes its certificate.
+void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options,
+                        std::size_t rows, Trajectory& trajectory);
+
+/// Test seam (tests/internal only): CVODE's own default of projecting its
+/// error estimate, the cause of issue 27's wrong interpolant, so that a test
+/// can show the certificate catching what it did. Never set elsewhere.
+extern bool g_project_error_estimate_for_testing;
 
 }  // namespace dvi::internal

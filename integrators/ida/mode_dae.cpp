@@ -22,11 +22,14 @@
 #include "../cvode/polynomial_floor.hpp"
 #include "../cvode/step_interpolant.hpp"
 #include "../cvode/sundials_handles.hpp"
+#include "certify.hpp"
 #include "check.hpp"
 #include "output_times_check.hpp"
 #include "ida_handles.hpp"
+#include "rounding_floor.hpp"
 #include "../time_stepping/lcs_method.hpp"
 #include "lcs_mode_dae.hpp"
+#include "mode_dae_validated.hpp"
 
 namespace dvi {
 
@@ -172,6 +175,7 @@ class ModeDaeRun {
   bool ModeStillHolds();
   void Sample(double t);
   void SampleOutputs(double before);
+  void RecordStep(double end);
   void CollectIdaStats();
   long Steps() const;
   bool Fail(IntegrationStatus status, const std::string& message);
@@ -207,6 +211,11 @@ class ModeDaeRun {
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
   std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
   Eigen::MatrixXd step_taylor_, step_roots_;  // MissedRoot's polynomials
+  // RecordStep: where the dense output ends, a step's scaled Taylor
+  // coefficients of x, and y, y', f and the rounding at its midpoint.
+  double recorded_until_ = -std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd scaled_taylor_;
+  Eigen::VectorXd mid_y_, mid_yp_, mid_f_, mid_rounding_;
   // MissedRoot's screen: the last step's end, its y, y' and root values
   // (the next step's start), and how far y and the root functions move.
   double step_end_time_ = NAN;
@@ -283,6 +292,45 @@ bool ModeDaeRun::Restart(double t) {
   CollectIdaStats();
   return Check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit") &&
          Check(IDASetStopTime(ida_.get(), t_end_), "IDASetStopTime");
+}
+
+// Keeps the last step's interpolant of x over [its start, end] (end: the
+// step's end, or the root that cut it short; its start no earlier than
+// what is kept already) as dense output, and measures the ODE defect
+// x' − (A x + B u + p) of IDA's interpolant at the midpoint (Certificate).
+void ModeDaeRun::RecordStep(double end) {
+  double t_n = 0, h = 0;
+  int q = 0;
+  void* ida = ida_.get();
+  if (IDAGetCurrentTime(ida, &t_n) != IDA_SUCCESS || IDAGetLastStep(ida, &h) != IDA_SUCCESS ||
+      IDAGetLastOrder(ida, &q) != IDA_SUCCESS || !(h > 0) || q < 1)
+    return;
+  const double begin = std::max(t_n - h, recorded_until_);
+  if (!(end > begin)) return;
+  const double mid = begin + (end - begin) / 2;
+  const Eigen::Map<const Eigen::VectorXd> dky(dky_.data(), dae_.size());
+  if (IDAGetDky(ida, mid, 0, dky_.get()) != IDA_SUCCESS) return;
+  mid_y_ = dky;
+  if (IDAGetDky(ida, mid, 1, dky_.get()) != IDA_SUCCESS) return;
+  mid_yp_ = dky;
+  const auto x = mid_y_.head(n_), u = mid_y_.tail(m_);
+  mid_f_ = lcs_.p;
+  mid_f_.noalias() += lcs_.A * x;
+  mid_f_.noalias() += lcs_.B * u;
+  mid_rounding_ = internal::kRoundingUlps * std::numeric_limits<double>::epsilon() * (end - begin) *
+                  (mid_f_.cwiseAbs() + mid_yp_.head(n_).cwiseAbs());
+  internal::AddOdeDefect(mid, end - begin, mid_yp_.head(n_), mid_f_, x, mid_rounding_,
+                         options_.rtol, options_.atol, trajectory_.certificate.ode);
+  recorded_until_ = end;
+  if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
+  scaled_taylor_.resize(n_, q + 1);
+  double scale = 1;  // h^k / k!
+  for (int k = 0; k <= q; ++k) {
+    if (k > 0) scale *= h / k;
+    if (IDAGetDky(ida, t_n, k, dky_.get()) != IDA_SUCCESS) return;
+    scaled_taylor_.col(k) = scale * dky.head(n_);
+  }
+  trajectory_.dense.Append(begin, end, t_n, h, scaled_taylor_);
 }
 
 // A mode kept at a root whose root function stays exactly zero just after
@@ -678,6 +726,7 @@ bool ModeDaeRun::Integrate() {
       if (!std::isnan(missed) && IDAGetDky(ida_.get(), missed, 0, y_.get()) == IDA_SUCCESS) {
         SampleOutputs(missed);
         t_ = missed;
+        RecordStep(missed);
         if (!HandleRoot(missed, roots)) return false;
         // A new mode restarted IDA at the root; a kept one goes on from the
         // step's end.
@@ -691,6 +740,7 @@ bool ModeDaeRun::Integrate() {
     // held by BDF, which preserves linear invariants up to the Newton error.
     stats.max_constraint_drift = std::max(stats.max_constraint_drift, dae_.Drift(y_.data()));
     SampleOutputs(t_return);
+    RecordStep(t_return);
     const bool done = flag == IDA_TSTOP_RETURN || t_return >= t_end_;
     if (flag == IDA_ROOT_RETURN) {
       std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
@@ -736,8 +786,10 @@ bool ModeDaeApplies(const Lcs& lcs) {
   return lcs.K.IsBox();
 }
 
-Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
-                            const ModeDaeOptions& options) {
+namespace internal {
+
+Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
+                                       double t_end, const ModeDaeOptions& options) {
   lcs.Validate();
   options.Validate();
   DVI_THROW_UNLESS(lcs.K.IsBox(),
@@ -752,6 +804,27 @@ Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0
   internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
   ModeDaeRun run(lcs, x0, t0, t_end, options);
   return run.Run();
+}
+
+void CertifyModeDae(const Lcs& lcs, const ModeDaeOptions& options, std::size_t rows,
+                    Trajectory& trajectory) {
+  CertifyRows(RowCertifier(lcs, options.solver), options.rtol, options.atol, rows, trajectory);
+  std::ostringstream basis;
+  basis << "event-driven (IDA): VI residual <= " << Certificate::kViSafety
+        << "·(solver tolerance " << options.solver.tolerance
+        << " + |C|·(rtol·|x| + atol)), ODE defect h·|x' - f| <= " << Certificate::kOdeSafety
+        << "·(rtol·|x| + atol) in the weighted RMS norm at each step's midpoint, rtol = "
+        << options.rtol << ", atol = " << options.atol;
+  ConcludeCertificate(basis.str(), trajectory);
+}
+
+}  // namespace internal
+
+Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                            const ModeDaeOptions& options) {
+  Trajectory trajectory = internal::IntegrateModeDaeUncertified(lcs, x0, t0, t_end, options);
+  internal::CertifyModeDae(lcs, options, trajectory.times.size(), trajectory);
+  return trajectory;
 }
 
 }  // namespace dvi

@@ -433,10 +433,12 @@ Trajectory IntegrateGeneral(const Dvi& dvi, const Eigen::VectorXd& x0, double t0
                             const TimeSteppingOptions& options) {
   if (options.scheme == SteppingScheme::kViAtOldState) {
     ViAtOldState method(dvi, options);
-    return internal::RunTimeStepping(method, x0, t0, t_end, options);
+    return internal::RunTimeStepping(method, x0, t0, t_end, options,
+                                     internal::RowCertifier(dvi, options.solver));
   }
   ViAtNewState method(dvi, options);
-  return internal::RunTimeStepping(method, x0, t0, t_end, options);
+  return internal::RunTimeStepping(method, x0, t0, t_end, options,
+                                   internal::RowCertifier(dvi, options.solver));
 }
 
 }  // namespace
@@ -468,7 +470,8 @@ Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd&
       options.scheme == SteppingScheme::kViAtOldState)
     return IntegrateGeneral(dvi.ToDvi(), x0, t0, t_end, options);
   SeparableMethod method(dvi, options);
-  return internal::RunTimeStepping(method, x0, t0, t_end, options);
+  return internal::RunTimeStepping(method, x0, t0, t_end, options,
+                                   internal::RowCertifier(dvi.ToDvi(), options.solver));
 }
 
 }  // namespace dvi

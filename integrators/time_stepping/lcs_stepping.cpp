@@ -54,7 +54,8 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
                      : "takes only a box K, and Lcs.K is " + lcs.K.Describe() + ", not a box"));
   const std::unique_ptr<internal::OneStepMethod> method =
       sparse ? internal::MakeSparseLcsMethod(lcs, options) : internal::MakeDenseLcsMethod(lcs, options);
-  return internal::RunTimeStepping(*method, x0, t0, t_end, options);
+  return internal::RunTimeStepping(*method, x0, t0, t_end, options,
+                                   internal::RowCertifier(lcs, options.solver));
 }
 
 }  // namespace dvi

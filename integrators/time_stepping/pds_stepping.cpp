@@ -194,7 +194,8 @@ Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::Vect
                    "t_end: " << t_end << " does not exceed t0 = " << t0);
   pds.CheckInitialState(x0);
   FullyImplicitPds method(pds, options);
-  return internal::RunTimeStepping(method, x0, t0, t_end, options);
+  return internal::RunTimeStepping(method, x0, t0, t_end, options,
+                                   internal::RowCertifier(pds, options.solver));
 }
 
 }  // namespace dvi

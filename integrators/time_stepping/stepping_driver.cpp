@@ -16,10 +16,16 @@ namespace {
 // Samples, events and statistics of one run, fed step by step.
 class Recorder {
  public:
-  Recorder(const OneStepMethod& method, const TimeSteppingOptions& options, Trajectory& trajectory)
-      : method_(method), options_(options), trajectory_(trajectory) {}
+  Recorder(const OneStepMethod& method, const TimeSteppingOptions& options,
+           const RowCertifier& certifier, Trajectory& trajectory)
+      : method_(method),
+        options_(options),
+        certifier_(certifier),
+        trajectory_(trajectory),
+        keeps_dense_(KeepsDenseOutput(options.dense_output, options.output_times)) {}
 
   void Start(double t0, const StepOutcome& initial) {
+    step_change_.setZero(initial.x.size());  // u⁰ solves the VI at x⁰ itself
     Sample(t0, initial.x, initial.u);
     if (options_.record_events) method_.Mode(initial, mode_);
     while (next_output_ < options_.output_times.size() &&
@@ -32,6 +38,16 @@ class Recorder {
     const double t_next = t + h;
     IntegrationStats& stats = trajectory_.stats;
     ++stats.steps;
+    // A row of this step is x̂ᴴ between x^i and x^{i+1} with u^{i+1}: it
+    // may be off its VI by what the step's change moves F (Certificate).
+    step_change_ = (outcome.x - x).cwiseAbs();
+    if (keeps_dense_) {
+      // x̂ᴴ = x^{i+1} + s (x^{i+1} − x^i), s = (τ − t_{i+1})/h ∈ [−1, 0].
+      line_.resize(x.size(), 2);
+      line_.col(0) = outcome.x;
+      line_.col(1) = outcome.x - x;
+      trajectory_.dense.Append(t, t_next, t_next, h, line_);
+    }
     stats.max_residual = std::max(stats.max_residual, outcome.residual);
     trajectory_.step_log.push_back({t_next, h, outcome.iterations, outcome.residual});
 
@@ -54,6 +70,7 @@ class Recorder {
  private:
   void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
     if (!trajectory_.times.empty() && trajectory_.times.back() >= t) return;
+    certifier_.Check(t, x, u, step_change_, trajectory_.certificate.vi);
     trajectory_.times.push_back(t);
     trajectory_.states.push_back(x);
     trajectory_.multipliers.push_back(u);
@@ -88,7 +105,11 @@ class Recorder {
 
   const OneStepMethod& method_;
   const TimeSteppingOptions& options_;
+  const RowCertifier& certifier_;
   Trajectory& trajectory_;
+  const bool keeps_dense_;
+  Eigen::VectorXd step_change_;  // |x^{i+1} − x^i| of the step being recorded
+  Eigen::MatrixXd line_;  // a step's x̂ᴴ as dense output
   size_t next_output_ = 0;
   std::vector<int> mode_, next_mode_;
 };
@@ -141,7 +162,8 @@ double ScaledError(const Eigen::VectorXd& coarse, const Eigen::VectorXd& fine, i
 }  // namespace
 
 Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
-                           double t_end, const TimeSteppingOptions& options) {
+                           double t_end, const TimeSteppingOptions& options,
+                           const RowCertifier& certifier) {
   // The run arrives within 1e-12 |t_end| of t_end (end_slack below): a
   // shorter span would end before its first step (t0 = 1e16, t_end = t0 + 2).
   DVI_THROW_UNLESS(t_end - t0 > 1e-12 * std::abs(t_end),
@@ -152,11 +174,15 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
   Trajectory trajectory;
   trajectory.intervals.push_back({t0, t_end, "stepping", method.Describe()});
   IntegrationStats& stats = trajectory.stats;
-  Recorder recorder(method, options, trajectory);
+  Recorder recorder(method, options, certifier, trajectory);
   const auto finish = [&](IntegrationStatus status, std::string message, double t) {
     trajectory.status = status;
     trajectory.message = std::move(message);
     trajectory.intervals.back().to = t;
+    std::ostringstream basis;
+    basis << "time-stepping: VI residual <= " << Certificate::kViSafety << "·(solver tolerance "
+          << options.solver.tolerance << " + |F_x|·|x^{i+1} - x^i|) at every row";
+    ConcludeCertificate(basis.str(), trajectory);
     stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return std::move(trajectory);
   };

@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 
+#include "certify.hpp"
 #include "dvi/time_stepping.hpp"
 #include "dvi/trajectory.hpp"
 #include "one_step_method.hpp"
@@ -13,8 +14,12 @@ namespace dvi::internal {
 /// step doubling on the ladder h·2ᵏ (options.adaptive); samples, events,
 /// step log and statistics as TimeSteppingOptions documents. Never throws
 /// for a numerical failure: it ends the trajectory with a status and a
-/// message naming the step and time. @pre options validated, x0 sized.
+/// message naming the step and time. Every sampled row is checked by
+/// `certifier`, allowed its step's change |x^{i+1} − x^i| as error, and a
+/// run that reaches t_end with rows beyond their bounds ends kUncertified
+/// (Certificate). @pre options validated, x0 sized.
 Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
-                           double t_end, const TimeSteppingOptions& options);
+                           double t_end, const TimeSteppingOptions& options,
+                           const RowCertifier& certifier);
 
 }  // namespace dvi::internal

@@ -167,6 +167,12 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
   out << "  " << stats.steps << " steps (" << stats.rejected_steps << " rejected), "
       << stats.vi_solves << " VI solves, " << trajectory.events.size() << " events, "
       << Short(stats.wall_seconds) << " s\n";
+  const Certificate& certificate = trajectory.certificate;
+  if (certificate.evaluated)
+    out << "  certified: VI residual at " << Short(certificate.vi.ratio)
+        << " of its bound over " << certificate.vi.checked << " rows, ODE defect at "
+        << Short(certificate.ode.ratio) << " of its bound over " << certificate.ode.checked
+        << " steps\n";
   for (const std::string& file : files) out << "  wrote " << file << "\n";
 }
 
@@ -363,6 +369,19 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
                       {"max_residual", NumberToJson(stats.max_residual)},
                       {"max_constraint_drift", NumberToJson(stats.max_constraint_drift)},
                       {"wall_seconds", stats.wall_seconds}};
+  const Certificate& certificate = trajectory.certificate;
+  const auto measure = [](const CertifiedMeasure& m, const char* component) {
+    return nlohmann::ordered_json{{"max", NumberToJson(m.value)},
+                                  {"bound", NumberToJson(m.bound)},
+                                  {"ratio", NumberToJson(m.ratio)},
+                                  {"time", m.time},
+                                  {component, m.component + 1},
+                                  {"checked", m.checked}};
+  };
+  summary["certificate"] = {{"certified", certificate.certified()},
+                            {"vi_residual", measure(certificate.vi, "u")},
+                            {"ode_defect", measure(certificate.ode, "x")},
+                            {"basis", certificate.basis}};
   summary["x_final"] =
       VectorToJson(trajectory.states.empty() ? Eigen::VectorXd()
                                             : Eigen::VectorXd(trajectory.states.back()));

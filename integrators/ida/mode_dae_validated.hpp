@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstddef>
+
+#include <Eigen/Dense>
+
+#include "dvi/lcs.hpp"
+#include "dvi/mode_dae.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi::internal {
+
+/// IntegrateModeDae without checking its rows against the VI
+/// (CertifyModeDae): the automatic driver drops the row where a failed run
+/// stops before it is output. Validates as IntegrateModeDae.
+Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
+                                       double t_end, const ModeDaeOptions& options);
+/// Checks the first `rows` rows of a mode-DAE run against the LCS and
+/// concludes its certificate.
+void CertifyModeDae(const Lcs& lcs, const ModeDaeOptions& options, std::size_t rows,
+                    Trajectory& trajectory);
+
+}  // namespace dvi::internal

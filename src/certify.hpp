@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "dvi/certificate.hpp"
+#include "dvi/dvi_problem.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/projected_dynamics.hpp"
+#include "dvi/solver_options.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi::internal {
+
+/// Checks output rows (t, x, u) against the VI they claim to solve and
+/// keeps the worst (Certificate: VI). One per problem type: u ∈ SOL(K,
+/// F(t, x, ·)) for a Dvi or an Lcs, x ∈ K with u = ν ∈ N(x; K) for
+/// projected dynamics.
+class RowCertifier {
+ public:
+  /// F_x from dvi.F_jacobian, else forward differences (only at rows that
+  /// the solver's tolerance alone does not pass).
+  RowCertifier(const Dvi& dvi, const SolverOptions& solver);
+  /// |C| from the sparse C: no dense m×n matrix for a large circuit.
+  RowCertifier(const Lcs& lcs, const SolverOptions& solver);
+  /// The residual x − Π_K(x + ν), zero iff x ∈ K and ν ∈ N(x; K)
+  /// ([Seed] (2.9)–(2.11)), held to kViSafety·(τ + e).
+  RowCertifier(const ProjectedDynamics& pds, const SolverOptions& solver);
+
+  /// Adds the row (t, x, u) to `measure`, where the method allows x an
+  /// error e ≥ 0 (componentwise).
+  void Check(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+             const Eigen::VectorXd& e, CertifiedMeasure& measure) const;
+
+ private:
+  std::function<void(double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                     const Eigen::VectorXd&, CertifiedMeasure&)>
+      check_;
+};
+
+/// Checks the first `rows` rows of `trajectory` (the ones its caller keeps)
+/// with the error an error-controlled integrator allows, e = rtol·|x| +
+/// atol (its local error test).
+void CertifyRows(const RowCertifier& certifier, double rtol, double atol, std::size_t rows,
+                 Trajectory& trajectory);
+
+/// Adds the ODE defect at one step's midpoint t (Certificate: ODE) to
+/// `ode`: dense_derivative = x̂'(t), f = f(t, x̂(t), u(t)), x = x̂(t), h the
+/// step's length, rounding ≥ 0 the rounding of h·x̂' and h·f (a few ulps of
+/// their terms' magnitudes). The value recorded is the weighted RMS norm,
+/// its component the largest term.
+void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
+                  const Eigen::VectorXd& f, const Eigen::VectorXd& x,
+                  const Eigen::VectorXd& rounding, double rtol, double atol,
+                  CertifiedMeasure& ode);
+
+/// Completes trajectory.certificate (evaluated, basis) and turns a
+/// successful run whose certificate fails into kUncertified, naming where.
+void ConcludeCertificate(const std::string& basis, Trajectory& trajectory);
+
+}  // namespace dvi::internal
