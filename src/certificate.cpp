@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 #include "certify.hpp"
 #include "dvi/certificate.hpp"
@@ -32,12 +33,6 @@ void Record(double value, double bound, double t, int component, CertifiedMeasur
   }
 }
 
-// τ of a row: the solver's tolerance, or the rounding floor of u and F.
-double Acceptance(const SolverOptions& solver, const Eigen::VectorXd& u,
-                  const Eigen::VectorXd& F) {
-  return std::max(solver.tolerance, internal::RoundingFloor(u, F.cwiseAbs()));
-}
-
 }  // namespace
 
 void Certificate::Merge(const Certificate& other) {
@@ -53,95 +48,117 @@ void Certificate::Merge(const Certificate& other) {
 
 namespace internal {
 
-namespace {
-
-// Adds the row's residual r against kViSafety·(τ + sensitivity), the
-// sensitivity (how far the allowed error moves each row) computed only
-// where the residual exceeds τ itself (most rows solve to τ).
-template <typename Sensitivity>
-void CheckResidual(double t, const Eigen::VectorXd& residual, double tau,
-                   const Sensitivity& sensitivity, CertifiedMeasure& measure) {
-  ++measure.checked;
-  Eigen::VectorXd bound = Eigen::VectorXd::Constant(residual.size(), Certificate::kViSafety * tau);
-  if (!(residual.maxCoeff() <= tau)) bound += Certificate::kViSafety * sensitivity();
-  for (Eigen::Index j = 0; j < residual.size(); ++j)
-    Record(residual(j), bound(j), t, static_cast<int>(j), measure);
+RowCertifier::RowCertifier(const ConvexSet& K, const SolverOptions& solver)
+    : K_(K), box_(K.IsBox()), tolerance_(solver.tolerance) {
+  if (box_) std::tie(lower_, upper_) = K.BoxBounds();
 }
 
-// e plus the rounding of x itself: part of what a row resolves.
-Eigen::VectorXd Resolution(const Eigen::VectorXd& x, const Eigen::VectorXd& e) {
-  return e + kRoundingUlps * kEpsilon * x.cwiseAbs();
-}
-
-}  // namespace
-
-RowCertifier::RowCertifier(const Dvi& dvi, const SolverOptions& solver) {
-  check_ = [dvi, solver](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                         const Eigen::VectorXd& e, CertifiedMeasure& measure) {
-    if (dvi.m == 0) return;
-    Eigen::VectorXd F(dvi.m);
-    dvi.F(t, x, u, F);
-    const Eigen::VectorXd residual = (u - dvi.K.Project(u - F)).cwiseAbs();
-    CheckResidual(t, residual, Acceptance(solver, u, F), [&]() -> Eigen::VectorXd {
-      Eigen::MatrixXd Fx(dvi.m, dvi.n);
-      if (dvi.F_jacobian) {
-        Eigen::MatrixXd Fu(dvi.m, dvi.m);
-        dvi.F_jacobian(t, x, u, Fx, Fu);
-      } else {
-        Eigen::VectorXd shifted = x, F_shifted(dvi.m);
-        for (int i = 0; i < dvi.n; ++i) {
-          const double step = std::sqrt(kEpsilon) * std::max(1.0, std::abs(x(i)));
-          shifted(i) = x(i) + step;
-          dvi.F(t, shifted, u, F_shifted);
-          Fx.col(i) = (F_shifted - F) / step;
-          shifted(i) = x(i);
-        }
+RowCertifier::RowCertifier(const Dvi& dvi, const SolverOptions& solver)
+    : RowCertifier(dvi.K, solver) {
+  F_ = dvi.F;
+  sensitivity_ = [dvi, Fx = Eigen::MatrixXd(), Fu = Eigen::MatrixXd(),
+                  shifted = Eigen::VectorXd(), F_shifted = Eigen::VectorXd()](
+                     double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                     const Eigen::VectorXd& F, const Eigen::VectorXd& r,
+                     Eigen::VectorXd& out) mutable {
+    Fx.resize(dvi.m, dvi.n);
+    if (dvi.F_jacobian) {
+      Fu.resize(dvi.m, dvi.m);
+      dvi.F_jacobian(t, x, u, Fx, Fu);
+    } else {
+      shifted = x;
+      F_shifted.resize(dvi.m);
+      for (int i = 0; i < dvi.n; ++i) {
+        const double step = std::sqrt(kEpsilon) * std::max(1.0, std::abs(x(i)));
+        shifted(i) = x(i) + step;
+        dvi.F(t, shifted, u, F_shifted);
+        Fx.col(i) = (F_shifted - F) / step;
+        shifted(i) = x(i);
       }
-      return Fx.cwiseAbs() * Resolution(x, e);
-    }, measure);
+    }
+    out.noalias() = Fx.cwiseAbs() * r;
   };
 }
 
-RowCertifier::RowCertifier(const Lcs& lcs, const SolverOptions& solver) {
-  const Dvi dvi = lcs.ToDvi();
-  const SparseMatrix C = lcs.C.cwiseAbs();
-  check_ = [F = dvi.F, K = lcs.K, m = lcs.m(), C, solver](
-               double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-               const Eigen::VectorXd& e, CertifiedMeasure& measure) {
-    if (m == 0) return;
-    Eigen::VectorXd w(m);
-    F(t, x, u, w);
-    const Eigen::VectorXd residual = (u - K.Project(u - w)).cwiseAbs();
-    CheckResidual(t, residual, Acceptance(solver, u, w),
-                  [&]() -> Eigen::VectorXd { return C * Resolution(x, e); }, measure);
+RowCertifier::RowCertifier(const Lcs& lcs, const SolverOptions& solver)
+    : RowCertifier(lcs.K, solver) {
+  F_ = lcs.ToDvi().F;
+  sensitivity_ = [C = SparseMatrix(lcs.C.cwiseAbs())](
+                     double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                     const Eigen::VectorXd&, const Eigen::VectorXd& r, Eigen::VectorXd& out) {
+    out.noalias() = C * r;
   };
 }
 
-RowCertifier::RowCertifier(const ProjectedDynamics& pds, const SolverOptions& solver) {
-  check_ = [K = pds.K, solver](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& nu,
-                               const Eigen::VectorXd& e, CertifiedMeasure& measure) {
-    const Eigen::VectorXd residual = (x - K.Project(x + nu)).cwiseAbs();
-    const double tau = std::max(solver.tolerance, RoundingFloor(x, nu.cwiseAbs()));
-    CheckResidual(t, residual, tau, [&]() -> Eigen::VectorXd { return Resolution(x, e); },
-                  measure);
-  };
+RowCertifier::RowCertifier(const ProjectedDynamics& pds, const SolverOptions& solver)
+    : RowCertifier(pds.K, solver) {
+  projected_dynamics_ = true;
 }
 
-void RowCertifier::Check(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                         const Eigen::VectorXd& e, CertifiedMeasure& measure) const {
-  check_(t, x, u, e, measure);
-}
-
-void CertifyRows(const RowCertifier& certifier, double rtol, double atol, std::size_t rows,
-                 Trajectory& trajectory) {
-  Eigen::VectorXd x, e;
-  for (std::size_t k = 0; k < std::min(rows, trajectory.times.size()); ++k) {
-    x = trajectory.states[k];
-    e = rtol * x.cwiseAbs();
-    e.array() += atol;
-    certifier.Check(trajectory.times[k], x, trajectory.multipliers[k], e,
-                    trajectory.certificate.vi);
+double RowCertifier::Residual(const Eigen::VectorXd& p, const Eigen::VectorXd& d,
+                              Eigen::Index& worst) {
+  const Eigen::Index size = p.size();
+  residual_.resize(size);
+  if (box_) {
+    for (Eigen::Index j = 0; j < size; ++j)
+      residual_(j) = std::abs(p(j) - std::clamp(p(j) - d(j), lower_(j), upper_(j)));
+  } else {
+    shifted_ = p - d;
+    residual_ = (p - K_.Project(shifted_)).cwiseAbs();
   }
+  return size > 0 ? residual_.maxCoeff(&worst) : 0;
+}
+
+void RowCertifier::Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+                         const Eigen::Ref<const Eigen::VectorXd>& u,
+                         const AllowedError& allowed, CertifiedMeasure& measure) {
+  ++measure.checked;
+  x_ = x;
+  u_ = u;
+  Eigen::Index worst = 0;
+  double largest = 0;
+  if (projected_dynamics_) {
+    // x ∈ K and ν ∈ N(x; K) iff x = Π_K(x + ν): the residual of x with d = −ν.
+    F_value_ = -u_;
+    largest = Residual(x_, F_value_, worst);
+  } else {
+    if (u_.size() == 0) return;
+    F_value_.resize(u_.size());
+    F_(t, x_, u_, F_value_);
+    largest = Residual(u_, F_value_, worst);
+  }
+  // Most rows solve to the solver's tolerance itself: one bound for all
+  // components, the largest residual recorded.
+  if (largest <= tolerance_) {
+    Record(largest, Certificate::kViSafety * tolerance_, t, static_cast<int>(worst), measure);
+    return;
+  }
+  // The others are held to τ (the tolerance, or the rounding floor of
+  // their terms) plus how far the allowed error, and x's own rounding,
+  // moves each row.
+  const double tau = projected_dynamics_
+                         ? std::max(tolerance_, RoundingFloor(x_, u_.cwiseAbs()))
+                         : std::max(tolerance_, RoundingFloor(u_, F_value_.cwiseAbs()));
+  resolution_ = (allowed.rtol + kRoundingUlps * kEpsilon) * x_.cwiseAbs();
+  resolution_.array() += allowed.atol;
+  if (allowed.change) resolution_ += *allowed.change;
+  if (projected_dynamics_) {
+    moved_ = resolution_;
+  } else {
+    moved_.resize(u_.size());
+    sensitivity_(t, x_, u_, F_value_, resolution_, moved_);
+  }
+  for (Eigen::Index j = 0; j < residual_.size(); ++j)
+    Record(residual_(j), Certificate::kViSafety * (tau + moved_(j)), t, static_cast<int>(j),
+           measure);
+}
+
+void CertifyRows(RowCertifier& certifier, double rtol, double atol, std::size_t rows,
+                 Trajectory& trajectory) {
+  const RowCertifier::AllowedError allowed{rtol, atol, nullptr};
+  for (std::size_t k = 0; k < std::min(rows, trajectory.times.size()); ++k)
+    certifier.Check(trajectory.times[k], trajectory.states[k], trajectory.multipliers[k], allowed,
+                    trajectory.certificate.vi);
 }
 
 void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,

@@ -18,7 +18,8 @@ namespace dvi::internal {
 /// Checks output rows (t, x, u) against the VI they claim to solve and
 /// keeps the worst (Certificate: VI). One per problem type: u ∈ SOL(K,
 /// F(t, x, ·)) for a Dvi or an Lcs, x ∈ K with u = ν ∈ N(x; K) for
-/// projected dynamics.
+/// projected dynamics. It keeps its scratch: a row costs one evaluation of
+/// F and no allocation where it solves to the solver's tolerance (most do).
 class RowCertifier {
  public:
   /// F_x from dvi.F_jacobian, else forward differences (only at rows that
@@ -30,21 +31,41 @@ class RowCertifier {
   /// ([Seed] (2.9)–(2.11)), held to kViSafety·(τ + e).
   RowCertifier(const ProjectedDynamics& pds, const SolverOptions& solver);
 
-  /// Adds the row (t, x, u) to `measure`, where the method allows x an
-  /// error e ≥ 0 (componentwise).
-  void Check(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-             const Eigen::VectorXd& e, CertifiedMeasure& measure) const;
+  /// The state error e ≥ 0 a method allows at a row: rtol·|x| + atol + change
+  /// (an error-controlled integrator: its local error test; time-stepping:
+  /// its step's change |x^{i+1} − x^i|, when given).
+  struct AllowedError {
+    double rtol = 0;
+    double atol = 0;
+    const Eigen::VectorXd* change = nullptr;
+  };
+  /// Adds the row (t, x, u) to `measure`.
+  void Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+             const Eigen::Ref<const Eigen::VectorXd>& u, const AllowedError& allowed,
+             CertifiedMeasure& measure);
 
  private:
-  std::function<void(double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                     const Eigen::VectorXd&, CertifiedMeasure&)>
-      check_;
+  using Sensitivity =
+      std::function<void(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                         const Eigen::VectorXd& F, const Eigen::VectorXd& r, Eigen::VectorXd& out)>;
+  RowCertifier(const ConvexSet& K, const SolverOptions& solver);
+  // residual_ = |p − Π_K(p − d)| and its largest entry: one loop for a box.
+  double Residual(const Eigen::VectorXd& p, const Eigen::VectorXd& d, Eigen::Index& worst);
+
+  bool projected_dynamics_ = false;
+  TimeStateFunction F_;
+  Sensitivity sensitivity_;  // |∂F/∂x|·r
+  ConvexSet K_;
+  bool box_ = false;
+  Eigen::VectorXd lower_, upper_;
+  double tolerance_ = 0;
+  Eigen::VectorXd x_, u_, F_value_, shifted_, residual_, resolution_, moved_;
 };
 
 /// Checks the first `rows` rows of `trajectory` (the ones its caller keeps)
 /// with the error an error-controlled integrator allows, e = rtol·|x| +
 /// atol (its local error test).
-void CertifyRows(const RowCertifier& certifier, double rtol, double atol, std::size_t rows,
+void CertifyRows(RowCertifier& certifier, double rtol, double atol, std::size_t rows,
                  Trajectory& trajectory);
 
 /// Adds the ODE defect at one step's midpoint t (Certificate: ODE) to

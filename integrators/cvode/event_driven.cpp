@@ -313,6 +313,12 @@ class EventDrivenRun {
   bool RootsOnStep(double t_n, int q, double t, double* g);
   void DropSamplesFrom(double t);
   void RecordStep(double end);
+  void SampleDefects(double t_n, double h, int q, bool by_polynomial,
+                     const Eigen::Ref<const Eigen::ArrayXd>& times,
+                     const Eigen::Ref<const Eigen::MatrixXd>& X,
+                     const Eigen::Ref<const Eigen::MatrixXd>& U);
+  void AddDefect(double t, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& rate,
+                 const Eigen::VectorXd& f);
   /// CVODE's last step: its end t_n, length h and order q.
   struct Step {
     double t_n = 0, h = 0;
@@ -352,10 +358,11 @@ class EventDrivenRun {
   Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
   double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
   Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
-  // RecordStep's scratch: x, x' and f at a step's midpoint, the step's
-  // scaled Taylor coefficients.
-  Eigen::VectorXd defect_x_, defect_rate_, defect_f_, defect_rounding_;
+  // The certificate's scratch: x, u, x' and f where a defect is measured,
+  // the step's scaled Taylor coefficients.
+  Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_;
   Eigen::MatrixXd scaled_taylor_;
+  double recorded_until_ = -std::numeric_limits<double>::infinity();  // RecordStep's last end
   // StepClear and PieceViolation: the step's start and end roots (the last
   // step's end, x and x' there, for the next step's start in the mode), x
   // at a node and the root slots' floors (their slack applied or not).
@@ -488,6 +495,8 @@ double EventDrivenRun::SampleOutputs(double before) {
   }
   if (kept == 0) return NAN;
   const auto samples = static_cast<Eigen::Index>(kept);
+  SampleDefects(t_n, h_u, q, by_polynomial, step_times.head(samples), X.leftCols(samples),
+                U.leftCols(samples));
   Eigen::Index out = -1;
   // A mode StepViolation covers was checked over the whole step.
   if (!system_.CoversSteps()) {
@@ -510,6 +519,45 @@ double EventDrivenRun::SampleOutputs(double before) {
   return out < 0 ? NAN : sample_times[first_sample + static_cast<std::size_t>(out)];
 }
 
+// Certificate: the ODE's defect x̂' − f(t, x̂, u) of the step's interpolant
+// at the sampled time nearest the step's middle (u of that sample, from
+// the mode): the rows between step ends come from this polynomial, whose
+// defect is smooth along the step, at the cost of one f and one x̂'.
+void EventDrivenRun::SampleDefects(double t_n, double h, int q, bool by_polynomial,
+                                   const Eigen::Ref<const Eigen::ArrayXd>& times,
+                                   const Eigen::Ref<const Eigen::MatrixXd>& X,
+                                   const Eigen::Ref<const Eigen::MatrixXd>& U) {
+  if (times.size() == 0) return;
+  Eigen::Index k = 0;
+  (times - (t_n - h / 2)).abs().minCoeff(&k);
+  const double t = times(k);
+  Eigen::VectorXd& rate = defect_rate_;
+  if (by_polynomial) {
+    rate = q * taylor_.col(q);
+    for (int j = q - 1; j >= 1; --j) rate = j * taylor_.col(j) + (t - t_n) * rate;
+  } else {
+    if (CVodeGetDky(cvode_.get(), t, 1, dky_.get()) != CV_SUCCESS) return;
+    rate = Eigen::Map<const Eigen::VectorXd>(dky_.data(), X.rows());
+  }
+  defect_x_ = X.col(k);
+  defect_u_ = U.col(k);
+  defect_f_.resize(X.rows());
+  dvi_.f(t, defect_x_, defect_u_, defect_f_);
+  AddDefect(t, h, defect_x_, rate, defect_f_);
+}
+
+// Adds the defect at t, of a step of length h, to the certificate.
+void EventDrivenRun::AddDefect(double t, double h, const Eigen::VectorXd& x,
+                               const Eigen::VectorXd& rate, const Eigen::VectorXd& f) {
+  // The interpolant's derivative differences values of size |x| over the
+  // step, f sums terms of its own size: a few ulps of each.
+  Eigen::VectorXd& rounding = defect_rounding_;
+  rounding = internal::kRoundingUlps * std::numeric_limits<double>::epsilon() *
+             (h * (f.cwiseAbs() + rate.cwiseAbs()) + x.cwiseAbs());
+  internal::AddOdeDefect(t, h, rate, f, x, rounding, options_.rtol, options_.atol,
+                         trajectory_.certificate.ode);
+}
+
 // Drops the samples at t and later, to be taken again after an event there.
 void EventDrivenRun::DropSamplesFrom(double t) {
   const std::size_t kept = static_cast<std::size_t>(
@@ -523,15 +571,24 @@ void EventDrivenRun::DropSamplesFrom(double t) {
                                           times.begin());
 }
 
-// Keeps the last step's interpolant over [t_n − h, end] (end: the step's
-// end, or the event that cut it short) as dense output, and measures its
-// ODE defect at the midpoint with u from the step's mode there
-// (Certificate). A step whose interpolant CVODE refuses, or whose mode's
-// Newton fails at the midpoint, is left out of both.
+// Where the dense output is kept: the last step's interpolant over [its
+// start, end] (end: the step's end, or the event that cut it short), and
+// its ODE defect at the midpoint (Certificate). A step whose interpolant
+// CVODE refuses is left out of both, one whose mode's Newton fails at the
+// midpoint out of the defect.
 void EventDrivenRun::RecordStep(double end) {
+  if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
   const auto [t_n, h, q] = LastStep();
-  const double begin = t_n - h;
+  const double begin = std::max(t_n - h, recorded_until_);
   if (!(h > 0) || !(end > begin) || !ReadTaylor(t_n, q)) return;
+  recorded_until_ = end;
+  Eigen::MatrixXd& scaled = scaled_taylor_;
+  scaled = taylor_;
+  double power = 1;
+  for (int k = 1; k <= q; ++k) scaled.col(k) *= (power *= h);
+  trajectory_.dense.Append(begin, end, t_n, h, scaled);
+  // The certificate's ODE defect at the midpoint, u from the step's mode
+  // there: the piece is output, so it is checked as the rows are.
   const double mid = begin + (end - begin) / 2;
   Eigen::VectorXd& x = defect_x_;
   Eigen::VectorXd& rate = defect_rate_;
@@ -541,23 +598,10 @@ void EventDrivenRun::RecordStep(double end) {
     x = taylor_.col(k) + (mid - t_n) * x;
     if (k >= 1) rate = k * taylor_.col(k) + (mid - t_n) * rate;
   }
-  if (system_.Solve(mid, x)) {
-    Eigen::VectorXd& f = defect_f_;
-    f.resize(x.size());
-    dvi_.f(mid, x, system_.u(), f);
-    // h·x̂' sums the terms k·c_k s^{k−1}, |s| ≤ 1; f its own.
-    Eigen::VectorXd& rounding = defect_rounding_;
-    rounding = (end - begin) * f.cwiseAbs();
-    for (int k = 1; k <= q; ++k) rounding += k * std::pow(h, k) * taylor_.col(k).cwiseAbs();
-    rounding *= internal::kRoundingUlps * std::numeric_limits<double>::epsilon();
-    internal::AddOdeDefect(mid, end - begin, rate, f, x, rounding, options_.rtol, options_.atol,
-                           trajectory_.certificate.ode);
-  }
-  if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
-  Eigen::MatrixXd& scaled = scaled_taylor_;
-  scaled = taylor_;
-  for (int k = 1; k <= q; ++k) scaled.col(k) *= std::pow(h, k);
-  trajectory_.dense.Append(begin, end, t_n, h, scaled);
+  if (!system_.Solve(mid, x)) return;
+  defect_f_.resize(x.size());
+  dvi_.f(mid, x, system_.u(), defect_f_);
+  AddDefect(mid, end - begin, x, rate, defect_f_);
 }
 
 EventDrivenRun::Step EventDrivenRun::LastStep() const {
@@ -1382,7 +1426,7 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
 
 void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options,
                         std::size_t rows, Trajectory& trajectory) {
-  const RowCertifier certifier =
+  RowCertifier certifier =
       lcs ? RowCertifier(*lcs, options.solver) : RowCertifier(dvi, options.solver);
   CertifyRows(certifier, options.rtol, options.atol, rows, trajectory);
   std::ostringstream basis;

@@ -176,6 +176,7 @@ class ModeDaeRun {
   void Sample(double t);
   void SampleOutputs(double before);
   void RecordStep(double end);
+  void MeasureDefect(double t);
   void CollectIdaStats();
   long Steps() const;
   bool Fail(IntegrationStatus status, const std::string& message);
@@ -211,8 +212,9 @@ class ModeDaeRun {
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
   std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
   Eigen::MatrixXd step_taylor_, step_roots_;  // MissedRoot's polynomials
-  // RecordStep: where the dense output ends, a step's scaled Taylor
-  // coefficients of x, and y, y', f and the rounding at its midpoint.
+  // RecordStep and MeasureDefect: where the dense output ends, a step's
+  // scaled Taylor coefficients of x, and y, y', f and the rounding at a
+  // point of the step.
   double recorded_until_ = -std::numeric_limits<double>::infinity();
   Eigen::MatrixXd scaled_taylor_;
   Eigen::VectorXd mid_y_, mid_yp_, mid_f_, mid_rounding_;
@@ -259,6 +261,11 @@ void ModeDaeRun::Sample(double t) {
 // (x and u alike: u is a smooth part of y inside a mode).
 void ModeDaeRun::SampleOutputs(double before) {
   const auto& times = options_.output_times;
+  // The certificate's ODE defect at the sample nearest the step's middle.
+  double t_n = 0, h = 0, middle = NAN, nearest = NAN;
+  if (IDAGetCurrentTime(ida_.get(), &t_n) == IDA_SUCCESS &&
+      IDAGetLastStep(ida_.get(), &h) == IDA_SUCCESS)
+    middle = t_n - h / 2;
   while (next_output_ < times.size() && times[next_output_] < before) {
     const double t = times[next_output_++];
     if (t <= t0_ || t >= t_end_) continue;
@@ -267,7 +274,32 @@ void ModeDaeRun::SampleOutputs(double before) {
     trajectory_.times.push_back(t);
     trajectory_.states.push_back(y.head(n_));
     trajectory_.multipliers.push_back(y.tail(m_));
+    if (!(std::abs(t - middle) >= std::abs(nearest - middle))) nearest = t;
   }
+  if (!std::isnan(nearest)) MeasureDefect(nearest);
+}
+
+// Certificate: the ODE's defect x' − (A x + B u + p) of IDA's interpolant
+// at t within the last step, added to the run's certificate.
+void ModeDaeRun::MeasureDefect(double t) {
+  double h = 0;
+  void* ida = ida_.get();
+  if (IDAGetLastStep(ida, &h) != IDA_SUCCESS || !(h > 0)) return;
+  const Eigen::Map<const Eigen::VectorXd> dky(dky_.data(), dae_.size());
+  if (IDAGetDky(ida, t, 0, dky_.get()) != IDA_SUCCESS) return;
+  mid_y_ = dky;
+  if (IDAGetDky(ida, t, 1, dky_.get()) != IDA_SUCCESS) return;
+  mid_yp_ = dky;
+  const auto x = mid_y_.head(n_), u = mid_y_.tail(m_), rate = mid_yp_.head(n_);
+  mid_f_ = lcs_.p;
+  mid_f_.noalias() += lcs_.A * x;
+  mid_f_.noalias() += lcs_.B * u;
+  // The interpolant's derivative differences values of size |x| over the
+  // step, f sums terms of its own size: a few ulps of each.
+  mid_rounding_ = internal::kRoundingUlps * std::numeric_limits<double>::epsilon() *
+                  (h * (mid_f_.cwiseAbs() + rate.cwiseAbs()) + x.cwiseAbs());
+  internal::AddOdeDefect(t, h, rate, mid_f_, x, mid_rounding_, options_.rtol, options_.atol,
+                         trajectory_.certificate.ode);
 }
 
 // IDAReInit zeroes IDA's counters: add them to the run's before each.
@@ -294,11 +326,12 @@ bool ModeDaeRun::Restart(double t) {
          Check(IDASetStopTime(ida_.get(), t_end_), "IDASetStopTime");
 }
 
-// Keeps the last step's interpolant of x over [its start, end] (end: the
-// step's end, or the root that cut it short; its start no earlier than
-// what is kept already) as dense output, and measures the ODE defect
-// x' − (A x + B u + p) of IDA's interpolant at the midpoint (Certificate).
+// Where the dense output is kept: the last step's interpolant of x over
+// [its start, end] (end: the step's end, or the root that cut it short; its
+// start no earlier than what is kept already), and its ODE defect at the
+// midpoint (Certificate).
 void ModeDaeRun::RecordStep(double end) {
+  if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
   double t_n = 0, h = 0;
   int q = 0;
   void* ida = ida_.get();
@@ -307,22 +340,7 @@ void ModeDaeRun::RecordStep(double end) {
     return;
   const double begin = std::max(t_n - h, recorded_until_);
   if (!(end > begin)) return;
-  const double mid = begin + (end - begin) / 2;
   const Eigen::Map<const Eigen::VectorXd> dky(dky_.data(), dae_.size());
-  if (IDAGetDky(ida, mid, 0, dky_.get()) != IDA_SUCCESS) return;
-  mid_y_ = dky;
-  if (IDAGetDky(ida, mid, 1, dky_.get()) != IDA_SUCCESS) return;
-  mid_yp_ = dky;
-  const auto x = mid_y_.head(n_), u = mid_y_.tail(m_);
-  mid_f_ = lcs_.p;
-  mid_f_.noalias() += lcs_.A * x;
-  mid_f_.noalias() += lcs_.B * u;
-  mid_rounding_ = internal::kRoundingUlps * std::numeric_limits<double>::epsilon() * (end - begin) *
-                  (mid_f_.cwiseAbs() + mid_yp_.head(n_).cwiseAbs());
-  internal::AddOdeDefect(mid, end - begin, mid_yp_.head(n_), mid_f_, x, mid_rounding_,
-                         options_.rtol, options_.atol, trajectory_.certificate.ode);
-  recorded_until_ = end;
-  if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
   scaled_taylor_.resize(n_, q + 1);
   double scale = 1;  // h^k / k!
   for (int k = 0; k <= q; ++k) {
@@ -330,7 +348,10 @@ void ModeDaeRun::RecordStep(double end) {
     if (IDAGetDky(ida, t_n, k, dky_.get()) != IDA_SUCCESS) return;
     scaled_taylor_.col(k) = scale * dky.head(n_);
   }
+  recorded_until_ = end;
   trajectory_.dense.Append(begin, end, t_n, h, scaled_taylor_);
+  // The piece is output, so it is checked as the rows are.
+  MeasureDefect(begin + (end - begin) / 2);
 }
 
 // A mode kept at a root whose root function stays exactly zero just after
@@ -808,7 +829,8 @@ Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0
 
 void CertifyModeDae(const Lcs& lcs, const ModeDaeOptions& options, std::size_t rows,
                     Trajectory& trajectory) {
-  CertifyRows(RowCertifier(lcs, options.solver), options.rtol, options.atol, rows, trajectory);
+  RowCertifier certifier(lcs, options.solver);
+  CertifyRows(certifier, options.rtol, options.atol, rows, trajectory);
   std::ostringstream basis;
   basis << "event-driven (IDA): VI residual <= " << Certificate::kViSafety
         << "·(solver tolerance " << options.solver.tolerance

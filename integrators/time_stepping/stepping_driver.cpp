@@ -17,7 +17,7 @@ namespace {
 class Recorder {
  public:
   Recorder(const OneStepMethod& method, const TimeSteppingOptions& options,
-           const RowCertifier& certifier, Trajectory& trajectory)
+           RowCertifier& certifier, Trajectory& trajectory)
       : method_(method),
         options_(options),
         certifier_(certifier),
@@ -70,7 +70,7 @@ class Recorder {
  private:
   void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
     if (!trajectory_.times.empty() && trajectory_.times.back() >= t) return;
-    certifier_.Check(t, x, u, step_change_, trajectory_.certificate.vi);
+    certifier_.Check(t, x, u, {0, 0, &step_change_}, trajectory_.certificate.vi);
     trajectory_.times.push_back(t);
     trajectory_.states.push_back(x);
     trajectory_.multipliers.push_back(u);
@@ -105,7 +105,7 @@ class Recorder {
 
   const OneStepMethod& method_;
   const TimeSteppingOptions& options_;
-  const RowCertifier& certifier_;
+  RowCertifier& certifier_;
   Trajectory& trajectory_;
   const bool keeps_dense_;
   Eigen::VectorXd step_change_;  // |x^{i+1} − x^i| of the step being recorded
@@ -163,7 +163,7 @@ double ScaledError(const Eigen::VectorXd& coarse, const Eigen::VectorXd& fine, i
 
 Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
                            double t_end, const TimeSteppingOptions& options,
-                           const RowCertifier& certifier) {
+                           RowCertifier certifier) {
   // The run arrives within 1e-12 |t_end| of t_end (end_slack below): a
   // shorter span would end before its first step (t0 = 1e16, t_end = t0 + 2).
   DVI_THROW_UNLESS(t_end - t0 > 1e-12 * std::abs(t_end),

@@ -20,6 +20,6 @@ namespace dvi::internal {
 /// (Certificate). @pre options validated, x0 sized.
 Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
                            double t_end, const TimeSteppingOptions& options,
-                           const RowCertifier& certifier);
+                           RowCertifier certifier);
 
 }  // namespace dvi::internal

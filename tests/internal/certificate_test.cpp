@@ -51,13 +51,13 @@ TEST(Certificate, TheProjectedErrorEstimatesWrongInterpolantIsUncertified) {
 // same residual is passed where the allowed error covers it.
 TEST(Certificate, RowsAreHeldToTheirAllowedError) {
   const Dvi dvi = testing::RectifierDvi(kRectifier, true);
-  const internal::RowCertifier certifier(dvi, SolverOptions());
+  internal::RowCertifier certifier(dvi, SolverOptions());
   const double t = 0.001;
   const Eigen::VectorXd u = Eigen::VectorXd::Constant(1, 0.01);  // conducting
   Eigen::VectorXd x = Eigen::VectorXd::Constant(1, kRectifier.Source(t) + 1e-3);
   CertifiedMeasure tight, loose;
-  certifier.Check(t, x, u, Eigen::VectorXd::Constant(1, 1e-8), tight);
-  certifier.Check(t, x, u, Eigen::VectorXd::Constant(1, 1e-4), loose);
+  certifier.Check(t, x, u, {0, 1e-8, nullptr}, tight);
+  certifier.Check(t, x, u, {0, 1e-4, nullptr}, loose);
   EXPECT_NEAR(tight.value, 1e-3, 1e-12);  // |F| = 1e-3 with u > 0
   EXPECT_GT(tight.ratio, 1);
   EXPECT_LE(loose.ratio, 1);  // 100·(1e-10 + |F_x|·1e-4) = 1e-2 ≥ 1e-3
