@@ -9,6 +9,8 @@
 
 #include "dvi/event_driven.hpp"
 #include "support/convergence.hpp"
+#include "support/forced_box_dvi.hpp"
+#include "support/rectifier.hpp"
 #include "support/reference_dvis.hpp"
 
 namespace dvi::bench {
@@ -169,6 +171,59 @@ WorkPrecisionProblem HalfWaveRectifier(int output_count) {
   return problem;
 }
 
+// Issue 27's rectifier, nondimensional (RC = ω = Vs = 1): an ideal diode
+// (D = 0) clamps v to the source while it conducts, a reduced (index-two)
+// mode whose constraint moves with time, 5 periods. The implicit right-hand
+// side of the baselines and the oracle needs ∂F/∂u nonsingular, which the
+// clamp is not: only event-driven and time-stepping integrate it.
+WorkPrecisionProblem ClampedRectifier(int output_count) {
+  constexpr testing::Rectifier kCircuit{1, 1, 1, 1};
+  constexpr double kEnd = 10 * 3.14159265358979323846;
+  WorkPrecisionProblem problem;
+  problem.name = "clamp";
+  problem.title = "v' = u - v, 0 <= u _|_ v - sin t >= 0 (index two), v0 = 0, [0, 10 pi]";
+  problem.reference = "exact";
+  problem.dvi = testing::RectifierDvi(kCircuit, true);
+  problem.x0 = Eigen::VectorXd::Zero(1);
+  problem.t_end = kEnd;
+  problem.output_times = testing::Linspace(0, kEnd, output_count);
+  const testing::RectifierSwitches switches = testing::RectifierExactSwitches(kCircuit, kEnd);
+  for (const double t : problem.output_times)
+    problem.exact.push_back(
+        Eigen::VectorXd::Constant(1, testing::RectifierExactV(kCircuit, switches, t)));
+  double from = 0;
+  for (std::size_t k = 0; k < switches.off.size(); ++k) {
+    problem.schedule.push_back({from, switches.off[k], {MultiplierBound::kFree}});
+    from = k < switches.on.size() ? switches.on[k] : kEnd;
+    problem.schedule.push_back({switches.off[k], from, {MultiplierBound::kLower}});
+  }
+  if (from < kEnd) problem.schedule.push_back({from, kEnd, {MultiplierBound::kFree}});
+  return problem;
+}
+
+// testing::ForcedBoxDvi with a = 3: 13 kinks over [0, 20] driven by F's
+// time dependence, against its exact piecewise solution.
+WorkPrecisionProblem ForcedBox(int output_count) {
+  constexpr double kForcing = 3, kEnd = 20;
+  WorkPrecisionProblem problem;
+  problem.name = "forced";
+  problem.title = "x' = u, u in SOL([-1,1], u + x - 3 sin t), x0 = 0, [0, 20]";
+  problem.reference = "exact";
+  problem.dvi = testing::ForcedBoxDvi(kForcing);
+  problem.x0 = Eigen::VectorXd::Zero(1);
+  problem.t_end = kEnd;
+  problem.output_times = testing::Linspace(0, kEnd, output_count);
+  const std::vector<testing::ForcedBoxPiece> pieces = testing::ForcedBoxExact(kForcing, kEnd);
+  for (const double t : problem.output_times)
+    problem.exact.push_back(Eigen::VectorXd::Constant(1, testing::ForcedBoxX(kForcing, pieces, t)));
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    problem.schedule.push_back({pieces[k].from, k + 1 < pieces.size() ? pieces[k + 1].from : kEnd,
+                                {pieces[k].mode > 0   ? MultiplierBound::kUpper
+                                 : pieces[k].mode < 0 ? MultiplierBound::kLower
+                                                      : MultiplierBound::kFree}});
+  return problem;
+}
+
 }  // namespace
 
 std::vector<WorkPrecisionProblem> MakeWorkPrecisionProblems(int output_count) {
@@ -178,6 +233,8 @@ std::vector<WorkPrecisionProblem> MakeWorkPrecisionProblems(int output_count) {
   problems.push_back(SaturatedOscillator(output_count));
   problems.push_back(BallSpiral(output_count));
   problems.push_back(HalfWaveRectifier(output_count));
+  problems.push_back(ClampedRectifier(output_count));
+  problems.push_back(ForcedBox(output_count));
   return problems;
 }
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// The five index-one DVIs of the work-precision benchmark (README, last
-// section), each with its solution at the output times and its mode schedule
-// (the switch times the oracle integrates between).
+// The DVIs of the work-precision benchmark (README, last section): six of
+// index one and a clamp of index two, each with its solution at the output
+// times and its mode schedule (the switch times the oracle integrates
+// between).
 #pragma once
 
 #include <optional>
@@ -38,7 +39,7 @@ struct WorkPrecisionProblem {
                                        ///< IndexOneRhs::mode_size() entries.
 };
 
-/// The five problems, sampled at output_count equispaced times. The
+/// The problems, sampled at output_count equispaced times. The
 /// oscillator's and the rectifier's references and schedules come from
 /// event runs at rtol = 1e-13.
 /// @throws std::runtime_error when such a reference run fails.

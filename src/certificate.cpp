@@ -141,9 +141,16 @@ void RowCertifier::Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                          : std::max(tolerance_, RoundingFloor(u_, F_value_.cwiseAbs()));
   resolution_ = (allowed.rtol + kRoundingUlps * kEpsilon) * x_.cwiseAbs();
   resolution_.array() += allowed.atol;
-  if (allowed.change) resolution_ += *allowed.change;
+  const RowCertifier::Step* step = allowed.step;
   if (projected_dynamics_) {
     moved_ = resolution_;
+    if (step) moved_ += (*step->x_next - *step->x_previous).cwiseAbs();
+  } else if (step) {
+    F_end_.resize(u_.size());
+    F_start_.resize(u_.size());
+    F_(step->t_next, *step->x_next, *step->u_next, F_end_);
+    F_(step->t_next, *step->x_previous, *step->u_next, F_start_);
+    moved_ = (F_value_ - F_end_).cwiseAbs() + (F_end_ - F_start_).cwiseAbs();
   } else {
     moved_.resize(u_.size());
     sensitivity_(t, x_, u_, F_value_, resolution_, moved_);

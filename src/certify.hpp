@@ -31,13 +31,25 @@ class RowCertifier {
   /// ([Seed] (2.9)–(2.11)), held to kViSafety·(τ + e).
   RowCertifier(const ProjectedDynamics& pds, const SolverOptions& solver);
 
-  /// The state error e ≥ 0 a method allows at a row: rtol·|x| + atol + change
-  /// (an error-controlled integrator: its local error test; time-stepping:
-  /// its step's change |x^{i+1} − x^i|, when given).
+  /// The step of a time-stepping scheme a row belongs to: from x^i to
+  /// (t_{i+1}, x^{i+1}, u^{i+1}), whose VI the scheme solved at x^{i+1}
+  /// ((3.3), (7.2)) or at x^i ((3.4)).
+  struct Step {
+    double t_next = 0;
+    const Eigen::VectorXd* x_previous = nullptr;
+    const Eigen::VectorXd* x_next = nullptr;
+    const Eigen::VectorXd* u_next = nullptr;
+  };
+  /// What a method allows a row: an error-controlled integrator an error
+  /// rtol·|x| + atol in x (its local error test), moving F by |∂F/∂x| times
+  /// that; a time-stepping row as far as F moves between the row and its
+  /// step's end, and between x^{i+1} and x^i there (the interpolants x̂ᴴ,
+  /// ûᴴ of Sect. 7 and either scheme's VI), or for projected dynamics
+  /// |x^{i+1} − x^i|.
   struct AllowedError {
     double rtol = 0;
     double atol = 0;
-    const Eigen::VectorXd* change = nullptr;
+    const Step* step = nullptr;
   };
   /// Adds the row (t, x, u) to `measure`.
   void Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
@@ -59,7 +71,7 @@ class RowCertifier {
   bool box_ = false;
   Eigen::VectorXd lower_, upper_;
   double tolerance_ = 0;
-  Eigen::VectorXd x_, u_, F_value_, shifted_, residual_, resolution_, moved_;
+  Eigen::VectorXd x_, u_, F_value_, F_end_, F_start_, shifted_, residual_, resolution_, moved_;
 };
 
 /// Checks the first `rows` rows of `trajectory` (the ones its caller keeps)

@@ -5,7 +5,6 @@
 // the values between step ends, not only the step ends, must lie on it.
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -15,6 +14,7 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/mode_dae.hpp"
 #include "support/convergence.hpp"
+#include "support/forced_box_dvi.hpp"
 #include "support/rectifier.hpp"
 
 namespace dvi {
@@ -126,63 +126,14 @@ TEST_P(HalfWaveRectifier, RunsAreCertified) {
   EXPECT_GE(run.certificate.ode.checked, std::min(run.stats.steps, 100L));
 }
 
-// An index-one box DVI driven through F's time dependence (issue 27):
-//   x' = u,   u ∈ SOL([−1, 1], u + x − a sin t),   x(0) = 0,
-// so u = Π_{[−1,1]}(a sin t − x) is strongly monotone in u (Theorem 5.1).
-// Exact solution mode by mode: free, x' = a sin t − x, so x = c e^{−t} +
-// (a/2)(sin t − cos t); at a bound ±1, x = x_s ± (t − t_s). Switches where
-// a sin t − x crosses ±1 (free → bound) or returns inside (bound → free),
-// located by scanning each mode's closed form and bisecting to round-off.
-struct ForcedBoxPiece {
-  double from;
-  int mode;  // −1, 0 (free), +1
-  double x_from;
-};
-
+// The forced box DVI of support/forced_box_dvi.hpp (an index-one kink
+// driven by F's time dependence) against its exact piecewise solution.
 constexpr double kForcing = 3;
 
-double ForcedBoxX(const ForcedBoxPiece& p, double t) {
-  if (p.mode != 0) return p.x_from + p.mode * (t - p.from);
-  const auto particular = [](double s) { return kForcing / 2 * (std::sin(s) - std::cos(s)); };
-  return (p.x_from - particular(p.from)) * std::exp(-(t - p.from)) + particular(t);
-}
-
-std::vector<ForcedBoxPiece> ForcedBoxExact(double horizon) {
-  std::vector<ForcedBoxPiece> pieces{{0, 0, 0}};
-  constexpr double kScan = 1e-3;
-  while (true) {
-    const ForcedBoxPiece p = pieces.back();
-    // g > 0 while the mode holds: free, 1 − |a sin t − x|; at +1,
-    // a sin t − x − 1; at −1, −1 − (a sin t − x).
-    const auto g = [&](double t) {
-      const double drive = kForcing * std::sin(t) - ForcedBoxX(p, t);
-      return p.mode == 0 ? 1 - std::abs(drive) : p.mode * drive - 1;
-    };
-    double a = p.from + kScan;
-    while (a < horizon && g(a) > 0) a += kScan;
-    if (a >= horizon) return pieces;
-    double lo = a - kScan, hi = a;
-    if (lo < p.from) lo = p.from;
-    for (int i = 0; i < 200 && hi - lo > 4e-16 * hi; ++i) (g(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
-    const double t = 0.5 * (lo + hi), x = ForcedBoxX(p, t);
-    const int next = p.mode != 0 ? 0 : (kForcing * std::sin(t) - x > 0 ? 1 : -1);
-    pieces.push_back({t, next, x});
-  }
-}
-
 TEST(ForcedBoxDvi, EventDrivenFollowsTheExactPiecewiseSolution) {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u;
-  };
-  dvi.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0) + x(0) - kForcing * std::sin(t);
-  };
+  const Dvi dvi = testing::ForcedBoxDvi(kForcing);
   constexpr double kHorizon = 20;
-  const std::vector<ForcedBoxPiece> exact = ForcedBoxExact(kHorizon);
+  const std::vector<testing::ForcedBoxPiece> exact = testing::ForcedBoxExact(kForcing, kHorizon);
   ASSERT_GE(exact.size(), 8u);  // several saturations each way
   // x swings through 0, where atol rather than rtol sets the error test:
   // at atol = 1e-12 the state drifts by 2e-9 after a few swings and a
@@ -198,9 +149,7 @@ TEST(ForcedBoxDvi, EventDrivenFollowsTheExactPiecewiseSolution) {
   double worst = 0;
   for (std::size_t k = 0; k < run.times.size(); ++k) {
     const double t = run.times[k];
-    const auto piece = std::prev(std::upper_bound(
-        exact.begin(), exact.end(), t, [](double s, const ForcedBoxPiece& p) { return s < p.from; }));
-    worst = std::max(worst, std::abs(run.states[k](0) - ForcedBoxX(*piece, t)));
+    worst = std::max(worst, std::abs(run.states[k](0) - testing::ForcedBoxX(kForcing, exact, t)));
   }
   EXPECT_LE(worst, 1e-8);
   ASSERT_EQ(run.events.size(), exact.size() - 1);
