@@ -237,7 +237,8 @@ TEST(SceneFile, ErrorsNameTheField) {
             "problem.F[0]: unknown symbol \"y\" (expected t, x1, u1, pi or a parameter)");
   EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["u1 +"], "F": ["u1"]},
     "x0": [1], "horizon": 1})"),
-            "problem.f[0]: cannot parse \"u1 +\": unexpected token, got: EOF");
+            "problem.f[0]: cannot parse \"u1 +\": expected a number, a name or \"(\", got the end "
+            "of the text at column 5");
   EXPECT_EQ(ParseError(R"({"problem": {"type": "box-dvi", "f": ["u1"], "F": ["u1"],
     "set": {"ball": {"center": [0], "radius": 1}}}, "x0": [1], "horizon": 1})"),
             "problem.set: type box-dvi needs a box, got ball[1]");

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -12,44 +13,6 @@
 #include "json_reading.hpp"
 
 namespace dvi::dvisim {
-namespace scene_functions {
-
-// GiNaC has abs and csgn, but d|a| comes out as a·a'/|a| (0/0 at a = 0) and
-// csgn has no derivative. These three carry the generalized-gradient choice
-// documented in expression.hpp, so Jacobians stay finite at kinks.
-DECLARE_FUNCTION_1P(sign)
-DECLARE_FUNCTION_2P(min)
-DECLARE_FUNCTION_2P(max)
-
-namespace {
-
-GiNaC::ex SignEval(const GiNaC::ex& a) {
-  if (GiNaC::is_exactly_a<GiNaC::numeric>(a) && GiNaC::ex_to<GiNaC::numeric>(a).is_real()) {
-    const GiNaC::numeric& value = GiNaC::ex_to<GiNaC::numeric>(a);
-    return value.is_zero() ? 0 : (value.is_positive() ? 1 : -1);
-  }
-  return sign(a).hold();
-}
-GiNaC::ex SignDerivative(const GiNaC::ex&, unsigned) { return 0; }
-
-// ∂min(a, b)/∂a = 1 where a < b, 0 where a > b, ½ at a tie.
-GiNaC::ex MinDerivative(const GiNaC::ex& a, const GiNaC::ex& b, unsigned parameter) {
-  const GiNaC::ex s = sign(a - b);
-  return parameter == 0 ? (1 - s) / 2 : (1 + s) / 2;
-}
-GiNaC::ex MaxDerivative(const GiNaC::ex& a, const GiNaC::ex& b, unsigned parameter) {
-  const GiNaC::ex s = sign(a - b);
-  return parameter == 0 ? (1 + s) / 2 : (1 - s) / 2;
-}
-
-}  // namespace
-
-REGISTER_FUNCTION(sign, eval_func(SignEval).derivative_func(SignDerivative))
-REGISTER_FUNCTION(min, derivative_func(MinDerivative))
-REGISTER_FUNCTION(max, derivative_func(MaxDerivative))
-
-}  // namespace scene_functions
-
 namespace {
 
 [[noreturn]] void Fail(const std::string& path, const std::string& message) {
@@ -91,13 +54,6 @@ const std::map<std::string, Op>& UnaryFunctions() {
   return functions;
 }
 
-const char kSupportedFunctions[] =
-    "sqrt, exp, log, sin, cos, tan, asin, acos, atan, sinh, cosh, tanh, abs, sign, min, max";
-
-bool IsSupportedFunction(const std::string& name) {
-  return UnaryFunctions().count(name) > 0 || name == "abs" || name == "min" || name == "max";
-}
-
 bool IsIdentifier(const std::string& name) {
   if (name.empty() || !(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_'))
     return false;
@@ -114,59 +70,6 @@ bool IsIndexedName(const std::string& name, char prefix) {
   return true;
 }
 
-// GiNaC's parse_error::what() is "GiNaC: parse error at line L, column C:
-// DETAIL\n[location in GiNaC's sources]"; the user wants DETAIL.
-std::string ParseErrorDetail(const std::string& what) {
-  // CLN quotes its internal form of the number, with bytes past its end
-  // ("+1.e\xff_17" for "1.e"): say what is wrong without it.
-  if (what.rfind("Illegal number syntax", 0) == 0)
-    return "malformed number (digits, an optional point and digits, an optional exponent as "
-           "in 1.5e-3)";
-  std::string detail = what;
-  const std::size_t column = detail.find("column ");
-  const std::size_t colon = detail.find(": ", column == std::string::npos ? 0 : column);
-  if (colon != std::string::npos) detail = detail.substr(colon + 2);
-  const std::size_t newline = detail.find('\n');
-  if (newline != std::string::npos) detail = detail.substr(0, newline);
-  return detail;
-}
-
-// GiNaC's recursive-descent parser recurses once per parenthesis and per
-// prefix sign, and exhausts the stack somewhere beyond 6000 levels; no scene
-// needs more than this.
-constexpr int kMaxExpressionDepth = 256;
-
-// Parentheses open at a point plus the signs in a row there (as in "- - x").
-int NestingDepth(const std::string& text) {
-  int parentheses = 0;
-  int signs = 0;
-  int deepest = 0;
-  for (const char c : text) {
-    if (c == ' ' || c == '\t') continue;
-    if (c == '+' || c == '-') {
-      ++signs;
-    } else {
-      signs = 0;
-      if (c == '(') ++parentheses;
-      if (c == ')') --parentheses;
-    }
-    deepest = std::max(deepest, parentheses + signs);
-  }
-  return deepest;
-}
-
-// Rewrites GiNaC's abs(a) as a·sign(a): the same value, and the derivative
-// a'·sign(a) is defined at a = 0.
-struct ReplaceAbs : GiNaC::map_function {
-  GiNaC::ex operator()(const GiNaC::ex& e) override {
-    if (GiNaC::is_a<GiNaC::function>(e) && GiNaC::ex_to<GiNaC::function>(e).get_name() == "abs") {
-      const GiNaC::ex a = e.op(0).map(*this);
-      return a * scene_functions::sign(a);
-    }
-    return e.map(*this);
-  }
-};
-
 // Rejects what the tape cannot evaluate, naming it.
 void CheckEvaluable(const GiNaC::ex& e, const std::string& path) {
   if (GiNaC::is_a<GiNaC::numeric>(e) && !GiNaC::ex_to<GiNaC::numeric>(e).is_real())
@@ -177,7 +80,6 @@ void CheckEvaluable(const GiNaC::ex& e, const std::string& path) {
       Fail(path,
            "function \"" + name + "\" is not supported (supported: " + kSupportedFunctions + ")");
   }
-  if (GiNaC::is_a<GiNaC::lst>(e)) Fail(path, "lists {...} are not expressions");
   for (std::size_t k = 0; k < e.nops(); ++k) CheckEvaluable(e.op(k), path);
 }
 
@@ -187,58 +89,36 @@ ExpressionVariables::ExpressionVariables(int n, int m,
                                          std::vector<std::pair<std::string, double>> params,
                                          const std::string& params_path)
     : n_(n), m_(m), t_("t") {
-  table_["t"] = t_;
+  scope_.variables["t"] = t_;
   for (int i = 0; i < n; ++i) {
     x_.emplace_back("x" + std::to_string(i + 1));
-    table_[x_.back().get_name()] = x_.back();
+    scope_.variables[x_.back().get_name()] = x_.back();
   }
   for (int j = 0; j < m; ++j) {
     u_.emplace_back("u" + std::to_string(j + 1));
-    table_[u_.back().get_name()] = u_.back();
+    scope_.variables[u_.back().get_name()] = u_.back();
   }
-  table_["pi"] = GiNaC::Pi;
+  scope_.numbers["pi"] = M_PI;
   for (const auto& [name, value] : params) {
     const std::string path = params_path + "." + name;
     if (!IsIdentifier(name))
       Fail(path, "a parameter name must be a letter or _ followed by letters, digits or _");
-    const bool reserved = name == "t" || name == "pi" || name == "Pi" || name == "I" ||
-                          name == "Euler" || name == "Catalan" || IsIndexedName(name, 'x') ||
-                          IsIndexedName(name, 'u') || IsSupportedFunction(name) || name == "sqrt";
+    const bool reserved = name == "t" || name == "pi" || IsIndexedName(name, 'x') ||
+                          IsIndexedName(name, 'u') || IsSupportedFunction(name);
     if (reserved)
       Fail(path, "the name \"" + name +
                      "\" is reserved (time, states, multipliers, constants and functions)");
     if (!std::isfinite(value)) Fail(path, "expected a finite number");
-    table_[name] = GiNaC::numeric(value);
+    scope_.numbers[name] = value;
   }
+  scope_.expected = "t";
+  if (n_ > 0) scope_.expected += n_ == 1 ? ", x1" : ", x1..x" + std::to_string(n_);
+  if (m_ > 0) scope_.expected += m_ == 1 ? ", u1" : ", u1..u" + std::to_string(m_);
+  scope_.expected += ", pi or a parameter";
 }
 
 GiNaC::ex ExpressionVariables::Parse(const std::string& text, const std::string& path) const {
-  if (NestingDepth(text) > kMaxExpressionDepth)
-    Fail(path, "cannot parse " + Describe(text) + ": nested deeper than " +
-                   std::to_string(kMaxExpressionDepth) + " levels (parentheses and signs)");
-  GiNaC::parser reader(table_, /*strict=*/false);
-  GiNaC::ex e;
-  try {
-    e = reader(text);
-  } catch (const GiNaC::parse_error& error) {
-    Fail(path, "cannot parse " + Describe(text) + ": " + ParseErrorDetail(error.what()));
-  } catch (const std::exception& error) {
-    // GiNaC evaluates while parsing, so 1/0 and the like surface here.
-    Fail(path, "cannot parse " + Describe(text) + ": " + ParseErrorDetail(error.what()));
-  }
-  std::string unknown;
-  for (const auto& [name, symbol] : reader.get_syms())
-    if (table_.count(name) == 0) unknown += (unknown.empty() ? "\"" : ", \"") + name + "\"";
-  if (!unknown.empty()) {
-    std::string allowed = "t";
-    if (n_ > 0) allowed += n_ == 1 ? ", x1" : ", x1..x" + std::to_string(n_);
-    if (m_ > 0) allowed += m_ == 1 ? ", u1" : ", u1..u" + std::to_string(m_);
-    Fail(path, (unknown.find(',') == std::string::npos ? "unknown symbol " : "unknown symbols ") +
-                   unknown + " (expected " + allowed + ", pi or a parameter)");
-  }
-  CheckEvaluable(e, path);
-  ReplaceAbs replace;
-  return replace(e);
+  return ParseExpression(text, path, scope_, constants_);
 }
 
 // The tape: registers 0 .. 1+n+m−1 hold t, x, u; constants sit in registers
@@ -262,7 +142,8 @@ namespace {
 
 class TapeCompiler {
  public:
-  TapeCompiler(TapeProgram& program, const ExpressionVariables& variables) : program_(program) {
+  TapeCompiler(TapeProgram& program, const ExpressionVariables& variables)
+      : program_(program), named_constants_(variables.constants()) {
     program_.n = variables.n();
     program_.m = variables.m();
     program_.num_registers = 1 + variables.n() + variables.m();
@@ -294,13 +175,26 @@ class TapeCompiler {
     return r;
   }
 
-  static double ToDouble(const GiNaC::ex& e) {
-    return GiNaC::ex_to<GiNaC::numeric>(e.evalf()).to_double();
+  // An exact number GiNaC made (a coefficient or an exponent, bounded by
+  // kMaxExactExponent) as a double, refused beyond double precision.
+  static double ToDouble(const GiNaC::ex& e, const std::string& path) {
+    double value = std::numeric_limits<double>::infinity();
+    try {
+      value = GiNaC::ex_to<GiNaC::numeric>(e.evalf()).to_double();
+    } catch (const std::exception&) {
+      // CLN's overflow: refused below.
+    }
+    if (!std::isfinite(value))
+      Fail(path, "a coefficient of the expression or of its derivatives is beyond double "
+                 "precision (about 1.8e308)");
+    return value;
+  }
+  static bool IsNegativeNumber(const GiNaC::ex& e) {
+    return GiNaC::is_a<GiNaC::numeric>(e) && GiNaC::ex_to<GiNaC::numeric>(e).is_negative();
   }
   static bool IsNegativeTerm(const GiNaC::ex& e) {
-    if (GiNaC::is_a<GiNaC::numeric>(e)) return ToDouble(e) < 0;
-    return GiNaC::is_a<GiNaC::mul>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(e.nops() - 1)) &&
-           ToDouble(e.op(e.nops() - 1)) < 0;
+    return IsNegativeNumber(e) ||
+           (GiNaC::is_a<GiNaC::mul>(e) && IsNegativeNumber(e.op(e.nops() - 1)));
   }
   static bool IsNegativeIntegerPower(const GiNaC::ex& e) {
     return GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
@@ -381,12 +275,13 @@ class TapeCompiler {
   int EmitNew(const GiNaC::ex& e, const std::string& path) {
     if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) {
       CheckEvaluable(e, path);
-      return Constant(ToDouble(e));
+      return Constant(ToDouble(e, path));
     }
     if (GiNaC::is_a<GiNaC::add>(e)) return EmitSum(e, path);
     if (GiNaC::is_a<GiNaC::mul>(e)) return EmitProduct(e, path);
     if (GiNaC::is_a<GiNaC::power>(e)) return EmitPower(e, path);
     if (GiNaC::is_a<GiNaC::function>(e)) return EmitFunction(e, path);
+    if (double value = 0; named_constants_.ValueOf(e, value)) return Constant(value);
     if (GiNaC::is_a<GiNaC::symbol>(e))
       Fail(path, "unknown symbol \"" + GiNaC::ex_to<GiNaC::symbol>(e).get_name() + "\"");
     std::ostringstream text;
@@ -395,6 +290,7 @@ class TapeCompiler {
   }
 
   TapeProgram& program_;
+  const ExpressionConstants& named_constants_;
   std::map<GiNaC::ex, int, GiNaC::ex_is_less> memo_;
   std::map<double, int> constants_;
 };
@@ -479,15 +375,25 @@ ExpressionFunction::ExpressionFunction(const std::vector<std::string>& texts,
   for (std::size_t k = 0; k < texts.size(); ++k)
     expressions_.push_back(variables.Parse(texts[k], path + "[" + std::to_string(k) + "]"));
   value_ = std::make_shared<const ExpressionTape>(expressions_, variables, path);
-  std::vector<GiNaC::ex> derivatives;
-  for (const GiNaC::ex& g : expressions_)
-    for (int i = 0; i < n_; ++i) derivatives.push_back(g.diff(variables.x(i)));
-  for (const GiNaC::ex& g : expressions_)
-    for (int j = 0; j < m_; ++j) derivatives.push_back(g.diff(variables.u(j)));
+  // ∂g/∂x row-major, ∂g/∂u row-major, ∂g/∂t. GiNaC simplifies as it
+  // differentiates, where a pole may surface (d/dx1 of x1^(1/2) at a
+  // constant 0): a message naming the expression, not an abort.
+  const auto derivative = [&](std::size_t k, const GiNaC::symbol& variable) {
+    try {
+      return expressions_[k].diff(variable);
+    } catch (const std::exception& error) {
+      Fail(path + "[" + std::to_string(k) + "]",
+           "cannot differentiate " + Describe(texts[k]) + ": " + error.what());
+    }
+  };
+  std::vector<GiNaC::ex> derivatives, time_derivatives;
+  for (std::size_t k = 0; k < expressions_.size(); ++k)
+    for (int i = 0; i < n_; ++i) derivatives.push_back(derivative(k, variables.x(i)));
+  for (std::size_t k = 0; k < expressions_.size(); ++k)
+    for (int j = 0; j < m_; ++j) derivatives.push_back(derivative(k, variables.u(j)));
+  for (std::size_t k = 0; k < expressions_.size(); ++k)
+    time_derivatives.push_back(derivative(k, GiNaC::ex_to<GiNaC::symbol>(t_)));
   jacobian_ = std::make_shared<const ExpressionTape>(derivatives, variables, path + "'");
-  std::vector<GiNaC::ex> time_derivatives;
-  for (const GiNaC::ex& g : expressions_)
-    time_derivatives.push_back(g.diff(GiNaC::ex_to<GiNaC::symbol>(t_)));
   time_derivative_ =
       std::make_shared<const ExpressionTape>(time_derivatives, variables, path + " (d/dt)");
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dvi/dvi_problem.hpp"
+#include "expression_parser.hpp"
 
 namespace dvi::dvisim {
 
@@ -20,10 +21,11 @@ namespace dvi::dvisim {
 /// reduction of Theorems 5.2/5.3) and compiled to a flat instruction tape,
 /// since GiNaC's own evalf is far too slow for a right-hand side.
 ///
-/// Syntax: numbers, + − * / ^, parentheses, pi, and the functions sqrt, exp,
-/// log, sin, cos, tan, asin, acos, atan, sinh, cosh, tanh, abs, sign, min(a, b),
-/// max(a, b). sign(0) = 0; at a kink the derivative taken is one element of
-/// the generalized gradient (d|a| = sign(a) da, dmin = dmax = ½ at a tie).
+/// Syntax (ParseExpression): numbers, + − * / ^, parentheses, pi, and the
+/// functions sqrt, exp, log, sin, cos, tan, asin, acos, atan, sinh, cosh,
+/// tanh, abs, sign, min(a, b), max(a, b). sign(0) = 0; at a kink the
+/// derivative taken is one element of the generalized gradient (d|a| =
+/// sign(a) da, dmin = dmax = ½ at a tie).
 
 /// The variables and parameters an expression may use.
 class ExpressionVariables {
@@ -42,10 +44,14 @@ class ExpressionVariables {
   const GiNaC::realsymbol& x(int i) const { return x_[static_cast<std::size_t>(i)]; }
   const GiNaC::realsymbol& u(int j) const { return u_[static_cast<std::size_t>(j)]; }
 
-  /// Parses one expression; parameters become their values.
+  /// Parses one expression (ParseExpression); parameters and numbers
+  /// become constants().
   /// @throws InputError "PATH: unknown symbol \"y\" (...)", "PATH: cannot parse
-  /// \"...\": DETAIL" or "PATH: function \"f\" is not supported".
+  /// \"...\": DETAIL", "PATH: cannot evaluate \"...\": REASON" or "PATH:
+  /// function \"f\" is not supported (...)".
   GiNaC::ex Parse(const std::string& text, const std::string& path) const;
+  /// The values of the constant symbols of every expression parsed so far.
+  const ExpressionConstants& constants() const { return constants_; }
 
  private:
   int n_;
@@ -53,7 +59,9 @@ class ExpressionVariables {
   GiNaC::realsymbol t_;
   std::vector<GiNaC::realsymbol> x_;
   std::vector<GiNaC::realsymbol> u_;
-  GiNaC::symtab table_;
+  ExpressionScope scope_;
+  /// Grows as expressions are parsed (set-up only, one thread).
+  mutable ExpressionConstants constants_;
 };
 
 struct TapeProgram;
@@ -64,7 +72,8 @@ struct TapeProgram;
 class ExpressionTape {
  public:
   /// @throws InputError naming path[k] when expression k uses something the
-  /// tape cannot evaluate (a non-real number, an unsupported function).
+  /// tape cannot evaluate (a non-real number, an unsupported function, a
+  /// coefficient beyond double precision).
   ExpressionTape(const std::vector<GiNaC::ex>& expressions, const ExpressionVariables& variables,
                  const std::string& path);
   ~ExpressionTape();
@@ -85,7 +94,8 @@ class ExpressionTape {
 class ExpressionFunction {
  public:
   /// Parses texts[k] (JSON path path[k]) and compiles g and its Jacobians.
-  /// @throws InputError as ExpressionVariables::Parse and ExpressionTape.
+  /// @throws InputError as ExpressionVariables::Parse and ExpressionTape,
+  /// or naming path[k] when GiNaC cannot differentiate it.
   ExpressionFunction(const std::vector<std::string>& texts, const ExpressionVariables& variables,
                      const std::string& path);
 
