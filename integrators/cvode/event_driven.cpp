@@ -27,6 +27,7 @@
 #include "output_times_check.hpp"
 #include "rounding_floor.hpp"
 #include "kkt_lifting.hpp"
+#include "non_finite_samples.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "step_interpolant.hpp"
 #include "sundials_handles.hpp"
@@ -1403,7 +1404,9 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
     const bool klu = solver == LinearSolver::kKlu ||
                      (solver == LinearSolver::kAuto && lcs && dvi.n >= kKluMinStates);
     EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, options, klu);
-    return run.Run();
+    Trajectory trajectory = run.Run();
+    internal::EndAtFirstNonFiniteSample(trajectory);
+    return trajectory;
   }
   // Polyhedra, balls and products with them: the KKT system on a box, whose
   // modes are the active sets of K's constraints. On an empty K its Newton
@@ -1421,7 +1424,9 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
   const internal::KktLifting lifting = internal::LiftToBox(dvi);
   EventDrivenRun run(lifting.dvi, lcs && dvi.K.IsPolyhedral(), nullptr, x0, t0, t_end, options,
                      false);
-  return internal::Unlift(run.Run(), lifting);
+  Trajectory trajectory = internal::Unlift(run.Run(), lifting);
+  internal::EndAtFirstNonFiniteSample(trajectory);
+  return trajectory;
 }
 
 void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options,

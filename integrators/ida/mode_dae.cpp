@@ -24,6 +24,7 @@
 #include "../cvode/sundials_handles.hpp"
 #include "certify.hpp"
 #include "check.hpp"
+#include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 #include "ida_handles.hpp"
 #include "rounding_floor.hpp"
@@ -824,7 +825,9 @@ Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
   internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
   ModeDaeRun run(lcs, x0, t0, t_end, options);
-  return run.Run();
+  Trajectory trajectory = run.Run();
+  internal::EndAtFirstNonFiniteSample(trajectory);
+  return trajectory;
 }
 
 void CertifyModeDae(const Lcs& lcs, const ModeDaeOptions& options, std::size_t rows,

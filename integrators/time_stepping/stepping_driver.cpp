@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "check.hpp"
+#include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 
 namespace dvi::internal {
@@ -127,12 +128,15 @@ void Count(const StepOutcome& outcome, IntegrationStats& stats) {
   stats.solver_iterations += outcome.iterations;
 }
 
-// A step whose x overflowed is a failed step, whatever its VI said: an
+// A step whose x or u overflowed is a failed step, whatever its VI said: an
 // LCS with u ≡ 0 solved every VI of x' = 10x and returned x = inf as success.
 StepOutcome Finite(StepOutcome outcome) {
   if (outcome.solved && !outcome.x.allFinite()) {
     outcome.solved = false;
     outcome.failure = "x is not finite (the solution overflows)";
+  } else if (outcome.solved && !outcome.u.allFinite()) {
+    outcome.solved = false;
+    outcome.failure = "u is not finite (the VI's solution overflows)";
   }
   return outcome;
 }
@@ -191,6 +195,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
           << " + how far F moves between the row and its step's end) at every row";
     ConcludeCertificate(basis.str(), trajectory);
     stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    EndAtFirstNonFiniteSample(trajectory);
     return std::move(trajectory);
   };
 
