@@ -64,8 +64,13 @@ struct TimeSteppingOptions {
   bool adaptive = false;
   double rtol = 1e-6;
   double atol = 1e-9;
-  double h_min = 0;  ///< 0: h·2⁻³⁰.
+  /// 0: the larger of h·2⁻³⁰ and 2(t_end − t0)/max_steps, so that an
+  /// adaptive run ends within max_steps steps (an accepted step is recorded
+  /// as its two halves).
+  double h_min = 0;
   double h_max = 0;  ///< 0: no limit below the horizon.
+  /// A run whose h (or, adaptive, whose h_max) needs more steps than this
+  /// fails with kMaxSteps before its first step.
   long max_steps = 100'000'000;
 
   /// Options of each step's VI solve (warm-started from the previous step).

@@ -209,7 +209,14 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
   recorder.Start(t0, current);
 
   const double span = t_end - t0;
-  const double h_min = options.h_min > 0 ? options.h_min : options.h * std::pow(2.0, -30);
+  // An accepted step of size h is two recorded steps of h/2, so with steps
+  // of at least 2·span/max_steps an adaptive run ends within max_steps: one
+  // that would need smaller ones (a relay chattering under γ = 0, explicit
+  // in u, halved h to 1e-10 and ran for hours) fails at once instead.
+  const double h_min = options.h_min > 0
+                           ? options.h_min
+                           : std::max(options.h * std::pow(2.0, -30),
+                                      2 * span / static_cast<double>(options.max_steps));
   const double h_max = options.h_max > 0 ? options.h_max : span;
   // Within this of t_end, the run has arrived (no sliver step).
   const double end_slack = 1e-12 * std::max(std::abs(t_end), span);
@@ -232,17 +239,19 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
     steps_run = 0;
   };
 
-  // A fixed step that cannot reach t_end within max_steps fails now, not
-  // after max_steps steps (minutes, for a horizon of 1e12 at h = 1e-3).
-  if (!options.adaptive) {
-    const double needed = std::ceil((span - end_slack) / h);
-    if (needed > static_cast<double>(options.max_steps)) {
-      std::ostringstream message;
-      message.precision(10);
-      message << "h = " << h << " needs " << needed << " steps to reach t_end = " << t_end
-              << ", more than max_steps = " << options.max_steps;
-      return finish(IntegrationStatus::kMaxSteps, message.str(), t0);
-    }
+  // A fixed step (or an adaptive one of at most h_max, recorded as two
+  // halves) that cannot reach t_end within max_steps fails now, not after
+  // max_steps steps (minutes, for a horizon of 1e12 at h = 1e-3; h_max =
+  // 1e-300 ran out of memory after two minutes).
+  const double needed = options.adaptive ? std::ceil(2 * (span - end_slack) / h_max)
+                                         : std::ceil((span - end_slack) / h);
+  if (needed > static_cast<double>(options.max_steps)) {
+    std::ostringstream message;
+    message.precision(10);
+    message << (options.adaptive ? "h_max = " : "h = ") << (options.adaptive ? h_max : h)
+            << " needs " << needed << " steps to reach t_end = " << t_end
+            << ", more than max_steps = " << options.max_steps;
+    return finish(IntegrationStatus::kMaxSteps, message.str(), t0);
   }
   while (t_end - t > end_slack) {
     if (stats.steps >= options.max_steps)
@@ -251,6 +260,13 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
                         " at t = " + TimeText(t),
                     t);
     const double step = std::min(h, t_end - t);
+    if (!(t + step / 2 > t)) {
+      std::ostringstream message;
+      message.precision(10);
+      message << "the step size " << step << " no longer advances t = " << t
+              << " (below its rounding: shift the time origin or take larger steps)";
+      return finish(IntegrationStatus::kStepSizeTooSmall, message.str(), t);
+    }
     if (!options.adaptive) {
       StepOutcome next = Finite(method.Step(t, step, current.x, current.u));
       Count(next, stats);

@@ -31,7 +31,8 @@ CLI::App* AddSolveCommand(CLI::App& app, dvi::dvisim::SolveCommand& command,
 
 // Registers `dvisim run` with its options; returns the subcommand.
 CLI::App* AddRunCommand(CLI::App& app, dvi::dvisim::RunCommand& command, std::string& method,
-                        std::string& out_dir, double& h, double& theta, double& gamma) {
+                        std::string& out_dir, double& h, double& theta, double& gamma,
+                        double& max_wall) {
   CLI::App* run = app.add_subcommand(
       "run", "Integrate a scene and write trajectory.csv, summary.json and plots");
   run->add_option("scene", command.scene_path, "The scene file (JSON)")->required();
@@ -40,6 +41,9 @@ CLI::App* AddRunCommand(CLI::App& app, dvi::dvisim::RunCommand& command, std::st
   run->add_option("--h", h, "Step size (overrides method.h)");
   run->add_option("--theta", theta, "Weight of the old state in f, in [0, 1] (0: backward Euler)");
   run->add_option("--gamma", gamma, "Weight of the new multiplier, in [0, 1]");
+  run->add_option("--max-wall", max_wall,
+                  "End the run (exit 1, no files) after this many seconds (overrides "
+                  "method.max_wall)");
   return run;
 }
 
@@ -54,8 +58,8 @@ int main(int argc, char** argv) {
   CLI::App* solve = AddSolveCommand(app, solve_command, solver, tolerance);
   dvi::dvisim::RunCommand run_command;
   std::string method, out_dir;
-  double h = 0.0, theta = 0.0, gamma = 0.0;
-  CLI::App* run = AddRunCommand(app, run_command, method, out_dir, h, theta, gamma);
+  double h = 0.0, theta = 0.0, gamma = 0.0, max_wall = 0.0;
+  CLI::App* run = AddRunCommand(app, run_command, method, out_dir, h, theta, gamma, max_wall);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -74,6 +78,7 @@ int main(int argc, char** argv) {
     if (run->count("--h") > 0) run_command.h = h;
     if (run->count("--theta") > 0) run_command.theta = theta;
     if (run->count("--gamma") > 0) run_command.gamma = gamma;
+    if (run->count("--max-wall") > 0) run_command.max_wall = max_wall;
     run_command.progress_bar = ::isatty(STDERR_FILENO) != 0;
     return dvi::dvisim::RunScene(run_command, std::cout, std::cerr);
   }

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -18,7 +19,9 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "plot.hpp"
+#include "scene_limits.hpp"
 #include "solve_command.hpp"
+#include "wall_limit.hpp"
 
 namespace dvi::dvisim {
 namespace {
@@ -134,6 +137,18 @@ std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& traj
   }
   fs::remove_all(temporary, error);
   return written;
+}
+
+// An output file that is the scene itself would replace it with the answer.
+void RefuseOutputOverScene(const Scene& scene, const std::string& scene_path) {
+  for (const char* name : {"trajectory.csv", "summary.json", "plot.png", "plot.svg"}) {
+    const fs::path file = fs::path(scene.output.dir) / name;
+    std::error_code ignored;
+    if (fs::equivalent(file, scene_path, ignored))
+      throw InputError(scene.output.dir_source + ": " + file.string() +
+                       " is the scene file itself; the output would replace the scene (write "
+                       "it elsewhere)");
+  }
 }
 
 bool UsedMethod(const Trajectory& trajectory, const std::string& name) {
@@ -290,6 +305,7 @@ void ApplyOverrides(const RunCommand& command, Scene& scene) {
                        "], got " + Short(*command.h));
     scene.stepping.h = *command.h;
   }
+  if (command.max_wall) scene.max_wall = *command.max_wall;  // checked by RunScene
   for (const auto& [name, value, field] :
        {std::tuple{"--theta", command.theta, &scene.stepping.theta},
         std::tuple{"--gamma", command.gamma, &scene.stepping.gamma}}) {
@@ -389,9 +405,30 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
 }
 
 int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
+  WallClockLimit wall_limit;
+  // The message WallClockLimit writes when `field` = seconds runs out.
+  const auto wall_message = [&](const std::string& field, double seconds) {
+    return std::string(command.progress_bar ? "\n" : "") + "dvisim: " + command.scene_path +
+           ": max-wall: the run did not end within " + Short(seconds) + " s (" + field +
+           ") (no files written)\n";
+  };
   try {
+    if (command.max_wall) {
+      if (!(std::isfinite(*command.max_wall) && *command.max_wall > 0))
+        throw InputError("--max-wall: expected a number of seconds > 0, got " +
+                         Short(*command.max_wall));
+      wall_limit.Arm(*command.max_wall, wall_message("--max-wall", *command.max_wall));
+    }
     Scene scene = ReadScene(command.scene_path);
     ApplyOverrides(command, scene);
+    try {
+      CheckSceneLimits(scene);
+    } catch (const InputError& error) {
+      throw InputError(command.scene_path + ": " + error.what());
+    }
+    RefuseOutputOverScene(scene, command.scene_path);
+    if (!command.max_wall && scene.max_wall > 0)
+      wall_limit.Arm(scene.max_wall, wall_message("method.max_wall", scene.max_wall));
     Trajectory trajectory;
     try {
       trajectory = IntegrateScene(scene, command.progress_bar ? ProgressBar(err, scene.horizon)
@@ -400,12 +437,19 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
       // The integrators name their own argument: x0, a solver, or an option
       // ("scheme: 3.3 does not apply to projected dynamics"), which a scene
       // gives as the method field of the same name.
-      const std::string what = error.what();
-      const std::string option = what.substr(0, what.find(':'));
+      // Auto's options carry their set's prefix; the scene has one method.
+      std::string what = error.what();
+      for (const std::string prefix : {"AutoOptions.event.", "AutoOptions.stepping."})
+        if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
+      const std::string option = what.substr(0, what.find_first_of(":(["));
       for (const char* field : {"h", "theta", "gamma", "scheme", "h_max", "max_steps", "max_events"})
         if (option == field) throw InputError(command.scene_path + ": method." + what);
+      if (option == "output_times")
+        throw InputError(command.scene_path + ": output (horizon, output.samples, output.times): " +
+                         what);
       throw InputError(command.scene_path + ": the integrator refuses the scene: " + what);
     }
+    wall_limit.Disarm();  // The files are written whole or not at all, never cut off.
     if (command.progress_bar) err << "\n";
     if (!trajectory.succeeded()) {
       err << "dvisim: " << command.scene_path << ": " << ToString(trajectory.status) << ": "

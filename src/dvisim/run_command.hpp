@@ -12,7 +12,8 @@
 
 namespace dvi::dvisim {
 
-/// `dvisim run SCENE.json [--method M] [--out DIR] [--h H] [--theta θ] [--gamma γ]`.
+/// `dvisim run SCENE.json [--method M] [--out DIR] [--h H] [--theta θ] [--gamma γ]
+/// [--max-wall SECONDS]`.
 struct RunCommand {
   std::string scene_path;
   std::optional<std::string> method;   ///< auto, stepping or event; overrides method.name.
@@ -20,6 +21,9 @@ struct RunCommand {
   std::optional<double> h;
   std::optional<double> theta;
   std::optional<double> gamma;
+  /// --max-wall: the run's wall-clock budget in seconds; overrides
+  /// method.max_wall.
+  std::optional<double> max_wall;
   /// Draw a progress bar on `err` (the caller sets it when stderr is a terminal).
   bool progress_bar = false;
 };
@@ -49,7 +53,10 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
 
 /// Runs the command; returns the exit code of solve_command.hpp: 0 success,
 /// 1 numerical failure (message naming time and step on `err`, no files),
-/// 2 bad input (one-line message naming the field, no files). The files
+/// 2 bad input (one-line message naming the field, no files; also a scene
+/// whose steps or output exceed CheckSceneLimits). A run longer than
+/// --max-wall or method.max_wall ends the process with exit code 1 and a
+/// message (WallClockLimit) before any file is written. The files
 /// appear whole or not at all: they are written into a temporary directory
 /// beside the output directory and moved in at the end. A short summary goes
 /// to `out`.

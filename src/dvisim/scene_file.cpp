@@ -2,6 +2,7 @@
 #include "scene_file.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -393,6 +394,8 @@ void ReadMethodFields(const json& method, Scene& scene) {
     if (scene.stepping_window > 1)
       Fail(Field(path, "stepping_window"), "expected a number in (0, 1], got " + Describe(*window));
   }
+  if (const json* max_wall = FindField(method, "max_wall"))
+    scene.max_wall = ReadPositive(*max_wall, Field(path, "max_wall"));
   if (const json* max_handovers = FindField(method, "max_handovers")) {
     const long count = ReadCount(*max_handovers, Field(path, "max_handovers"));
     if (count > std::numeric_limits<int>::max())
@@ -414,7 +417,7 @@ void ReadMethod(const json* method, Scene& scene) {
     RejectUnknownFields(*method, path,
                         {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
                          "h_max", "max_steps", "solver", "tol", "ode", "linear_solver", "max_events",
-                         "stepping_window", "max_handovers"});
+                         "stepping_window", "max_handovers", "max_wall"});
     if (const json* name = FindField(*method, "name")) {
       if (!name->is_string())
         Fail(Field(path, "name"), "expected a string, got " + Describe(*name));
@@ -496,8 +499,12 @@ std::string WhyNotEventDriven(const Scene& scene) {
 std::vector<double> OutputTimes(const Scene& scene) {
   std::vector<double> times = scene.output.times;
   const int samples = scene.output.samples;
-  for (int k = 0; k < samples; ++k)
-    times.push_back(k + 1 == samples ? scene.horizon : scene.horizon * k / (samples - 1));
+  for (int k = 0; k < samples; ++k) {
+    double t = scene.horizon * k / (samples - 1);
+    // T·k overflows for T near the largest double; T·(k/(samples − 1)) does not.
+    if (!std::isfinite(t)) t = scene.horizon * (static_cast<double>(k) / (samples - 1));
+    times.push_back(k + 1 == samples ? scene.horizon : t);
+  }
   std::sort(times.begin(), times.end());
   std::vector<double> merged;
   for (const double t : times)

@@ -84,6 +84,12 @@ void WriteFileAtomically(const std::string& path, const std::string& contents) {
 
 int RunSolve(const SolveCommand& command, std::ostream& out, std::ostream& err) {
   try {
+    std::error_code ignored;
+    if (!command.out_path.empty() &&
+        std::filesystem::equivalent(command.out_path, command.problem_path, ignored))
+      throw InputError("--out " + command.out_path +
+                       ": is the problem file itself; the answer would replace the problem "
+                       "(write it elsewhere)");
     const ProblemFile file = ReadProblemFile(command.problem_path);
     SolverOptions options;
     if (file.solver) options.method = *file.solver;
