@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "problem_file.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -75,6 +78,33 @@ Eigen::MatrixXd ReadConstraintMatrix(const json& value, const std::string& path,
   return A;
 }
 
+// Refuses a row of [A b] that repeats an earlier one up to a positive
+// factor (any non-zero factor for equalities): the same constraint twice leaves its multipliers non-unique, and
+// a projection's KKT system then degenerates (1001 copies of one constraint
+// took minutes; a dense KKT solve is cubic in the rows).
+void RefuseRepeatedRows(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                        const std::string& A_path, const std::string& b_name, bool equalities) {
+  std::map<std::vector<double>, Eigen::Index> seen;
+  for (Eigen::Index r = 0; r < A.rows(); ++r) {
+    double scale = std::max(A.row(r).lpNorm<Eigen::Infinity>(), std::abs(b(r)));
+    if (scale == 0) continue;  // 0 ≤ 0 or 0 = 0: ConvexSet's own checks
+    if (equalities) {
+      Eigen::Index lead = 0;
+      while (lead < A.cols() && A(r, lead) == 0) ++lead;
+      if ((lead < A.cols() ? A(r, lead) : b(r)) < 0) scale = -scale;
+    }
+    std::vector<double> key(static_cast<std::size_t>(A.cols()) + 1);
+    for (Eigen::Index c = 0; c < A.cols(); ++c) key[static_cast<std::size_t>(c)] = A(r, c) / scale;
+    key.back() = b(r) / scale;
+    const auto [first, inserted] = seen.emplace(std::move(key), r);
+    if (!inserted)
+      Fail(A_path + "[" + std::to_string(r) + "]",
+           "repeats the constraint of row " + std::to_string(first->second) + " (with " + b_name +
+               (equalities ? ", up to a factor" : ", up to a positive factor") +
+               "); give each constraint once");
+  }
+}
+
 ConvexSet ReadPolyhedron(const json& polyhedron, const std::string& path, std::optional<int> dim) {
   if (!polyhedron.is_object())
     Fail(path, "expected {\"G\": [[...]], \"h\": [...], \"E\": [[...]], \"e\": [...]}, got " +
@@ -98,6 +128,8 @@ ConvexSet ReadPolyhedron(const json& polyhedron, const std::string& path, std::o
                                  static_cast<int>(G.rows()));
   Eigen::VectorXd e = ReadVector(e_json ? *e_json : empty, Field(path, "e"), false,
                                  static_cast<int>(E.rows()));
+  RefuseRepeatedRows(G, h, Field(path, "G"), "h", false);
+  RefuseRepeatedRows(E, e, Field(path, "E"), "e", true);
   return WithPath(path, [&] {
     return ConvexSet::Polyhedron(std::move(G), std::move(h), std::move(E), std::move(e));
   });
