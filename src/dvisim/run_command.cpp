@@ -462,6 +462,12 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
     err << "dvisim: " << error.what() << "\n";
   } catch (const InvalidInputError& error) {
     err << "dvisim: " << command.scene_path << ": " << error.what() << "\n";
+  } catch (const std::exception& error) {
+    // Nothing else should arrive here; if it does, it ends with a message
+    // and no files (they are written last), not with std::terminate.
+    err << "dvisim: " << command.scene_path << ": the run failed: " << error.what()
+        << " (an internal error: please report it with the scene) (no files written)\n";
+    return kExitNumericalFailure;
   }
   return kExitBadInput;
 }

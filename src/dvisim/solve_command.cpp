@@ -108,6 +108,11 @@ int RunSolve(const SolveCommand& command, std::ostream& out, std::ostream& err) 
     err << "dvisim: " << error.what() << "\n";
   } catch (const InvalidInputError& error) {
     err << "dvisim: " << command.problem_path << ": " << error.what() << "\n";
+  } catch (const std::exception& error) {
+    // As in RunScene: a message, not std::terminate, should one get here.
+    err << "dvisim: " << command.problem_path << ": the solve failed: " << error.what()
+        << " (an internal error: please report it with the problem)\n";
+    return kExitNumericalFailure;
   }
   return kExitBadInput;
 }
