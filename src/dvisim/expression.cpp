@@ -140,6 +140,17 @@ struct TapeProgram {
 
 namespace {
 
+double IntegerPower(double base, int exponent) {
+  unsigned k = static_cast<unsigned>(exponent < 0 ? -exponent : exponent);
+  double result = 1.0;
+  while (k > 0) {
+    if (k & 1u) result *= base;
+    base *= base;
+    k >>= 1;
+  }
+  return exponent < 0 ? 1.0 / result : result;
+}
+
 class TapeCompiler {
  public:
   TapeCompiler(TapeProgram& program, const ExpressionVariables& variables)
@@ -167,9 +178,26 @@ class TapeCompiler {
     const int r = program_.num_registers++;
     program_.constants.emplace_back(r, value);
     constants_[value] = r;
+    values_[r] = value;
     return r;
   }
   int Instruction(Op op, int a, int b = 0) {
+    // Arithmetic on constants only (numbers are symbols to GiNaC, so it
+    // leaves −c or c·d in the Jacobians) is done once, here.
+    const auto value_a = values_.find(a);
+    const auto value_b = values_.find(b);
+    if (value_a != values_.end()) {
+      const double x = value_a->second;
+      if (op == Op::kNeg) return Constant(-x);
+      if (op == Op::kPowInt) return Constant(IntegerPower(x, b));
+      if (value_b != values_.end()) {
+        const double y = value_b->second;
+        if (op == Op::kAdd) return Constant(x + y);
+        if (op == Op::kSub) return Constant(x - y);
+        if (op == Op::kMul) return Constant(x * y);
+        if (op == Op::kDiv) return Constant(x / y);
+      }
+    }
     const int r = program_.num_registers++;
     program_.code.push_back({op, r, a, b});
     return r;
@@ -293,18 +321,9 @@ class TapeCompiler {
   const ExpressionConstants& named_constants_;
   std::map<GiNaC::ex, int, GiNaC::ex_is_less> memo_;
   std::map<double, int> constants_;
+  std::map<int, double> values_;  ///< Register → value, for the constant registers.
 };
 
-double IntegerPower(double base, int exponent) {
-  unsigned k = static_cast<unsigned>(exponent < 0 ? -exponent : exponent);
-  double result = 1.0;
-  while (k > 0) {
-    if (k & 1u) result *= base;
-    base *= base;
-    k >>= 1;
-  }
-  return exponent < 0 ? 1.0 / result : result;
-}
 
 double Sign(double a) { return a > 0 ? 1.0 : (a < 0 ? -1.0 : 0.0); }
 
