@@ -10,11 +10,11 @@
 #include <utility>
 #include <vector>
 
-#include "../cvode/event_driven_validated.hpp"
-#include "../ida/mode_dae_validated.hpp"
 #include "check.hpp"
-#include "output_times_check.hpp"
+#include "cvode/event_driven_validated.hpp"
 #include "dvi/mode_dae.hpp"
+#include "ida/mode_dae_validated.hpp"
+#include "output_times_check.hpp"
 
 namespace dvi {
 

@@ -13,24 +13,27 @@
 #include <string>
 #include <utility>
 
+#include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>
 #include <cvode/cvode_proj.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
-#include "../ida/ida_handles.hpp"
-#include "box_mode.hpp"
 #include "certify.hpp"
 #include "check.hpp"
+#include "cvode/cvode_memory.hpp"
+#include "cvode/event_driven_validated.hpp"
 #include "dvi/error.hpp"
-#include "event_driven_validated.hpp"
+#include "dvi/matrix_classes.hpp"
+#include "modes/box_mode.hpp"
+#include "modes/kkt_lifting.hpp"
+#include "modes/step_interpolant.hpp"
+#include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 #include "rounding_floor.hpp"
-#include "kkt_lifting.hpp"
-#include "non_finite_samples.hpp"
-#include "dvi/matrix_classes.hpp"
-#include "step_interpolant.hpp"
-#include "sundials_handles.hpp"
+#include "sundials/callbacks.hpp"
+#include "sundials/handles.hpp"
+#include "sundials/linear_solvers.hpp"
 
 namespace dvi {
 

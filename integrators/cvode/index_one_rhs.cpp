@@ -5,9 +5,9 @@
 #include <sstream>
 #include <utility>
 
-#include "box_mode.hpp"
 #include "check.hpp"
-#include "kkt_lifting.hpp"
+#include "modes/box_mode.hpp"
+#include "modes/kkt_lifting.hpp"
 
 namespace dvi {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "lcs_mode_dae.hpp"
+#include "ida/lcs_mode_dae.hpp"
 
 #include <algorithm>
 #include <cmath>

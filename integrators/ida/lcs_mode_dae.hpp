@@ -7,12 +7,12 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
-#include "../cvode/mode_reduction.hpp"
-#include "box_mode_state.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/solver_options.hpp"
 #include "dvi/trajectory.hpp"
 #include "klu_solver.hpp"
+#include "modes/box_mode_state.hpp"
+#include "modes/mode_reduction.hpp"
 
 namespace dvi::internal {
 

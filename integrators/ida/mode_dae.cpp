@@ -19,18 +19,20 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
-#include "../cvode/polynomial_floor.hpp"
-#include "../cvode/step_interpolant.hpp"
-#include "../cvode/sundials_handles.hpp"
 #include "certify.hpp"
 #include "check.hpp"
+#include "ida/ida_memory.hpp"
+#include "ida/lcs_mode_dae.hpp"
+#include "ida/mode_dae_validated.hpp"
+#include "modes/polynomial_floor.hpp"
+#include "modes/step_interpolant.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
-#include "ida_handles.hpp"
 #include "rounding_floor.hpp"
-#include "../time_stepping/lcs_method.hpp"
-#include "lcs_mode_dae.hpp"
-#include "mode_dae_validated.hpp"
+#include "schemes/lcs_method.hpp"
+#include "sundials/callbacks.hpp"
+#include "sundials/handles.hpp"
+#include "sundials/linear_solvers.hpp"
 
 namespace dvi {
 

@@ -7,8 +7,8 @@
 
 #include "check.hpp"
 #include "dvi/time_stepping.hpp"
-#include "lcs_method.hpp"
-#include "stepping_driver.hpp"
+#include "schemes/lcs_method.hpp"
+#include "time_stepping/stepping_driver.hpp"
 
 namespace dvi {
 namespace internal {

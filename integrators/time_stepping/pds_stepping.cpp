@@ -12,8 +12,8 @@
 #include "check.hpp"
 #include "dvi/solve.hpp"
 #include "dvi/time_stepping.hpp"
-#include "one_step_method.hpp"
-#include "stepping_driver.hpp"
+#include "schemes/one_step_method.hpp"
+#include "time_stepping/stepping_driver.hpp"
 
 namespace dvi {
 namespace {

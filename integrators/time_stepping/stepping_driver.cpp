@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "stepping_driver.hpp"
+#include "time_stepping/stepping_driver.hpp"
 
 #include <algorithm>
 #include <chrono>

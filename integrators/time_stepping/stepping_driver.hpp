@@ -6,7 +6,7 @@
 #include "certify.hpp"
 #include "dvi/time_stepping.hpp"
 #include "dvi/trajectory.hpp"
-#include "one_step_method.hpp"
+#include "schemes/one_step_method.hpp"
 
 namespace dvi::internal {
 

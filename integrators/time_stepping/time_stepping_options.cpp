@@ -2,8 +2,8 @@
 #include <cmath>
 
 #include "check.hpp"
-#include "output_times_check.hpp"
 #include "dvi/time_stepping.hpp"
+#include "output_times_check.hpp"
 
 namespace dvi {
 

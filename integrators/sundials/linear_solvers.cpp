@@ -1,22 +1,29 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ida_handles.hpp"
+#include "sundials/linear_solvers.hpp"
 
 #include <new>
 
-#include <ida/ida.h>
+#include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 namespace dvi::internal {
 
-// As in cvode/sundials_handles.cpp: a null pointer from a SUNDIALS
-// constructor is an allocation failure.
-
-IdaMemory::IdaMemory(SUNContext context) : memory_(IDACreate(context)) {
-  if (memory_ == nullptr) throw std::bad_alloc();
+DenseLinearSolver::DenseLinearSolver(N_Vector template_vector, long n, SUNContext context)
+    : matrix_(SUNDenseMatrix(n, n, context)) {
+  if (matrix_ == nullptr) throw std::bad_alloc();
+  solver_ = SUNLinSol_Dense(template_vector, matrix_, context);
+  if (solver_ == nullptr) {
+    SUNMatDestroy(matrix_);
+    throw std::bad_alloc();
+  }
 }
 
-IdaMemory::~IdaMemory() { IDAFree(&memory_); }
+DenseLinearSolver::~DenseLinearSolver() {
+  SUNLinSolFree(solver_);
+  SUNMatDestroy(matrix_);
+}
 
 KluLinearSolver::KluLinearSolver(N_Vector template_vector, long n, long nonzeros,
                                  SUNContext context)

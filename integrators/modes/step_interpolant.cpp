@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "step_interpolant.hpp"
+#include "modes/step_interpolant.hpp"
 
 #include <array>
 
-#include "polynomial_floor.hpp"
+#include "modes/polynomial_floor.hpp"
 
 namespace dvi::internal {
 namespace {

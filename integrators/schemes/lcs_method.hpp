@@ -11,7 +11,7 @@
 #include "dvi/lcs.hpp"
 #include "dvi/solve_result.hpp"
 #include "dvi/time_stepping.hpp"
-#include "one_step_method.hpp"
+#include "schemes/one_step_method.hpp"
 
 namespace dvi::internal {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "polynomial_floor.hpp"
+#include "modes/polynomial_floor.hpp"
 
 #include <algorithm>
 #include <array>

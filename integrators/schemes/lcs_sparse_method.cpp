@@ -9,7 +9,7 @@
 
 #include "dvi/solve.hpp"
 #include "klu_solver.hpp"
-#include "lcs_method.hpp"
+#include "schemes/lcs_method.hpp"
 
 namespace dvi::internal {
 namespace {

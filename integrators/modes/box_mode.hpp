@@ -10,9 +10,9 @@
 #include "dvi/dvi_problem.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/solve_result.hpp"
-#include "box_mode_state.hpp"
 #include "dvi/solver_options.hpp"
-#include "mode_reduction.hpp"
+#include "modes/box_mode_state.hpp"
+#include "modes/mode_reduction.hpp"
 
 namespace dvi::internal {
 

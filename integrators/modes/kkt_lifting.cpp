@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "kkt_lifting.hpp"
+#include "modes/kkt_lifting.hpp"
 
 #include <limits>
 #include <memory>

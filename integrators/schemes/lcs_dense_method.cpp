@@ -9,7 +9,7 @@
 
 #include "dense_lu.hpp"
 #include "dvi/solve.hpp"
-#include "lcs_method.hpp"
+#include "schemes/lcs_method.hpp"
 
 namespace dvi::internal {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "mode_reduction.hpp"
+#include "modes/mode_reduction.hpp"
 
 #include <algorithm>
 #include <vector>

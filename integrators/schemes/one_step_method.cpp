@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "one_step_method.hpp"
+#include "schemes/one_step_method.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "box_mode.hpp"
+#include "modes/box_mode.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,7 +11,7 @@
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
-#include "polynomial_floor.hpp"
+#include "modes/polynomial_floor.hpp"
 
 namespace dvi::internal {
 namespace {

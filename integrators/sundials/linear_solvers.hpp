@@ -8,19 +8,22 @@
 
 namespace dvi::internal {
 
-/// Owning handles for the IDA objects of one run (the context and vectors
-/// come from cvode/sundials_handles.hpp). Not copyable: each owns a C pointer.
+/// The linear solvers CVODE's and IDA's Newton iterations use, each a matrix
+/// with its solver, owned together (handles.hpp's rules).
 
-class IdaMemory {
+/// A dense n×n SUNMatrix with SUNLinSol_Dense on it.
+class DenseLinearSolver {
  public:
-  explicit IdaMemory(SUNContext context);
-  ~IdaMemory();
-  IdaMemory(const IdaMemory&) = delete;
-  IdaMemory& operator=(const IdaMemory&) = delete;
-  void* get() const { return memory_; }
+  DenseLinearSolver(N_Vector template_vector, long n, SUNContext context);
+  ~DenseLinearSolver();
+  DenseLinearSolver(const DenseLinearSolver&) = delete;
+  DenseLinearSolver& operator=(const DenseLinearSolver&) = delete;
+  SUNMatrix matrix() const { return matrix_; }
+  SUNLinearSolver solver() const { return solver_; }
 
  private:
-  void* memory_ = nullptr;
+  SUNMatrix matrix_ = nullptr;
+  SUNLinearSolver solver_ = nullptr;
 };
 
 /// An n×n compressed-column SUNMatrix with SUNLinSol_KLU on it. Reset()

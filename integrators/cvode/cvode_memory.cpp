@@ -1,0 +1,17 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "cvode/cvode_memory.hpp"
+
+#include <new>
+
+#include <cvode/cvode.h>
+
+namespace dvi::internal {
+
+CvodeMemory::CvodeMemory(int linear_multistep, SUNContext context)
+    : memory_(CVodeCreate(linear_multistep, context)) {
+  if (memory_ == nullptr) throw std::bad_alloc();
+}
+
+CvodeMemory::~CvodeMemory() { CVodeFree(&memory_); }
+
+}  // namespace dvi::internal
