@@ -73,8 +73,9 @@ struct EventDrivenOptions {
   /// Re-entering a mode already left at the same time stops it at once.
   int max_event_burst = 16;
   double min_event_spacing = 1e-6;
-  /// Zeno detector: when the gaps between the last 8 mode changes shrink by a
-  /// near-constant ratio r < 1, the switch times converge to a predicted
+  /// Zeno detector: when the gaps between the last mode changes (6 at least)
+  /// shrink by a near-constant ratio r < 1 (within 10 % of their median),
+  /// the switch times converge to a predicted
   /// t* = t + Δ·r/(1 − r) (modes cycling with a period p ≤ 4: gap k against
   /// gap k − p, Δ the last p gaps); once t* − t is below
   /// zeno_window·(t_end − t0) the run stops with kEventAccumulation and t* in

@@ -13,6 +13,8 @@
 #include "check.hpp"
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/mode_dae.hpp"
+#include "events/event_times.hpp"
+#include "events/zeno_prediction.hpp"
 #include "ida/mode_dae_validated.hpp"
 #include "output_times_check.hpp"
 
@@ -45,18 +47,6 @@ namespace {
 // Jacobian and mode selection, the sparse one about O(n + m) (100 clamps
 // x' = −k + u: 4.4 s on CVODE, 0.06 s on IDA).
 constexpr int kModeDaeMinSize = 200;
-// A Zeno sequence needs at least this many shrinking gaps between event
-// times: fewer do not tell a geometric sequence from a coincidence.
-constexpr int kMinZenoGaps = 6;
-// Consecutive gap ratios of a Zeno sequence lie within this factor of their
-// median: root-found event times carry errors near round-off, so while the
-// gaps are far above it a truly geometric sequence has ratios equal to many
-// digits; 10 % also accepts the slow drift of a nonlinear system's ratio.
-constexpr double kRatioSpread = 1.1;
-// Event times closer than this (relative to |t| + horizon) are one time:
-// several components of u switch at one crossing.
-constexpr double kSameTimeFraction = 1e-12;
-
 // An event-driven back-end: `run` integrates from (t, x) to the end with
 // `options`, whose output times are the run's, leaving its rows unchecked;
 // `certify` checks the first `rows` of them against the VI (the row where a
@@ -102,66 +92,13 @@ bool ClipKeepsAll(const std::vector<double>& times, double from, double to) {
                            std::adjacent_find(times.begin(), times.end()) == times.end());
 }
 
-// A geometric sequence of event times t_k (Zeno behaviour): the gaps
-// Δ_k = t_{k+1} − t_k shrink with a near-constant ratio r < 1, so they sum to
-// a finite accumulation time t* = t_last + Δ_last (r + r² + …)
-// = t_last + Δ_last·r/(1 − r). Where the modes cycle with period p (a spiral
-// whose quadrants contract by different factors) the sequence is geometric
-// per cycle, Δ_{k+p} ≈ r Δ_k, and t* = t_last + (the last p gaps)·r/(1 − r).
-struct ZenoPrediction {
-  bool found = false;
-  int times = 0;  // distinct event times in the run
-  int period = 1;
-  int gaps = 0;   // trailing gaps that fit the sequence
-  double ratio = 0;  // per cycle
-  double accumulation_time = 0;
-};
-// The longest mode cycle looked for.
-constexpr int kMaxZenoPeriod = 4;
-
-ZenoPrediction PredictAccumulation(const std::vector<Event>& events, double same_time) {
+// The run's distinct event times, several components switching at one
+// time counted once.
+std::vector<double> DistinctEventTimes(const std::vector<Event>& events, double same_time) {
   std::vector<double> times;
   for (const Event& event : events)
     if (times.empty() || event.time - times.back() > same_time) times.push_back(event.time);
-  ZenoPrediction prediction;
-  prediction.times = static_cast<int>(times.size());
-  std::vector<double> gaps(times.empty() ? 0 : times.size() - 1);
-  for (std::size_t k = 0; k + 1 < times.size(); ++k) gaps[k] = times[k + 1] - times[k];
-  // The shortest period that fits.
-  for (std::size_t period = 1; period <= kMaxZenoPeriod; ++period) {
-    if (gaps.size() + 1 < kMinZenoGaps + period) return prediction;
-    std::vector<double> ratios(gaps.size() - period);
-    for (std::size_t k = 0; k < ratios.size(); ++k) ratios[k] = gaps[k + period] / gaps[k];
-    // The median of the last kMinZenoGaps − 1 ratios is the reference; the
-    // sequence extends back while the ratios stay near it.
-    std::vector<double> last(ratios.end() - (kMinZenoGaps - 1), ratios.end());
-    std::nth_element(last.begin(), last.begin() + last.size() / 2, last.end());
-    const double reference = last[last.size() / 2];
-    if (!(reference < 1)) continue;
-    const auto fits = [&](double ratio) {
-      return ratio <= reference * kRatioSpread && ratio >= reference / kRatioSpread;
-    };
-    std::size_t first = ratios.size();
-    while (first > 0 && fits(ratios[first - 1])) --first;
-    const int fitted = static_cast<int>(ratios.size() - first);
-    if (fitted < kMinZenoGaps - 1) continue;
-    // The geometric mean of the fitted ratios: their product telescopes to
-    // the last p gaps over the first p of the run.
-    double log_product = 0, cycle = 0;
-    for (std::size_t k = 0; k < period; ++k) {
-      log_product += std::log(gaps[gaps.size() - 1 - k]) - std::log(gaps[first + k]);
-      cycle += gaps[gaps.size() - 1 - k];
-    }
-    const double ratio = std::exp(log_product / fitted);
-    if (!(ratio < 1)) continue;
-    prediction.found = true;
-    prediction.period = static_cast<int>(period);
-    prediction.gaps = fitted + static_cast<int>(period);
-    prediction.ratio = ratio;
-    prediction.accumulation_time = times.back() + cycle * ratio / (1 - ratio);
-    return prediction;
-  }
-  return prediction;
+  return times;
 }
 
 // Appends a part of the run: samples (a junction sample at the same time is
@@ -217,7 +154,7 @@ std::string OwnReason(const Trajectory& part, const std::string& fallback) {
 Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
                  const Eigen::VectorXd& x0, double t0, double t_end, const AutoOptions& options) {
   const double horizon = t_end - t0;
-  const double same_time = kSameTimeFraction * (std::abs(t_end) + horizon);
+  const double same_time = internal::SameTimeWidth(t_end, horizon);
   const double base_window = options.stepping_window * horizon;
   const std::vector<double>& outputs = options.event.output_times;
   Trajectory whole;
@@ -251,8 +188,9 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
                                  (t > t0 ? "back to event-driven after time-stepping; " : "") +
                                      OwnReason(run, "event-driven")});
     }
-    const ZenoPrediction zeno =
-        succeeded ? ZenoPrediction() : PredictAccumulation(run.events, same_time);
+    const std::vector<double> event_times =
+        succeeded ? std::vector<double>() : DistinctEventTimes(run.events, same_time);
+    const internal::ZenoPrediction zeno = internal::PredictAccumulation(event_times);
     const std::string failure = run.message;
     // A run that spent more steps than time-stepping needs to reach the end:
     // returning would likely spend them again (a flow chattering at the
@@ -270,7 +208,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     std::string reason;
     double t_b;
     if (zeno.found) {
-      reason = "Zeno: " + std::to_string(zeno.times) + " event times, the last " +
+      reason = "Zeno: " + std::to_string(event_times.size()) + " event times, the last " +
                std::to_string(zeno.gaps) + " gaps with ratio " + Fixed(zeno.ratio, 3) +
                (zeno.period > 1 ? " per cycle of " + std::to_string(zeno.period) + " modes" : "") +
                ", accumulation predicted at t* = " + Fixed(zeno.accumulation_time, 7) +

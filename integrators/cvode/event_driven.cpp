@@ -25,6 +25,8 @@
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/error.hpp"
 #include "dvi/matrix_classes.hpp"
+#include "events/event_times.hpp"
+#include "events/zeno_prediction.hpp"
 #include "modes/box_mode.hpp"
 #include "modes/kkt_lifting.hpp"
 #include "modes/step_interpolant.hpp"
@@ -93,21 +95,11 @@ using internal::StepInterpolant;
 
 // Look-ahead length at a degenerate event, relative to the horizon.
 constexpr double kLookAheadFraction = 1e-5;
-// Events closer than this (relative to |t| + horizon) happen at the same time.
-constexpr double kSameTimeFraction = 1e-12;
 // Steps in a row within the round-off of t that end a run (StepsResolveTime).
 constexpr int kUnresolvedSteps = 10;
 // The largest tolerance an event's VI is solved to when the state's error
 // makes it infeasible at the solver's own (HandleEvent).
 constexpr double kMaxEventSlack = 1e-3;
-// Zeno detection: this many successive gap ratios, all below kZenoMaxRatio
-// (per gap) and within kZenoRatioSpread (relative) of their mean, make a
-// geometric sequence of switch times; a mode cycle of up to kZenoMaxPeriod
-// modes is geometric per cycle (gap k against gap k − p).
-constexpr int kZenoGaps = 8;
-constexpr int kZenoMaxPeriod = 4;
-constexpr double kZenoMaxRatio = 0.99;
-constexpr double kZenoRatioSpread = 0.05;
 
 // What the CVODE callbacks see. Exceptions of user functions never cross
 // CVODE's C frames: they are stored and rethrown after CVode returns.
@@ -949,45 +941,21 @@ bool EventDrivenRun::Start() {
   return true;
 }
 
-// Zeno: the gaps between the last mode changes shrink geometrically,
-// Δ_{k+1} ≈ r Δ_k with r < 1, so the switch times converge to
-// t* = t + Δ r/(1 − r); stop once t* is within zeno_window of the horizon.
-// Where the modes cycle with period p (a spiral whose quadrants contract
-// by different factors), Δ_{k+p} ≈ r Δ_k and t* = t + (Δ_{k−p+1} + … + Δ_k)
-// r/(1 − r); the shortest period that fits is taken.
+// Zeno (events/zeno_prediction.hpp): stop once the predicted accumulation
+// time t* of the switch times is within zeno_window of the horizon.
 bool EventDrivenRun::Accumulating(double t, std::string& why) {
   switch_times_.push_back(t);
-  const int count = static_cast<int>(switch_times_.size());
-  const auto gap = [this](int k) { return switch_times_[k] - switch_times_[k - 1]; };
-  for (int period = 1; period <= kZenoMaxPeriod; ++period) {
-    if (count < kZenoGaps + period + 1) return false;
-    double ratio_sum = 0, ratio_min = 1e300, ratio_max = 0;
-    bool valid = true;
-    for (int k = count - kZenoGaps; k < count && valid; ++k) {
-      const double earlier = gap(k - period);
-      const double ratio = gap(k) / earlier;
-      valid = earlier > 0 && std::isfinite(ratio);
-      ratio_sum += ratio;
-      ratio_min = std::min(ratio_min, ratio);
-      ratio_max = std::max(ratio_max, ratio);
-    }
-    const double ratio = ratio_sum / kZenoGaps;
-    if (!valid || !(ratio < std::pow(kZenoMaxRatio, period)) ||
-        ratio_max - ratio_min > kZenoRatioSpread * ratio)
-      continue;
-    double cycle = 0;
-    for (int k = count - period; k < count; ++k) cycle += gap(k);
-    const double accumulation = t + cycle * ratio / (1 - ratio);
-    if (accumulation - t > options_.zeno_window * (t_end_ - t0_)) return false;
-    std::ostringstream message;
-    message << "Zeno: " << count << " mode changes, the last " << kZenoGaps
-            << " gaps shrinking by a ratio of " << ratio;
-    if (period > 1) message << " per cycle of " << period << " modes";
-    message << ", accumulate at t* = " << std::setprecision(10) << accumulation << " (predicted)";
-    why = message.str();
-    return true;
-  }
-  return false;
+  const internal::ZenoPrediction zeno = internal::PredictAccumulation(switch_times_);
+  if (!zeno.found || zeno.accumulation_time - t > options_.zeno_window * (t_end_ - t0_))
+    return false;
+  std::ostringstream message;
+  message << "Zeno: " << switch_times_.size() << " mode changes, the last " << zeno.gaps
+          << " gaps shrinking by a ratio of " << zeno.ratio;
+  if (zeno.period > 1) message << " per cycle of " << zeno.period << " modes";
+  message << ", accumulate at t* = " << std::setprecision(10) << zeno.accumulation_time
+          << " (predicted)";
+  why = message.str();
+  return true;
 }
 
 bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
@@ -1049,7 +1017,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   // re-entered at the instant it was left — stop with a status, never loop.
   const double horizon = t_end_ - t0_;
   const bool same_time =
-      burst_ > 0 && t - last_event_time_ <= kSameTimeFraction * (std::abs(t) + horizon);
+      burst_ > 0 && t - last_event_time_ <= internal::SameTimeWidth(t, horizon);
   burst_ = burst_ > 0 && t - last_event_time_ < options_.min_event_spacing * horizon ? burst_ + 1
                                                                                       : 1;
   last_event_time_ = t;
@@ -1319,7 +1287,7 @@ bool EventDrivenRun::IntegrateModes() {
       std::copy(x.data(), x.data() + x.size(), y_.data());
       // An event this close to t_end ends the run: CVODE cannot start a
       // step shorter than its minimum (CV_TOO_CLOSE), and x moves by O(gap).
-      if (t_end_ - t_ <= kSameTimeFraction * (std::abs(t_end_) + t_end_ - t0_)) {
+      if (t_end_ - t_ <= internal::SameTimeWidth(t_end_, t_end_ - t0_)) {
         if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
         return true;
       }

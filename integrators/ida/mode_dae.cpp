@@ -21,6 +21,7 @@
 
 #include "certify.hpp"
 #include "check.hpp"
+#include "events/event_times.hpp"
 #include "ida/ida_memory.hpp"
 #include "ida/lcs_mode_dae.hpp"
 #include "ida/mode_dae_validated.hpp"
@@ -56,8 +57,6 @@ using internal::BoundState;
 using internal::FlagName;
 using internal::GuardedCallback;
 
-// Events closer than this (relative to |t| + horizon) happen at one time.
-constexpr double kSameTimeFraction = 1e-12;
 // The look-ahead step at a mode the modified LCP cannot place, as a fraction
 // of the horizon (the CVODE path's, event_driven.cpp).
 constexpr double kLookAheadFraction = 1e-5;
@@ -582,7 +581,7 @@ bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
   message << "mode-dae: event at t = " << t << ": ";
   const double horizon = t_end_ - t0_;
   const bool same_time = !trajectory_.events.empty() &&
-                         t - last_event_time_ <= kSameTimeFraction * (std::abs(t) + horizon);
+                         t - last_event_time_ <= internal::SameTimeWidth(t, horizon);
   same_time_events_ = same_time ? same_time_events_ + 1 : 1;
   last_event_time_ = t;
   if (!same_time) modes_at_event_time_.assign(1, old_mode);
