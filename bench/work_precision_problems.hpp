@@ -21,7 +21,7 @@ namespace dvi::bench {
 struct ModeSegment {
   double from = 0;
   double to = 0;
-  std::vector<MultiplierBound> mode;
+  Mode mode;
 };
 
 struct WorkPrecisionProblem {

@@ -190,9 +190,8 @@ TEST(IndexOneRhs, BallThroughItsKktSystemMatchesTheExactSpiral) {
   EXPECT_LE(dopri5_error, kBallDopri5Tolerance);
   EXPECT_LE(max_multiplier_error, kMultiplierTolerance);
   // Released at t = 2: μ at its bound 0, u free.
-  EXPECT_EQ(rhs.mode(), (std::vector<MultiplierBound>{MultiplierBound::kFree,
-                                                      MultiplierBound::kFree,
-                                                      MultiplierBound::kLower}));
+  EXPECT_EQ(rhs.mode(),
+            (Mode{MultiplierBound::kFree, MultiplierBound::kFree, MultiplierBound::kLower}));
   EXPECT_GE(rhs.stats().mode_changes, 1);
 
   IndexOneRhs stiff(testing::BallSpiral());
@@ -291,7 +290,7 @@ TEST(IndexOneRhs, FrozenModeIntegratesItsSmoothExtension) {
   // The lower-bound mode of t < 2, kept past its end at t = 2: x' = −1, so
   // x = 3 − t on all of [0, 4] (x = −1 at t = 4, where the VI has u = 1).
   ASSERT_TRUE(rhs.SelectMode(0, Eigen::VectorXd::Constant(1, 3)));
-  ASSERT_EQ(rhs.mode(), std::vector<MultiplierBound>{MultiplierBound::kLower});
+  ASSERT_EQ(rhs.mode(), Mode{MultiplierBound::kLower});
   rhs.FreezeMode(true);
   EXPECT_TRUE(rhs.mode_frozen());
   std::vector<double> x{3.0};
@@ -318,7 +317,7 @@ TEST(IndexOneRhs, FrozenModeIntegratesItsSmoothExtension) {
   ASSERT_TRUE(rhs.Evaluate(0, Eigen::VectorXd::Constant(1, 3), xdot)) << rhs.message();
   EXPECT_EQ(xdot(0), -3.0);
   EXPECT_EQ(rhs.multiplier()(0), -3.0);
-  EXPECT_EQ(rhs.mode(), std::vector<MultiplierBound>{MultiplierBound::kFree});
+  EXPECT_EQ(rhs.mode(), Mode{MultiplierBound::kFree});
   Eigen::MatrixXd J;
   ASSERT_TRUE(rhs.Jacobian(0, Eigen::VectorXd::Constant(1, 3), J)) << rhs.message();
   EXPECT_EQ(J(0, 0), -1.0);
@@ -327,7 +326,7 @@ TEST(IndexOneRhs, FrozenModeIntegratesItsSmoothExtension) {
   rhs.FreezeMode(false);
   ASSERT_TRUE(rhs.Evaluate(0, Eigen::VectorXd::Constant(1, 3), xdot)) << rhs.message();
   EXPECT_EQ(xdot(0), -1.0);
-  EXPECT_EQ(rhs.mode(), std::vector<MultiplierBound>{MultiplierBound::kLower});
+  EXPECT_EQ(rhs.mode(), Mode{MultiplierBound::kLower});
   EXPECT_EQ(rhs.stats().mode_changes, 1);
 }
 
@@ -399,8 +398,7 @@ TEST(IndexOneRhs, LcsMatchesEventDrivenIntegratorAndComplementarity) {
   Eigen::Vector2d state(-1, 2);
   Eigen::MatrixXd J;
   ASSERT_TRUE(rhs.Jacobian(0, state, J)) << rhs.message();
-  ASSERT_EQ(rhs.mode(), (std::vector<MultiplierBound>{MultiplierBound::kFree,
-                                                       MultiplierBound::kLower}));
+  ASSERT_EQ(rhs.mode(), (Mode{MultiplierBound::kFree, MultiplierBound::kLower}));
   Eigen::Vector2d plus, minus;
   for (int k = 0; k < 2; ++k) {
     const double h = 1e-6;
@@ -444,8 +442,7 @@ TEST(IndexOneRhs, RejectsInvalidInput) {
                InvalidInputError);
   // A ball's modes are over z = (u, μ): three entries, u with two or three.
   IndexOneRhs ball(testing::BallSpiral());
-  const std::vector<MultiplierBound> released{MultiplierBound::kFree, MultiplierBound::kFree,
-                                              MultiplierBound::kLower};
+  const Mode released{MultiplierBound::kFree, MultiplierBound::kFree, MultiplierBound::kLower};
   EXPECT_THROW(ball.EnterMode({MultiplierBound::kFree, MultiplierBound::kFree},
                               Eigen::VectorXd::Zero(2)),
                InvalidInputError);

@@ -15,6 +15,7 @@
 #include "dvi/lcs.hpp"
 #include "dvi/lemke.hpp"
 #include "dvi/matrix_classes.hpp"
+#include "dvi/mode.hpp"
 #include "dvi/mode_dae.hpp"
 #include "dvi/odeint_system.hpp"
 #include "dvi/projected_dynamics.hpp"

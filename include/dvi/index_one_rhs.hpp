@@ -9,6 +9,7 @@
 
 #include "dvi/dvi_problem.hpp"
 #include "dvi/lcs.hpp"
+#include "dvi/mode.hpp"
 #include "dvi/solver_options.hpp"
 
 namespace dvi {
@@ -22,10 +23,6 @@ struct IndexOneRhsAccess {
   static void SetMessage(IndexOneRhs& rhs, std::string message);
 };
 }  // namespace internal
-
-/// Where u_j sits in a mode of a box K: at its lower bound, at its upper
-/// bound, or free (strictly inside, F_j(t, x, u) = 0).
-enum class MultiplierBound : signed char { kFree, kLower, kUpper };
 
 /// Work done by an IndexOneRhs since construction.
 struct IndexOneRhsStats {
@@ -101,7 +98,7 @@ class IndexOneRhs {
   const std::string& message() const;
   /// The current mode, mode_size() entries; empty before the first
   /// evaluation or EnterMode.
-  const std::vector<MultiplierBound>& mode() const;
+  const Mode& mode() const;
 
   /// Solves the full VI at (t, x) and enters its mode (a component within
   /// the solver tolerance of a bound is taken at that bound). False, with
@@ -114,7 +111,7 @@ class IndexOneRhs {
   /// mode_size() entries, all of z.
   /// @throws InvalidInputError when mode or u has another size, u is not
   /// finite, or mode bounds a component at an infinite bound.
-  void EnterMode(const std::vector<MultiplierBound>& mode, const Eigen::VectorXd& u);
+  void EnterMode(const Mode& mode, const Eigen::VectorXd& u);
   /// While frozen, Evaluate and Jacobian never re-select: they integrate the
   /// smooth extension of the current mode past its validity (for a caller
   /// that knows the switch times). Frozen before any mode is known, the

@@ -84,8 +84,6 @@ void EventDrivenOptions::Validate() const {
 
 namespace {
 
-using internal::BoundState;
-using internal::BoxMode;
 using internal::BoxModeSystem;
 using internal::FlagName;
 using internal::GuardedCallback;
@@ -282,9 +280,9 @@ class EventDrivenRun {
  private:
   bool Start();
   bool IntegrateModes();
-  bool TryMode(double t, Eigen::VectorXd& x, const BoxMode& mode, const Eigen::VectorXd& u,
+  bool TryMode(double t, Eigen::VectorXd& x, const Mode& mode, const Eigen::VectorXd& u,
                std::string& why);
-  bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode);
+  bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode);
   bool HandleEvent(double t, Eigen::VectorXd& x);
   bool EnterSparseJacobian();
   // CVODE projects BDF steps only; under Adams the drift of reduced modes is
@@ -380,7 +378,7 @@ class EventDrivenRun {
   long refusals_before_unresolved_ = 0;  // data_.refusals when they began
   double last_event_time_ = 0;
   int burst_ = 0;
-  std::vector<BoxMode> modes_at_event_time_;
+  std::vector<Mode> modes_at_event_time_;
   std::vector<double> switch_times_;  // times of the mode changes, for Zeno detection
   long reduced_selections_ = 0;       // modes chosen by the differentiation procedure
   long look_ahead_selections_ = 0;    // non-strongly-regular points passed by look-ahead
@@ -831,7 +829,7 @@ void EventDrivenRun::AddCvodeStats() {
 // solves its equations, and every root function is non-negative. A reduced
 // mode first moves x onto its original constraints Φ = 0 (consistent initial
 // values: the event state satisfies them only to the VI's tolerance).
-bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const BoxMode& mode,
+bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const Mode& mode,
                              const Eigen::VectorXd& u, std::string& why) {
   system_.Enter(mode, u);
   if (!system_.Solve(t, x, &why)) return false;
@@ -855,8 +853,7 @@ bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const BoxMode& mode,
 // along the flow (Proposition 5.1: a bridge of ideal diodes, a Filippov
 // crossing), which the look-ahead finds. Neither: kNotIndexOne with every
 // reason.
-bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi,
-                                BoxMode& mode) {
+bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode) {
   IntegrationStats& stats = trajectory_.stats;
   const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
   const MatrixClassVerdict regular =
@@ -887,7 +884,7 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   if (regular.holds) {
     // An unsolved look-ahead VI is a numerical failure, not evidence of
     // chattering.
-    message << "mode " << Describe(mode) << ": " << look_ahead_why;
+    message << "mode " << ModeLetters(mode) << ": " << look_ahead_why;
     return Fail(selection == BoxModeSystem::Selection::kViNotSolved
                     ? IntegrationStatus::kStepFailure
                     : IntegrationStatus::kEventAccumulation,
@@ -926,7 +923,7 @@ bool EventDrivenRun::Start() {
     index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + Format(t0_) + " (Theorem 5.1)";
   else if (IsStronglyRegular(Fu, vi.index_sets).holds)
     index_one_reason_ = "index one: u0 strongly regular at t = " + Format(t0_) + " (Sect. 5.3)";
-  BoxMode mode;
+  Mode mode;
   Eigen::VectorXd x = x0_;
   if (!ChooseMode(t0_, x, vi, mode)) return false;
   if (index_one_reason_.empty())
@@ -960,7 +957,7 @@ bool EventDrivenRun::Accumulating(double t, std::string& why) {
 
 bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   IntegrationStats& stats = trajectory_.stats;
-  const BoxMode old_mode = system_.mode();
+  const Mode old_mode = system_.mode();
   const Eigen::VectorXd x_root = x;
   // u of the old mode at the root only warm-starts the VI: no check needed.
   system_.Solve(t, x);
@@ -1007,7 +1004,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
             << vi.residual << "): " << vi.message;
     return Fail(IntegrationStatus::kStepFailure, message.str());
   }
-  BoxMode mode = old_mode;
+  Mode mode = old_mode;
   if (t_end_ - t > 0 && !ChooseMode(t, x, vi, mode)) return false;
   // A root that leaves mode and state as they are (a grazing contact, a
   // degenerate component) is no event: CVODE restarts from it and does not
@@ -1035,16 +1032,17 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   if (std::find(modes_at_event_time_.begin(), modes_at_event_time_.end(), mode) !=
       modes_at_event_time_.end()) {
     std::ostringstream message;
-    message << at() << "chattering: mode " << Describe(mode) << " (f free, l lower, u upper bound) was "
+    message << at() << "chattering: mode " << ModeLetters(mode)
+            << " (f free, l lower, u upper bound) was "
             << "left at this time and would be re-entered";
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
   modes_at_event_time_.push_back(mode);
   for (int j = 0; j < dvi_.m; ++j) {
     if (mode[j] == old_mode[j]) continue;
-    const EventKind kind = mode[j] == BoundState::kLower   ? EventKind::kReachedLower
-                           : mode[j] == BoundState::kUpper ? EventKind::kReachedUpper
-                                                           : EventKind::kLeftBound;
+    const EventKind kind = mode[j] == MultiplierBound::kLower   ? EventKind::kReachedLower
+                           : mode[j] == MultiplierBound::kUpper ? EventKind::kReachedUpper
+                                                                : EventKind::kLeftBound;
     trajectory_.events.push_back({t, kind, j});
   }
   if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
@@ -1064,9 +1062,9 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
 bool EventDrivenRun::EnterSparseJacobian() {
   if (!klu_) return true;
   if (!system_.SparseRhsJacobian(data_.sparse_J))
-    return Fail(IntegrationStatus::kStepFailure,
-                "event: mode " + Describe(system_.mode()) + " at t = " + Format(t_) +
-                    ": G_u is singular, no Jacobian for KLU");
+    return Fail(IntegrationStatus::kStepFailure, "event: mode " + ModeLetters(system_.mode()) +
+                                                     " at t = " + Format(t_) +
+                                                     ": G_u is singular, no Jacobian for KLU");
   if (!klu_->Reset(data_.sparse_J.nonZeros()))
     return Fail(IntegrationStatus::kStepFailure, "event: the KLU matrix cannot be resized");
   return true;
@@ -1094,7 +1092,7 @@ bool EventDrivenRun::StillHolds() {
   trajectory_.states.resize(kept);
   trajectory_.multipliers.resize(kept);
   std::ostringstream message;
-  message << "event: mode " << Describe(system_.mode()) << ", entered at t = " << mode_start_
+  message << "event: mode " << ModeLetters(system_.mode()) << ", entered at t = " << mode_start_
           << ", no longer holds at t = " << t_ << " and no root was crossed: " << why
           << " (it started on the wrong side of a constraint, within the degeneracy "
              "tolerance; the state at t = "
@@ -1180,7 +1178,7 @@ bool EventDrivenRun::FailWhereFIsUndefined(double last_defined) {
   }
   return Fail(IntegrationStatus::kStepFailure,
               "event: F is not finite beyond t = " + Format(last_defined) + " in mode " +
-                  Describe(system_.mode()) +
+                  ModeLetters(system_.mode()) +
                   ", which still holds there: the VI is undefined ahead (a state outside "
                   "F's domain)");
 }
@@ -1305,7 +1303,7 @@ bool EventDrivenRun::IntegrateModes() {
       const Eigen::VectorXd x = y;
       if (!system_.Solve(t_, x)) {
         std::ostringstream message;
-        message << "event: mode " << Describe(system_.mode()) << " at t = " << t_
+        message << "event: mode " << ModeLetters(system_.mode()) << " at t = " << t_
                 << ": Newton on the free components did not converge";
         return Fail(IntegrationStatus::kStepFailure, message.str());
       }

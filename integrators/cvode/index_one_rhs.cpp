@@ -12,27 +12,6 @@
 namespace dvi {
 namespace {
 
-using internal::BoundState;
-using internal::BoxMode;
-
-// The public and internal enums name the same three states; converted
-// explicitly so that neither depends on the other's layout.
-BoundState ToInternal(MultiplierBound bound) {
-  switch (bound) {
-    case MultiplierBound::kFree: return BoundState::kFree;
-    case MultiplierBound::kLower: return BoundState::kLower;
-    case MultiplierBound::kUpper: return BoundState::kUpper;
-  }
-  return BoundState::kFree;
-}
-
-std::string Describe(const std::vector<MultiplierBound>& mode) {
-  std::string text;
-  for (const MultiplierBound bound : mode)
-    text += bound == MultiplierBound::kFree ? 'f' : bound == MultiplierBound::kLower ? 'l' : 'u';
-  return text;
-}
-
 // The problem on a box: dvi itself, or the KKT system of its VI in
 // z = (u, μ, ν) when K has polyhedral or ball parts (kkt_lifting.hpp).
 Dvi OnABox(const Dvi& dvi, const SolverOptions& solver) {
@@ -75,7 +54,7 @@ struct IndexOneRhs::Impl {
   const double tolerance;
   internal::BoxModeSystem system;
   Eigen::VectorXd u;
-  std::vector<MultiplierBound> mode;
+  Mode mode;
   bool has_mode = false;
   bool frozen = false;
   // Whether system.u() solves the mode at the last (t, x), which the
@@ -116,20 +95,18 @@ bool IndexOneRhs::Impl::Select(double t, const Eigen::VectorXd& x) {
   // A component within the tolerance of a bound is taken there: u is
   // Lipschitz, so a degenerate component (the β set of Sect. 5.3) has the
   // same u in either neighbouring mode.
-  std::vector<MultiplierBound> selected(dvi.m, MultiplierBound::kFree);
-  BoxMode internal_mode(dvi.m, BoundState::kFree);
+  Mode selected(dvi.m, MultiplierBound::kFree);
   for (int j = 0; j < dvi.m; ++j) {
     const double to_lower = vi.z(j) - lower(j), to_upper = upper(j) - vi.z(j);
     if (to_lower <= tolerance && to_lower <= to_upper)
       selected[j] = MultiplierBound::kLower;
     else if (to_upper <= tolerance)
       selected[j] = MultiplierBound::kUpper;
-    internal_mode[j] = ToInternal(selected[j]);
   }
   if (has_mode && selected != mode) ++stats.mode_changes;
   mode = std::move(selected);
   has_mode = true;
-  system.Enter(internal_mode, vi.z);
+  system.Enter(mode, vi.z);
   // The mode's Newton polishes u to round-off, so that u is smooth along the
   // flow; if it fails, the VI's u is as good to the tolerance.
   mode_solved = system.Solve(t, x);
@@ -147,7 +124,7 @@ bool IndexOneRhs::Impl::Update(double t, const Eigen::VectorXd& x) {
   }
   if (!frozen) return Select(t, x);
   std::ostringstream text;
-  text << "IndexOneRhs: frozen mode " << Describe(mode) << " at t = " << t << ": " << why;
+  text << "IndexOneRhs: frozen mode " << ModeLetters(mode) << " at t = " << t << ": " << why;
   message = text.str();
   return false;
 }
@@ -189,7 +166,7 @@ bool IndexOneRhs::Jacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& 
   if (!impl.Update(t, x)) return false;
   const auto fail = [&](const char* why) {
     std::ostringstream text;
-    text << "IndexOneRhs: mode " << Describe(impl.mode) << " at t = " << t << ": " << why;
+    text << "IndexOneRhs: mode " << ModeLetters(impl.mode) << " at t = " << t << ": " << why;
     impl.message = text.str();
     return false;
   };
@@ -203,14 +180,14 @@ bool IndexOneRhs::Jacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& 
 Eigen::VectorXd IndexOneRhs::multiplier() const { return impl_->u.head(impl_->m); }
 const std::string& IndexOneRhs::message() const { return impl_->message; }
 
-const std::vector<MultiplierBound>& IndexOneRhs::mode() const { return impl_->mode; }
+const Mode& IndexOneRhs::mode() const { return impl_->mode; }
 
 bool IndexOneRhs::SelectMode(double t, const Eigen::VectorXd& x) {
   impl_->CheckState(x);
   return impl_->Select(t, x);
 }
 
-void IndexOneRhs::EnterMode(const std::vector<MultiplierBound>& mode, const Eigen::VectorXd& u) {
+void IndexOneRhs::EnterMode(const Mode& mode, const Eigen::VectorXd& u) {
   Impl& impl = *impl_;
   const int size = impl.dvi.m;
   DVI_THROW_UNLESS(static_cast<int>(mode.size()) == size,
@@ -223,7 +200,6 @@ void IndexOneRhs::EnterMode(const std::vector<MultiplierBound>& mode, const Eige
   // K's multipliers μ, ν, when not given, start from their last values.
   Eigen::VectorXd z = impl.u;
   z.head(u.size()) = u;
-  BoxMode internal_mode(size);
   for (int j = 0; j < size; ++j) {
     DVI_THROW_UNLESS(mode[j] == MultiplierBound::kFree || mode[j] == MultiplierBound::kLower ||
                          mode[j] == MultiplierBound::kUpper,
@@ -233,9 +209,8 @@ void IndexOneRhs::EnterMode(const std::vector<MultiplierBound>& mode, const Eige
                      "mode[" << j << "]: at the lower bound, which is " << impl.lower(j));
     DVI_THROW_UNLESS(mode[j] != MultiplierBound::kUpper || std::isfinite(impl.upper(j)),
                      "mode[" << j << "]: at the upper bound, which is " << impl.upper(j));
-    internal_mode[j] = ToInternal(mode[j]);
   }
-  impl.system.Enter(internal_mode, z);
+  impl.system.Enter(mode, z);
   impl.mode = mode;
   impl.has_mode = true;
   impl.mode_solved = false;

@@ -53,11 +53,11 @@ AffineConstraints NoConstraints(int n) { return {Eigen::VectorXd(0), SparseMatri
 }  // namespace
 
 IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                                         const std::vector<bool>& leaving, double atol,
-                                         double rtol, double u_tolerance,
-                                         const SolverOptions& options, BoxMode& mode,
-                                         Eigen::VectorXd& u, std::vector<bool>& degenerate,
-                                         IntegrationStats& stats, std::string& why) const {
+                                         const std::vector<bool>& leaving, double atol, double rtol,
+                                         double u_tolerance, const SolverOptions& options,
+                                         Mode& mode, Eigen::VectorXd& u,
+                                         std::vector<bool>& degenerate, IntegrationStats& stats,
+                                         std::string& why) const {
   AffineRows rows = lcs_rows_;
   AffineConstraints constraints = NoConstraints(n_);
   u.resize(m_);
@@ -70,7 +70,7 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
   // make the modified LCP unsolvable), it is the proposal, and the caller's
   // check of the mode and its look-ahead decide.
   bool proposed = false;
-  BoxMode proposal_mode;
+  Mode proposal_mode;
   Eigen::VectorXd proposal_u;
   std::vector<bool> proposal_degenerate;
   const auto propose = [&]() {
@@ -86,7 +86,7 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
     const Eigen::VectorXd scale = rows.C.cwiseAbs() * x.cwiseAbs() + rows.c.cwiseAbs();
     const std::vector<bool> zero_row = ZeroRows(rows.M);
     const std::vector<bool> constant_row = ZeroRows(rows.C);
-    mode.assign(m_, BoundState::kLower);
+    mode.assign(m_, MultiplierBound::kLower);
     degenerate.assign(m_, false);
     std::vector<int> open, vanishing;
     std::vector<int> position(m_, -1);
@@ -108,7 +108,7 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
         why = text.str();
         return IntegrationStatus::kStepFailure;
       }
-      mode[j] = lower ? BoundState::kLower : BoundState::kUpper;
+      mode[j] = lower ? MultiplierBound::kLower : MultiplierBound::kUpper;
       u(j) = bound;
     }
     // Rows that vanish whatever u is: index two at least (Theorem 5.3),
@@ -174,15 +174,15 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
       const bool row_zero = std::abs(result.w(a)) <= zero_tolerance;
       if (row_zero) S.push_back(j);
       if (z - lo(a) <= u_tolerance) {
-        mode[j] = BoundState::kLower;
+        mode[j] = MultiplierBound::kLower;
         u(j) = lo(a);
         degenerate[j] = leaving[j] || row_zero;
       } else if (hi(a) - z <= u_tolerance) {
-        mode[j] = BoundState::kUpper;
+        mode[j] = MultiplierBound::kUpper;
         u(j) = hi(a);
         degenerate[j] = leaving[j] || row_zero;
       } else {
-        mode[j] = BoundState::kFree;
+        mode[j] = MultiplierBound::kFree;
         u(j) = z;
       }
     }
@@ -203,15 +203,15 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
   return IntegrationStatus::kNotIndexOne;
 }
 
-void LcsModeDae::Enter(const BoxMode& mode) {
+void LcsModeDae::Enter(const Mode& mode) {
   mode_ = mode;
   std::vector<int> free;
   Eigen::VectorXd at_bound = Eigen::VectorXd::Zero(m_);
   for (int j = 0; j < m_; ++j) {
-    if (mode_[j] == BoundState::kFree)
+    if (mode_[j] == MultiplierBound::kFree)
       free.push_back(j);
     else
-      at_bound(j) = mode_[j] == BoundState::kLower ? lower_(j) : upper_(j);
+      at_bound(j) = mode_[j] == MultiplierBound::kLower ? lower_(j) : upper_(j);
   }
   AffineRows rows = lcs_rows_;
   constraints_ = NoConstraints(n_);
@@ -224,7 +224,7 @@ void LcsModeDae::Enter(const BoxMode& mode) {
   c_.resize(N);
   c_.head(n_) = -flow_.p;
   for (int j = 0; j < m_; ++j) {
-    if (mode_[j] == BoundState::kFree) {
+    if (mode_[j] == MultiplierBound::kFree) {
       c_(n_ + j) = rows.c(j);
     } else {
       triplets.emplace_back(n_ + j, n_ + j, 1.0);
@@ -233,11 +233,11 @@ void LcsModeDae::Enter(const BoxMode& mode) {
   }
   for (Eigen::Index k = 0; k < rows.C.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(rows.C, k); it; ++it)
-      if (mode_[it.row()] == BoundState::kFree)
+      if (mode_[it.row()] == MultiplierBound::kFree)
         triplets.emplace_back(n_ + it.row(), k, it.value());
   for (Eigen::Index k = 0; k < rows.M.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(rows.M, k); it; ++it)
-      if (mode_[it.row()] == BoundState::kFree)
+      if (mode_[it.row()] == MultiplierBound::kFree)
         triplets.emplace_back(n_ + it.row(), n_ + k, it.value());
   J0_.resize(N, N);
   J0_.setFromTriplets(triplets.begin(), triplets.end());
@@ -304,15 +304,15 @@ bool LcsModeDae::Holds(const Eigen::VectorXd& x, const Eigen::VectorXd& u, doubl
   for (int j = 0; j < m_; ++j) {
     const double w_tolerance = kZeroFactor * (atol + rtol * scale(j));
     switch (mode_[j]) {
-      case BoundState::kFree:
+      case MultiplierBound::kFree:
         if (u(j) < lower_(j) - u_tolerance || u(j) > upper_(j) + u_tolerance)
           text << "u_" << j << " = " << u(j) << " leaves [" << lower_(j) << ", " << upper_(j)
                << "]";
         break;
-      case BoundState::kLower:
+      case MultiplierBound::kLower:
         if (w(j) < -w_tolerance) text << "w_" << j << " = " << w(j) << " < 0 at the lower bound";
         break;
-      case BoundState::kUpper:
+      case MultiplierBound::kUpper:
         if (w(j) > w_tolerance) text << "w_" << j << " = " << w(j) << " > 0 at the upper bound";
         break;
     }
@@ -356,15 +356,15 @@ void LcsModeDae::Roots(const double* y, double* g) const {
   const Eigen::VectorXd w = lcs_rows_.C * x + lcs_rows_.M * u + lcs_rows_.c;
   for (int j = 0; j < m_; ++j) {
     switch (mode_[j]) {
-      case BoundState::kFree:
+      case MultiplierBound::kFree:
         g[2 * j] = std::isfinite(lower_(j)) ? u(j) - lower_(j) : 1.0;
         g[2 * j + 1] = std::isfinite(upper_(j)) ? upper_(j) - u(j) : 1.0;
         break;
-      case BoundState::kLower:
+      case MultiplierBound::kLower:
         g[2 * j] = w(j);
         g[2 * j + 1] = 1.0;
         break;
-      case BoundState::kUpper:
+      case MultiplierBound::kUpper:
         g[2 * j] = -w(j);
         g[2 * j + 1] = 1.0;
         break;
@@ -385,15 +385,15 @@ void LcsModeDae::RootPolynomials(const Eigen::MatrixXd& Y, Eigen::MatrixXd& G) c
   for (int j = 0; j < m_; ++j) {
     for (Eigen::Index k = 1; k <= q; ++k) {
       switch (mode_[j]) {
-        case BoundState::kFree:
+        case MultiplierBound::kFree:
           G(2 * j, k) = std::isfinite(lower_(j)) ? Y(n_ + j, k) : 0.0;
           G(2 * j + 1, k) = std::isfinite(upper_(j)) ? -Y(n_ + j, k) : 0.0;
           break;
-        case BoundState::kLower:
+        case MultiplierBound::kLower:
           G(2 * j, k) = W(j, k - 1);
           G(2 * j + 1, k) = 0;
           break;
-        case BoundState::kUpper:
+        case MultiplierBound::kUpper:
           G(2 * j, k) = -W(j, k - 1);
           G(2 * j + 1, k) = 0;
           break;
@@ -406,7 +406,7 @@ void LcsModeDae::RootMoves(const Eigen::VectorXd& dy, Eigen::VectorXd& moves) co
   const Eigen::VectorXd w_moves = abs_C_ * dy.head(n_) + abs_D_ * dy.tail(m_);
   moves.resize(2 * m_);
   for (int j = 0; j < m_; ++j) {
-    const bool free = mode_[j] == BoundState::kFree;
+    const bool free = mode_[j] == MultiplierBound::kFree;
     moves(2 * j) = free ? dy(n_ + j) : w_moves(j);
     moves(2 * j + 1) = free ? dy(n_ + j) : 0.0;
   }

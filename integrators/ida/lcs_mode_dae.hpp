@@ -8,10 +8,10 @@
 #include <Eigen/SparseCore>
 
 #include "dvi/lcs.hpp"
+#include "dvi/mode.hpp"
 #include "dvi/solver_options.hpp"
 #include "dvi/trajectory.hpp"
 #include "klu_solver.hpp"
-#include "modes/box_mode_state.hpp"
 #include "modes/mode_reduction.hpp"
 
 namespace dvi::internal {
@@ -38,7 +38,7 @@ class LcsModeDae {
   int n() const { return n_; }
   int m() const { return m_; }
   int size() const { return n_ + m_; }
-  const BoxMode& mode() const { return mode_; }
+  const Mode& mode() const { return mode_; }
   const Eigen::VectorXd& lower() const { return lower_; }
   const Eigen::VectorXd& upper() const { return upper_; }
   /// Passes of the differentiation procedure the current mode took.
@@ -61,13 +61,14 @@ class LcsModeDae {
   /// bound (the LCP has no solution); kNotIndexOne when a row vanishes
   /// whatever x and u are (u is not unique) or the passes do not end.
   IntegrationStatus SelectMode(const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                  const std::vector<bool>& leaving, double atol, double rtol, double u_tolerance,
-                  const SolverOptions& options, BoxMode& mode, Eigen::VectorXd& u,
-                  std::vector<bool>& degenerate, IntegrationStats& stats, std::string& why) const;
+                               const std::vector<bool>& leaving, double atol, double rtol,
+                               double u_tolerance, const SolverOptions& options, Mode& mode,
+                               Eigen::VectorXd& u, std::vector<bool>& degenerate,
+                               IntegrationStats& stats, std::string& why) const;
 
   /// Reduces the rows of the mode (the passes on its free set) and builds
   /// J₀, c and the pattern.
-  void Enter(const BoxMode& mode);
+  void Enter(const Mode& mode);
   long nonzeros() const { return static_cast<long>(jacobian_.nonZeros()); }
 
   /// Consistent values for the mode: x moves by the least-norm correction
@@ -118,7 +119,7 @@ class LcsModeDae {
   SparseMatrix abs_C_, abs_D_;  // |C|, |D| entrywise, for RootMoves
   Eigen::VectorXd lower_, upper_;
 
-  BoxMode mode_;
+  Mode mode_;
   int passes_ = 0;
   AffineConstraints constraints_;  // Φ(x) = c + C x of the mode's passes
   SparseMatrix J0_;

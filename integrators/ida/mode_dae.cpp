@@ -51,11 +51,9 @@ void ModeDaeOptions::Validate() const {
 
 namespace {
 
-using internal::BoxMode;
-using internal::LcsModeDae;
-using internal::BoundState;
 using internal::FlagName;
 using internal::GuardedCallback;
+using internal::LcsModeDae;
 
 // The look-ahead step at a mode the modified LCP cannot place, as a fraction
 // of the horizon (the CVODE path's, event_driven.cpp).
@@ -161,17 +159,17 @@ class ModeDaeRun {
   bool HandleRoot(double t, const std::vector<int>& roots);
   double MissedRoot(std::vector<int>& roots);
   bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                  const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u);
+                  const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u);
   bool ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                   const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u);
-  bool ModeHolds(const BoxMode& mode, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                   const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u);
+  bool ModeHolds(const Mode& mode, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                  std::string& why);
-  bool LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, BoxMode& mode,
+  bool LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Mode& mode,
                      Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead, std::string& why);
-  std::string DescribeMode(const BoxMode& mode) const;
+  std::string DescribeMode(const Mode& mode) const;
   bool Restart(double t);
   bool RestartAtKeptRoot();
-  bool EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
+  bool EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
   bool Check(int flag, const char* call);
   bool FirstStepOverflows();
   bool ModeStillHolds();
@@ -209,7 +207,7 @@ class ModeDaeRun {
 
   double last_event_time_ = 0;
   int same_time_events_ = 0;
-  std::vector<BoxMode> modes_at_event_time_;
+  std::vector<Mode> modes_at_event_time_;
   long reduced_modes_ = 0;  // modes entered with rows differentiated
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
   std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
@@ -373,7 +371,7 @@ bool ModeDaeRun::RestartAtKeptRoot() {
 // rows' constraints, u from (5.8)), a fresh KLU analysis of the mode's
 // pattern, and IDA (re)started there — BDF restarts at order one, as the
 // solution is only continuous across the event.
-bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u) {
+bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u) {
   if (checked_at_x_ && dae_.mode() == mode) {
     // ChooseMode's check entered this mode at this x already.
     x = checked_x_;
@@ -434,7 +432,7 @@ bool ModeDaeRun::EnterMode(double t, const BoxMode& mode, Eigen::VectorXd& x, Ei
 // event itself its signs are still within the root finder's error of zero.
 // Neither holds: kNotIndexOne with both violations.
 bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                            const std::vector<bool>& leaving, BoxMode& mode, Eigen::VectorXd& u) {
+                            const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u) {
   checked_at_x_ = false;
   if (!ProposeMode(t, x, warm, leaving, mode, u)) return false;
   std::string proposed_why, ahead_why;
@@ -442,7 +440,7 @@ bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::Vec
     checked_at_x_ = true;
     return true;
   }
-  BoxMode ahead;
+  Mode ahead;
   Eigen::VectorXd x_ahead, u_ahead;
   if (LookAheadMode(t, x, u, ahead, x_ahead, u_ahead, ahead_why) &&
       ModeHolds(ahead, x_ahead, u_ahead, ahead_why)) {
@@ -458,8 +456,8 @@ bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::Vec
   return Fail(IntegrationStatus::kNotIndexOne, message.str());
 }
 
-bool ModeDaeRun::ModeHolds(const BoxMode& mode, const Eigen::VectorXd& x,
-                           const Eigen::VectorXd& u, std::string& why) {
+bool ModeDaeRun::ModeHolds(const Mode& mode, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                           std::string& why) {
   dae_.Enter(mode);
   checked_x_ = x;
   checked_u_ = u;
@@ -470,7 +468,7 @@ bool ModeDaeRun::ModeHolds(const BoxMode& mode, const Eigen::VectorXd& x,
 // One backward-Euler step ((7.2), θ = 0, γ = 1) of length δ from (t, x) to
 // (x_ahead, u_ahead), and the mode of u_ahead through the natural map.
 bool ModeDaeRun::LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                               BoxMode& mode, Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead,
+                               Mode& mode, Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead,
                                std::string& why) {
   const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
   if (!look_ahead_) {
@@ -490,16 +488,16 @@ bool ModeDaeRun::LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::
   look_ahead_->Mode(step, bounds);
   mode.resize(m_);
   for (int j = 0; j < m_; ++j)
-    mode[j] = bounds[j] < 0   ? BoundState::kLower
-              : bounds[j] > 0 ? BoundState::kUpper
-                              : BoundState::kFree;
+    mode[j] = bounds[j] < 0   ? MultiplierBound::kLower
+              : bounds[j] > 0 ? MultiplierBound::kUpper
+                              : MultiplierBound::kFree;
   x_ahead = std::move(step.x);
   u_ahead = std::move(step.u);
   return true;
 }
 
-std::string ModeDaeRun::DescribeMode(const BoxMode& mode) const {
-  return m_ <= 64 ? Describe(mode) + " (f free, l lower, u upper bound)"
+std::string ModeDaeRun::DescribeMode(const Mode& mode) const {
+  return m_ <= 64 ? ModeLetters(mode) + " (f free, l lower, u upper bound)"
                   : "of " + std::to_string(m_) + " components";
 }
 
@@ -510,8 +508,7 @@ std::string ModeDaeRun::DescribeMode(const BoxMode& mode) const {
 // u-rows) cannot be followed, so it goes back to its bound — the rate test
 // of a smooth solution of Sect. 5.3, taken one component at a time.
 bool ModeDaeRun::ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                             const std::vector<bool>& leaving, BoxMode& mode,
-                             Eigen::VectorXd& u) {
+                             const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u) {
   std::vector<bool> degenerate;
   std::string why;
   const IntegrationStatus selected =
@@ -523,9 +520,9 @@ bool ModeDaeRun::ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::Ve
     return Fail(selected, message.str());
   }
   if (std::find(degenerate.begin(), degenerate.end(), true) == degenerate.end()) return true;
-  const BoxMode at_bound = mode;
+  const Mode at_bound = mode;
   for (int j = 0; j < m_; ++j)
-    if (degenerate[j]) mode[j] = BoundState::kFree;
+    if (degenerate[j]) mode[j] = MultiplierBound::kFree;
   dae_.Enter(mode);
   Eigen::VectorXd x_free = x, u_free = u, rate;
   if (!dae_.MakeConsistent(x_free, u_free, why)) {
@@ -537,7 +534,7 @@ bool ModeDaeRun::ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::Ve
   const Eigen::VectorXd& upper = dae_.upper();
   for (int j = 0; j < m_; ++j) {
     if (!degenerate[j]) continue;
-    const bool outward = at_bound[j] == BoundState::kLower
+    const bool outward = at_bound[j] == MultiplierBound::kLower
                              ? u_free(j) - lower(j) <= u_tolerance_ && rate(j) < 0
                              : upper(j) - u_free(j) <= u_tolerance_ && rate(j) > 0;
     if (outward) mode[j] = at_bound[j];
@@ -546,7 +543,7 @@ bool ModeDaeRun::ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::Ve
 }
 
 bool ModeDaeRun::Start() {
-  BoxMode mode;
+  Mode mode;
   Eigen::VectorXd u;
   if (!ChooseMode(t0_, x0_, Eigen::VectorXd::Zero(m_), std::vector<bool>(m_, false), mode, u))
     return false;
@@ -562,13 +559,14 @@ bool ModeDaeRun::Start() {
 // it is (no event, IDA goes on); a real change is recorded, guarded against
 // chattering, and the integration restarts from consistent values.
 bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
-  const BoxMode old_mode = dae_.mode();
+  const Mode old_mode = dae_.mode();
   std::vector<bool> leaving(m_, false);
   for (int j = 0; j < m_; ++j)
-    leaving[j] = old_mode[j] != BoundState::kFree && (roots[2 * j] != 0 || roots[2 * j + 1] != 0);
+    leaving[j] =
+        old_mode[j] != MultiplierBound::kFree && (roots[2 * j] != 0 || roots[2 * j + 1] != 0);
   const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
   Eigen::VectorXd x = y.head(n_);
-  BoxMode mode;
+  Mode mode;
   Eigen::VectorXd u;
   if (!ChooseMode(t, x, y.tail(m_), leaving, mode, u)) return false;
   if (mode == old_mode) {  // ChooseMode left the DAE in it
@@ -596,9 +594,9 @@ bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
   modes_at_event_time_.push_back(mode);
   for (int j = 0; j < m_; ++j) {
     if (mode[j] == old_mode[j]) continue;
-    const EventKind kind = mode[j] == BoundState::kLower   ? EventKind::kReachedLower
-                           : mode[j] == BoundState::kUpper ? EventKind::kReachedUpper
-                                                          : EventKind::kLeftBound;
+    const EventKind kind = mode[j] == MultiplierBound::kLower   ? EventKind::kReachedLower
+                           : mode[j] == MultiplierBound::kUpper ? EventKind::kReachedUpper
+                                                                : EventKind::kLeftBound;
     trajectory_.events.push_back({t, kind, j});
   }
   if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
@@ -714,8 +712,8 @@ bool ModeDaeRun::ModeStillHolds() {
     std::ostringstream message;
     message << "mode-dae: at t = " << t_ << ", mode " << DescribeMode(dae_.mode())
             << " no longer holds and no root was crossed: "
-            << (dae_.mode()[k / 2] == BoundState::kFree ? "u_" : "w_") << k / 2 << " = "
-            << (dae_.mode()[k / 2] == BoundState::kFree ? y(n_ + k / 2) : roots_[k]);
+            << (dae_.mode()[k / 2] == MultiplierBound::kFree ? "u_" : "w_") << k / 2 << " = "
+            << (dae_.mode()[k / 2] == MultiplierBound::kFree ? y(n_ + k / 2) : roots_[k]);
     if (after_kept_mode) {
       // The run ends at the root, where the LCP still had this mode.
       message << "; the LCP has no solution beyond t = " << kept_mode_time_;

@@ -169,7 +169,7 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
       affine_(affine),
       affine_orthant_(affine && (lower_.array() == 0).all() &&
                       (upper_.array() == std::numeric_limits<double>::infinity()).all()),
-      mode_(dvi.m, BoundState::kFree),
+      mode_(dvi.m, MultiplierBound::kFree),
       u_(Eigen::VectorXd::Zero(dvi.m)) {
   if (!affine_) return;
   if (lcs) {
@@ -194,7 +194,7 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
   flow_.B = fu.sparseView(1, 0);
 }
 
-void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
+void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   mode_ = mode;
   free_.clear();
   reductions_.clear();
@@ -206,9 +206,9 @@ void BoxModeSystem::Enter(const BoxMode& mode, const Eigen::VectorXd& u) {
   anchored_ = false;
   u_ = u;
   for (int j = 0; j < m(); ++j) {
-    if (mode_[j] == BoundState::kFree) free_.push_back(j);
-    if (mode_[j] == BoundState::kLower) u_(j) = lower_(j);
-    if (mode_[j] == BoundState::kUpper) u_(j) = upper_(j);
+    if (mode_[j] == MultiplierBound::kFree) free_.push_back(j);
+    if (mode_[j] == MultiplierBound::kLower) u_(j) = lower_(j);
+    if (mode_[j] == MultiplierBound::kUpper) u_(j) = upper_(j);
   }
   // A mode with no free component is never split (Solve has nothing to do).
   if (affine_ && free_.empty()) AffineRootSlopes();
@@ -522,7 +522,7 @@ void BoxModeSystem::SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
     // Eigen's set-up per column of a few entries costs more than its products.
     if (!free_.empty()) newton_iterations_ += count;
     for (int j = 0; j < m(); ++j)
-      if (mode_[j] != BoundState::kFree) U.row(j).setConstant(u_(j));
+      if (mode_[j] != MultiplierBound::kFree) U.row(j).setConstant(u_(j));
     for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
       auto u = U.row(free_[i]);
       u.setConstant(map_offset_(i));
@@ -705,7 +705,7 @@ void BoxModeSystem::AffineRootSlopes() {
   const SparseMatrix C_rows = lcs_rows_.C.transpose();  // row j of C as column j
   Eigen::RowVectorXd gradient(n());
   for (int j = 0; j < m(); ++j) {
-    if (mode_[j] == BoundState::kFree) continue;
+    if (mode_[j] == MultiplierBound::kFree) continue;
     gradient.setZero();
     for (SparseMatrix::InnerIterator it(C_rows, j); it; ++it) gradient(it.row()) += it.value();
     for (int i = 0; i < a; ++i) gradient -= lcs_rows_.M.coeff(j, free_[i]) * K.row(i);
@@ -739,7 +739,7 @@ void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const E
   }
   Eigen::RowVectorXd dx(n());
   for (int j = 0; j < m(); ++j) {
-    if (mode_[j] == BoundState::kFree) continue;
+    if (mode_[j] == MultiplierBound::kFree) continue;
     dx = Fx.row(j);
     double dt = Ft(j);
     for (int i = 0; i < a; ++i) {
@@ -869,19 +869,19 @@ void BoxModeSystem::Roots(double t, const Eigen::VectorXd& x, double* g) const {
     g[2 * j] = 1;
     g[2 * j + 1] = 1;
     switch (mode_[j]) {
-      case BoundState::kFree:
+      case MultiplierBound::kFree:
         if (std::isfinite(lower_(j))) g[2 * j] = u_(j) - lower_(j);
         if (std::isfinite(upper_(j))) g[2 * j + 1] = upper_(j) - u_(j);
         break;
-      case BoundState::kLower:
-      case BoundState::kUpper:
+      case MultiplierBound::kLower:
+      case MultiplierBound::kUpper:
         // lower = upper fixes u_j: F_j is the equality's multiplier, of any sign.
         if (lower_(j) == upper_(j)) break;
         if (!have_F) {
           EvalF(t, x, u_, F);
           have_F = true;
         }
-        g[2 * j] = mode_[j] == BoundState::kLower ? F(j) : -F(j);
+        g[2 * j] = mode_[j] == MultiplierBound::kLower ? F(j) : -F(j);
         break;
     }
   }
@@ -952,7 +952,7 @@ Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorX
   const double allowed = tolerance + f_slack;
   // A bound row j holds where sign·F_j ≥ −allowed at every sample.
   const auto check = [&](int j, const auto& F_j) {
-    const double sign = mode_[j] == BoundState::kLower ? 1.0 : -1.0;
+    const double sign = mode_[j] == MultiplierBound::kLower ? 1.0 : -1.0;
     for (Eigen::Index k = 0; k < first; ++k)
       if (!(sign * F_j(k) >= -allowed)) first = k;
   };
@@ -961,7 +961,7 @@ Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorX
     // these few short rows (1000 samples of a 2-state Filippov system).
     Eigen::RowVectorXd F_j(U.cols());
     for (int j = 0; j < m(); ++j) {
-      if (mode_[j] == BoundState::kFree) continue;
+      if (mode_[j] == MultiplierBound::kFree) continue;
       F_j.setConstant(lcs_rows_.c(j));
       for (int i = 0; i < n(); ++i)
         if (dense_rows_.C(j, i) != 0) F_j += dense_rows_.C(j, i) * X.row(i);
@@ -985,7 +985,7 @@ Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorX
     }
   }
   for (int j = 0; j < m(); ++j)
-    if (mode_[j] != BoundState::kFree) check(j, W.row(j));
+    if (mode_[j] != MultiplierBound::kFree) check(j, W.row(j));
   return first == U.cols() ? -1 : first;
 }
 
@@ -1021,7 +1021,7 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
   if (U.rows() != m()) U.resize(m(), kMaxFloorDegree + 1);
   U.leftCols(q + 1).setZero();
   for (int j = 0; j < m(); ++j)
-    if (mode_[j] != BoundState::kFree) U(j, 0) = u_(j);
+    if (mode_[j] != MultiplierBound::kFree) U(j, 0) = u_(j);
   if (map_.size() > 0) {
     for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
       std::fill(p.begin(), p.end(), 0.0);
@@ -1062,7 +1062,7 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
   }
   for (int j = 0; j < m(); ++j) {
     // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
-    if (mode_[j] == BoundState::kFree || lower_(j) == upper_(j)) continue;
+    if (mode_[j] == MultiplierBound::kFree || lower_(j) == upper_(j)) continue;
     std::fill(p.begin(), p.end(), 0.0);
     if (dense) {
       add_product(dense_rows_.C.data() + j, dense_rows_.C.rows(), n(), taylor);
@@ -1071,7 +1071,7 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
       for (int k = 0; k <= q; ++k) p[k] = F_coefficients(j, k);
     }
     p[0] += lcs_rows_.c(j);
-    if (mode_[j] == BoundState::kUpper)
+    if (mode_[j] == MultiplierBound::kUpper)
       for (int k = 0; k <= q; ++k) p[k] = -p[k];
     below(-tolerance - f_slack);
   }
@@ -1083,12 +1083,12 @@ void BoxModeSystem::RootFloors(double f_slack, Eigen::VectorXd& floors) const {
   floors.setConstant(2 * m(), -std::numeric_limits<double>::infinity());
   for (int j = 0; j < m(); ++j) {
     switch (mode_[j]) {
-      case BoundState::kFree:
+      case MultiplierBound::kFree:
         if (std::isfinite(lower_(j))) floors(2 * j) = -tolerance;
         if (std::isfinite(upper_(j))) floors(2 * j + 1) = -tolerance;
         break;
-      case BoundState::kLower:
-      case BoundState::kUpper:
+      case MultiplierBound::kLower:
+      case MultiplierBound::kUpper:
         // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
         if (lower_(j) != upper_(j)) floors(2 * j) = -tolerance - f_slack;
         break;
@@ -1106,14 +1106,15 @@ bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,
   for (int k = 0; k < 2 * m(); ++k) {
     const int j = k / 2;
     // A bound row's F moves by up to |∂F_j/∂x|₁ times the state's error.
-    const double slack = state_error > 0 && mode_[j] != BoundState::kFree
+    const double slack = state_error > 0 && mode_[j] != MultiplierBound::kFree
                              ? Fx.row(j).lpNorm<1>() * state_error
                              : 0.0;
     if (g[k] >= -tolerance - slack) continue;
     if (why) {
       std::ostringstream message;
       message << "u_" << j
-              << (mode_[j] == BoundState::kFree ? " would leave its bounds (" : " at its bound has F of the wrong sign (")
+              << (mode_[j] == MultiplierBound::kFree ? " would leave its bounds ("
+                                                     : " at its bound has F of the wrong sign (")
               << g[k] << ")";
       *why = message.str();
     }
@@ -1134,11 +1135,11 @@ bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,
 // stiff the flow (x' = 10⁵ u, u = clamp(−x, −1, 1) leaves its bound at rate
 // 10⁵).
 bool BoxModeSystem::ResolveByRates(double t, const Eigen::VectorXd& x, const SolveResult& vi,
-                                   const std::vector<int>& near_bound, BoxMode& mode,
-                                   long* vi_solves, long* iterations) const {
+                                   const std::vector<int>& near_bound, Mode& mode, long* vi_solves,
+                                   long* iterations) const {
   std::vector<int> S;
   for (int j = 0; j < m(); ++j)
-    if (mode[j] == BoundState::kFree) S.push_back(j);
+    if (mode[j] == MultiplierBound::kFree) S.push_back(j);
   S.insert(S.end(), near_bound.begin(), near_bound.end());
   const int s = static_cast<int>(S.size());
   Eigen::VectorXd xdot(n());
@@ -1160,8 +1161,8 @@ bool BoxModeSystem::ResolveByRates(double t, const Eigen::VectorXd& x, const Sol
     const int j = S[a];
     q(a) = rate_fixed(j);
     for (int b = 0; b < s; ++b) M(a, b) = affine_ ? lcs_rows_.M.coeff(j, S[b]) : Fu(j, S[b]);
-    lower(a) = mode[j] == BoundState::kLower ? 0.0 : -kInfinity;
-    upper(a) = mode[j] == BoundState::kUpper ? 0.0 : kInfinity;
+    lower(a) = mode[j] == MultiplierBound::kLower ? 0.0 : -kInfinity;
+    upper(a) = mode[j] == MultiplierBound::kUpper ? 0.0 : kInfinity;
   }
   const SolveResult rates = dvi::Solve(
       BoxMcp::Affine(std::move(M), std::move(q), std::move(lower), std::move(upper)), solver_,
@@ -1172,12 +1173,12 @@ bool BoxModeSystem::ResolveByRates(double t, const Eigen::VectorXd& x, const Sol
   // Rates below this are the MLCP's round-off, not a direction.
   const double tolerance = kRateTolerance * (1 + rate_fixed.lpNorm<Eigen::Infinity>() +
                                               rates.z.lpNorm<Eigen::Infinity>());
-  BoxMode resolved = mode;
+  Mode resolved = mode;
   for (int a = s - static_cast<int>(near_bound.size()); a < s; ++a) {
     const int j = S[a];
-    const double sign = mode[j] == BoundState::kLower ? 1.0 : -1.0;
+    const double sign = mode[j] == MultiplierBound::kLower ? 1.0 : -1.0;
     if (sign * rates.z(a) > tolerance)
-      resolved[j] = BoundState::kFree;
+      resolved[j] = MultiplierBound::kFree;
     else if (sign * rates.w(a) <= tolerance)
       return false;
   }
@@ -1187,23 +1188,23 @@ bool BoxModeSystem::ResolveByRates(double t, const Eigen::VectorXd& x, const Sol
 
 BoxModeSystem::Selection BoxModeSystem::SelectMode(double t, const Eigen::VectorXd& x,
                                                    const SolveResult& vi, double delta,
-                                                   bool every_component, BoxMode& mode,
+                                                   bool every_component, Mode& mode,
                                                    long* vi_solves, long* iterations,
                                                    std::string* why) const {
   // Degeneracy tolerance: well above the VI's residual, well below the
   // O(delta) changes the look-ahead resolves.
   const double tolerance = 1e3 * solver_.tolerance;
-  mode.assign(m(), BoundState::kFree);
+  mode.assign(m(), MultiplierBound::kFree);
   std::vector<int> near_bound;
   for (int j = 0; j < m(); ++j) {
     const double to_lower = vi.z(j) - lower_(j), to_upper = upper_(j) - vi.z(j);
     if (lower_(j) == upper_(j)) {
-      mode[j] = BoundState::kLower;  // fixed: no mode to decide
+      mode[j] = MultiplierBound::kLower;  // fixed: no mode to decide
     } else if (to_lower <= tolerance && to_lower <= to_upper) {
-      mode[j] = BoundState::kLower;
+      mode[j] = MultiplierBound::kLower;
       if (vi.w(j) <= tolerance || every_component) near_bound.push_back(j);
     } else if (to_upper <= tolerance) {
-      mode[j] = BoundState::kUpper;
+      mode[j] = MultiplierBound::kUpper;
       if (vi.w(j) >= -tolerance || every_component) near_bound.push_back(j);
     } else if (every_component) {
       near_bound.push_back(j);
@@ -1221,7 +1222,7 @@ BoxModeSystem::Selection BoxModeSystem::SelectMode(double t, const Eigen::Vector
   Eigen::VectorXd xdot(n());
   dvi_.f(t, x, vi.z, xdot);
   Eigen::VectorXd x_ahead = x + delta * xdot;
-  BoxMode previous;
+  Mode previous;
   for (int iteration = 0; iteration < kMaxLookAheadIterations; ++iteration) {
     const SolveResult ahead = SolveVi(t + delta, x_ahead, vi.z);
     ++*vi_solves;
@@ -1233,15 +1234,15 @@ BoxModeSystem::Selection BoxModeSystem::SelectMode(double t, const Eigen::Vector
       if (why) *why = message.str();
       return Selection::kViNotSolved;
     }
-    BoxMode candidate = mode;
+    Mode candidate = mode;
     for (const int j : near_bound) {
       const double to_lower = ahead.z(j) - lower_(j), to_upper = upper_(j) - ahead.z(j);
       if (to_lower <= std::max(ahead.w(j), 0.0))
-        candidate[j] = BoundState::kLower;
+        candidate[j] = MultiplierBound::kLower;
       else if (to_upper <= std::max(-ahead.w(j), 0.0))
-        candidate[j] = BoundState::kUpper;
+        candidate[j] = MultiplierBound::kUpper;
       else
-        candidate[j] = BoundState::kFree;
+        candidate[j] = MultiplierBound::kFree;
     }
     if (iteration > 0 && candidate == previous) {
       mode = std::move(candidate);
@@ -1263,7 +1264,7 @@ BoxModeSystem::Selection BoxModeSystem::SelectMode(double t, const Eigen::Vector
 }
 
 bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
-                                      BoxMode& mode, Eigen::VectorXd& u, long* vi_solves,
+                                      Mode& mode, Eigen::VectorXd& u, long* vi_solves,
                                       long* iterations, std::string* why) const {
   if (affine_) return SelectReducedLcsMode(x, vi, mode, u, vi_solves, iterations, why);
   const double tolerance = 1e3 * solver_.tolerance;
@@ -1330,7 +1331,7 @@ bool BoxModeSystem::SelectReducedMode(double t, const Eigen::VectorXd& x, const 
 }
 
 bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi,
-                                         BoxMode& mode, Eigen::VectorXd& u, long* vi_solves,
+                                         Mode& mode, Eigen::VectorXd& u, long* vi_solves,
                                          long* iterations, std::string* why) const {
   const double tolerance = 1e3 * solver_.tolerance;
   AffineRows rows = lcs_rows_;
@@ -1401,15 +1402,15 @@ bool BoxModeSystem::SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveRe
   return false;
 }
 
-BoxMode BoxModeSystem::ModeOf(const Eigen::VectorXd& z) const {
+Mode BoxModeSystem::ModeOf(const Eigen::VectorXd& z) const {
   const double tolerance = 1e3 * solver_.tolerance;
-  BoxMode mode(m(), BoundState::kFree);
+  Mode mode(m(), MultiplierBound::kFree);
   for (int j = 0; j < m(); ++j) {
     const double to_lower = z(j) - lower_(j), to_upper = upper_(j) - z(j);
     if (to_lower <= tolerance && to_lower <= to_upper)
-      mode[j] = BoundState::kLower;
+      mode[j] = MultiplierBound::kLower;
     else if (to_upper <= tolerance)
-      mode[j] = BoundState::kUpper;
+      mode[j] = MultiplierBound::kUpper;
   }
   return mode;
 }

@@ -9,9 +9,9 @@
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/dvi_problem.hpp"
 #include "dvi/lcs.hpp"
+#include "dvi/mode.hpp"
 #include "dvi/solve_result.hpp"
 #include "dvi/solver_options.hpp"
-#include "modes/box_mode_state.hpp"
 #include "modes/mode_reduction.hpp"
 
 namespace dvi::internal {
@@ -62,10 +62,10 @@ class BoxModeSystem {
 
   int n() const { return dvi_.n; }
   int m() const { return dvi_.m; }
-  const BoxMode& mode() const { return mode_; }
+  const Mode& mode() const { return mode_; }
   /// Sets the mode and the Newton starting point. The rows are split (and
   /// the mode reduced if need be) at the next Solve, at its (t, x).
-  void Enter(const BoxMode& mode, const Eigen::VectorXd& u);
+  void Enter(const Mode& mode, const Eigen::VectorXd& u);
   /// True when the current mode is reduced by differentiation.
   bool reduced() const { return passes_ > 0 || !reductions_.empty(); }
   /// The multiplier of the last successful Solve.
@@ -179,7 +179,7 @@ class BoxModeSystem {
   /// alternating between modes (chattering).
   enum class Selection { kChosen, kViNotSolved, kChattering };
   Selection SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi, double delta,
-                       bool every_component, BoxMode& mode, long* vi_solves, long* iterations,
+                       bool every_component, Mode& mode, long* vi_solves, long* iterations,
                        std::string* why) const;
   /// Whether the current mode holds at (t, x) after Solve: every root
   /// function ≥ −tolerance (a free u within its bounds, a bound component's
@@ -197,8 +197,8 @@ class BoxModeSystem {
   /// reduced again (Sect. 5.4; a nonlinear F twice at most). False (with
   /// why) when no row is dependent,
   /// the modified VI is not solved, or the conditions fail.
-  bool SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi,
-                         BoxMode& mode, Eigen::VectorXd& u, long* vi_solves, long* iterations,
+  bool SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi, Mode& mode,
+                         Eigen::VectorXd& u, long* vi_solves, long* iterations,
                          std::string* why) const;
 
  private:
@@ -223,7 +223,7 @@ class BoxModeSystem {
   /// right derivative (v = u̇ and Ḟ, from the derivative MLCP). False when
   /// that MLCP is not solved or a component has both rates zero.
   bool ResolveByRates(double t, const Eigen::VectorXd& x, const SolveResult& vi,
-                      const std::vector<int>& near_bound, BoxMode& mode, long* vi_solves,
+                      const std::vector<int>& near_bound, Mode& mode, long* vi_solves,
                       long* iterations) const;
   /// Solves the box MCP, as LCP(F(0), ∂F/∂u) when F is affine on the orthant.
   SolveResult SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm,
@@ -269,12 +269,12 @@ class BoxModeSystem {
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
   /// SelectReducedMode for an LCS: passes on its matrices until the
   /// modified LCP's solution is strongly regular.
-  bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, BoxMode& mode,
+  bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, Mode& mode,
                             Eigen::VectorXd& u, long* vi_solves, long* iterations,
                             std::string* why) const;
   /// The mode of a VI solution z: a component within tolerance of a bound
   /// sits on it.
-  BoxMode ModeOf(const Eigen::VectorXd& z) const;
+  Mode ModeOf(const Eigen::VectorXd& z) const;
 
   const Dvi& dvi_;
   Eigen::VectorXd lower_;
@@ -282,7 +282,7 @@ class BoxModeSystem {
   SolverOptions solver_;
   bool affine_;
   bool affine_orthant_;
-  BoxMode mode_;
+  Mode mode_;
   std::vector<int> free_;
   // A nonlinear F: the passes of the differentiation procedure the current
   // mode needs, in order (none when F_u[A, A] is nonsingular).
