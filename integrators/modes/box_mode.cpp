@@ -11,6 +11,7 @@
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
+#include "forward_differences.hpp"
 #include "modes/polynomial_floor.hpp"
 
 namespace dvi::internal {
@@ -67,50 +68,6 @@ constexpr int kMaxNonlinearPasses = 2;
 // once its Newton no longer converges with it, so the slopes it gives
 // have drifted less than this between evaluations.
 constexpr double kSlopeMargin = 2;
-
-// Forward differences of g(t, x, u) in u and, when Jx is given, in x (rows
-// = g's dimension), from base = g(t, x, u), with the usual √ε relative
-// increment.
-void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Eigen::VectorXd& x,
-                        const Eigen::VectorXd& u, const Eigen::VectorXd& base,
-                        Eigen::MatrixXd* Jx, Eigen::MatrixXd& Ju) {
-  const double root_eps = std::sqrt(kEpsilon);
-  Eigen::VectorXd shifted(rows);
-  if (Jx) {
-    Eigen::VectorXd xs = x;
-    for (int k = 0; k < x.size(); ++k) {
-      const double step = root_eps * std::max(1.0, std::abs(x(k)));
-      xs(k) = x(k) + step;
-      g(t, xs, u, shifted);
-      Jx->col(k) = (shifted - base) / step;
-      xs(k) = x(k);
-    }
-  }
-  Eigen::VectorXd us = u;
-  for (int k = 0; k < u.size(); ++k) {
-    const double step = root_eps * std::max(1.0, std::abs(u(k)));
-    us(k) = u(k) + step;
-    g(t, x, us, shifted);
-    Ju.col(k) = (shifted - base) / step;
-    us(k) = u(k);
-  }
-}
-
-// g's Jacobians in x and u (rows = g's dimension): g_jacobian's when given,
-// else forward differences from g at (t, x, u).
-void Jacobians(const TimeStateFunction& g, const TimeStateJacobian& g_jacobian, int rows, double t,
-               const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::MatrixXd& Jx,
-               Eigen::MatrixXd& Ju) {
-  Jx.resize(rows, x.size());
-  Ju.resize(rows, u.size());
-  if (g_jacobian) {
-    g_jacobian(t, x, u, Jx, Ju);
-    return;
-  }
-  Eigen::VectorXd base(rows);
-  g(t, x, u, base);
-  ForwardDifferences(g, rows, t, x, u, base, &Jx, Ju);
-}
 
 // Whether an LU's matrix is nonsingular: its reciprocal condition number
 // above a·ε. Eigen's estimate of it costs several solves with allocations,
