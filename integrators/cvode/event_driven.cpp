@@ -857,7 +857,7 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   IntegrationStats& stats = trajectory_.stats;
   const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
   const MatrixClassVerdict regular =
-      IsStronglyRegular(system_.MultiplierJacobian(t, x, vi.z), vi.index_sets);
+      IsStronglyRegular(system_.problem().MultiplierJacobian(t, x, vi.z), vi.index_sets);
   const Eigen::VectorXd x_event = x;
   std::string reduced_why;
   if (!regular.holds) {
@@ -871,10 +871,10 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
     x = x_event;
   }
   std::string look_ahead_why;
-  const BoxModeSystem::Selection selection =
-      system_.SelectMode(t, x, vi, delta, !regular.holds, mode, &stats.vi_solves,
-                         &stats.solver_iterations, &look_ahead_why);
-  if (selection == BoxModeSystem::Selection::kChosen &&
+  const internal::Selection selection =
+      internal::SelectMode(system_.problem(), t, x, vi, delta, !regular.holds, mode,
+                           &stats.vi_solves, &stats.solver_iterations, &look_ahead_why);
+  if (selection == internal::Selection::kChosen &&
       TryMode(t, x, mode, vi.z, look_ahead_why)) {
     if (!regular.holds) ++look_ahead_selections_;
     return true;
@@ -885,7 +885,7 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
     // An unsolved look-ahead VI is a numerical failure, not evidence of
     // chattering.
     message << "mode " << ModeLetters(mode) << ": " << look_ahead_why;
-    return Fail(selection == BoxModeSystem::Selection::kViNotSolved
+    return Fail(selection == internal::Selection::kViNotSolved
                     ? IntegrationStatus::kStepFailure
                     : IntegrationStatus::kEventAccumulation,
                 message.str());
@@ -905,7 +905,7 @@ bool EventDrivenRun::Start() {
     return true;
   }
   const Eigen::VectorXd warm = Eigen::VectorXd::Zero(dvi_.m);
-  const SolveResult vi = system_.SolveVi(t0_, x0_, warm);
+  const SolveResult vi = system_.problem().SolveVi(t0_, x0_, warm);
   ++stats.vi_solves;
   stats.solver_iterations += vi.iterations;
   stats.max_residual = std::max(stats.max_residual, vi.residual);
@@ -918,7 +918,7 @@ bool EventDrivenRun::Start() {
   // Index one at (t0, x0, u0): Theorem 5.1 (uniformly P) or Sect. 5.3
   // (strongly regular); otherwise the mode comes from ChooseMode's look-ahead
   // or from the differentiation procedure (Theorem 5.3).
-  const Eigen::MatrixXd Fu = system_.MultiplierJacobian(t0_, x0_, vi.z);
+  const Eigen::MatrixXd Fu = system_.problem().MultiplierJacobian(t0_, x0_, vi.z);
   if (IsPMatrix(Fu).holds)
     index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + Format(t0_) + " (Theorem 5.1)";
   else if (IsStronglyRegular(Fu, vi.index_sets).holds)
@@ -970,7 +970,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     system_.Project(t, x, correction, nullptr);
     x += correction;
   }
-  SolveResult vi = system_.SolveVi(t, x, system_.u());
+  SolveResult vi = system_.problem().SolveVi(t, x, system_.u());
   if (!vi.solved()) {
     // The root's state carries CVODE's error and x' times the root's time
     // tolerance (100 ε (|t| + |h|)): x crossed a state constraint by up to
@@ -990,7 +990,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     if (slack > options_.solver.tolerance) {
       ++stats.vi_solves;
       stats.solver_iterations += vi.iterations;
-      vi = system_.SolveVi(t, x, system_.u(), slack);
+      vi = system_.problem().SolveVi(t, x, system_.u(), slack);
     }
   }
   ++stats.vi_solves;

@@ -83,7 +83,7 @@ bool IndexOneRhs::Impl::Select(double t, const Eigen::VectorXd& x) {
     mode_solved = true;
     return true;
   }
-  const SolveResult vi = system.SolveVi(t, x, u);
+  const SolveResult vi = system.problem().SolveVi(t, x, u);
   ++stats.vi_solves;
   if (!vi.solved()) {
     std::ostringstream text;

@@ -12,7 +12,9 @@
 #include "dvi/mode.hpp"
 #include "dvi/solve_result.hpp"
 #include "dvi/solver_options.hpp"
+#include "modes/mode_problem.hpp"
 #include "modes/mode_reduction.hpp"
+#include "modes/mode_selection.hpp"
 
 namespace dvi::internal {
 
@@ -40,28 +42,17 @@ namespace dvi::internal {
 /// bound one −F_j (the sign that holds it there); the other slots are 1.
 /// The multiplier of the last evaluation, moved along the mode's tangent
 /// du/dx, starts the next Newton solve.
-/// lcs_rows_ as checks of many samples use them: C and M dense when small
-/// (else empty), and max_i |C_i|₁.
-struct DenseAffineRows {
-  Eigen::MatrixXd C;
-  Eigen::MatrixXd M;
-  double max_row_sum = 0;
-};
 
 class BoxModeSystem {
  public:
-  /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: the
-  /// DVI is an LCS (f and F affine in (x, u), time-invariant), so the VIs at
-  /// events are LCPs where K is the orthant (Lemke backs up Newton at the
-  /// degenerate points events sit on) and modes reduce by matrices. lcs:
-  /// the LCS that dvi is (Lcs::ToDvi, K a box), whose sparse matrices are
-  /// then taken as they are instead of densely from dvi's Jacobians, so
-  /// that no n×n dense matrix is formed. @pre lcs == nullptr or affine.
+  /// The arguments are ModeProblem's.
   BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::VectorXd upper,
                 const SolverOptions& solver, bool affine, const Lcs* lcs = nullptr);
 
-  int n() const { return dvi_.n; }
-  int m() const { return dvi_.m; }
+  int n() const { return problem_.n(); }
+  int m() const { return problem_.m(); }
+  /// The problem every mode shares: F, its derivatives, the full VI.
+  const ModeProblem& problem() const { return problem_; }
   const Mode& mode() const { return mode_; }
   /// Sets the mode and the Newton starting point. The rows are split (and
   /// the mode reduced if need be) at the next Solve, at its (t, x).
@@ -96,11 +87,9 @@ class BoxModeSystem {
   /// component, trivially). Its root functions are then polynomials in t
   /// along a step's interpolant.
   bool CoversSteps() const {
-    return affine_ && (free_.empty() || (rows_split_ && mode_regular_));
+    return affine() && (free_.empty() || (rows_split_ && mode_regular_));
   }
-  /// Whether the LCS's rows are small enough to be kept dense (checks of
-  /// samples and steps by plain products).
-  bool HasDenseRows() const { return dense_rows_.C.size() > 0; }
+  bool HasDenseRows() const { return problem_.HasDenseRows(); }
   /// The violations of FirstViolation, over a whole step [t_n − h, t_n]
   /// whose x is Σ_k taylor.col(k) (t − t_n)ᵏ instead of at samples: a root
   /// function that dips below its tolerance between the step's ends (a
@@ -126,9 +115,7 @@ class BoxModeSystem {
   /// allow (stale slopes: one taken where it was stationary).
   bool StepClearOfBounds(const double* g_start, const double* g_end, const Eigen::VectorXd& dx,
                          double h) const;
-  /// Whether the DVI is an LCS (its modes' root functions have x's degree
-  /// along a step).
-  bool affine() const { return affine_; }
+  bool affine() const { return problem_.affine(); }
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
   /// f_x + f_u du/dx at (t, x, u(t, x)); false when G_u is singular. For a
@@ -156,58 +143,22 @@ class BoxModeSystem {
   void Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd& correction,
                Eigen::VectorXd* err) const;
 
-  /// Solves the full VI at (t, x) as the box MCP, warm-started, to the
-  /// solver's tolerance or, when given (> 0), to `tolerance`.
-  SolveResult SolveVi(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
-                      double tolerance = 0) const;
   /// max_j |∂F_j/∂x|₁ · state_error at (t, x, u()): how far an error of
   /// state_error in x (∞-norm) moves F.
   double FSlack(double t, const Eigen::VectorXd& x, double state_error) const;
-  /// ∂F/∂u at (t, x, u).
-  Eigen::MatrixXd MultiplierJacobian(double t, const Eigen::VectorXd& x,
-                                     const Eigen::VectorXd& u) const;
-  /// The mode of the VI solution vi at (t, x). A component within the
-  /// degeneracy tolerance of a bound (the β set of Sect. 5.3 and its
-  /// neighbours) takes the mode its rates give (ResolveByRates) when vi is
-  /// strongly regular and they decide; otherwise — and for every component
-  /// when vi is not unique (not strongly regular), since then vi.z is only
-  /// one of many — the mode it has
-  /// after a backward-Euler look-ahead step of length delta, solved by
-  /// fixed-point iteration until two iterates agree on the mode. The
-  /// look-ahead solves are added to *vi_solves and *iterations. Otherwise
-  /// (with why) a look-ahead VI was not solved, or the iterates keep
-  /// alternating between modes (chattering).
-  enum class Selection { kChosen, kViNotSolved, kChattering };
-  Selection SelectMode(double t, const Eigen::VectorXd& x, const SolveResult& vi, double delta,
-                       bool every_component, Mode& mode, long* vi_solves, long* iterations,
-                       std::string* why) const;
   /// Whether the current mode holds at (t, x) after Solve: every root
   /// function ≥ −tolerance (a free u within its bounds, a bound component's
   /// F of the right sign), a bound F also within what an error of
   /// state_error in x (∞-norm) moves it. False names the first violation.
   bool Holds(double t, const Eigen::VectorXd& x, std::string* why,
              double state_error = 0) const;
-  /// The mode at (t, x) by the differentiation procedure (Sect. 5.4): the
-  /// components S where F vanishes at the VI solution vi are split into
-  /// independent and dependent rows, the dependent u-free combinations are
-  /// differentiated along the flow, and the modified VI is solved. Its
-  /// solution must be strongly regular — (5.8) nonsingular and the Schur
-  /// complement (5.9) a P-matrix, Theorems 5.2/5.3 — and becomes the new
-  /// mode and u. A modified VI whose solution is not strongly regular is
-  /// reduced again (Sect. 5.4; a nonlinear F twice at most). False (with
-  /// why) when no row is dependent,
-  /// the modified VI is not solved, or the conditions fail.
+  /// mode_selection.hpp's SelectReducedMode, its LCS passes kept for the
+  /// next Enter of the mode it selects.
   bool SelectReducedMode(double t, const Eigen::VectorXd& x, const SolveResult& vi, Mode& mode,
                          Eigen::VectorXd& u, long* vi_solves, long* iterations,
-                         std::string* why) const;
+                         std::string* why);
 
  private:
-  void EvalF(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-             Eigen::VectorXd& out) const;
-  void FJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                  Eigen::MatrixXd& Fx, Eigen::MatrixXd& Fu) const;
-  void SmallFJacobians(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                       Eigen::MatrixXd& fx, Eigen::MatrixXd& fu) const;
   /// An LCS mode's root slopes, constant in it: u_α's gradients are the
   /// rows of K = −G_u⁻¹ C_α, a bound row's F_j's C_j + M_jα K.
   void AffineRootSlopes();
@@ -218,34 +169,6 @@ class BoxModeSystem {
   void UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
                         const Eigen::MatrixXd& Fu, const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
                         const Eigen::MatrixXd& K) const;
-  /// SelectMode's first choice for the components near_bound (β) of a
-  /// strongly regular vi: each leaves or keeps its bound by the sign of its
-  /// right derivative (v = u̇ and Ḟ, from the derivative MLCP). False when
-  /// that MLCP is not solved or a component has both rates zero.
-  bool ResolveByRates(double t, const Eigen::VectorXd& x, const SolveResult& vi,
-                      const std::vector<int>& near_bound, Mode& mode, long* vi_solves,
-                      long* iterations) const;
-  /// Solves the box MCP, as LCP(F(0), ∂F/∂u) when F is affine on the orthant.
-  SolveResult SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm,
-                              double tolerance = 0) const;
-  /// ∂F/∂t: the given function, else forward differences.
-  void FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                       Eigen::VectorXd& Ft) const;
-  /// G^k of the differentiation procedure repeated ([Seed] Sect. 5.4): F
-  /// (k = 0) with the dependent rows of passes 1…k each replaced by the
-  /// derivative of its u-free combination along the flow,
-  /// Φ̇ = P (∂G^{k−1}/∂t + ∂G^{k−1}/∂x f). Pass 1 takes F's Jacobians
-  /// (Theorem 5.2), a later pass central differences of G^{k−1} (CentralRate).
-  /// Gu = ∂G^k/∂u, its differentiated rows P ∂G^{k−1}/∂x f_u (the rows of
-  /// (5.8)); Gx ≈ ∂G^k/∂x, those rows P ∂G^{k−1}/∂x f_x (second derivatives
-  /// dropped: only CVODE's Newton sees it). m rows.
-  void PassRows(const std::vector<RowReduction>& reductions, int k, double t,
-                const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& G,
-                Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const;
-  /// ∂G^k/∂t dt + ∂G^k/∂x dx at (t, x, u) by central differences.
-  Eigen::VectorXd CentralRate(const std::vector<RowReduction>& reductions, int k, double t,
-                              const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
-                              const Eigen::VectorXd& dx) const;
   /// The mode equations G(t, x, u) on the free components and, when given,
   /// G_u (a×a) and G_x (a×n).
   void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
@@ -267,43 +190,18 @@ class BoxModeSystem {
   /// Newton's iterate as u(t, x), the anchor of the next start.
   void Accept(double t, const Eigen::VectorXd& x);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
-  /// SelectReducedMode for an LCS: passes on its matrices until the
-  /// modified LCP's solution is strongly regular.
-  bool SelectReducedLcsMode(const Eigen::VectorXd& x, const SolveResult& vi, Mode& mode,
-                            Eigen::VectorXd& u, long* vi_solves, long* iterations,
-                            std::string* why) const;
-  /// The mode of a VI solution z: a component within tolerance of a bound
-  /// sits on it.
-  Mode ModeOf(const Eigen::VectorXd& z) const;
 
-  const Dvi& dvi_;
-  Eigen::VectorXd lower_;
-  Eigen::VectorXd upper_;
-  SolverOptions solver_;
-  bool affine_;
-  bool affine_orthant_;
+  ModeProblem problem_;
   Mode mode_;
   std::vector<int> free_;
   // A nonlinear F: the passes of the differentiation procedure the current
   // mode needs, in order (none when F_u[A, A] is nonsingular).
   std::vector<RowReduction> reductions_;
   bool rows_split_ = false;  // the mode's reductions computed
-  // An LCS: its matrices, and the current mode's rows and constraints after
-  // passes_ passes of the differentiation procedure.
-  AffineFlow flow_;
-  AffineRows lcs_rows_;
-  DenseAffineRows dense_rows_;  // for FirstViolation and FSlack
+  // An LCS: the current mode's constraints after passes_ passes of the
+  // differentiation procedure.
   AffineConstraints mode_constraints_;
-  // SelectReducedLcsMode's passes on the rows S with u_rest off them, for
-  // SplitRows entering the mode it selected (none: passes == 0).
-  struct ReductionMemo {
-    std::vector<int> S;
-    Eigen::VectorXd u_rest;
-    AffineRows rows;
-    AffineConstraints constraints;
-    int passes = 0;
-  };
-  mutable ReductionMemo reduction_memo_;
+  ReductionMemo reduction_memo_;  // SelectReducedMode's, for SplitRows
   Eigen::LDLT<Eigen::MatrixXd> constraint_gram_;  // of mode_constraints_.C
   mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
   Eigen::VectorXd scratch_x_;  // a column of SolveColumns

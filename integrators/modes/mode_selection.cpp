@@ -1,0 +1,301 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "modes/mode_selection.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+#include "dvi/matrix_classes.hpp"
+#include "dvi/solve.hpp"
+
+namespace dvi::internal {
+namespace {
+
+// Fixed-point iterations of the look-ahead step at an event.
+constexpr int kMaxLookAheadIterations = 6;
+// ResolveByRates: a rate below this, relative to the rates' scale, is zero
+// (forward-difference Jacobians and ∂F/∂t carry √ε ≈ 1.5e-8 relative).
+constexpr double kRateTolerance = 1e-6;
+
+// At a strongly regular u (Sect. 5.3) u(t) is Lipschitz along the flow
+// and has a right derivative v = u̇, the solution of the derivative MLCP on
+// the components not strongly held at a bound (Robinson's sensitivity of a
+// strongly regular solution): with ẋ = f(t, x, u) and Ḟ = ∂F/∂t + F_x ẋ + F_u v,
+// Ḟ_j = 0 for j free, and for j ∈ β at its lower bound 0 ≤ v_j ⊥ Ḟ_j ≥ 0
+// (at its upper bound v_j ≤ 0, Ḟ_j ≤ 0); v_j = 0 on the others. A β
+// component leaves its bound when v_j ≠ 0 and stays when Ḟ_j ≠ 0; with both
+// 0 the first order does not decide and the look-ahead does. Unlike the
+// look-ahead, whose fixed-point iteration needs δ L < 1, this holds however
+// stiff the flow (x' = 10⁵ u, u = clamp(−x, −1, 1) leaves its bound at rate
+// 10⁵).
+bool ResolveByRates(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
+                    const SolveResult& vi, const std::vector<int>& near_bound, Mode& mode,
+                    long* vi_solves, long* iterations) {
+  std::vector<int> S;
+  for (int j = 0; j < problem.m(); ++j)
+    if (mode[j] == MultiplierBound::kFree) S.push_back(j);
+  S.insert(S.end(), near_bound.begin(), near_bound.end());
+  const int s = static_cast<int>(S.size());
+  Eigen::VectorXd xdot(problem.n());
+  problem.dvi().f(t, x, vi.z, xdot);
+  Eigen::VectorXd rate_fixed;  // Ḟ with v = 0
+  Eigen::MatrixXd Fu;
+  if (problem.affine()) {  // the LCS's sparse C and D: no dense m×n F_x for a large circuit
+    rate_fixed = problem.lcs_rows().C * xdot;
+  } else {
+    Eigen::MatrixXd Fx;
+    problem.FJacobians(t, x, vi.z, Fx, Fu);
+    problem.FTimeDerivative(t, x, vi.z, rate_fixed);
+    rate_fixed += Fx * xdot;
+  }
+  Eigen::MatrixXd M(s, s);
+  Eigen::VectorXd q(s), lower(s), upper(s);
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < s; ++a) {
+    const int j = S[a];
+    q(a) = rate_fixed(j);
+    for (int b = 0; b < s; ++b) M(a, b) = problem.affine() ? problem.lcs_rows().M.coeff(j, S[b]) : Fu(j, S[b]);
+    lower(a) = mode[j] == MultiplierBound::kLower ? 0.0 : -kInfinity;
+    upper(a) = mode[j] == MultiplierBound::kUpper ? 0.0 : kInfinity;
+  }
+  const SolveResult rates = dvi::Solve(
+      BoxMcp::Affine(std::move(M), std::move(q), std::move(lower), std::move(upper)), problem.solver(),
+      Eigen::VectorXd::Zero(s));
+  ++*vi_solves;
+  *iterations += rates.iterations;
+  if (!rates.solved()) return false;
+  // Rates below this are the MLCP's round-off, not a direction.
+  const double tolerance = kRateTolerance * (1 + rate_fixed.lpNorm<Eigen::Infinity>() +
+                                              rates.z.lpNorm<Eigen::Infinity>());
+  Mode resolved = mode;
+  for (int a = s - static_cast<int>(near_bound.size()); a < s; ++a) {
+    const int j = S[a];
+    const double sign = mode[j] == MultiplierBound::kLower ? 1.0 : -1.0;
+    if (sign * rates.z(a) > tolerance)
+      resolved[j] = MultiplierBound::kFree;
+    else if (sign * rates.w(a) <= tolerance)
+      return false;
+  }
+  mode = std::move(resolved);
+  return true;
+}
+
+// SelectReducedMode for an LCS: passes on its matrices until the modified
+// LCP's solution is strongly regular.
+bool SelectReducedLcsMode(const ModeProblem& problem, const Eigen::VectorXd& x,
+                          const SolveResult& vi, Mode& mode, Eigen::VectorXd& u, long* vi_solves,
+                          long* iterations, std::string* why, ReductionMemo& memo) {
+  const double tolerance = problem.BoundTolerance();
+  AffineRows rows = problem.lcs_rows();
+  AffineConstraints constraints{Eigen::VectorXd(0), SparseMatrix(0, problem.n())};
+  // The LCP whose vanishing rows a pass reduces: vi, then the last pass's
+  // modified one (held, not copied: an event is on the hot path).
+  const SolveResult* current = &vi;
+  SolveResult previous;
+  std::string failure;
+  // Left for SplitRows while every pass has the same S and u off S.
+  memo.passes = 0;
+  bool memoizable = true;
+  for (int pass = 1; pass <= problem.n() + 1; ++pass) {
+    // S = α ∪ β of the current LCP: the rows that vanish at its solution.
+    std::vector<int> S;
+    for (int j = 0; j < problem.m(); ++j)
+      if (std::abs(current->w(j)) <= tolerance) S.push_back(j);
+    Eigen::VectorXd u_rest = ZeroedOn(current->z, S);
+    if (pass == 1) {
+      memo.S = S;
+      memo.u_rest = std::move(u_rest);
+    } else {
+      memoizable = memoizable && S == memo.S && u_rest == memo.u_rest;
+    }
+    // Messages are formed on failure only: an event is on the hot path.
+    const auto at_pass = [pass] {
+      return "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " + std::to_string(pass) +
+             ": ";
+    };
+    if (!DifferentiateDependentRows(problem.flow(), S, current->z, rows, constraints)) {
+      std::ostringstream message;
+      message << at_pass() << "no row of the LCP is dependent where it vanishes"
+              << (pass == 1 ? "" : ", after " + failure);
+      if (why) *why = message.str();
+      return false;
+    }
+    // The modified LCS of Sect. 5.4 at x.
+    SolveResult modified =
+        problem.SolveBoxProblem(BoxMcp::Affine(Eigen::MatrixXd(rows.M), rows.c + rows.C * x, problem.lower(), problem.upper()),
+                        current->z);
+    ++*vi_solves;
+    *iterations += modified.iterations;
+    if (!modified.solved()) {
+      std::ostringstream message;
+      message << at_pass() << "the modified LCP is not solved (" << ToString(modified.status)
+              << ", residual " << modified.residual << ")";
+      if (why) *why = message.str();
+      return false;
+    }
+    const MatrixClassVerdict regular =
+        IsStronglyRegular(Eigen::MatrixXd(rows.M), modified.index_sets);
+    if (regular.holds) {
+      mode = problem.ModeOf(modified.z);
+      u = modified.z;
+      if (memoizable) {
+        memo.rows.swap(rows);
+        memo.constraints.swap(constraints);
+        memo.passes = pass;
+      }
+      return true;
+    }
+    failure = at_pass() + "its solution is not strongly regular (" + regular.reason + ")";
+    previous = std::move(modified);
+    current = &previous;
+  }
+  if (why) *why = failure;
+  return false;
+}
+
+}  // namespace
+
+Selection SelectMode(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
+                     const SolveResult& vi, double delta, bool every_component, Mode& mode,
+                     long* vi_solves, long* iterations, std::string* why) {
+  // Degeneracy tolerance: well above the VI's residual, well below the
+  // O(delta) changes the look-ahead resolves.
+  const double tolerance = problem.BoundTolerance();
+  mode.assign(problem.m(), MultiplierBound::kFree);
+  std::vector<int> near_bound;
+  for (int j = 0; j < problem.m(); ++j) {
+    const double to_lower = vi.z(j) - problem.lower()(j), to_upper = problem.upper()(j) - vi.z(j);
+    if (problem.lower()(j) == problem.upper()(j)) {
+      mode[j] = MultiplierBound::kLower;  // fixed: no mode to decide
+    } else if (to_lower <= tolerance && to_lower <= to_upper) {
+      mode[j] = MultiplierBound::kLower;
+      if (vi.w(j) <= tolerance || every_component) near_bound.push_back(j);
+    } else if (to_upper <= tolerance) {
+      mode[j] = MultiplierBound::kUpper;
+      if (vi.w(j) >= -tolerance || every_component) near_bound.push_back(j);
+    } else if (every_component) {
+      near_bound.push_back(j);
+    }
+  }
+  if (near_bound.empty()) return Selection::kChosen;
+  if (!every_component && ResolveByRates(problem, t, x, vi, near_bound, mode, vi_solves, iterations))
+    return Selection::kChosen;
+  // Look-ahead: the backward-Euler step x_δ = x + δ f(t + δ, x_δ, u_δ),
+  // u_δ ∈ SOL(K, F(t + δ, x_δ, ·)), by fixed-point iteration from the forward
+  // Euler guess. Under index one u is Lipschitz, the iteration contracts and
+  // the modes of two successive iterates agree; when they keep alternating,
+  // no mode is consistent with its own flow (sliding along a switching
+  // surface, where ∂F/∂u is not P): the solution would chatter.
+  Eigen::VectorXd xdot(problem.n());
+  problem.dvi().f(t, x, vi.z, xdot);
+  Eigen::VectorXd x_ahead = x + delta * xdot;
+  Mode previous;
+  for (int iteration = 0; iteration < kMaxLookAheadIterations; ++iteration) {
+    const SolveResult ahead = problem.SolveVi(t + delta, x_ahead, vi.z);
+    ++*vi_solves;
+    *iterations += ahead.iterations;
+    if (!ahead.solved()) {
+      std::ostringstream message;
+      message << "the look-ahead VI at t = " << t + delta << " is not solved ("
+              << ToString(ahead.status) << ", residual " << ahead.residual << ")";
+      if (why) *why = message.str();
+      return Selection::kViNotSolved;
+    }
+    Mode candidate = mode;
+    for (const int j : near_bound) {
+      const double to_lower = ahead.z(j) - problem.lower()(j), to_upper = problem.upper()(j) - ahead.z(j);
+      if (to_lower <= std::max(ahead.w(j), 0.0))
+        candidate[j] = MultiplierBound::kLower;
+      else if (to_upper <= std::max(-ahead.w(j), 0.0))
+        candidate[j] = MultiplierBound::kUpper;
+      else
+        candidate[j] = MultiplierBound::kFree;
+    }
+    if (iteration > 0 && candidate == previous) {
+      mode = std::move(candidate);
+      return Selection::kChosen;
+    }
+    previous = std::move(candidate);
+    problem.dvi().f(t + delta, x_ahead, ahead.z, xdot);
+    x_ahead = x + delta * xdot;
+  }
+  if (why) {
+    std::ostringstream message;
+    message << "chattering: no mode of the components at their bounds is consistent with its "
+               "own flow over [t, t + "
+            << delta << "] (the solution would slide along a switching surface; ∂F/∂u is "
+            << "not a P-matrix there)";
+    *why = message.str();
+  }
+  return Selection::kChattering;
+}
+
+bool SelectReducedMode(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
+                       const SolveResult& vi, Mode& mode, Eigen::VectorXd& u, long* vi_solves,
+                       long* iterations, std::string* why, ReductionMemo& memo) {
+  if (problem.affine())
+    return SelectReducedLcsMode(problem, x, vi, mode, u, vi_solves, iterations, why, memo);
+  const double tolerance = problem.BoundTolerance();
+  std::vector<RowReduction> reductions;
+  SolveResult current = vi;
+  std::string failure;
+  for (int pass = 1; pass <= kMaxNonlinearPasses; ++pass) {
+    // S = α ∪ β of the current VI: the components where its rows vanish.
+    std::vector<int> S;
+    for (int j = 0; j < problem.m(); ++j)
+      if (std::abs(current.w(j)) <= tolerance) S.push_back(j);
+    Eigen::VectorXd G;
+    Eigen::MatrixXd Gu;
+    problem.PassRows(reductions, pass - 1, t, x, current.z, G, &Gu, nullptr);
+    RowReduction reduction = ReduceRows(Gu.sparseView(1, 0), S);
+    std::ostringstream message;
+    message << "differentiation procedure (Theorem 5.2, Sect. 5.4), pass " << pass << ": ";
+    if (reduction.empty()) {
+      message << "the rows of ∂F/∂u where F vanishes are linearly independent"
+              << (pass == 1 ? "" : ", after " + failure);
+      if (why) *why = message.str();
+      return false;
+    }
+    message << reduction.differentiated.size() << " dependent row(s); ";
+    reductions.push_back(std::move(reduction));
+    // The modified VI of Sect. 5.4: the dependent rows replaced by Φ̇.
+    BoxMcp mcp;
+    mcp.lower = problem.lower();
+    mcp.upper = problem.upper();
+    mcp.F = [&problem, &reductions, pass, t, &x](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
+      problem.PassRows(reductions, pass, t, x, z, w, nullptr, nullptr);
+    };
+    mcp.jacobian = [&problem, &reductions, pass, t, &x](const Eigen::VectorXd& z,
+                                                     Eigen::MatrixXd& J) {
+      Eigen::VectorXd w;
+      problem.PassRows(reductions, pass, t, x, z, w, &J, nullptr);
+    };
+    const SolveResult modified = problem.SolveBoxProblem(mcp, current.z);
+    ++*vi_solves;
+    *iterations += modified.iterations;
+    if (!modified.solved()) {
+      message << "the modified VI is not solved (" << ToString(modified.status) << ", residual "
+              << modified.residual << ")";
+      if (why) *why = message.str();
+      return false;
+    }
+    Eigen::MatrixXd J;
+    mcp.jacobian(modified.z, J);
+    const MatrixClassVerdict regular = IsStronglyRegular(J, modified.index_sets);
+    if (regular.holds) {
+      mode = problem.ModeOf(modified.z);
+      u = modified.z;
+      return true;
+    }
+    failure = message.str() + "its solution is not strongly regular, (5.8) singular or (5.9) " +
+              "not a P-matrix (" + regular.reason + ")";
+    current = modified;
+  }
+  if (why)
+    *why = failure + "; a nonlinear F is differentiated at most " +
+           std::to_string(kMaxNonlinearPasses) + " times";
+  return false;
+}
+
+}  // namespace dvi::internal
