@@ -151,6 +151,14 @@ void RowCertifier::Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
     F_(step->t_next, *step->x_next, *step->u_next, F_end_);
     F_(step->t_next, *step->x_previous, *step->u_next, F_start_);
     moved_ = (F_value_ - F_end_).cwiseAbs() + (F_end_ - F_start_).cwiseAbs();
+    // A row whose u is not its step's own (γ < 1 writes γu^{i+1} +
+    // (1−γ)u^i) is off also by that distance δ: for a box u_j − Π(u − F)_j
+    // = clamp(F_j, u_j − upper_j, u_j − lower_j) moves by at most δ_j
+    // beyond what F moves; for any other K, Π_K being nonexpansive, by δ_j
+    // through u_j and ‖δ‖₂ through the projection.
+    shifted_ = (u_ - *step->u_next).cwiseAbs();
+    moved_ += shifted_;
+    if (!box_) moved_.array() += shifted_.norm();
   } else {
     moved_.resize(u_.size());
     sensitivity_(t, x_, u_, F_value_, resolution_, moved_);

@@ -33,7 +33,8 @@ class RowCertifier {
 
   /// The step of a time-stepping scheme a row belongs to: from x^i to
   /// (t_{i+1}, x^{i+1}, u^{i+1}), whose VI the scheme solved at x^{i+1}
-  /// ((3.3), (7.2)) or at x^i ((3.4)).
+  /// ((3.3), (7.2)) or at x^i ((3.4)). The row's u may differ from u^{i+1}
+  /// (γu^{i+1} + (1−γ)u^i under (7.2)); it is held to that distance too.
   struct Step {
     double t_next = 0;
     const Eigen::VectorXd* x_previous = nullptr;

@@ -52,7 +52,10 @@ struct TimeSteppingOptions {
   double theta = 0.0;
   /// γ ∈ [0, 1]: weight of u^{i+1} against u^i in the B u term. 1 (default)
   /// is the paper's scheme. θ = γ = ½ is second order where u is continuous
-  /// (Siconos' default γ = 1 is first order whatever θ).
+  /// (Siconos' default γ = 1 is first order whatever θ). The trajectory's u
+  /// is the multiplier the step applies, ū^{i+1} = γu^{i+1} + (1−γ)u^i: after
+  /// an index-two clamp (D = 0) u^{i+1} alternates about it with γ = ½, and
+  /// ū is what converges.
   double gamma = 1.0;
   SteppingScheme scheme = SteppingScheme::kAuto;
 
@@ -96,7 +99,13 @@ struct TimeSteppingOptions {
 };
 
 /// Integrates from (t0, x0) to t_end. The first multiplier u⁰ solves the VI
-/// at (t0, x0). A step whose VI is not solved (after retrying from a cold
+/// at (t0, x0). The multiplier recorded for step i → i+1 is the one x^{i+1}'s
+/// equation applies: ū^{i+1} = γu^{i+1} + (1−γ)u^i for an Lcs (every scheme)
+/// and for a SeparableDvi under (7.2); u^{i+1} of the VI for a Dvi ((3.3) at
+/// x^{i+1}, (3.4) at x^i); ν^{i+1} for projected dynamics. Events are the
+/// changes of the recorded multiplier's mode (with 0 < γ < 1 a component is
+/// at a bound where u^i and u^{i+1} both are), each at the end of the step
+/// where the VI's u took the new state. A step whose VI is not solved (after retrying from a cold
 /// start and, when adaptive, with smaller steps) ends the run with
 /// kStepFailure and a message naming the time, the step and the residual;
 /// the trajectory holds everything up to there.

@@ -49,7 +49,8 @@ enum class EventKind {
 std::string_view ToString(EventKind kind);
 
 struct Event {
-  double time = 0;  ///< For time-stepping: the end of the step where the mode changed.
+  /// For time-stepping: the end of the step where the VI's u took the new mode.
+  double time = 0;
   EventKind kind = EventKind::kLeftBound;
   int index = 0;    ///< Zero-based component of u, or constraint of K.
 };
@@ -89,7 +90,8 @@ struct StepRecord {
 /// interval, statistics, the dense state between samples, and the run's
 /// certificate. For time-stepping the samples are the paper's interpolants
 /// (Sect. 7): x̂ᴴ piecewise linear through the steps, ûᴴ piecewise
-/// constant, ûᴴ(t) = u^{i+1} on (t_i, t_{i+1}].
+/// constant, ûᴴ(t) on (t_i, t_{i+1}] the multiplier that step applied
+/// (γu^{i+1} + (1−γ)u^i under scheme (7.2), time_stepping.hpp).
 struct Trajectory {
   IntegrationStatus status = IntegrationStatus::kSuccess;
   std::string message;  ///< Why it stopped when status != kSuccess (time, step, residual).

@@ -65,6 +65,7 @@ class LcsMethod : public OneStepMethod {
   // (3.4) lags u by a step, so only (7.2) / (3.3) with θ = γ = ½ reach 2.
   int order() const override { return !vi_at_old_state_ && theta_ == 0.5 && gamma_ == 0.5 ? 2 : 1; }
   const ConvexSet& ModeSet() const override { return lcs_.K; }
+  double multiplier_weight() const override { return gamma_; }
 
   std::string Describe() const override {
     std::ostringstream text;

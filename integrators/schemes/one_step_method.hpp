@@ -42,6 +42,11 @@ class OneStepMethod {
   virtual int order() const = 0;
   /// e.g. "scheme (7.2), θ = 0, γ = 1, transfer matrix, dense LU".
   virtual std::string Describe() const = 0;
+  /// γ of scheme (7.2): x^{i+1}'s equation applies ū^{i+1} = γu^{i+1} +
+  /// (1−γ)u^i, the multiplier the trajectory reports (with γ = ½ after a
+  /// clamp u^{i+1} alternates about ū^{i+1}, which converges). 1 where the
+  /// step applies the u^{i+1} its VI gives ((3.3) and (3.4) on a Dvi, (7.3)).
+  virtual double multiplier_weight() const { return 1; }
 
   /// u⁰: solves the VI at (t0, x0). Outcome.x = x0.
   virtual StepOutcome Initial(double t0, const Eigen::VectorXd& x0) = 0;

@@ -322,6 +322,7 @@ class SeparableMethod final : public internal::OneStepMethod {
   // (dvi_stepping_test); B(t_i, x^i) and f at t_{i+1} cost an order otherwise.
   int order() const override { return theta_ == 0.5 && gamma_ == 0.5 ? 2 : 1; }
   const ConvexSet& ModeSet() const override { return dvi_.K; }
+  double multiplier_weight() const override { return gamma_; }
   std::string Describe() const override {
     std::ostringstream text;
     text << "scheme (7.2), θ = " << theta_ << ", γ = " << gamma_ << ", "

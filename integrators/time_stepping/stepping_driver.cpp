@@ -14,37 +14,57 @@
 namespace dvi::internal {
 namespace {
 
-// Samples, events and statistics of one run, fed step by step.
+// Samples, events, statistics, dense output and row certificates of one run,
+// fed step by step.
+//
+// The u it records is the multiplier each step applied,
+// ū^{i+1} = γu^{i+1} + (1−γ)u^i (OneStepMethod::multiplier_weight), and the
+// events are the changes of ū's mode. With 0 < γ < 1 a component of ū is at
+// a bound where u^i and u^{i+1} both are (a convex combination lies on a face
+// of K only where both points do), so u^{i+1} alternating about ū after an
+// index-two clamp, as it does with γ = ½, changes no mode. A change is dated
+// at the step end where the VI's u took the new state: ū reaches a bound one
+// step after u^{i+1} does, and that event is dated a step back, so that a
+// switch keeps one time whatever γ.
 class Recorder {
  public:
   Recorder(const OneStepMethod& method, const TimeSteppingOptions& options,
            RowCertifier& certifier, Trajectory& trajectory)
       : method_(method),
+        gamma_(method.multiplier_weight()),
         options_(options),
         certifier_(certifier),
         trajectory_(trajectory),
         keeps_dense_(KeepsDenseOutput(options.dense_output, options.output_times)) {}
 
   void Start(double t0, const StepOutcome& initial) {
-    step_ = {};  // u⁰ solves the VI at x⁰ itself
-    Sample(t0, initial.x, initial.u);
-    if (options_.record_events) method_.Mode(initial, mode_);
+    last_ = {t0, initial.x, initial.u, nullptr};  // u⁰ solves the VI at x⁰ itself
+    Sample(last_);
+    if (options_.record_events) {
+      method_.Mode(initial, vi_mode_);
+      mode_ = vi_mode_;
+    }
     while (next_output_ < options_.output_times.size() &&
            options_.output_times[next_output_] <= t0)
       ++next_output_;
   }
 
   // Records the accepted step (t, x, u) → (t + h, outcome).
-  void Accept(double t, double h, const Eigen::VectorXd& x, const StepOutcome& outcome) {
+  void Accept(double t, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+              const StepOutcome& outcome) {
     const double t_next = t + h;
     IntegrationStats& stats = trajectory_.stats;
     ++stats.steps;
-    // A row of this step is x̂ᴴ between x^i and x^{i+1} with u^{i+1}: it
-    // may be off its VI by as far as F moves across the step (Certificate).
-    step_x_previous_ = x;
-    step_x_next_ = outcome.x;
-    step_u_next_ = outcome.u;
-    step_ = {t_next, &step_x_previous_, &step_x_next_, &step_u_next_};
+    // A row of this step is x̂ᴴ between x^i and x^{i+1} with ū^{i+1}: it
+    // may be off its VI by as far as F moves across the step, and by ū's
+    // distance from the step's own u^{i+1} (Certificate). The step before
+    // stays for a row dated back to its end.
+    std::swap(step_, previous_step_);
+    if (last_.step) last_.step = &previous_step_;
+    step_.t_next = t_next;
+    step_.x_previous = x;
+    step_.x_next = outcome.x;
+    step_.u_next = outcome.u;
     if (keeps_dense_) {
       // x̂ᴴ = x^{i+1} + s (x^{i+1} − x^i), s = (τ − t_{i+1})/h ∈ [−1, 0].
       line_.resize(x.size(), 2);
@@ -54,71 +74,135 @@ class Recorder {
     }
     stats.max_residual = std::max(stats.max_residual, outcome.residual);
     trajectory_.step_log.push_back({t_next, h, outcome.iterations, outcome.residual});
+    Eigen::VectorXd applied = outcome.u;
+    if (gamma_ != 1) {
+      applied *= gamma_;
+      applied += (1 - gamma_) * u;
+    }
 
+    ModeChange mode_change;
+    if (options_.record_events) mode_change = RecordModeChange(t, t_next, outcome);
+    if (mode_change.at_start) Sample(last_);
     const std::vector<double>& outputs = options_.output_times;
     while (next_output_ < outputs.size() && outputs[next_output_] < t_next) {
-      // x̂ᴴ is linear on [t, t + h]; ûᴴ = u^{i+1} on (t, t + h].
+      // x̂ᴴ is linear on [t, t + h]; ûᴴ = ū^{i+1} on (t, t + h].
       const double s = (outputs[next_output_] - t) / h;
-      Sample(outputs[next_output_], (1 - s) * x + s * outcome.x, outcome.u);
+      Sample({outputs[next_output_], (1 - s) * x + s * outcome.x, applied, &step_});
       ++next_output_;
     }
-    bool mode_changed = false;
-    if (options_.record_events) mode_changed = RecordModeChange(t_next, outcome);
     const bool asked = next_output_ < outputs.size() && outputs[next_output_] == t_next;
     if (asked) ++next_output_;
-    if (outputs.empty() || asked || mode_changed) Sample(t_next, outcome.x, outcome.u);
+    last_ = {t_next, outcome.x, std::move(applied), &step_};
+    if (outputs.empty() || asked || mode_change.at_end) Sample(last_);
   }
 
-  void Finish(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u) { Sample(t, x, u); }
+  void Finish(double t, const Eigen::VectorXd& x) { Sample({t, x, last_.u, last_.step}); }
 
  private:
-  void Sample(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
-    if (!trajectory_.times.empty() && trajectory_.times.back() >= t) return;
-    certifier_.Check(t, x, u, {0, 0, step_.x_next ? &step_ : nullptr},
+  // What a row is certified against: its step, from x^i to (t_{i+1},
+  // x^{i+1}, u^{i+1}).
+  struct StepRecord {
+    double t_next = 0;
+    Eigen::VectorXd x_previous, x_next, u_next;
+  };
+  // A row and its step (none for u⁰).
+  struct Point {
+    double t = 0;
+    Eigen::VectorXd x, u;
+    const StepRecord* step = nullptr;
+  };
+  // Which ends of the step hold a recorded mode change.
+  struct ModeChange {
+    bool at_start = false;
+    bool at_end = false;
+  };
+
+  void Sample(const Point& point) {
+    if (!trajectory_.times.empty() && trajectory_.times.back() >= point.t) return;
+    const StepRecord* record = point.step;
+    const RowCertifier::Step step =
+        record ? RowCertifier::Step{record->t_next, &record->x_previous, &record->x_next,
+                                    &record->u_next}
+               : RowCertifier::Step{};
+    certifier_.Check(point.t, point.x, point.u, {0, 0, record ? &step : nullptr},
                      trajectory_.certificate.vi);
-    trajectory_.times.push_back(t);
-    trajectory_.states.push_back(x);
-    trajectory_.multipliers.push_back(u);
+    trajectory_.times.push_back(point.t);
+    trajectory_.states.push_back(point.x);
+    trajectory_.multipliers.push_back(point.u);
   }
 
-  bool RecordModeChange(double t, const StepOutcome& outcome) {
-    method_.Mode(outcome, next_mode_);
-    bool changed = false;
-    std::vector<Event>& events = trajectory_.events;
+  // The mode of ū^{i+1} from those of u^i (vi_mode_) and u^{i+1} (next_vi_mode_).
+  void AppliedMode() {
+    if (gamma_ == 1 || gamma_ == 0) {
+      next_mode_ = gamma_ == 1 ? next_vi_mode_ : vi_mode_;
+    } else if (method_.ModeIsPerComponent()) {
+      next_mode_.resize(next_vi_mode_.size());
+      for (size_t j = 0; j < next_mode_.size(); ++j)
+        next_mode_[j] = next_vi_mode_[j] == vi_mode_[j] ? vi_mode_[j] : 0;
+    } else {
+      next_mode_.clear();
+      std::set_intersection(vi_mode_.begin(), vi_mode_.end(), next_vi_mode_.begin(),
+                            next_vi_mode_.end(), std::back_inserter(next_mode_));
+    }
+  }
+
+  // Events of the step (t, t_next]: each at t when u^i was already in the new
+  // state, else at t_next. Those at t come first, keeping events in time order.
+  ModeChange RecordModeChange(double t, double t_next, const StepOutcome& outcome) {
+    method_.Mode(outcome, next_vi_mode_);
+    AppliedMode();
+    ModeChange change;
+    std::vector<Event> at_end;
+    const auto record = [&](bool u_i_had_it, EventKind kind, int index) {
+      if (u_i_had_it) {
+        trajectory_.events.push_back({t, kind, index});
+        change.at_start = true;
+      } else {
+        at_end.push_back({t_next, kind, index});
+        change.at_end = true;
+      }
+    };
     if (method_.ModeIsPerComponent()) {
       for (size_t j = 0; j < next_mode_.size(); ++j) {
         if (next_mode_[j] == mode_[j]) continue;
-        changed = true;
         const EventKind kind = next_mode_[j] < 0   ? EventKind::kReachedLower
                                : next_mode_[j] > 0 ? EventKind::kReachedUpper
                                                    : EventKind::kLeftBound;
-        events.push_back({t, kind, static_cast<int>(j)});
+        record(vi_mode_[j] == next_mode_[j], kind, static_cast<int>(j));
       }
     } else {
+      const auto has = [](const std::vector<int>& active, int k) {
+        return std::binary_search(active.begin(), active.end(), k);
+      };
       std::vector<int> entered, left;
       std::set_difference(next_mode_.begin(), next_mode_.end(), mode_.begin(), mode_.end(),
                           std::back_inserter(entered));
       std::set_difference(mode_.begin(), mode_.end(), next_mode_.begin(), next_mode_.end(),
                           std::back_inserter(left));
-      for (const int k : entered) events.push_back({t, EventKind::kConstraintActive, k});
-      for (const int k : left) events.push_back({t, EventKind::kConstraintReleased, k});
-      changed = !entered.empty() || !left.empty();
+      for (const int k : entered) record(has(vi_mode_, k), EventKind::kConstraintActive, k);
+      for (const int k : left) record(!has(vi_mode_, k), EventKind::kConstraintReleased, k);
     }
+    trajectory_.events.insert(trajectory_.events.end(), at_end.begin(), at_end.end());
+    vi_mode_.swap(next_vi_mode_);
     mode_.swap(next_mode_);
-    return changed;
+    return change;
   }
 
   const OneStepMethod& method_;
+  const double gamma_;
   const TimeSteppingOptions& options_;
   RowCertifier& certifier_;
   Trajectory& trajectory_;
   const bool keeps_dense_;
-  // The step being recorded (the last one, at the end).
-  RowCertifier::Step step_;
-  Eigen::VectorXd step_x_previous_, step_x_next_, step_u_next_;
+  // The step being recorded and the one before (a row may be dated back to
+  // its end); last_ is the end of the step being recorded with its ū (t0
+  // with u⁰ before the first).
+  StepRecord step_, previous_step_;
+  Point last_;
   Eigen::MatrixXd line_;  // a step's x̂ᴴ as dense output
   size_t next_output_ = 0;
-  std::vector<int> mode_, next_mode_;
+  // Modes of the VI's u^i and of ū^i, and scratch for the next step's.
+  std::vector<int> vi_mode_, next_vi_mode_, mode_, next_mode_;
 };
 
 void Count(const StepOutcome& outcome, IntegrationStats& stats) {
@@ -191,8 +275,10 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
     trajectory.intervals.back().to = t;
     std::ostringstream basis;
     basis << "time-stepping: VI residual <= " << Certificate::kViSafety << "·(solver tolerance "
-          << options.solver.tolerance
-          << " + how far F moves between the row and its step's end) at every row";
+          << options.solver.tolerance << " + how far F moves between the row and its step's end";
+    if (method.multiplier_weight() != 1)
+      basis << " + the distance of u = γu^{i+1} + (1 - γ)u^i from u^{i+1}";
+    basis << ") at every row";
     ConcludeCertificate(basis.str(), trajectory);
     stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     EndAtFirstNonFiniteSample(trajectory);
@@ -273,7 +359,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
       if (!next.solved)
         return finish(IntegrationStatus::kStepFailure, FailureMessage(stats.steps + 1, t, step, next), t);
       const double t_next = advance(step);
-      recorder.Accept(t, t_next - t, current.x, next);
+      recorder.Accept(t, t_next - t, current.x, current.u, next);
       t = t_next;
       current = std::move(next);
     } else {
@@ -304,8 +390,8 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
       }
       const double t_next = advance(step);
       const double t_half = t + (t_next - t) / 2;
-      recorder.Accept(t, t_half - t, current.x, first);
-      recorder.Accept(t_half, t_next - t_half, first.x, second);
+      recorder.Accept(t, t_half - t, current.x, current.u, first);
+      recorder.Accept(t_half, t_next - t_half, first.x, first.u, second);
       t = t_next;
       current = std::move(second);
       // Climb the ladder when the error leaves room for a doubled step
@@ -317,7 +403,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
       next_progress = t + progress_every;
     }
   }
-  recorder.Finish(t_end, current.x, current.u);
+  recorder.Finish(t_end, current.x);
   return finish(IntegrationStatus::kSuccess, "", t_end);
 }
 

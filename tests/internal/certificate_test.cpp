@@ -65,6 +65,28 @@ TEST(Certificate, RowsAreHeldToTheirAllowedError) {
   EXPECT_EQ(tight.component, 0);
 }
 
+// Time-stepping with γ < 1 writes ū = γu^{i+1} + (1−γ)u^i, a distance δ from
+// the u^{i+1} its step solved for: the row is held to that distance too, and
+// no further.
+TEST(Certificate, ARowsDistanceFromItsStepsMultiplierWidensItsBoundByThatMuch) {
+  const Dvi dvi = testing::RectifierDvi(kRectifier, true);
+  internal::RowCertifier certifier(dvi, SolverOptions());
+  const double t = 0.001;
+  // Blocking (F = v − source = 1e-3 > 0): the step's u^{i+1} = 0 solves,
+  // the row's ū = 1e-5 has the residual |min(ū, F)| = 1e-5. F does not
+  // depend on u and the step did not move x, so only δ can cover it.
+  const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, kRectifier.Source(t) + 1e-3);
+  const Eigen::VectorXd u = Eigen::VectorXd::Constant(1, 1e-5), solved = Eigen::VectorXd::Zero(1);
+  const internal::RowCertifier::Step own{t, &x, &x, &u}, mixed{t, &x, &x, &solved};
+  CertifiedMeasure as_solved, as_mixed;
+  certifier.Check(t, x, u, {0, 0, &own}, as_solved);
+  certifier.Check(t, x, u, {0, 0, &mixed}, as_mixed);
+  EXPECT_NEAR(as_solved.value, 1e-5, 1e-15);
+  EXPECT_GT(as_solved.ratio, 1);
+  EXPECT_NEAR(as_mixed.bound, Certificate::kViSafety * (SolverOptions().tolerance + 1e-5), 1e-15);
+  EXPECT_LE(as_mixed.ratio, 1);
+}
+
 // The ODE's defect is measured in the error test's weighted RMS norm: a
 // defect d over a step h scores h·|d|/(rtol·|x| + atol).
 TEST(Certificate, OdeDefectIsScaledAsTheErrorTest) {
