@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "circuits/half_bridge_inverter.hpp"
 #include "dvi/auto_driver.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/lcs.hpp"
@@ -387,6 +388,58 @@ TEST(AutoDriver, ARunCostlierThanSteppingToTheEndIsNotRetried) {
   EXPECT_EQ(trajectory.intervals[1].to, 1e-2);
   EXPECT_NEAR(trajectory.states.back()(0), 5, 1e-12);
   EXPECT_NEAR(trajectory.multipliers.back()(0), 1e-3, 1e-9);
+}
+
+// The half-bridge inverter shut down with 30 A in its resonant load
+// (circuits/half_bridge_inverter.hpp): event-driven until the ringing load
+// current stops with both diodes blocking (not strongly regular), stepping
+// over windows, event-driven again. Where a retry of event-driven
+// integration stopped at its start, time-stepping's first VI (at
+// t = 0.0015762, i_L = 0.018 A: i2 = i_L, v_o = −v2) failed from Newton's
+// cold start, which stalls on the zero column of D for the free v_o; the
+// multiplier where the window before ended solves it at once.
+TEST(AutoDriver, InverterResumesTimeSteppingFromTheMultiplierWhereItStopped) {
+  const circuits::HalfBridgeInverterParameters circuit;
+  constexpr double kEnd = 0.02;
+  AutoOptions options;
+  options.stepping.h = kEnd / 1000;
+  const Trajectory trajectory =
+      IntegrateAuto(circuits::HalfBridgeInverter(circuit),
+                    circuits::HalfBridgeInverterInitialState(circuit), 0, kEnd, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, 0, kEnd);
+  EXPECT_GT(trajectory.intervals.size(), 3u);
+  const Eigen::VectorXd& x = trajectory.states.back();
+  const Eigen::VectorXd& u = trajectory.multipliers.back();
+  const double v1 = x(0), v2 = x(1), i_L = x(2), v_Cl = x(3);
+  // Charge: (v1 − v2)' = (i1 − i2)/C1 = −i_L/C1 and v_Cl' = i_L/Cl, so
+  // v1 − v2 + (Cl/C1) v_Cl stays 0, up to the node equation's residual
+  // (the VI's tolerance, in A) integrated over the run.
+  const double charge_drift = kEnd * options.event.solver.tolerance / circuit.C1;
+  EXPECT_NEAR(v1 - v2, -circuit.Cl / circuit.C1 * v_Cl, charge_drift);
+  // At rest: no load current, the leg at the load capacitor's voltage
+  // between the rails, and the link back at Vdc (its time constant
+  // Rs·C1/2 = 50 µs), to CVODE's tolerances.
+  const double accuracy = 10 * (options.event.rtol * circuit.Vdc + options.event.atol);
+  EXPECT_NEAR(i_L, 0, accuracy);
+  EXPECT_NEAR(u(0), v_Cl, accuracy);
+  EXPECT_LT(v_Cl, v1);
+  EXPECT_GT(v_Cl, -v2);
+  EXPECT_NEAR(v1 + v2, circuit.Vdc, accuracy);
+}
+
+// x' = 1, 0 ≤ u ⊥ 1 − x ≥ 0: the LCP has no solution once x > 1. A
+// time-stepping interval that fails says it is one, where it began and why.
+TEST(AutoDriver, AFailedSteppingIntervalNamesItselfAndWhyItBegan) {
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 1),
+                             Eigen::MatrixXd::Constant(1, 1, -1), Eigen::MatrixXd::Zero(1, 1),
+                             Eigen::VectorXd::Ones(1), Eigen::VectorXd::Ones(1));
+  const Trajectory trajectory = IntegrateAuto(lcs, Eigen::VectorXd::Zero(1), 0, 2);
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_TRUE(Contains(trajectory.message,
+                       "time-stepping over [1, 1.02] (event-driven stopped at t = 1"))
+      << trajectory.message;
+  EXPECT_TRUE(Contains(trajectory.message, "step 1 from t = 1 ")) << trajectory.message;
 }
 
 // n = 100 independent clamps x_i' = −k_i + u_i, 0 ≤ u ⊥ x ≥ 0 (D = 0: index

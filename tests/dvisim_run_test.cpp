@@ -691,10 +691,15 @@ TEST_F(DvisimRun, NumericalFailureExitsOneNamingTimeAndStepAndWritesNothing) {
   EXPECT_TRUE(Contains(run.err, "no files written")) << run.err;
   EXPECT_TRUE(Listing("out").empty());
   // auto: event-driven stops at the root t = ½, and time-stepping, which it
-  // hands over to, fails at its first step; the run reports that failure.
+  // hands over to, fails at its first step; the run reports that failure
+  // as the failure of that interval, and why the interval began.
   const RunOutcome automatic = Dvisim("run '" + scene + "' --out '" + Path("out") + "'");
   EXPECT_EQ(automatic.exit_code, 1) << automatic.err;
-  EXPECT_TRUE(Contains(automatic.err, "step-failure: step 1 from t = 0.5")) << automatic.err;
+  EXPECT_TRUE(Contains(automatic.err,
+                       "step-failure: time-stepping over [0.5, 0.51] (event-driven stopped at "
+                       "t = 0.5: "))
+      << automatic.err;
+  EXPECT_TRUE(Contains(automatic.err, "): step 1 from t = 0.5")) << automatic.err;
   EXPECT_TRUE(Listing("out").empty());
   for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
 }

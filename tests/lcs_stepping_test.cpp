@@ -403,6 +403,13 @@ TEST(LcsStepping, RejectsInvalidInputNamingIt) {
               HasSubstr("scheme: 11 is not a SteppingScheme"));
   options.scheme = SteppingScheme::kAuto;
   options.output_times.clear();
+  options.initial_guess = Eigen::Vector2d(1, 1);
+  EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
+              HasSubstr("initial_guess: 2 entries, expected 1 (or none)"));
+  options.initial_guess = Eigen::VectorXd::Constant(1, INFINITY);
+  EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(lcs, x0, 0, 1, options); }),
+              HasSubstr("initial_guess: an entry is not finite"));
+  options.initial_guess.resize(0);
   Lcs mismatched = lcs;
   mismatched.C = SparseMatrix(1, 2);
   EXPECT_THAT(ThrownMessage([&] { IntegrateTimeStepping(mismatched, x0, 0, 1); }),
@@ -437,7 +444,8 @@ TEST(LcsStepping, InfeasibleInitialLcpEndsTheRunWithAStatus) {
   // From t0 = 1e-9, which "%f" would print as 0.000000.
   const Trajectory trajectory = IntegrateTimeStepping(lcs, Eigen::VectorXd::Zero(1), 1e-9, 1);
   EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
-  EXPECT_THAT(trajectory.message, ::testing::HasSubstr("the VI at the initial state (t = 1e-09)"));
+  EXPECT_THAT(trajectory.message,
+              ::testing::HasSubstr("the VI at the start of time-stepping (t = 1e-09)"));
   EXPECT_THAT(trajectory.message, ::testing::HasSubstr("infeasible"));
   EXPECT_TRUE(trajectory.times.empty());
 }
@@ -530,7 +538,7 @@ TEST(LcsStepping, InfeasibleInitialViOnTheSparsePathEndsTheRunWithAStatus) {
   x0[7] = -1;
   const Trajectory trajectory = IntegrateTimeStepping(ladder, x0, 0, 1e-3);
   EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
-  EXPECT_THAT(trajectory.message, ::testing::HasSubstr("initial"));
+  EXPECT_THAT(trajectory.message, ::testing::HasSubstr("the VI at the start of time-stepping"));
   EXPECT_THAT(trajectory.message, ::testing::HasSubstr("mixed (x, u) MCP"));
 }
 

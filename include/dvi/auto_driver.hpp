@@ -25,7 +25,8 @@ struct AutoOptions {
   EventDrivenOptions event;
   /// Options of the time-stepping intervals (step size, θ, γ, ...). Its
   /// output_times are ignored: `event.output_times` (within [t0, t_end];
-  /// a repeated time is sampled once) serve both.
+  /// a repeated time is sampled once) serve both. So is its initial_guess:
+  /// each interval starts from the multiplier where the one before stopped.
   TimeSteppingOptions stepping;
   /// Length of a time-stepping interval, relative to the horizon; an
   /// interval covers at least the predicted accumulation time of a Zeno

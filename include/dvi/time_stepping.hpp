@@ -78,6 +78,12 @@ struct TimeSteppingOptions {
 
   /// Options of each step's VI solve (warm-started from the previous step).
   SolverOptions solver;
+  /// A guess of u⁰ (m entries) that warm-starts the VI at (t0, x0); empty:
+  /// a cold start. The automatic driver passes the multiplier where the
+  /// interval before stopped: there the VI is degenerate more often than not,
+  /// and Newton from a cold start can fail where the guess solves it at once.
+  /// Unused for projected dynamics, whose ν⁰ is a projection.
+  Eigen::VectorXd initial_guess;
 
   /// Times to sample (ascending, within [t0, t_end]); empty records every
   /// step. Either way t0, t_end and the ends of steps where the mode changed

@@ -29,6 +29,7 @@ void AutoOptions::Validate() const {
   }
   TimeSteppingOptions stepping_checked = stepping;
   stepping_checked.output_times.clear();  // ignored: event.output_times serve both
+  stepping_checked.initial_guess.resize(0);  // ignored: each interval's is set
   try {
     stepping_checked.Validate();
   } catch (const InvalidInputError& error) {
@@ -57,9 +58,11 @@ struct EventMethod {
   std::function<void(Trajectory& part, std::size_t rows, const EventDrivenOptions& options)>
       certify;
 };
-// Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`.
-using SteppingMethod = std::function<Trajectory(double t_a, const Eigen::VectorXd& x_a, double t_b,
-                                                std::vector<double> outputs)>;
+// Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`, its u⁰
+// warm-started from u_a.
+using SteppingMethod =
+    std::function<Trajectory(double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a,
+                             double t_b, std::vector<double> outputs)>;
 
 std::string Fixed(double value, int digits) {
   std::ostringstream text;
@@ -183,6 +186,13 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
       while (output_rows > 0 && run.times[output_rows - 1] >= t_a) --output_rows;
     event.certify(run, output_rows, run_options);
     const bool succeeded = run.succeeded();
+    // The multiplier there, from the run or, where it stopped at its start,
+    // from the interval before: where event-driven integration stops the VI
+    // is degenerate, and a cold Newton start can fail on it (the half-bridge
+    // of auto_driver_test) where this guess solves it at once.
+    const Eigen::VectorXd u_a = !run.times.empty()     ? Eigen::VectorXd(run.multipliers.back())
+                                : !whole.times.empty() ? Eigen::VectorXd(whole.multipliers.back())
+                                                       : Eigen::VectorXd();
     if (t_a > t) {
       whole.intervals.push_back({t, t_a, "event",
                                  (t > t0 ? "back to event-driven after time-stepping; " : "") +
@@ -231,8 +241,12 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     // none falls in the window, its end alone (always sampled) stands in.
     std::vector<double> window_outputs = Clip(outputs, t_a, t_b, true);
     if (window_outputs.empty() && !outputs.empty()) window_outputs.push_back(t_b);
-    Trajectory steps = stepping(t_a, x_a, t_b, std::move(window_outputs));
+    Trajectory steps = stepping(t_a, x_a, u_a, t_b, std::move(window_outputs));
     const bool stepped = steps.succeeded();
+    // The failure of an interval, not of the run's start, and why it began.
+    if (!stepped)
+      steps.message = "time-stepping over [" + Short(t_a) + ", " + Short(t_b) + "] (" + reason +
+                      "): " + steps.message;
     const double t_stepped = steps.times.empty() ? t_a : steps.times.back();
     x = steps.times.empty() ? x_a : Eigen::VectorXd(steps.states.back());
     whole.intervals.push_back(
@@ -260,10 +274,11 @@ void CheckStart(int n, const Eigen::VectorXd& x0, double t0, double t_end,
 
 template <typename Problem>
 SteppingMethod SteppingOf(const Problem& problem, const AutoOptions& options) {
-  return [&problem, &options](double t_a, const Eigen::VectorXd& x_a, double t_b,
-                              std::vector<double> outputs) {
+  return [&problem, &options](double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a,
+                              double t_b, std::vector<double> outputs) {
     TimeSteppingOptions stepping = options.stepping;
     stepping.output_times = std::move(outputs);
+    stepping.initial_guess = u_a;
     return IntegrateTimeStepping(problem, x_a, t_a, t_b, stepping);
   };
 }

@@ -74,8 +74,8 @@ class LcsMethod : public OneStepMethod {
     return text.str();
   }
 
-  StepOutcome Initial(double, const Eigen::VectorXd& x0) override {
-    return Advance(0, x0, Eigen::VectorXd::Zero(lcs_.m()), Eigen::VectorXd());
+  StepOutcome Initial(double, const Eigen::VectorXd& x0, const Eigen::VectorXd& guess) override {
+    return Advance(0, x0, Eigen::VectorXd::Zero(lcs_.m()), guess);
   }
 
   StepOutcome Step(double, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u) override {

@@ -48,8 +48,10 @@ class OneStepMethod {
   /// step applies the u^{i+1} its VI gives ((3.3) and (3.4) on a Dvi, (7.3)).
   virtual double multiplier_weight() const { return 1; }
 
-  /// u⁰: solves the VI at (t0, x0). Outcome.x = x0.
-  virtual StepOutcome Initial(double t0, const Eigen::VectorXd& x0) = 0;
+  /// u⁰: solves the VI at (t0, x0) from `guess` (empty: a cold start).
+  /// Outcome.x = x0.
+  virtual StepOutcome Initial(double t0, const Eigen::VectorXd& x0,
+                              const Eigen::VectorXd& guess) = 0;
   /// One step of size h from (t, x, u) (u is also the warm start).
   virtual StepOutcome Step(double t, double h, const Eigen::VectorXd& x,
                            const Eigen::VectorXd& u) = 0;

@@ -137,7 +137,7 @@ class DviMethod : public internal::OneStepMethod {
   const ConvexSet& ModeSet() const override { return dvi_.K; }
 
   // u⁰ ∈ SOL(K, F(t0, x0, ·)).
-  StepOutcome Initial(double t0, const Eigen::VectorXd& x0) override {
+  StepOutcome Initial(double t0, const Eigen::VectorXd& x0, const Eigen::VectorXd& guess) override {
     StepOutcome outcome;
     outcome.x = x0;
     if (dvi_.m == 0) {
@@ -145,7 +145,7 @@ class DviMethod : public internal::OneStepMethod {
       outcome.u.resize(0);
       return outcome;
     }
-    const SolveResult result = SolveU(t0, x0, Eigen::VectorXd(), outcome);
+    const SolveResult result = SolveU(t0, x0, guess, outcome);
     Finish("the VI u ∈ SOL(K, F(t0, x0, ·))", result, outcome);
     if (!outcome.solved) return outcome;
     outcome.u = result.z;
@@ -331,7 +331,7 @@ class SeparableMethod final : public internal::OneStepMethod {
   }
 
   // u⁰ ∈ SOL(K, G(t0, x0) + F).
-  StepOutcome Initial(double t0, const Eigen::VectorXd& x0) override {
+  StepOutcome Initial(double t0, const Eigen::VectorXd& x0, const Eigen::VectorXd& guess) override {
     const int m = dvi_.m;
     StepOutcome outcome;
     outcome.x = x0;
@@ -357,7 +357,7 @@ class SeparableMethod final : public internal::OneStepMethod {
         dvi_.F_jacobian(u, J);
       };
     }
-    const SolveResult result = u_vi_.Solve(map, jacobian, solver_, Eigen::VectorXd(), outcome);
+    const SolveResult result = u_vi_.Solve(map, jacobian, solver_, guess, outcome);
     Finish("the VI u ∈ SOL(K, G(t0, x0) + F)", result, outcome);
     if (!outcome.solved) return outcome;
     outcome.u = result.z;

@@ -264,6 +264,11 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
                    "t0, t_end: the span " << t_end - t0 << " is within 1e-12 of |t_end| = "
                                           << t_end << ": shift the time origin");
   CheckOutputTimesWithin(options.output_times, t0, t_end);
+  const Eigen::VectorXd& guess = options.initial_guess;
+  DVI_THROW_UNLESS(guess.size() == 0 || guess.size() == method.multiplier_dim(),
+                   "initial_guess: " << guess.size() << " entries, expected "
+                                     << method.multiplier_dim() << " (or none)");
+  DVI_THROW_UNLESS(guess.allFinite(), "initial_guess: an entry is not finite");
   const auto started = std::chrono::steady_clock::now();
   Trajectory trajectory;
   trajectory.intervals.push_back({t0, t_end, "stepping", method.Describe()});
@@ -285,11 +290,11 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
     return std::move(trajectory);
   };
 
-  StepOutcome current = method.Initial(t0, x0);
+  StepOutcome current = method.Initial(t0, x0, guess);
   Count(current, stats);
   if (!current.solved)
     return finish(IntegrationStatus::kStepFailure,
-                  "the VI at the initial state (t = " + TimeText(t0) +
+                  "the VI at the start of time-stepping (t = " + TimeText(t0) +
                       ") was not solved: " + current.failure,
                   t0);
   recorder.Start(t0, current);
