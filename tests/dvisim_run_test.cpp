@@ -292,6 +292,11 @@ class DvisimRun : public testing::DvisimBinaryTest {
     return std::string(DVI_EXAMPLES_DIR) + "/scenes/" + name;
   }
 
+  // A scene of tests/scenes, which the determinism test reruns too.
+  static std::string TestScene(const std::string& name) {
+    return std::string(DVI_TEST_SCENES_DIR) + "/" + name;
+  }
+
   Csv ReadCsv(const std::string& dir) const {
     std::ifstream stream(Path(dir) + "/trajectory.csv");
     Csv csv;
@@ -681,8 +686,7 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
 TEST_F(DvisimRun, NumericalFailureExitsOneNamingTimeAndStepAndWritesNothing) {
   // u ∈ SOL(ℝ₊, 1 − 2t) has no solution once 1 − 2t < 0: the step ending
   // after t = ½ fails.
-  const std::string scene = Write("fail.json", R"({"problem": {"type": "dvi", "f": ["u1"],
-    "F": ["1 - 2*t"]}, "x0": [0], "horizon": 1, "method": {"h": 0.1}})");
+  const std::string scene = TestScene("infeasible_after_half.json");
   const RunOutcome run =
       Dvisim("run '" + scene + "' --method stepping --out '" + Path("out") + "'");
   EXPECT_EQ(run.exit_code, 1) << run.err;
@@ -784,11 +788,6 @@ std::string KinkScene(const std::string& method) {
     "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3], "horizon": 4,
     "method": )" + method + R"(, "output": {"samples": 41, "times": [1.5, 2.5]}})";
 }
-
-// x' = −1 + u, 0 ≤ u ⊥ x ≥ 0 from x = 0: u = 1 holds x at 0, but D = 0 and
-// u⁰ is degenerate (w = x = 0), so the LCS is not index one (index two).
-const char* const kIndexTwoLcs = R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]],
-  "C": [[1]], "D": [[0]], "p": [-1]}, "x0": [0], "horizon": 1, "method": {"h": 0.01}})";
 
 TEST_F(DvisimRun, EventDrivenKinkSceneIsExactToTheToleranceAndFindsTheEvent) {
   const std::string scene =
@@ -947,10 +946,11 @@ TEST_F(DvisimRun, AutoRunsEventDrivenWhereItCanAndStepsWhereItCannotSayingWhy) {
   EXPECT_TRUE(Contains(reason, "scheme (7.3)")) << reason;
   EXPECT_FALSE(stepped.contains("rtol"));
 
-  // Index two at t = 0: the differentiation procedure (Theorem 5.3) reduces
-  // the mode, so auto stays event-driven, and x stays at 0 (u = 1).
-  const RunOutcome reduced = Dvisim("run '" + Write("lcs.json", kIndexTwoLcs) + "' --out '" +
-                                    Path("lcs") + "'");
+  // x' = −1 + u, 0 ≤ u ⊥ x ≥ 0 from x = 0 is index two at t = 0 (D = 0, u⁰
+  // degenerate): the differentiation procedure (Theorem 5.3) reduces the
+  // mode, so auto stays event-driven, and x stays at 0 (u = 1).
+  const RunOutcome reduced =
+      Dvisim("run '" + TestScene("index_two_clamp.json") + "' --out '" + Path("lcs") + "'");
   ASSERT_EQ(reduced.exit_code, 0) << reduced.err;
   const nlohmann::json index_two = ReadSummary("lcs");
   ASSERT_EQ(index_two["method"].size(), 1u);
@@ -965,10 +965,7 @@ TEST_F(DvisimRun, AutoRunsEventDrivenWhereItCanAndStepsWhereItCannotSayingWhy) {
 // x1 = 3 − t until t = 2, then e^{2−t}. `event` integrates it through the
 // KKT system of the disc, and so does auto.
 TEST_F(DvisimRun, EventAndAutoRunADiscSceneThroughItsKktSystem) {
-  const std::string scene = Write("disc.json", R"({"problem": {"type": "dvi",
-    "f": ["u1", "u2"], "F": ["u1 + x1", "u2 + x2"],
-    "set": {"ball": {"center": [0, 0], "radius": 1}}}, "x0": [3, 0], "horizon": 4,
-    "method": {"h": 1e-3, "rtol": 1e-10, "atol": 1e-12}, "output": {"samples": 41}})");
+  const std::string scene = TestScene("disc_saturation.json");
   const RunOutcome event =
       Dvisim("run '" + scene + "' --method event --out '" + Path("event") + "'");
   ASSERT_EQ(event.exit_code, 0) << event.err;

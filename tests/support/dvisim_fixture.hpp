@@ -45,10 +45,14 @@ class DvisimBinaryTest : public ::testing::Test {
 
   /// Runs `dvisim ARGUMENTS`, capturing exit code, stdout and stderr.
   RunOutcome Dvisim(const std::string& arguments) const {
+    return Shell(std::string("'") + DVISIM_EXECUTABLE + "' " + arguments);
+  }
+
+  /// Runs a shell command line, capturing exit code, stdout and stderr.
+  RunOutcome Shell(const std::string& command_line) const {
     const std::string out = Path("stdout.txt");
     const std::string err = Path("stderr.txt");
-    const std::string command =
-        std::string("'") + DVISIM_EXECUTABLE + "' " + arguments + " >'" + out + "' 2>'" + err + "'";
+    const std::string command = command_line + " >'" + out + "' 2>'" + err + "'";
     const int status = std::system(command.c_str());
     RunOutcome run;
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
