@@ -75,11 +75,14 @@ std::vector<ListedRun> ReadRuns() {
     ListedRun run;
     std::string target;
     if (!(words >> run.kind >> target)) continue;
-    std::string word;
-    while (words >> word) run.arguments += (run.arguments.empty() ? "" : " ") + Expand(word);
+    std::string word, as_written;
+    while (words >> word) {
+      run.arguments += (run.arguments.empty() ? "" : " ") + Expand(word);
+      as_written += " " + word.substr(word.find_last_of('/') + 1);
+    }
     if (run.kind == "command") {
       run.target = Expand(target);
-      run.name = TestName(run.target, run.arguments);
+      run.name = TestName(run.target, as_written);
       runs.push_back(run);
       continue;
     }
@@ -111,7 +114,7 @@ std::vector<ListedRun> ReadRuns() {
   return runs;
 }
 
-// summary.json without its timings (every field named *seconds).
+// A JSON document without its timings (every field named *seconds).
 nlohmann::json WithoutTimings(nlohmann::json value) {
   if (value.is_object()) {
     for (auto it = value.begin(); it != value.end();) {
@@ -162,7 +165,12 @@ class Determinism : public testing::DvisimBinaryTest,
       const RunOutcome outcome =
           Shell("cd '" + Path("") + "' && " + prefix + "'" + run.target + "' " + run.arguments);
       outputs.exit_code = outcome.exit_code;
-      outputs.texts = "stdout:\n" + outcome.out + "stderr:\n" + outcome.err;
+      const nlohmann::json document =
+          nlohmann::json::parse(outcome.out, nullptr, /*allow_exceptions=*/false);
+      outputs.texts = "stdout:\n" +
+                      (document.is_discarded() ? outcome.out
+                                               : WithoutTimings(document).dump(1) + "\n") +
+                      "stderr:\n" + outcome.err;
       return outputs;
     }
     const std::string out = Path(label);
