@@ -28,13 +28,14 @@ using testing::RunOutcome;
 // Runs with randomization on, each compared with the one without. A source
 // of address dependence need not show in every pair (GiNaC's term order gave
 // the half-bridge box-dvi scene 5 different outputs in 10 runs, the dvi one
-// 3), so two such runs halve the chance that one slips through, for a third
-// more time than one.
+// 3), so two such runs square the chance that one slips through (a pair that
+// shows it half the time misses it a quarter of the time), for half again
+// the time of one.
 constexpr int kRandomizedRuns = 2;
 
 // One line of the list: `run SCENE [options]` or `command PROGRAM [arguments]`.
 struct ListedRun {
-  std::string kind;  // "run" or "command"
+  std::string kind;  // "run", "command", or "error" for a line that is neither
   std::string target;  // the scene, or the program, with {source} and {build} expanded
   std::string arguments;
   std::string name;  // for the test's name: letters, digits and _
