@@ -8,10 +8,12 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "expression_canonical.hpp"
 #include "json_reading.hpp"
 
 namespace dvi::dvisim {
@@ -158,6 +160,31 @@ TEST(Expression, SharedSubexpressionsGiveIdenticalResultsOnRepeatedCalls) {
     EXPECT_NEAR(out(0), std::exp(2 * x) + std::exp(x), kRoundOff * std::exp(2.0));
     EXPECT_EQ(out(1), std::exp(x));
   }
+}
+
+// The order the tape takes operands in comes from names and structure, not
+// from GiNaC's address-seeded hashes: whatever order and sign GiNaC stores,
+// a sum's terms come by name and its sign is that of its first term.
+// (determinism_test checks the tape itself across processes.)
+TEST(Expression, CanonicalOrderIsByNameAndSignIsThatOfTheFirstTerm) {
+  const ExpressionVariables variables(12, 0);
+  CanonicalOrder order;
+  const GiNaC::ex sum = variables.Parse("x2 + x12 + x1 - x3", "g");
+  std::vector<std::string> names;
+  for (const GiNaC::ex& term : order.Operands(sum)) {
+    std::ostringstream text;
+    text << (order.Negative(term) ? -term : term);
+    names.push_back(text.str());
+  }
+  EXPECT_THAT(names, ::testing::ElementsAre("x1", "x12", "x2", "x3"));
+  EXPECT_FALSE(order.Negative(sum));
+  EXPECT_TRUE(order.Negative(variables.Parse("x2 + x3 - x1", "g")));
+  // Inside a product GiNaC may flip the sum's sign into the coefficient;
+  // the product's sign stays that of the value.
+  EXPECT_FALSE(order.Negative(variables.Parse("x4*(x1 - x2 - x3)", "g")));
+  EXPECT_TRUE(order.Negative(variables.Parse("x4*(x2 + x3 - x1)", "g")));
+  EXPECT_TRUE(order.Negative(variables.Parse("(x2 + x3 - x1)^3", "g")));
+  EXPECT_FALSE(order.Negative(variables.Parse("(x2 + x3 - x1)^2", "g")));
 }
 
 TEST(ExpressionErrors, NameTheFieldAndTheProblem) {

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "expression_canonical.hpp"
 #include "json_reading.hpp"
 
 namespace dvi::dvisim {
@@ -158,20 +159,36 @@ class TapeCompiler {
     program_.n = variables.n();
     program_.m = variables.m();
     program_.num_registers = 1 + variables.n() + variables.m();
-    memo_[variables.t()] = 0;
-    for (int i = 0; i < variables.n(); ++i) memo_[variables.x(i)] = 1 + i;
-    for (int j = 0; j < variables.m(); ++j) memo_[variables.u(j)] = 1 + variables.n() + j;
+    memo_[variables.t()] = {0, false};
+    for (int i = 0; i < variables.n(); ++i) memo_[variables.x(i)] = {1 + i, false};
+    for (int j = 0; j < variables.m(); ++j) memo_[variables.u(j)] = {1 + variables.n() + j, false};
   }
 
-  int Emit(const GiNaC::ex& e, const std::string& path) {
+  // The register holding e's value.
+  int EmitValue(const GiNaC::ex& e, const std::string& path) { return Value(Emit(e, path)); }
+
+ private:
+  // e's value is ±(the register): sums and products are built from
+  // magnitudes in CanonicalOrder and carry their sign apart, so that
+  // whichever sign GiNaC gave a sum in this process (see CanonicalOrder),
+  // −s evaluates to exactly the negation of s (IEEE rounding is symmetric)
+  // and the same instructions result.
+  struct Signed {
+    int magnitude = -1;
+    bool negative = false;
+  };
+
+  Signed Emit(const GiNaC::ex& e, const std::string& path) {
     const auto found = memo_.find(e);
     if (found != memo_.end()) return found->second;
-    const int result = EmitNew(e, path);
+    const Signed result = EmitNew(e, path);
     memo_[e] = result;
     return result;
   }
+  int Value(const Signed& s) {
+    return s.negative ? Instruction(Op::kNeg, s.magnitude) : s.magnitude;
+  }
 
- private:
   int Constant(double value) {
     const auto found = constants_.find(value);
     if (found != constants_.end()) return found->second;
@@ -217,99 +234,109 @@ class TapeCompiler {
                  "precision (about 1.8e308)");
     return value;
   }
-  static bool IsNegativeNumber(const GiNaC::ex& e) {
-    return GiNaC::is_a<GiNaC::numeric>(e) && GiNaC::ex_to<GiNaC::numeric>(e).is_negative();
-  }
-  static bool IsNegativeTerm(const GiNaC::ex& e) {
-    return IsNegativeNumber(e) ||
-           (GiNaC::is_a<GiNaC::mul>(e) && IsNegativeNumber(e.op(e.nops() - 1)));
+  // Integer exponents up to this are multiplications on the tape.
+  static constexpr int kMaxIntegerPower = 1024;
+  static bool IsSmallInteger(const GiNaC::numeric& k) {
+    return k.is_integer() && abs(k) <= kMaxIntegerPower;
   }
   static bool IsNegativeIntegerPower(const GiNaC::ex& e) {
     return GiNaC::is_a<GiNaC::power>(e) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+           IsSmallInteger(GiNaC::ex_to<GiNaC::numeric>(e.op(1))) &&
            GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative();
   }
 
-  int EmitSum(const GiNaC::ex& e, const std::string& path) {
-    // Positive terms first, then subtract the negated negative ones.
-    int total = -1;
-    for (const bool negative : {false, true}) {
-      for (std::size_t k = 0; k < e.nops(); ++k) {
-        const GiNaC::ex term = e.op(k);
-        if (IsNegativeTerm(term) != negative) continue;
-        const int r = Emit(negative ? GiNaC::ex(-term) : term, path);
-        if (total < 0) {
-          total = negative ? Instruction(Op::kNeg, r) : r;
-        } else {
-          total = Instruction(negative ? Op::kSub : Op::kAdd, total, r);
-        }
+  Signed EmitSum(const GiNaC::ex& e, const std::string& path) {
+    // s = ±(t1 ± t2 ± ...), the sign of the first term outside.
+    Signed total;
+    for (const GiNaC::ex& term : order_.Operands(e)) {
+      const Signed t = Emit(term, path);
+      if (total.magnitude < 0) {
+        total = t;
+      } else {
+        total.magnitude =
+            Instruction(t.negative == total.negative ? Op::kAdd : Op::kSub, total.magnitude,
+                        t.magnitude);
       }
     }
     return total;
   }
 
-  int EmitProduct(const GiNaC::ex& e, const std::string& path) {
+  Signed EmitProduct(const GiNaC::ex& e, const std::string& path) {
     // Negative powers go to one denominator: fewer divisions, and a/b rather
     // than a·b⁻¹ rounds like the formula the user wrote.
     int numerator = -1;
     int denominator = -1;
-    bool negate = false;
-    for (std::size_t k = 0; k < e.nops(); ++k) {
-      const GiNaC::ex factor = e.op(k);
-      if (GiNaC::is_a<GiNaC::numeric>(factor) && factor.is_equal(-1)) {
-        negate = !negate;
-        continue;
+    bool negative = false;
+    for (const GiNaC::ex& factor : order_.Operands(e)) {
+      Signed f;
+      if (GiNaC::is_a<GiNaC::numeric>(factor)) {
+        CheckEvaluable(factor, path);
+        const GiNaC::numeric& c = GiNaC::ex_to<GiNaC::numeric>(factor);
+        f = {abs(c).is_equal(1) ? -1 : Constant(ToDouble(abs(c), path)), c.is_negative()};
+      } else if (IsNegativeIntegerPower(factor)) {
+        f = EmitIntegerPower(factor.op(0), -GiNaC::ex_to<GiNaC::numeric>(factor.op(1)), path);
+      } else {
+        f = Emit(factor, path);
       }
+      negative = negative != f.negative;
+      if (f.magnitude < 0) continue;
       int& target = IsNegativeIntegerPower(factor) ? denominator : numerator;
-      const int r = Emit(
-          IsNegativeIntegerPower(factor) ? GiNaC::pow(factor.op(0), -factor.op(1)) : factor, path);
-      target = target < 0 ? r : Instruction(Op::kMul, target, r);
+      target = target < 0 ? f.magnitude : Instruction(Op::kMul, target, f.magnitude);
     }
     if (numerator < 0) numerator = Constant(1.0);
-    int result = denominator < 0 ? numerator : Instruction(Op::kDiv, numerator, denominator);
-    return negate ? Instruction(Op::kNeg, result) : result;
+    return {denominator < 0 ? numerator : Instruction(Op::kDiv, numerator, denominator), negative};
   }
 
-  int EmitPower(const GiNaC::ex& e, const std::string& path) {
+  // base^k, |k| ≤ kMaxIntegerPower: an odd power keeps the base's sign outside.
+  Signed EmitIntegerPower(const GiNaC::ex& base, const GiNaC::numeric& k, const std::string& path) {
+    const Signed b = Emit(base, path);
+    return {Instruction(Op::kPowInt, b.magnitude, k.to_int()), b.negative && k.is_odd()};
+  }
+
+  Signed EmitPower(const GiNaC::ex& e, const std::string& path) {
     const GiNaC::ex base = e.op(0);
     const GiNaC::ex exponent = e.op(1);
     if (GiNaC::is_a<GiNaC::numeric>(exponent)) {
       const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(exponent);
-      if (k.is_integer() && abs(k) <= 1024) {
-        const int b = Emit(base, path);
-        return Instruction(Op::kPowInt, b, k.to_int());
-      }
-      if (k.is_equal(GiNaC::numeric(1, 2))) return Instruction(Op::kSqrt, Emit(base, path));
+      if (IsSmallInteger(k)) return EmitIntegerPower(base, k, path);
+      if (k.is_equal(GiNaC::numeric(1, 2)))
+        return {Instruction(Op::kSqrt, EmitValue(base, path)), false};
       if (k.is_equal(GiNaC::numeric(-1, 2)))
-        return Instruction(Op::kDiv, Constant(1.0), Instruction(Op::kSqrt, Emit(base, path)));
+        return {Instruction(Op::kDiv, Constant(1.0),
+                            Instruction(Op::kSqrt, EmitValue(base, path))),
+                false};
     }
-    return Instruction(Op::kPow, Emit(base, path), Emit(exponent, path));
+    return {Instruction(Op::kPow, EmitValue(base, path), EmitValue(exponent, path)), false};
   }
 
   int EmitFunction(const GiNaC::ex& e, const std::string& path) {
     const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
     const auto unary = UnaryFunctions().find(name);
-    if (unary != UnaryFunctions().end()) return Instruction(unary->second, Emit(e.op(0), path));
+    if (unary != UnaryFunctions().end())
+      return Instruction(unary->second, EmitValue(e.op(0), path));
     if (name == "min" || name == "max")
-      return Instruction(name == "min" ? Op::kMin : Op::kMax, Emit(e.op(0), path),
-                         Emit(e.op(1), path));
+      return Instruction(name == "min" ? Op::kMin : Op::kMax, EmitValue(e.op(0), path),
+                         EmitValue(e.op(1), path));
     if (name == "abs") {
-      const int a = Emit(e.op(0), path);
+      const int a = EmitValue(e.op(0), path);
       return Instruction(Op::kMul, a, Instruction(Op::kSign, a));
     }
     Fail(path,
          "function \"" + name + "\" is not supported (supported: " + kSupportedFunctions + ")");
   }
 
-  int EmitNew(const GiNaC::ex& e, const std::string& path) {
-    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) {
+  Signed EmitNew(const GiNaC::ex& e, const std::string& path) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) {
       CheckEvaluable(e, path);
-      return Constant(ToDouble(e, path));
+      const GiNaC::numeric& c = GiNaC::ex_to<GiNaC::numeric>(e);
+      return {Constant(ToDouble(abs(c), path)), c.is_negative()};
     }
+    if (GiNaC::is_a<GiNaC::constant>(e)) return {Constant(ToDouble(e, path)), false};
     if (GiNaC::is_a<GiNaC::add>(e)) return EmitSum(e, path);
     if (GiNaC::is_a<GiNaC::mul>(e)) return EmitProduct(e, path);
     if (GiNaC::is_a<GiNaC::power>(e)) return EmitPower(e, path);
-    if (GiNaC::is_a<GiNaC::function>(e)) return EmitFunction(e, path);
-    if (double value = 0; named_constants_.ValueOf(e, value)) return Constant(value);
+    if (GiNaC::is_a<GiNaC::function>(e)) return {EmitFunction(e, path), false};
+    if (double value = 0; named_constants_.ValueOf(e, value)) return {Constant(value), false};
     if (GiNaC::is_a<GiNaC::symbol>(e))
       Fail(path, "unknown symbol \"" + GiNaC::ex_to<GiNaC::symbol>(e).get_name() + "\"");
     std::ostringstream text;
@@ -319,9 +346,10 @@ class TapeCompiler {
 
   TapeProgram& program_;
   const ExpressionConstants& named_constants_;
-  std::map<GiNaC::ex, int, GiNaC::ex_is_less> memo_;
+  std::map<GiNaC::ex, Signed, GiNaC::ex_is_less> memo_;  // looked up, never iterated
   std::map<double, int> constants_;
   std::map<int, double> values_;  ///< Register → value, for the constant registers.
+  CanonicalOrder order_;
 };
 
 
@@ -334,7 +362,8 @@ ExpressionTape::ExpressionTape(const std::vector<GiNaC::ex>& expressions,
   auto program = std::make_unique<TapeProgram>();
   TapeCompiler compiler(*program, variables);
   for (std::size_t k = 0; k < expressions.size(); ++k)
-    program->outputs.push_back(compiler.Emit(expressions[k], path + "[" + std::to_string(k) + "]"));
+    program->outputs.push_back(
+        compiler.EmitValue(expressions[k], path + "[" + std::to_string(k) + "]"));
   program_ = std::move(program);
 }
 

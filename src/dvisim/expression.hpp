@@ -67,7 +67,9 @@ class ExpressionVariables {
 struct TapeProgram;
 
 /// A list of expressions in (t, x, u) compiled to a tape of double
-/// operations with common subexpressions shared. Immutable; evaluation uses a
+/// operations with common subexpressions shared. Sums and products are taken
+/// in CanonicalOrder, so every process does the same arithmetic (GiNaC's own
+/// order follows memory addresses). Immutable; evaluation uses a
 /// caller-owned scratch buffer, so copies may run concurrently.
 class ExpressionTape {
  public:
