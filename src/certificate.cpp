@@ -146,19 +146,7 @@ void RowCertifier::Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
     moved_ = resolution_;
     if (step) moved_ += (*step->x_next - *step->x_previous).cwiseAbs();
   } else if (step) {
-    F_end_.resize(u_.size());
-    F_start_.resize(u_.size());
-    F_(step->t_next, *step->x_next, *step->u_next, F_end_);
-    F_(step->t_next, *step->x_previous, *step->u_next, F_start_);
-    moved_ = (F_value_ - F_end_).cwiseAbs() + (F_end_ - F_start_).cwiseAbs();
-    // A row whose u is not its step's own (γ < 1 writes γu^{i+1} +
-    // (1−γ)u^i) is off also by that distance δ: for a box u_j − Π(u − F)_j
-    // = clamp(F_j, u_j − upper_j, u_j − lower_j) moves by at most δ_j
-    // beyond what F moves; for any other K, Π_K being nonexpansive, by δ_j
-    // through u_j and ‖δ‖₂ through the projection.
-    shifted_ = (u_ - *step->u_next).cwiseAbs();
-    moved_ += shifted_;
-    if (!box_) moved_.array() += shifted_.norm();
+    StepMovement(t, *step);
   } else {
     moved_.resize(u_.size());
     sensitivity_(t, x_, u_, F_value_, resolution_, moved_);
@@ -166,6 +154,71 @@ void RowCertifier::Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
   for (Eigen::Index j = 0; j < residual_.size(); ++j)
     Record(residual_(j), Certificate::kViSafety * (tau + moved_(j)), t, static_cast<int>(j),
            measure);
+}
+
+void RowCertifier::MovementOf(double t, const Eigen::VectorXd& u, double t_end,
+                              const Eigen::VectorXd& x_end, const Eigen::VectorXd& x_other,
+                              Eigen::VectorXd& F_row, Eigen::VectorXd& out) {
+  F_row.resize(u.size());
+  F_end_.resize(u.size());
+  F_start_.resize(u.size());
+  F_(t, x_, u, F_row);
+  F_(t_end, x_end, u, F_end_);
+  F_(t_end, x_other, u, F_start_);
+  out = (F_row - F_end_).cwiseAbs() + (F_end_ - F_start_).cwiseAbs();
+}
+
+void RowCertifier::StepMovement(double t, const Step& step) {
+  const Eigen::VectorXd& u_next = *step.u_next;
+  if (!step.u_previous || step.weight == 1) {
+    // The row's u is u^{i+1}: off its VI by as far as F moves from where
+    // u^{i+1} solved it.
+    MovementOf(t, u_next, step.t_next, *step.x_next, *step.x_previous, F_row_next_, moved_);
+    return;
+  }
+  // ū = γu^{i+1} + (1−γ)u^i, as the driver forms it; the bound below uses
+  // this ū, never the row's u, so a row reporting another u is caught.
+  const double gamma = step.weight;
+  const Eigen::VectorXd& u_previous = *step.u_previous;
+  applied_ = u_next;
+  applied_ *= gamma;
+  applied_ += (1 - gamma) * u_previous;
+  F_applied_.resize(u_.size());
+  F_(t, x_, applied_, F_applied_);
+  // Lipschitz from u^{i+1}: ū is δ = |ū − u^{i+1}| from it, and u_j −
+  // Π(u − F)_j moves by at most δ_j for a box (it is clamp(F_j, u_j −
+  // upper_j, u_j − lower_j)), by δ_j + ‖δ‖₂ for any other K (Π_K is
+  // nonexpansive), beyond what F moves.
+  MovementOf(t, u_next, step.t_next, *step.x_next, *step.x_previous, F_row_next_, moved_next_);
+  moved_ = moved_next_ + (F_applied_ - F_row_next_).cwiseAbs();
+  shifted_ = (applied_ - u_next).cwiseAbs();
+  moved_ += shifted_;
+  if (!box_) {
+    moved_.array() += shifted_.norm();
+    return;
+  }
+  // Within one piece of a box component's natural map r(u, F) =
+  // clamp(F, u − upper, u − lower) (the piece set by where u − F lies
+  // against [lower, upper]: the mode), r is linear in (u, F); so where
+  // (u^i, F(u^i)) and (u^{i+1}, F(u^{i+1})) at the row's (t, x) share a
+  // piece, r at their γ-combination is the γ-combination of theirs, and
+  // ū's row is off its VI by no more than γ and 1 − γ of how far each end
+  // is from where it solved its VI, plus what F's nonlinearity in u adds.
+  // At a switch (pieces differ) ū mixes two modes and only the bound above
+  // holds.
+  MovementOf(t, u_previous, step.t_previous, *step.x_previous, *step.x_before, F_row_previous_,
+             moved_previous_);
+  for (Eigen::Index j = 0; j < u_.size(); ++j) {
+    const auto piece = [&](double u, double F) {
+      const double v = u - F;
+      return v < lower_(j) ? -1 : (v > upper_(j) ? 1 : 0);
+    };
+    if (piece(u_next(j), F_row_next_(j)) != piece(u_previous(j), F_row_previous_(j))) continue;
+    const double nonlinear =
+        std::abs(F_applied_(j) - gamma * F_row_next_(j) - (1 - gamma) * F_row_previous_(j));
+    moved_(j) = std::min(moved_(j), gamma * moved_next_(j) + (1 - gamma) * moved_previous_(j) +
+                                        nonlinear);
+  }
 }
 
 void CertifyRows(RowCertifier& certifier, double rtol, double atol, std::size_t rows,

@@ -33,13 +33,20 @@ class RowCertifier {
 
   /// The step of a time-stepping scheme a row belongs to: from x^i to
   /// (t_{i+1}, x^{i+1}, u^{i+1}), whose VI the scheme solved at x^{i+1}
-  /// ((3.3), (7.2)) or at x^i ((3.4)). The row's u may differ from u^{i+1}
-  /// (γu^{i+1} + (1−γ)u^i under (7.2)); it is held to that distance too.
+  /// ((3.3), (7.2)) or at x^i ((3.4)). Under (7.2) with γ < 1 the row's u is
+  /// meant to be ū = γu^{i+1} + (1−γ)u^i, which solves no VI of its own:
+  /// then u^i (whose VI was solved at x^i, or at x^{i−1} by (3.4)) and γ
+  /// are given too, and the row's bound is built from u^i and u^{i+1}
+  /// alone, never from the u it reports.
   struct Step {
     double t_next = 0;
     const Eigen::VectorXd* x_previous = nullptr;
     const Eigen::VectorXd* x_next = nullptr;
     const Eigen::VectorXd* u_next = nullptr;
+    double weight = 1;  ///< γ
+    double t_previous = 0;
+    const Eigen::VectorXd* x_before = nullptr;  ///< x^{i−1} (x^i for the first step)
+    const Eigen::VectorXd* u_previous = nullptr;
   };
   /// What a method allows a row: an error-controlled integrator an error
   /// rtol·|x| + atol in x (its local error test), moving F by |∂F/∂x| times
@@ -72,7 +79,17 @@ class RowCertifier {
   bool box_ = false;
   Eigen::VectorXd lower_, upper_;
   double tolerance_ = 0;
+  // How far a time-stepping row may legitimately be off its VI (into moved_).
+  void StepMovement(double t, const Step& step);
+  // |F(t, x_, u) − F at u's own VI point (t_end, x_end)| + |that − F(t_end,
+  // x_other, u)|: as far as F moves from where u solved its VI, whichever of
+  // the step's ends that was. Into out.
+  void MovementOf(double t, const Eigen::VectorXd& u, double t_end, const Eigen::VectorXd& x_end,
+                  const Eigen::VectorXd& x_other, Eigen::VectorXd& F_row, Eigen::VectorXd& out);
+
   Eigen::VectorXd x_, u_, F_value_, F_end_, F_start_, shifted_, residual_, resolution_, moved_;
+  Eigen::VectorXd applied_, F_applied_, F_row_next_, F_row_previous_, moved_next_,
+      moved_previous_;
 };
 
 /// Checks the first `rows` rows of `trajectory` (the ones its caller keeps)

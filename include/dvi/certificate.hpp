@@ -26,9 +26,13 @@ struct CertifiedMeasure {
 /// error the method allows (event-driven: rtol·|x_i| + atol, the local
 /// error test; time-stepping: the step's own change |x^{i+1} − x^i|, its
 /// first-order accuracy), so a row may be off by what an allowed error in
-/// x moves F, and no more. A time-stepping row whose u is γu^{i+1} +
-/// (1−γ)u^i (scheme (7.2) with γ < 1) may also be off by its distance δ
-/// from the u^{i+1} the step solved for: δ_j, plus what δ moves Π_K.
+/// x moves F, and no more. A time-stepping row whose u is ū = γu^{i+1} +
+/// (1−γ)u^i (scheme (7.2) with γ < 1) is measured with that ū and held to
+/// a bound built from u^i and u^{i+1}, not from ū: where both share a
+/// component's mode (a box K) the natural map is linear between them, so
+/// ū's row may be off by γ and 1 − γ of what each end's row may, plus F's
+/// nonlinearity in u; at a switch ū mixes two modes and may also be off by
+/// its distance δ from u^{i+1}: δ_j, plus what δ moves Π_K.
 ///
 /// ODE: the defect d = x̂'(t) − f(t, x̂(t), u(t)) of the dense output at
 /// each step's midpoint (u from the step's mode there), scaled as the

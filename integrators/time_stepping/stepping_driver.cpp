@@ -56,11 +56,13 @@ class Recorder {
     IntegrationStats& stats = trajectory_.stats;
     ++stats.steps;
     // A row of this step is x̂ᴴ between x^i and x^{i+1} with ū^{i+1}: it
-    // may be off its VI by as far as F moves across the step, and by ū's
-    // distance from the step's own u^{i+1} (Certificate). The step before
-    // stays for a row dated back to its end.
+    // is certified against u^i and u^{i+1} (RowCertifier::Step). The step
+    // before stays for a row dated back to its end, and gives x^{i−1}.
     std::swap(step_, previous_step_);
     if (last_.step) last_.step = &previous_step_;
+    step_.x_before = stats.steps > 1 ? previous_step_.x_previous : x;
+    step_.t_previous = t;
+    step_.u_previous = u;
     step_.t_next = t_next;
     step_.x_previous = x;
     step_.x_next = outcome.x;
@@ -99,11 +101,11 @@ class Recorder {
   void Finish(double t, const Eigen::VectorXd& x) { Sample({t, x, last_.u, last_.step}); }
 
  private:
-  // What a row is certified against: its step, from x^i to (t_{i+1},
-  // x^{i+1}, u^{i+1}).
+  // What a row is certified against: its step, from (t_i, x^i, u^i) to
+  // (t_{i+1}, x^{i+1}, u^{i+1}), and x^{i−1}.
   struct StepRecord {
-    double t_next = 0;
-    Eigen::VectorXd x_previous, x_next, u_next;
+    double t_previous = 0, t_next = 0;
+    Eigen::VectorXd x_before, x_previous, u_previous, x_next, u_next;
   };
   // A row and its step (none for u⁰).
   struct Point {
@@ -121,8 +123,9 @@ class Recorder {
     if (!trajectory_.times.empty() && trajectory_.times.back() >= point.t) return;
     const StepRecord* record = point.step;
     const RowCertifier::Step step =
-        record ? RowCertifier::Step{record->t_next, &record->x_previous, &record->x_next,
-                                    &record->u_next}
+        record ? RowCertifier::Step{record->t_next,     &record->x_previous, &record->x_next,
+                                    &record->u_next,    gamma_,              record->t_previous,
+                                    &record->x_before,  &record->u_previous}
                : RowCertifier::Step{};
     certifier_.Check(point.t, point.x, point.u, {0, 0, record ? &step : nullptr},
                      trajectory_.certificate.vi);
@@ -282,7 +285,8 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
     basis << "time-stepping: VI residual <= " << Certificate::kViSafety << "·(solver tolerance "
           << options.solver.tolerance << " + how far F moves between the row and its step's end";
     if (method.multiplier_weight() != 1)
-      basis << " + the distance of u = γu^{i+1} + (1 - γ)u^i from u^{i+1}";
+      basis << "; u = γu^{i+1} + (1 - γ)u^i where u^i and u^{i+1} share a mode, else its "
+               "distance from u^{i+1} too";
     basis << ") at every row";
     ConcludeCertificate(basis.str(), trajectory);
     stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
