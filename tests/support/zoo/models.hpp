@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: Apache-2.0
+// The zoo's models, one file each (their physics, parameters and units are
+// documented there and in examples/scenes/zoo/README.md).
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "support/zoo/zoo_model.hpp"
+
+namespace dvi::zoo {
+
+ZooModel HalfWaveRectifier();   // half_wave_rectifier.cpp
+ZooModel BridgeRectifier();     // bridge_rectifier.cpp
+ZooModel RlcDiode();            // rlc_diode.cpp
+ZooModel BuckConverter();       // buck_converter.cpp
+ZooModel BoostConverter();      // boost_converter.cpp
+ZooModel RelayPlain();          // relay_feedback.cpp
+ZooModel RelaySliding();        // relay_feedback.cpp
+ZooModel RelayChattering();     // relay_feedback.cpp
+ZooModel TwistingController();  // twisting_controller.cpp
+ZooModel FilippovSpiral();      // filippov_spiral.cpp
+ZooModel ColpittsOscillator();  // colpitts_oscillator.cpp
+
+/// The two rectifiers' circuit values: a 10 V, 50 Hz mains-like source
+/// switched on at 60°, a 100 μF filter and a 1 kΩ load.
+struct RectifierValues {
+  double Vs = 10;                // source amplitude [V]
+  double omega = 2 * M_PI * 50;  // 50 Hz [rad/s]
+  double phase = M_PI / 3;       // switched on at 60° [rad]
+  double R = 1e3;                // load [Ω]
+  double C = 100e-6;             // filter [F]
+  double Source(double t) const { return Vs * std::sin(omega * t + phase); }
+};
+
+/// A sine source e(t) = amplitude·sin(ωt + φ) written as the oscillator
+/// states (sin(ωt + φ), cos(ωt + φ)), as the rectifier scenes do today.
+SourceStates SineOscillatorStates(double omega, double phase, double t);
+/// The flow of z = (v, sin(ωt + φ), cos(ωt + φ), 1) with v' = 0, for the
+/// rectifiers' modes to fill in v's row.
+Eigen::MatrixXd SineOscillatorFlow(double omega);
+
+/// The four quadrant modes of a planar system with two relays s = (s1, s2),
+/// s_j ∈ Sgn(x_j), in z = (x1, x2, 1), and a fifth mode at rest at the
+/// origin (u = 0 there): flow(s1, s2) gives each quadrant's 3×3 z' = M z.
+/// The trajectory must turn clockwise, ++ → +− (x2 = 0) → −− (x1 = 0) →
+/// −+ (x2 = 0) → ++ (x1 = 0), as the twisting controller and the spiral do;
+/// after_guard follows that order (and throws on any other crossing), each
+/// crossed coordinate set to exactly 0. Zeno: remaining(mode, z), the time
+/// from a switch into `mode` at z to the accumulation (in closed form), ends
+/// the enumeration once it is below 1e-14 and goes on at rest at the origin.
+enum Quadrant { kPlusPlus, kPlusMinus, kMinusMinus, kMinusPlus, kAtOrigin };
+HybridRules ClockwiseQuadrantRules(
+    const std::string& model, const std::function<Eigen::Matrix3d(double, double)>& flow,
+    const std::function<double(int mode, const Eigen::VectorXd& z)>& remaining);
+
+}  // namespace dvi::zoo
