@@ -13,6 +13,8 @@
 
 #include <ComplementarityConditionNSL.hpp>
 #include <EulerMoreauOSI.hpp>
+#include <FirstOrderLinearDS.hpp>
+#include <FirstOrderLinearR.hpp>
 #include <FirstOrderLinearTIDS.hpp>
 #include <FirstOrderLinearTIR.hpp>
 #include <Interaction.hpp>
@@ -64,6 +66,22 @@ void CountSolverFailure(int info, Simulation*) {
   g_failures.last_info = info;
 }
 
+// The b(t) and e(t) plugins are plain function pointers too: they read the
+// base vectors and sources of the one simulation running from here.
+struct Sources {
+  Eigen::VectorXd p, q;
+  const SiconosSteppingOptions* options = nullptr;
+};
+Sources g_sources;
+
+void PluggedB(double t, unsigned int size, double* b, unsigned int, double*) {
+  Eigen::Map<Eigen::VectorXd>(b, size) = g_sources.p + g_sources.options->p_source(t);
+}
+
+void PluggedE(double t, unsigned int size, double* e, unsigned int, double*) {
+  Eigen::Map<Eigen::VectorXd>(e, size) = g_sources.q + g_sources.options->q_source(t);
+}
+
 }  // namespace
 
 SiconosSteppingResult RunSiconosStepping(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
@@ -75,11 +93,28 @@ SiconosSteppingResult RunSiconosStepping(const Lcs& lcs, const Eigen::VectorXd& 
   numerics_set_verbose(0);
   try {
     const double t_end = t0 + static_cast<double>(options.steps) * options.h;
-    auto ds =
-        std::make_shared<FirstOrderLinearTIDS>(ToSiconos(x0), ToSiconos(lcs.A), ToSiconos(lcs.p));
-    auto relation = std::make_shared<FirstOrderLinearTIR>(ToSiconos(lcs.C), ToSiconos(lcs.B));
-    relation->setDPtr(ToSiconos(lcs.D));
-    relation->setePtr(ToSiconos(lcs.q));
+    g_sources = {lcs.p, lcs.q, &options};
+    std::shared_ptr<FirstOrderLinearDS> ds;
+    if (options.p_source) {
+      ds = std::make_shared<FirstOrderLinearDS>(ToSiconos(x0), ToSiconos(lcs.A),
+                                                ToSiconos(Eigen::VectorXd(lcs.p + options.p_source(t0))));
+      ds->setComputebFunction(&PluggedB);
+    } else {
+      ds = std::make_shared<FirstOrderLinearTIDS>(ToSiconos(x0), ToSiconos(lcs.A), ToSiconos(lcs.p));
+    }
+    std::shared_ptr<Relation> relation;
+    if (options.q_source) {
+      auto plugged = std::make_shared<FirstOrderLinearR>(ToSiconos(lcs.C), ToSiconos(lcs.B));
+      plugged->setDPtr(ToSiconos(lcs.D));
+      plugged->setePtr(ToSiconos(Eigen::VectorXd(lcs.q + options.q_source(t0))));
+      plugged->getPlugine()->setComputeFunction(reinterpret_cast<void*>(&PluggedE));
+      relation = plugged;
+    } else {
+      auto constant = std::make_shared<FirstOrderLinearTIR>(ToSiconos(lcs.C), ToSiconos(lcs.B));
+      constant->setDPtr(ToSiconos(lcs.D));
+      constant->setePtr(ToSiconos(lcs.q));
+      relation = constant;
+    }
     auto law = std::make_shared<ComplementarityConditionNSL>(static_cast<unsigned>(lcs.m()));
     auto interaction = std::make_shared<Interaction>(law, relation);
     auto nsds = std::make_shared<NonSmoothDynamicalSystem>(t0, t_end);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,12 @@ struct SiconosSteppingOptions {
   Eigen::VectorXd r0;
   /// Record x after every `record_stride`-th step (and after the last one).
   long record_stride = 1;
+  /// Optional time-dependent sources added to p (n entries) and q (m
+  /// entries): the system becomes a FirstOrderLinearDS whose b(t) plugin
+  /// gives p + p_source(t) and a FirstOrderLinearR whose e(t) plugin gives
+  /// q + q_source(t) (EulerMoreauOSI evaluates e at the step's end).
+  std::function<Eigen::VectorXd(double t)> p_source;
+  std::function<Eigen::VectorXd(double t)> q_source;
 };
 
 struct SiconosSteppingResult {
@@ -42,7 +49,8 @@ struct SiconosSteppingResult {
 /// r = B λ, ComplementarityConditionNSL, EulerMoreauOSI(1 − θ, γ) with
 /// useGamma on and useGammaForRelation off, an LCP solved by Lemke, and a
 /// TimeStepping with the fixed step h; then takes `steps` steps from (t0, x0).
-/// Requires K = orthant.
+/// With sources, FirstOrderLinearDS and FirstOrderLinearR with b and e
+/// plugins instead. Requires K = orthant.
 SiconosSteppingResult RunSiconosStepping(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                          const SiconosSteppingOptions& options);
 
