@@ -17,7 +17,11 @@ out_dir=${1:-$build_dir/zoo}
 shift $(( $# > 0 ? 1 : 0 ))
 # The anchor: Siconos' kernel (and numerics) from Debian, for benchmarks only.
 "$src_dir/scripts/install-deps.sh" libsiconos-kernel-dev libsiconos-numerics-dev
-cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS=OFF >/dev/null
+# ccache, where installed, makes the rebuild after a change a matter of seconds.
+launcher=()
+if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS=OFF \
+  "${launcher[@]}" >/dev/null
 cmake --build "$build_dir" --target dvisim zoo_bench zoo_siconos -j2 >/dev/null
 mkdir -p "$out_dir"
 cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)

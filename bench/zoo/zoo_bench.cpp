@@ -10,37 +10,28 @@
 // Each run is `dvisim run SCENE --method M --out DIR` in a child process,
 // killed after --timeout; the scene's own settings stand (auto and event
 // at rtol 1e-10, time-stepping at the customary step h_c).
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <regex>
-#include <set>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
+#include "dvisim_run.hpp"
 #include "reference_error.hpp"
+#include "reference_plot.hpp"
 #include "support/zoo/zoo_model.hpp"
 
 namespace dvi::zoo {
 namespace {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::json;
 
 // The issue's goals.
 constexpr double kEventDrivenGoal = 0.95;
@@ -48,168 +39,12 @@ constexpr double kErrorGoal = 1e-6;   // relative, at rtol 1e-10, where the refe
 constexpr double kZenoGoal = 1e-8;    // x after t*, and t*, for the Zeno models
 const char* const kMethods[] = {"auto", "event", "stepping"};
 
-struct Run {
-  std::string method;
-  int exit_code = -1;
-  bool timed_out = false;
-  std::string status;   // summary.json's, or "exit N" / "timeout"
-  std::string message;  // the failure, first line of stderr
-  double error = HUGE_VAL;
-  double seconds = NAN;  // stats.wall_seconds: the integration alone
-  int switches = -1;     // distinct event times
-  double event_fraction = 0;
-  std::string intervals;  // auto: how many of each method
-  double zeno_error = HUGE_VAL;  // max |x − x_ref| at rows after t*
-  double predicted_t_star = NAN;
-  double t_star_resolution = NAN;  // half a unit of the printed prediction's last digit
-  std::string plot;
-};
-
 struct SiconosRun {
   double h = 0, error = HUGE_VAL, seconds = NAN;
   long steps = 0;
   bool ok = false;
   std::string message;
 };
-
-struct Process {
-  int exit_code = -1;
-  bool timed_out = false;
-};
-
-// Runs argv[0] with stdout to /dev/null and stderr to stderr_path; kills
-// the child (by its pid) after timeout seconds.
-Process RunChild(const std::vector<std::string>& argv, const std::string& stderr_path,
-                 double timeout) {
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int out = open("/dev/null", O_WRONLY);
-    const int err = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (out < 0 || err < 0 || dup2(out, 1) < 0 || dup2(err, 2) < 0) _exit(127);
-    execv(args[0], args.data());
-    _exit(127);
-  }
-  Process result;
-  if (pid < 0) return result;
-  const auto start = std::chrono::steady_clock::now();
-  int status = 0;
-  for (;;) {
-    const pid_t done = waitpid(pid, &status, WNOHANG);
-    if (done == pid) break;
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      result.timed_out = true;
-      return result;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return result;
-}
-
-std::string FirstLine(const std::string& path, const std::string& scene) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  // dvisim prefixes "dvisim: SCENE: ".
-  const std::string prefix = "dvisim: " + scene + ": ";
-  if (line.rfind(prefix, 0) == 0) line = line.substr(prefix.size());
-  return line;
-}
-
-// Rows of trajectory.csv: t and the first n state columns.
-std::vector<std::pair<double, Eigen::VectorXd>> ReadRows(const std::string& path, int n) {
-  std::vector<std::pair<double, Eigen::VectorXd>> rows;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::stringstream fields(line);
-    std::string cell;
-    std::getline(fields, cell, ',');
-    const double t = std::stod(cell);
-    Eigen::VectorXd x(n);
-    for (int i = 0; i < n; ++i) {
-      std::getline(fields, cell, ',');
-      x(i) = std::stod(cell);
-    }
-    rows.emplace_back(t, x);
-  }
-  return rows;
-}
-
-Run RunDvisim(const ZooModel& model, const PiecewiseLinearReference& reference,
-              const ReferenceError& error, const std::string& method, const std::string& dvisim,
-              const std::string& scene, const fs::path& out, double timeout) {
-  Run run;
-  run.method = method;
-  const fs::path dir = out / "runs" / model.key / method;
-  fs::remove_all(dir);
-  fs::create_directories(dir.parent_path());
-  const std::string stderr_path = (out / "runs" / model.key / (method + ".stderr")).string();
-  const Process process =
-      RunChild({dvisim, "run", scene, "--method", method, "--out", dir.string()}, stderr_path,
-               timeout);
-  run.exit_code = process.exit_code;
-  run.timed_out = process.timed_out;
-  if (process.timed_out) {
-    run.status = "timeout";
-    run.message = "killed after " + std::to_string(static_cast<int>(timeout)) + " s";
-    return run;
-  }
-  if (process.exit_code != 0) {
-    run.status = "exit " + std::to_string(process.exit_code);
-    run.message = FirstLine(stderr_path, scene);
-    return run;
-  }
-  std::ifstream summary_file(dir / "summary.json");
-  const Json summary = Json::parse(summary_file);
-  run.status = summary.at("status").get<std::string>();
-  run.seconds = summary.at("stats").at("wall_seconds").get<double>();
-  std::set<double> times;
-  for (const Json& event : summary.at("events")) times.insert(event.at("time").get<double>());
-  run.switches = static_cast<int>(times.size());
-  std::map<std::string, int> counts;
-  double event_time = 0;
-  const std::regex t_star(R"(accumulation predicted at t\* = ([0-9.eE+-]+))");
-  for (const Json& interval : summary.at("method")) {
-    const std::string name = interval.at("name").get<std::string>();
-    ++counts[name];
-    if (name == "event") {
-      event_time += interval.at("to").get<double>() - interval.at("from").get<double>();
-    }
-    std::smatch match;
-    const std::string reason = interval.at("reason").get<std::string>();
-    if (std::isnan(run.predicted_t_star) && std::regex_search(reason, match, t_star)) {
-      const std::string printed = match[1];
-      run.predicted_t_star = std::stod(printed);
-      const std::size_t point = printed.find('.');
-      const int decimals =
-          point == std::string::npos ? 0 : static_cast<int>(printed.size() - point - 1);
-      run.t_star_resolution = 0.5 * std::pow(10.0, -decimals);
-    }
-  }
-  run.event_fraction = event_time / model.horizon;
-  for (const auto& [name, count] : counts) {
-    run.intervals += (run.intervals.empty() ? "" : ", ") + std::to_string(count) + " " + name;
-  }
-  run.error = 0;
-  run.zeno_error = std::isnan(model.zeno_time) ? NAN : 0;
-  for (const auto& [t, x] : ReadRows((dir / "trajectory.csv").string(), model.n())) {
-    if (t <= 0) continue;  // x(0⁻): the rectifiers jump at t = 0
-    run.error = std::max(run.error, error.At(t, x));
-    if (t >= model.zeno_time) {
-      run.zeno_error =
-          std::max(run.zeno_error, (x - reference.X(t)).lpNorm<Eigen::Infinity>());
-    }
-  }
-  if (fs::exists(dir / "plot.png")) run.plot = (dir / "plot.png").string();
-  return run;
-}
 
 std::map<std::string, std::vector<SiconosRun>> ReadSiconos(const std::string& path) {
   std::map<std::string, std::vector<SiconosRun>> runs;
@@ -315,44 +150,6 @@ double Amplification(const PiecewiseLinearReference& reference, const ReferenceE
   }
 }
 
-// The exact solution's picture, by gnuplot (Debian gnuplot-nox, which
-// dvisim's plots use too): one panel per state, 2001 samples and both sides
-// of every switch. For every model, also where no method of dvisim runs.
-void PlotReference(const ZooModel& model, const PiecewiseLinearReference& reference,
-                   const fs::path& dir, const std::string& gnuplot) {
-  const fs::path data = dir / (model.key + "_reference.csv");
-  {
-    std::ofstream csv(data);
-    std::vector<double> times;
-    constexpr int kSamples = 2000;
-    for (int k = 0; k <= kSamples; ++k) times.push_back(model.horizon * k / kSamples);
-    for (const Segment& s : reference.segments()) times.push_back(s.t0);
-    std::sort(times.begin(), times.end());
-    csv.precision(17);
-    for (const double t : times) {
-      csv << t;
-      for (int i = 0; i < model.n(); ++i) csv << "," << reference.X(t)(i);
-      csv << "\n";
-    }
-  }
-  const fs::path script = dir / (model.key + "_reference.gp");
-  {
-    std::ofstream gp(script);
-    gp << "set terminal pngcairo noenhanced size 900," << 220 * model.n() + 60 << "\n"
-       << "set output '" << (dir / (model.key + "_reference.png")).string() << "'\n"
-       << "set datafile separator ','\nset key off\nset grid\n"
-       << "set multiplot layout " << model.n() << ",1 title '" << model.key
-       << ": exact reference'\n";
-    for (int i = 0; i < model.n(); ++i) {
-      if (i + 1 == model.n()) gp << "set xlabel 't'\n";
-      gp << "set ylabel 'x" << i + 1 << "'\nplot '" << data.string() << "' using 1:" << i + 2
-         << " with lines lw 1.5\n";
-    }
-    gp << "unset multiplot\n";
-  }
-  RunChild({gnuplot, script.string()}, (dir / (model.key + "_reference.log")).string(), 60);
-}
-
 int ReferenceSwitches(const PiecewiseLinearReference& reference) {
   int switches = 0;
   const auto& segments = reference.segments();
@@ -395,7 +192,7 @@ int main(int argc, char** argv) {
     ZooModel model;
     int reference_switches = 0;
     double amplification = NAN;
-    std::vector<Run> runs;
+    std::vector<DvisimRun> runs;
     std::vector<SiconosRun> siconos;
   };
   std::vector<Row> rows;
@@ -408,7 +205,7 @@ int main(int argc, char** argv) {
     if (!gnuplot.empty()) PlotReference(model, reference, out / "pictures", gnuplot);
     for (const char* method : kMethods) {
       row.runs.push_back(RunDvisim(model, reference, error, method, dvisim, scene, out, timeout));
-      const Run& run = row.runs.back();
+      const DvisimRun& run = row.runs.back();
       std::cerr << model.key << " " << method << ": " << run.status << ", error " << Sci(run.error)
                 << ", " << Seconds(run.seconds) << " s\n";
       std::string message = run.message;
@@ -418,7 +215,7 @@ int main(int argc, char** argv) {
           << "\"\n";
     }
     // dvisim's plot of the first method that succeeded.
-    for (const Run& run : row.runs) {
+    for (const DvisimRun& run : row.runs) {
       if (!run.plot.empty()) {
         fs::copy_file(run.plot, out / "pictures" / (model.key + "_" + run.method + ".png"),
                       fs::copy_options::overwrite_existing);
@@ -441,7 +238,7 @@ int main(int argc, char** argv) {
                "event-driven |\n|---|---|---|---|---|---|---|---|\n";
   std::vector<std::string> failures;
   for (const Row& row : rows) {
-    for (const Run& run : row.runs) {
+    for (const DvisimRun& run : row.runs) {
       std::cout << "| " << row.model.key << " | " << row.reference_switches << " | " << run.method
                 << " | " << run.status << " | " << Sci(run.error) << " | " << Seconds(run.seconds)
                 << " | " << (run.switches < 0 ? "—" : std::to_string(run.switches)) << " | "
@@ -475,7 +272,7 @@ int main(int argc, char** argv) {
     return std::string(Verdict(pass)) + " (" + detail + ")";
   };
   for (const Row& row : rows) {
-    const Run& a = row.runs.front();  // auto
+    const DvisimRun& a = row.runs.front();  // auto
     const bool ran = a.exit_code == 0 && !a.timed_out;
     const SiconosRun* customary = row.siconos.empty() ? nullptr : &row.siconos.front();
     const EqualError equal = SiconosAtError(row.siconos, a.error);
@@ -493,7 +290,7 @@ int main(int argc, char** argv) {
   }
   for (const Row& row : rows) {
     if (std::isnan(row.model.zeno_time)) continue;
-    const Run& a = row.runs.front();
+    const DvisimRun& a = row.runs.front();
     const bool ran = a.exit_code == 0 && !a.timed_out;
     // auto's summary prints its predicted t* to a few decimals: the goal is
     // met only where that printed value proves it.
