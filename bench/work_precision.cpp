@@ -22,13 +22,15 @@
 
 #include "dvi/event_driven.hpp"
 #include "dvi/time_stepping.hpp"
-#include "work_precision_baselines.hpp"
+#include "baseline_runs.hpp"
 #include "work_precision_problems.hpp"
 
 namespace dvi::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using baselines::BaselineProblem;
+using baselines::BaselineRun;
 
 constexpr int kOutputCount = 500;
 // The 1e-3 … 1e-10, extended to 1e-13 so that the event curve can
@@ -418,13 +420,26 @@ int Main(int argc, char** argv) {
   std::vector<Point> points;
   for (const WorkPrecisionProblem& problem : problems) {
     std::cerr << problem.name << "\n";
-    const std::vector<std::pair<std::string, BaselineRun (*)(const WorkPrecisionProblem&,
-                                                             double, double)>>
-        adaptive = {{"event", RunEvent},
-                    {"cvode", RunPlainCvode},
-                    {"dopri5", RunOdeintDopri5},
-                    {"rosenbrock4", RunOdeintRosenbrock4},
-                    {"oracle", RunOracleCvode}};
+    BaselineProblem baseline;
+    if (problem.lcs)
+      baseline.dvi = *problem.lcs;
+    else
+      baseline.dvi = problem.dvi;
+    baseline.x0 = problem.x0;
+    baseline.t0 = problem.t0;
+    baseline.t_end = problem.t_end;
+    baseline.output_times = problem.output_times;
+    const std::vector<std::pair<std::string, std::function<BaselineRun(double, double)>>>
+        adaptive = {
+            {"event", [&](double rtol, double atol) { return RunEvent(problem, rtol, atol); }},
+            {"cvode", [&](double rtol, double atol) { return RunPlainCvode(baseline, rtol, atol); }},
+            {"dopri5",
+             [&](double rtol, double atol) { return RunOdeintDopri5(baseline, rtol, atol); }},
+            {"rosenbrock4",
+             [&](double rtol, double atol) { return RunOdeintRosenbrock4(baseline, rtol, atol); }},
+            {"oracle", [&](double rtol, double atol) {
+               return RunOracleCvode(baseline, problem.schedule, rtol, atol);
+             }}};
     // By tolerance, the methods in turn: the points a ratio compares are
     // timed seconds apart, not minutes, when the machine's speed drifts.
     std::vector<std::vector<Point>> by_method(adaptive.size());
@@ -433,9 +448,9 @@ int Main(int argc, char** argv) {
       for (std::size_t k = 0; k < adaptive.size(); ++k) {
         std::vector<Point>& own = by_method[k];
         if (!own.empty() && own.back().seconds > kAdaptiveBudget) continue;
-        const auto run = adaptive[k].second;
+        const auto& run = adaptive[k].second;
         own.push_back(Measure(problem, adaptive[k].first, "rtol", rtol,
-                              [&] { return run(problem, rtol, atol); }));
+                              [&] { return run(rtol, atol); }));
       }
     }
     for (std::size_t k = 0; k < adaptive.size(); ++k) {

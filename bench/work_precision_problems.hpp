@@ -14,15 +14,11 @@
 #include "dvi/dvi_problem.hpp"
 #include "dvi/index_one_rhs.hpp"
 #include "dvi/lcs.hpp"
+#include "baseline_runs.hpp"
 
 namespace dvi::bench {
 
-/// One mode of u held on [from, to].
-struct ModeSegment {
-  double from = 0;
-  double to = 0;
-  Mode mode;
-};
+using baselines::ModeSegment;
 
 struct WorkPrecisionProblem {
   std::string name;       ///< Short key for the CSV and chart.

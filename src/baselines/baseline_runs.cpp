@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "work_precision_baselines.hpp"
+#include "baseline_runs.hpp"
 
 #include <cstdlib>
 #include <exception>
 #include <sstream>
 #include <stdexcept>
+#include <variant>
 
 #include <boost/numeric/odeint.hpp>
 #include <cvode/cvode.h>
@@ -16,19 +17,19 @@
 #include "dvi/index_one_rhs.hpp"
 #include "dvi/odeint_system.hpp"
 
-namespace dvi::bench {
+namespace dvi::baselines {
 namespace {
 
 namespace odeint = boost::numeric::odeint;
 
 constexpr long kMaxSteps = 10'000'000;
 
-IndexOneRhs MakeRhs(const WorkPrecisionProblem& problem) {
-  return problem.lcs ? IndexOneRhs(*problem.lcs) : IndexOneRhs(problem.dvi);
+IndexOneRhs MakeRhs(const BaselineProblem& problem) {
+  return std::visit([](const auto& dvi) { return IndexOneRhs(dvi); }, problem.dvi);
 }
 
 // First trial step of the odeint steppers; their controllers shrink it.
-double InitialStep(const WorkPrecisionProblem& problem) {
+double InitialStep(const BaselineProblem& problem) {
   return 1e-4 * (problem.t_end - problem.t0);
 }
 
@@ -119,7 +120,7 @@ class CvodeSolver {
 
 }  // namespace
 
-BaselineRun RunPlainCvode(const WorkPrecisionProblem& problem, double rtol, double atol) {
+BaselineRun RunPlainCvode(const BaselineProblem& problem, double rtol, double atol) {
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
   CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol);
@@ -136,7 +137,8 @@ BaselineRun RunPlainCvode(const WorkPrecisionProblem& problem, double rtol, doub
   return run;
 }
 
-BaselineRun RunOracleCvode(const WorkPrecisionProblem& problem, double rtol, double atol) {
+BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<ModeSegment>& schedule,
+                           double rtol, double atol) {
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
   rhs.FreezeMode(true);
@@ -149,8 +151,8 @@ BaselineRun RunOracleCvode(const WorkPrecisionProblem& problem, double rtol, dou
   // Jacobian singular, e.g. on a ball); x is continuous at a switch, so u
   // restarts from its last value there.
   if (!rhs.SelectMode(problem.t0, problem.x0)) run.failure = rhs.message();
-  for (std::size_t k = 0; k < problem.schedule.size() && run.failure.empty(); ++k) {
-    const ModeSegment& segment = problem.schedule[k];
+  for (std::size_t k = 0; k < schedule.size() && run.failure.empty(); ++k) {
+    const ModeSegment& segment = schedule[k];
     rhs.EnterMode(segment.mode, rhs.multiplier());
     if (k == 0)
       cvode.SetStopTime(segment.to);
@@ -169,7 +171,7 @@ BaselineRun RunOracleCvode(const WorkPrecisionProblem& problem, double rtol, dou
   return run;
 }
 
-BaselineRun RunOdeintDopri5(const WorkPrecisionProblem& problem, double rtol, double atol) {
+BaselineRun RunOdeintDopri5(const BaselineProblem& problem, double rtol, double atol) {
   using State = std::vector<double>;
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
@@ -189,7 +191,7 @@ BaselineRun RunOdeintDopri5(const WorkPrecisionProblem& problem, double rtol, do
   return run;
 }
 
-BaselineRun RunOdeintRosenbrock4(const WorkPrecisionProblem& problem, double rtol, double atol) {
+BaselineRun RunOdeintRosenbrock4(const BaselineProblem& problem, double rtol, double atol) {
   using State = boost::numeric::ublas::vector<double>;
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
@@ -213,4 +215,4 @@ BaselineRun RunOdeintRosenbrock4(const WorkPrecisionProblem& problem, double rto
   return run;
 }
 
-}  // namespace dvi::bench
+}  // namespace dvi::baselines
