@@ -75,6 +75,10 @@ struct IntegrationStats {
   /// Event-driven modes reduced by differentiation (Theorems 5.2/5.3): the
   /// largest |Φ_α| of the original constraints at accepted steps (drift).
   double max_constraint_drift = 0;
+  /// Event-driven: modes chosen by that differentiation procedure (index two
+  /// or more). Where it is > 0, u(t, x) is not a Lipschitz function of the
+  /// state there, which the implicit right-hand side (5.2) assumes.
+  long reduced_modes = 0;
   double wall_seconds = 0;  ///< The integration's own time.
 };
 

@@ -141,6 +141,7 @@ void Append(Trajectory& whole, Trajectory&& part) {
   sum.solver_iterations += add.solver_iterations;
   sum.max_residual = std::max(sum.max_residual, add.max_residual);
   sum.max_constraint_drift = std::max(sum.max_constraint_drift, add.max_constraint_drift);
+  sum.reduced_modes += add.reduced_modes;
   whole.status = part.status;
   whole.message = std::move(part.message);
 }

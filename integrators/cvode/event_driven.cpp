@@ -1329,6 +1329,7 @@ Trajectory EventDrivenRun::Run() {
   stats.rhs_evals += data_.rhs_evals;
   stats.jacobian_evals += data_.jacobian_evals;
   stats.solver_iterations += system_.newton_iterations();
+  stats.reduced_modes += reduced_selections_;
   if (!trajectory_.times.empty()) {
     std::string reason = index_one_reason_.empty() ? "index one not established" : index_one_reason_;
     if (look_ahead_selections_ > 0)

@@ -787,6 +787,7 @@ Trajectory ModeDaeRun::Run() {
   IntegrationStats& stats = trajectory_.stats;
   stats.rhs_evals = data_.residual_evals;
   stats.jacobian_evals = data_.jacobian_evals;
+  stats.reduced_modes = reduced_modes_;
   if (started) {
     std::ostringstream reason;
     reason << "LCS modes as DAEs on IDA (" << (options_.sparse ? "sparse KLU" : "dense")

@@ -11,6 +11,7 @@
 
 #include "run_command.hpp"
 #include "solve_command.hpp"
+#include "study_command.hpp"
 
 namespace {
 
@@ -47,6 +48,23 @@ CLI::App* AddRunCommand(CLI::App& app, dvi::dvisim::RunCommand& command, std::st
   return run;
 }
 
+// Registers `dvisim study` with its options; returns the subcommand.
+CLI::App* AddStudyCommand(CLI::App& app, dvi::dvisim::StudyCommand& command) {
+  CLI::App* study = app.add_subcommand(
+      "study", "Chart speed against accuracy and test stability: every method over ladders of "
+               "tolerances and step sizes, against one reference (docs/scenes.md)");
+  study->add_option("scene", command.scene_path, "The scene file (JSON)")->required();
+  study->add_option("--out", command.out_dir,
+                    "The folder to create for study.csv, stability.md, study.json, "
+                    "work_precision.{png,svg} and index.html (must not exist)")
+      ->required();
+  study->add_option("--jobs", command.jobs, "Runs at once (default: one per core)");
+  study->add_option("--repeats", command.repeats, "Timing samples per run (median; default 3)");
+  study->add_flag("--progress", command.progress_bar,
+                  "Draw the progress bar even when standard error is not a terminal");
+  return study;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -60,6 +78,8 @@ int main(int argc, char** argv) {
   std::string method, out_dir;
   double h = 0.0, theta = 0.0, gamma = 0.0, max_wall = 0.0;
   CLI::App* run = AddRunCommand(app, run_command, method, out_dir, h, theta, gamma, max_wall);
+  dvi::dvisim::StudyCommand study_command;
+  CLI::App* study = AddStudyCommand(app, study_command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -81,6 +101,10 @@ int main(int argc, char** argv) {
     if (run->count("--max-wall") > 0) run_command.max_wall = max_wall;
     run_command.progress_bar = ::isatty(STDERR_FILENO) != 0;
     return dvi::dvisim::RunScene(run_command, std::cout, std::cerr);
+  }
+  if (study->parsed()) {
+    if (::isatty(STDERR_FILENO) != 0) study_command.progress_bar = true;
+    return dvi::dvisim::RunStudyCommand(study_command, std::cout, std::cerr);
   }
   return dvi::dvisim::kExitBadInput;
 }

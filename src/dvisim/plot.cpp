@@ -18,7 +18,6 @@
 namespace dvi::dvisim {
 namespace {
 
-[[noreturn]] void Fail(const std::string& message) { throw InputError("output.plot: " + message); }
 
 // A gnuplot single-quoted string: '' stands for one quote, nothing else is
 // special (and noenhanced keeps _ and ^ literal in titles).
@@ -83,11 +82,16 @@ std::string PlotScript(const PlotRequest& request) {
 }
 
 void WritePlots(const std::string& dir, const PlotRequest& request) {
+  RunGnuplot(dir, PlotScript(request), "output.plot");
+}
+
+void RunGnuplot(const std::string& dir, const std::string& script_text, const std::string& what) {
+  const auto Fail = [&what](const std::string& message) { throw InputError(what + ": " + message); };
   const std::filesystem::path script_path = std::filesystem::path(dir) / "plot.gp";
   const std::filesystem::path log_path = std::filesystem::path(dir) / "gnuplot.log";
   {
     std::ofstream script(script_path);
-    script << PlotScript(request);
+    script << script_text;
     if (!script) Fail("cannot write " + script_path.string());
   }
   // Everything the child needs is prepared before fork(): after it, only

@@ -26,4 +26,9 @@ inline constexpr int kMaxMarkedEvents = 200;
 /// fails (with the first line of its error output).
 void WritePlots(const std::string& dir, const PlotRequest& request);
 
+/// Runs gnuplot in dir on `script` (kept there as plot.gp only while it
+/// runs; paths in it are relative to dir).
+/// @throws InputError "what: ..." as WritePlots.
+void RunGnuplot(const std::string& dir, const std::string& script, const std::string& what);
+
 }  // namespace dvi::dvisim

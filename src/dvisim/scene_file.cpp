@@ -518,7 +518,8 @@ Scene ParseScene(const std::string& text) {
   if (FindField(root, "boundary"))
     Fail("boundary", "boundary-value scenes are not supported yet (give \"x0\")");
   RejectUnknownFields(root, "",
-                      {"name", "description", "problem", "x0", "horizon", "method", "output"});
+                      {"name", "description", "problem", "x0", "horizon", "method", "output",
+                       "exact", "study"});
   Scene scene;
   if (const json* name = FindField(root, "name")) {
     if (!name->is_string()) Fail("name", "expected a string, got " + Describe(*name));
@@ -541,6 +542,10 @@ Scene ParseScene(const std::string& text) {
                         "so rescale time");
   ReadMethod(FindField(root, "method"), scene);
   ReadOutput(FindField(root, "output"), scene);
+  if (const json* exact = FindField(root, "exact"))
+    scene.exact.emplace(*exact, "exact", scene.n, scene.horizon, scene.x0);
+  if (const json* study = FindField(root, "study"))
+    scene.study = ReadStudySettings(*study, "study", scene.horizon, scene.stepping.max_steps);
   return scene;
 }
 

@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -13,7 +14,9 @@
 #include "dvi/lcs.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/time_stepping.hpp"
+#include "exact_solution.hpp"
 #include "json_reading.hpp"
+#include "study_settings.hpp"
 
 namespace dvi::dvisim {
 
@@ -66,6 +69,11 @@ struct Scene {
   /// (dvisim's WallClockLimit ends a run beyond it with exit code 1).
   double max_wall = 0;
   SceneOutput output;
+  /// The `exact` block: x(t) in closed form, one piece per mode
+  /// (exact_solution.hpp); `dvisim study` measures errors against it.
+  std::optional<ExactSolution> exact;
+  /// The `study` block: ladders and methods of `dvisim study`.
+  StudySettings study;
 };
 
 /// The union of output.times and the samples, ascending, with times closer
