@@ -72,6 +72,22 @@ TEST(IndexReduction, ScalarContactEventStateAndMultiplier) {
   RecordProperty("drift", Scientific(trajectory.stats.max_constraint_drift));
 }
 
+// IntegrationStats::reduced_modes counts the modes the differentiation
+// procedure chose: the one contact mode here, none for the same fall when
+// D = 1 makes ∂F/∂u a P-matrix (index one, Theorem 5.1).
+TEST(IndexReduction, StatsCountTheModesReducedByDifferentiation) {
+  const Trajectory contact =
+      IntegrateEventDriven(FallingOntoAConstraint(), Eigen::VectorXd::Ones(1), 0, 3, Tight());
+  ASSERT_TRUE(contact.succeeded()) << contact.message;
+  EXPECT_EQ(contact.stats.reduced_modes, 1);
+  Lcs compliant = FallingOntoAConstraint();
+  compliant.D = Eigen::MatrixXd::Ones(1, 1).sparseView();
+  const Trajectory index_one =
+      IntegrateEventDriven(compliant, Eigen::VectorXd::Ones(1), 0, 3, Tight());
+  ASSERT_TRUE(index_one.succeeded()) << index_one.message;
+  EXPECT_EQ(index_one.stats.reduced_modes, 0);
+}
+
 // The same fall from x0 = 5e3 and 5e5 (default tolerances): CVODE locates the
 // contact to 100 ε t in time, so x arrives at −1.9e-10 (−2e-8) and the LCP
 // there, 0 ≤ u ⊥ x ≥ 0, is infeasible at the solver's 1e-10. The run
