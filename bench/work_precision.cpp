@@ -1,61 +1,61 @@
 // SPDX-License-Identifier: Apache-2.0
 // Work-precision of the event-driven integrator ([Seed] Sect. 5) against the
 // same implicit right-hand side (5.2) in plain CVODE, Boost.Odeint
-// (runge_kutta_dopri5, rosenbrock4), θ time-stepping (Sects. 3, 7) over step
-// sizes, and an oracle that integrates each mode between known switch times.
-// Error = max over the output times of ‖x − x_exact‖∞. Prints the points, the
-// goal verdicts and writes every point to a CSV (README, last section).
-//   work_precision [--csv PATH] [--budget SECONDS] [--problem NAME]
+// (runge_kutta_dopri5, rosenbrock4) and θ time-stepping (Sects. 3, 7): a
+// `dvisim study` of each scene in bench/scenes (README, last section), plus
+// what only C++ can do here: the oracle, which integrates each mode between
+// the reference's switch times with the mode frozen, and the goals of the
+// issue judged on the points. Error = the study's max over its grid and
+// switch points of ‖x − x_ref‖∞. Prints the points and the verdicts, writes
+// every point to OUT/work_precision.csv and each study's page to OUT/NAME/.
+//   work_precision [--out DIR] [--budget SECONDS] [--problem NAME] [--jobs N]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <exception>
+#include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iostream>
 #include <limits>
 #include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include "dvi/event_driven.hpp"
-#include "dvi/time_stepping.hpp"
 #include "baseline_runs.hpp"
-#include "work_precision_problems.hpp"
+#include "dvi/event_driven.hpp"
+#include "dvi/index_one_rhs.hpp"
+#include "run_command.hpp"
+#include "run_timing.hpp"
+#include "scene_file.hpp"
+#include "study.hpp"
+#include "study_command.hpp"
+#include "study_runs.hpp"
+#include "work_precision_front.hpp"
 
 namespace dvi::bench {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-using baselines::BaselineProblem;
-using baselines::BaselineRun;
+namespace fs = std::filesystem;
+using dvisim::StudyMethod;
+using dvisim::StudyResult;
+using dvisim::StudyRun;
 
-constexpr int kOutputCount = 500;
+// The problems in the order of the tables (bench/scenes/NAME.json).
+const char* const kProblems[] = {"decay", "diode", "oscillator", "ball", "rectifier", "clamp",
+                                 "forced"};
 // The issue's 1e-3 … 1e-10, extended to 1e-13 so that the event curve can
-// meet time-stepping's smallest error; the oscillator's reference is an
-// rtol = 1e-13 run (its distance to an rtol = 1e-12 run is printed).
-constexpr double kTolerances[] = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13};
-// An adaptive method whose run took longer (seconds) is not run at tighter
-// tolerances.
-constexpr double kAdaptiveBudget = 3;
-// atol = 1e-2·rtol for every adaptive method: the solutions are O(1), so the
-// relative test dominates, as in tests/event_driven_test.cpp.
-constexpr double kAtolPerRtol = 1e-2;
+// meet time-stepping's smallest error.
+constexpr double kTolerances[] = {1e-3, 1e-4, 1e-5,  1e-6,  1e-7,  1e-8,
+                                  1e-9, 1e-10, 1e-11, 1e-12, 1e-13};
+// Time-stepping from 50 steps over the horizon, h halved 12 times (204 800
+// steps): the finest rungs take about a second on these problems, the
+// budget of goal (1) is set on top of that.
+constexpr int kFirstStepCount = 50;
+constexpr int kHalvings = 12;
 constexpr double kTargetError = 1e-8;
 constexpr double kLastProportionalTolerance = 1e-10;
-// A run shorter than kMinTimed is repeated for kRepeatedTotal, in
-// kTimingWindows windows, and the least of the windows' means taken (clock
-// resolution and warm caches; a shared machine's other work slows some
-// windows and speeds up none).
-constexpr double kMinTimed = 0.02;
-constexpr double kRepeatedTotal = 0.1;
-constexpr int kTimingWindows = 5;
-// Time-stepping starts at 50 steps over the horizon and halves h until a run
-// exceeds the budget; the step log (32 bytes per step) caps it at 2²⁴ steps.
-constexpr int kFirstStepCount = 50;
-constexpr double kMaxSteppingSteps = 16'777'216;
+// The oracle's schedule comes from an event run this tight (its events).
+constexpr double kScheduleRtol = 1e-13;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 struct Point {
@@ -72,10 +72,6 @@ struct Point {
   bool ok() const { return failure.empty() && std::isfinite(error); }
 };
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 std::string Format(double value, int digits = 3) {
   std::ostringstream text;
   text.precision(digits);
@@ -83,128 +79,96 @@ std::string Format(double value, int digits = 3) {
   return text.str();
 }
 
-// One point: the answer of the first run, the time of that run or, when it
-// was short, the least mean of repeated runs over kTimingWindows windows.
-Point Measure(const WorkPrecisionProblem& problem, const std::string& method,
-              const std::string& parameter, double value,
-              const std::function<BaselineRun()>& run) {
-  Clock::time_point start = Clock::now();
-  const BaselineRun result = run();
-  double seconds = SecondsSince(start);
-  if (seconds < kMinTimed) {
-    seconds = kInfinity;
-    for (int window = 0; window < kTimingWindows; ++window) {
-      int count = 0;
-      start = Clock::now();
-      do {
-        run();
-        ++count;
-      } while (SecondsSince(start) < kRepeatedTotal / kTimingWindows);
-      seconds = std::min(seconds, SecondsSince(start) / count);
-    }
-  }
+Point FromStudyRun(const std::string& problem, const StudyRun& run) {
   Point point;
-  point.problem = problem.name;
-  point.method = method;
-  point.parameter = parameter;
-  point.value = value;
-  point.seconds = seconds;
-  point.rhs_evals = result.rhs_evals;
-  point.steps = result.steps;
-  point.failure = result.failure;
-  if (point.failure.empty()) point.error = MaxError(problem, result.states);
+  point.problem = problem;
+  point.method = dvisim::ToString(run.method);
+  point.parameter = dvisim::IsAdaptive(run.method) ? "rtol" : "h";
+  point.value = run.parameter;
+  point.seconds = run.timing.seconds;
+  point.rhs_evals = run.rhs_evals;
+  point.steps = run.steps;
+  if (run.status == "success" && std::isfinite(run.max_error))
+    point.error = run.max_error;
+  else
+    point.failure = run.reason.empty() ? run.status : run.reason;
   return point;
 }
 
-BaselineRun FromTrajectory(const WorkPrecisionProblem& problem, const Trajectory& trajectory) {
-  BaselineRun run;
-  run.rhs_evals = trajectory.stats.rhs_evals;
-  run.steps = trajectory.stats.steps;
-  if (!trajectory.succeeded()) {
-    run.failure = std::string(ToString(trajectory.status)) + ": " + trajectory.message;
-    return run;
+// The oracle's mode schedule: the mode the VI selects at t = 0, then each
+// event of a tight event run moves one component; simultaneous events
+// share a segment start.
+std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
+                                             const baselines::BaselineProblem& problem) {
+  dvisim::Scene tight = scene;
+  tight.method = "event";
+  tight.event.rtol = kScheduleRtol;
+  tight.event.atol = kScheduleRtol * scene.event.atol / scene.event.rtol;
+  tight.output.samples = 2;
+  tight.output.times.clear();
+  const Trajectory reference = dvisim::IntegrateScene(tight);
+  if (!reference.succeeded())
+    throw std::runtime_error(scene.name + ": the schedule's event run failed: " + reference.message);
+  IndexOneRhs rhs = std::visit([](const auto& dvi) { return IndexOneRhs(dvi); }, problem.dvi);
+  if (!rhs.SelectMode(0, scene.x0)) throw std::runtime_error(scene.name + ": " + rhs.message());
+  std::vector<baselines::ModeSegment> schedule;
+  baselines::ModeSegment segment{0, scene.horizon, rhs.mode()};
+  for (const Event& event : reference.events) {
+    if (event.time > segment.from) {
+      segment.to = event.time;
+      schedule.push_back(segment);
+      segment.from = event.time;
+    }
+    segment.mode[static_cast<std::size_t>(event.index)] =
+        event.kind == EventKind::kReachedLower   ? MultiplierBound::kLower
+        : event.kind == EventKind::kReachedUpper ? MultiplierBound::kUpper
+                                                 : MultiplierBound::kFree;
   }
-  for (const double t : problem.output_times) run.states.push_back(trajectory.StateAt(t));
-  return run;
+  segment.to = scene.horizon;
+  schedule.push_back(segment);
+  return schedule;
 }
 
-BaselineRun RunEvent(const WorkPrecisionProblem& problem, double rtol, double atol) {
-  EventDrivenOptions options;
-  options.rtol = rtol;
-  options.atol = atol;
-  options.output_times = problem.output_times;
-  return FromTrajectory(problem, problem.lcs ? IntegrateEventDriven(*problem.lcs, problem.x0,
-                                                                    problem.t0, problem.t_end,
-                                                                    options)
-                                             : IntegrateEventDriven(problem.dvi, problem.x0,
-                                                                    problem.t0, problem.t_end,
-                                                                    options));
-}
-
-// θ time-stepping with h halving until a run exceeds the budget.
-std::vector<Point> RunSteppingSweep(const WorkPrecisionProblem& problem, const std::string& method,
-                                    double theta, double gamma, double budget) {
+// The oracle over the tolerance ladder, measured at the study's points
+// against its reference.
+std::vector<Point> OraclePoints(const dvisim::Scene& scene, const StudyResult& study) {
   std::vector<Point> points;
-  const double horizon = problem.t_end - problem.t0;
-  for (double h = horizon / kFirstStepCount; horizon / h <= kMaxSteppingSteps; h /= 2) {
-    TimeSteppingOptions options;
-    options.h = h;
-    options.theta = theta;
-    options.gamma = gamma;
-    options.output_times = problem.output_times;
-    options.record_events = false;
-    points.push_back(Measure(problem, method, "h", h, [&] {
-      return FromTrajectory(
-          problem, problem.lcs ? IntegrateTimeStepping(*problem.lcs, problem.x0, problem.t0,
-                                                       problem.t_end, options)
-                               : IntegrateTimeStepping(problem.dvi, problem.x0, problem.t0,
-                                                       problem.t_end, options));
-    }));
-    std::cerr << "  " << method << " h = " << Format(h) << ": " << Format(points.back().seconds)
-              << " s\n";
-    if (!points.back().ok() || points.back().seconds > budget) break;
+  std::optional<baselines::BaselineProblem> problem = dvisim::AsBaselineProblem(scene);
+  if (!problem) return points;
+  std::vector<double> order(study.measured_times.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<double>(k);
+  std::sort(order.begin(), order.end(), [&](double a, double b) {
+    return study.measured_times[static_cast<std::size_t>(a)] <
+           study.measured_times[static_cast<std::size_t>(b)];
+  });
+  for (const double k : order) problem->output_times.push_back(study.measured_times[static_cast<std::size_t>(k)]);
+  const std::vector<baselines::ModeSegment> schedule = Schedule(scene, *problem);
+  const double atol_per_rtol = scene.event.atol / scene.event.rtol;
+  for (const double rtol : kTolerances) {
+    const auto run = [&] {
+      return baselines::RunOracleCvode(*problem, schedule, rtol, rtol * atol_per_rtol);
+    };
+    const auto start = std::chrono::steady_clock::now();
+    const baselines::BaselineRun result = run();
+    const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Point point;
+    point.problem = scene.name;
+    point.method = "oracle";
+    point.parameter = "rtol";
+    point.value = rtol;
+    point.seconds = dvisim::TimeRepeated([&] { run(); }, first, 3).seconds;
+    point.rhs_evals = result.rhs_evals;
+    point.steps = result.steps;
+    point.failure = result.failure;
+    if (point.failure.empty() && result.states.size() == order.size()) {
+      point.error = 0;
+      for (std::size_t j = 0; j < order.size(); ++j)
+        point.error = std::max(point.error, (result.states[j] - study.reference_values[static_cast<std::size_t>(order[j])]).lpNorm<Eigen::Infinity>());
+      if (!std::isfinite(point.error)) point.error = kInfinity;
+    }
+    points.push_back(point);
   }
   return points;
-}
-
-// The cost (seconds or RHS evaluations) at which a method reaches `target`:
-// on its Pareto front (points by cost, each more accurate than all cheaper
-// ones), log cost is interpolated linearly in log error between the last
-// point above the target and the first at or below it. `cheapest` is the
-// cheapest point at or below the target. Both +∞ when no point reaches it.
-struct CostAtError {
-  double interpolated = kInfinity;
-  double cheapest = kInfinity;
-  double best_error = kInfinity;  ///< Smallest error of any point.
-};
-
-CostAtError CostAt(std::vector<Point> points, double target,
-                   const std::function<double(const Point&)>& cost) {
-  CostAtError result;
-  points.erase(std::remove_if(points.begin(), points.end(), [](const Point& p) { return !p.ok(); }),
-               points.end());
-  std::sort(points.begin(), points.end(),
-            [&cost](const Point& a, const Point& b) { return cost(a) < cost(b); });
-  std::vector<const Point*> front;
-  for (const Point& point : points) {
-    result.best_error = std::min(result.best_error, point.error);
-    if (point.error <= target) result.cheapest = std::min(result.cheapest, cost(point));
-    if (front.empty() || point.error < front.back()->error) front.push_back(&point);
-  }
-  for (std::size_t k = 0; k < front.size(); ++k) {
-    if (front[k]->error > target) continue;
-    if (k == 0) {
-      result.interpolated = cost(*front[0]);
-    } else {
-      const Point& above = *front[k - 1];
-      const Point& below = *front[k];
-      const double s = std::log(target / above.error) / std::log(below.error / above.error);
-      result.interpolated = std::exp(std::log(cost(above)) +
-                                     s * (std::log(cost(below)) - std::log(cost(above))));
-    }
-    break;
-  }
-  return result;
 }
 
 std::vector<Point> Select(const std::vector<Point>& points, const std::string& problem,
@@ -216,8 +180,13 @@ std::vector<Point> Select(const std::vector<Point>& points, const std::string& p
   return selected;
 }
 
-double Seconds(const Point& point) { return point.seconds; }
-double RhsEvals(const Point& point) { return static_cast<double>(point.rhs_evals); }
+dvisim::CostAtError CostAt(const std::vector<Point>& points, double target, bool seconds) {
+  std::vector<dvisim::WorkPoint> work;
+  for (const Point& point : points)
+    if (point.ok())
+      work.push_back({point.error, seconds ? point.seconds : static_cast<double>(point.rhs_evals)});
+  return dvisim::CostAt(work, target);
+}
 
 void PrintPoints(const std::vector<Point>& points) {
   std::cout << "| method | parameter | max error | ms | RHS evals | steps | note |\n"
@@ -234,8 +203,8 @@ struct Verdicts {
   int failed = 0;
   int not_applicable = 0;
   // A goal against a method that integrates none of the problem's runs (an
-  // implicit right-hand side refusing an index-two problem) is neither met
-  // nor missed.
+  // implicit right-hand side refused on an index-two problem) is neither
+  // met nor missed.
   void NotApplicable(const std::string& problem, const std::string& goal,
                      const std::string& why) {
     ++not_applicable;
@@ -255,7 +224,6 @@ std::string RatioText(double ratio) { return std::isfinite(ratio) ? Format(ratio
 void JudgeProblem(const std::vector<Point>& points, const std::string& problem, double budget,
                   Verdicts& verdicts) {
   const std::vector<Point> event = Select(points, problem, "event");
-
   // (1) At the smallest error time-stepping reaches within the budget.
   const std::vector<Point> all = Select(points, problem, "");
   const Point* best_stepping = nullptr;
@@ -266,7 +234,7 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
   if (best_stepping == nullptr) {
     verdicts.Row(problem, "event ≥ 100× faster than stepping", "no stepping run succeeded", false);
   } else {
-    const CostAtError at = CostAt(event, best_stepping->error, Seconds);
+    const dvisim::CostAtError at = CostAt(event, best_stepping->error, true);
     const double ratio = best_stepping->seconds / at.interpolated;
     std::string measured = best_stepping->method + " h = " + Format(best_stepping->value) +
                            ": error " + Format(best_stepping->error, 2) + " in " +
@@ -280,11 +248,10 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
       std::vector<Point> stepping;
       for (const Point& point : all)
         if (point.parameter == "h" && point.seconds <= budget) stepping.push_back(point);
-      const double event_best = CostAt(event, at.best_error, Seconds).interpolated;
-      const double stepping_there = CostAt(stepping, at.best_error, Seconds).interpolated;
+      const double event_best = CostAt(event, at.best_error, true).interpolated;
+      const double stepping_there = CostAt(stepping, at.best_error, true).interpolated;
       measured += "; at that error: stepping " + Format(stepping_there) + " s, event " +
-                  Format(1e3 * event_best) + " ms, ratio " +
-                  RatioText(stepping_there / event_best);
+                  Format(1e3 * event_best) + " ms, ratio " + RatioText(stepping_there / event_best);
     }
     verdicts.Row(problem,
                  "event ≥ 100× faster than stepping at its best error in " + Format(budget) + " s",
@@ -292,16 +259,17 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
   }
 
   // (2) At max error 1e-8 against plain CVODE and Boost.Odeint.
-  const CostAtError event_at = CostAt(event, kTargetError, Seconds);
+  const dvisim::CostAtError event_at = CostAt(event, kTargetError, true);
   for (const char* method : {"cvode", "dopri5", "rosenbrock4"}) {
     const std::vector<Point> runs = Select(points, problem, method);
+    const std::string goal = std::string("event ≥ 10× faster than ") + method + " at error 1e-8";
     if (std::none_of(runs.begin(), runs.end(), [](const Point& p) { return p.ok(); })) {
-      verdicts.NotApplicable(problem, std::string("event ≥ 10× faster than ") + method + " at error 1e-8",
+      verdicts.NotApplicable(problem, goal,
                              std::string(method) + " integrates no run: " +
                                  (runs.empty() ? std::string("not run") : runs.front().failure));
       continue;
     }
-    const CostAtError other = CostAt(runs, kTargetError, Seconds);
+    const dvisim::CostAtError other = CostAt(runs, kTargetError, true);
     const double ratio = other.interpolated / event_at.interpolated;
     std::string measured =
         "event " +
@@ -314,8 +282,7 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
                           Format(1e3 * other.cheapest) + " ms)"
                     : "never reaches 1e-8 (best " + Format(other.best_error, 2) + ")";
     measured += ": ratio " + RatioText(ratio) + " (interpolated)";
-    verdicts.Row(problem, std::string("event ≥ 10× faster than ") + method + " at error 1e-8",
-                 measured, std::isfinite(event_at.interpolated) && ratio >= 10);
+    verdicts.Row(problem, goal, measured, std::isfinite(event_at.interpolated) && ratio >= 10);
   }
 
   // (3) RHS evaluations against the oracle, per tolerance and at 1e-8.
@@ -323,15 +290,16 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
   double worst = 0, worst_rtol = 0;
   for (const Point& e : event)
     for (const Point& o : oracle)
-      if (e.value == o.value && e.ok() && o.ok() && RhsEvals(e) / RhsEvals(o) > worst) {
-        worst = RhsEvals(e) / RhsEvals(o);
+      if (e.value == o.value && e.ok() && o.ok() &&
+          static_cast<double>(e.rhs_evals) / static_cast<double>(o.rhs_evals) > worst) {
+        worst = static_cast<double>(e.rhs_evals) / static_cast<double>(o.rhs_evals);
         worst_rtol = e.value;
       }
   verdicts.Row(problem, "event RHS evals ≤ 1.5× oracle's at every rtol",
                "worst ratio " + Format(worst) + " at rtol = " + Format(worst_rtol),
                worst > 0 && worst <= 1.5);
-  const double event_evals = CostAt(event, kTargetError, RhsEvals).interpolated;
-  const double oracle_evals = CostAt(oracle, kTargetError, RhsEvals).interpolated;
+  const double event_evals = CostAt(event, kTargetError, false).interpolated;
+  const double oracle_evals = CostAt(oracle, kTargetError, false).interpolated;
   const bool both = std::isfinite(event_evals) && std::isfinite(oracle_evals);
   verdicts.Row(problem, "event RHS evals ≤ 1.5× oracle's at error 1e-8",
                both ? Format(event_evals, 4) + " / " + Format(oracle_evals, 4) + " = " +
@@ -345,17 +313,17 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
 // and the references' own error), and how often a tighter rtol gave a
 // larger error. A kink stepped over without an event shows up in both.
 void PrintToleranceProportionality(const std::vector<Point>& points,
-                                   const std::vector<WorkPrecisionProblem>& problems) {
+                                   const std::vector<std::string>& problems) {
   std::cout << "\n### Error per tolerance\n\nworst max error / rtol over rtol = 1e-3 … 1e-10 "
                "(at that rtol); tighter rtol, larger error: how many times\n\n"
                "| problem | event | cvode | dopri5 | rosenbrock4 | oracle |\n"
                "|---|---|---|---|---|---|\n";
-  for (const WorkPrecisionProblem& problem : problems) {
-    std::cout << "| " << problem.name;
+  for (const std::string& problem : problems) {
+    std::cout << "| " << problem;
     for (const char* method : {"event", "cvode", "dopri5", "rosenbrock4", "oracle"}) {
       double worst = 0, worst_rtol = 0, last_error = 0;
       int larger = 0;
-      for (const Point& point : Select(points, problem.name, method)) {
+      for (const Point& point : Select(points, problem, method)) {
         if (!point.ok() || point.value < kLastProportionalTolerance) continue;
         if (point.error / point.value > worst) {
           worst = point.error / point.value;
@@ -389,95 +357,79 @@ void WriteCsv(const std::vector<Point>& points, const std::string& path) {
 }
 
 int Main(int argc, char** argv) {
-  std::string csv_path = "work_precision.csv";
+  std::string out_dir;
   std::string only;
   double budget = 10;
+  int jobs = 1;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
-    if (arg == "--csv" && k + 1 < argc) {
-      csv_path = argv[++k];
+    if (arg == "--out" && k + 1 < argc) {
+      out_dir = argv[++k];
     } else if (arg == "--budget" && k + 1 < argc) {
       budget = std::atof(argv[++k]);
     } else if (arg == "--problem" && k + 1 < argc) {
       only = argv[++k];
+    } else if (arg == "--jobs" && k + 1 < argc) {
+      jobs = std::atoi(argv[++k]);
     } else {
-      std::cerr << "usage: work_precision [--csv PATH] [--budget SECONDS] [--problem NAME]\n";
+      std::cerr << "usage: work_precision [--out DIR] [--budget SECONDS] [--problem NAME] "
+                   "[--jobs N]\n";
       return 2;
     }
   }
-
-  std::vector<WorkPrecisionProblem> problems = MakeWorkPrecisionProblems(kOutputCount);
-  if (!only.empty()) {
-    problems.erase(std::remove_if(problems.begin(), problems.end(),
-                                  [&only](const WorkPrecisionProblem& p) { return p.name != only; }),
-                   problems.end());
-    if (problems.empty()) {
-      std::cerr << "work_precision: --problem " << only
-                << ": no such problem (decay, diode, oscillator, ball, rectifier)\n";
-      return 2;
-    }
+  std::vector<std::string> problems;
+  for (const char* name : kProblems)
+    if (only.empty() || only == name) problems.push_back(name);
+  if (problems.empty()) {
+    std::cerr << "work_precision: --problem " << only
+              << ": no such problem (decay, diode, oscillator, ball, rectifier, clamp, forced)\n";
+    return 2;
   }
+  if (!out_dir.empty()) fs::create_directories(out_dir);
   std::vector<Point> points;
-  for (const WorkPrecisionProblem& problem : problems) {
-    std::cerr << problem.name << "\n";
-    BaselineProblem baseline;
-    if (problem.lcs)
-      baseline.dvi = *problem.lcs;
-    else
-      baseline.dvi = problem.dvi;
-    baseline.x0 = problem.x0;
-    baseline.t0 = problem.t0;
-    baseline.t_end = problem.t_end;
-    baseline.output_times = problem.output_times;
-    const std::vector<std::pair<std::string, std::function<BaselineRun(double, double)>>>
-        adaptive = {
-            {"event", [&](double rtol, double atol) { return RunEvent(problem, rtol, atol); }},
-            {"cvode", [&](double rtol, double atol) { return RunPlainCvode(baseline, rtol, atol); }},
-            {"dopri5",
-             [&](double rtol, double atol) { return RunOdeintDopri5(baseline, rtol, atol); }},
-            {"rosenbrock4",
-             [&](double rtol, double atol) { return RunOdeintRosenbrock4(baseline, rtol, atol); }},
-            {"oracle", [&](double rtol, double atol) {
-               return RunOracleCvode(baseline, problem.schedule, rtol, atol);
-             }}};
-    // By tolerance, the methods in turn: the points a ratio compares are
-    // timed seconds apart, not minutes, when the machine's speed drifts.
-    std::vector<std::vector<Point>> by_method(adaptive.size());
-    for (const double rtol : kTolerances) {
-      const double atol = kAtolPerRtol * rtol;
-      for (std::size_t k = 0; k < adaptive.size(); ++k) {
-        std::vector<Point>& own = by_method[k];
-        if (!own.empty() && own.back().seconds > kAdaptiveBudget) continue;
-        const auto& run = adaptive[k].second;
-        own.push_back(Measure(problem, adaptive[k].first, "rtol", rtol,
-                              [&] { return run(rtol, atol); }));
-      }
+  std::vector<std::string> references;
+  for (const std::string& name : problems) {
+    std::cerr << name << "\n";
+    dvisim::Scene scene = dvisim::ReadScene(std::string(DVI_BENCH_SCENES_DIR) + "/" + name + ".json");
+    scene.study.rtol.assign(std::begin(kTolerances), std::end(kTolerances));
+    scene.study.h.clear();
+    for (int k = 0; k <= kHalvings; ++k)
+      scene.study.h.push_back(std::ldexp(scene.horizon / kFirstStepCount, -k));
+    dvisim::StudyOptions options;
+    options.jobs = jobs;
+    options.progress = [](int done, int total) {
+      std::cerr << "\r  " << done << "/" << total << " runs" << std::flush;
+    };
+    const StudyResult study = dvisim::RunStudy(scene, options);
+    std::cerr << "\n";
+    for (const StudyRun& run : study.runs) points.push_back(FromStudyRun(name, run));
+    for (const Point& point : OraclePoints(scene, study)) points.push_back(point);
+    references.push_back(study.reference.kind + ": " + study.reference.description +
+                         (study.reference.cross_check.empty()
+                              ? ""
+                              : "; cross-check " + study.reference.cross_check + ", agreement " +
+                                    Format(study.reference.agreement, 2) + " (bound " +
+                                    Format(study.reference.bound, 2) + ")"));
+    if (!out_dir.empty()) {
+      const fs::path dir = fs::path(out_dir) / name;
+      fs::remove_all(dir);
+      dvisim::WriteStudyFolder(study, jobs, fs::path(out_dir) / ("." + name + ".tmp"), dir);
     }
-    for (std::size_t k = 0; k < adaptive.size(); ++k) {
-      points.insert(points.end(), by_method[k].begin(), by_method[k].end());
-      std::cerr << "  " << adaptive[k].first << " done\n";
-    }
-    for (const Point& point : RunSteppingSweep(problem, "stepping-theta0", 0, 1, budget))
-      points.push_back(point);
-    for (const Point& point : RunSteppingSweep(problem, "stepping-theta0.5", 0.5, 0.5, budget))
-      points.push_back(point);
   }
-
-  for (const WorkPrecisionProblem& problem : problems) {
-    std::cout << "\n### " << problem.name << ": " << problem.title << "\n\nreference: "
-              << problem.reference << "; " << problem.schedule.size() << " modes; error = max over "
-              << problem.output_times.size() << " output times of ‖x − x_ref‖∞\n\n";
-    PrintPoints(Select(points, problem.name, ""));
+  for (std::size_t k = 0; k < problems.size(); ++k) {
+    std::cout << "\n### " << problems[k] << " (bench/scenes/" << problems[k]
+              << ".json)\n\nreference: " << references[k] << "\n\n";
+    PrintPoints(Select(points, problems[k], ""));
   }
   std::cout << "\n### Goals\n\n| problem | goal | measured | verdict |\n|---|---|---|---|\n";
   Verdicts verdicts;
-  for (const WorkPrecisionProblem& problem : problems)
-    JudgeProblem(points, problem.name, budget, verdicts);
+  for (const std::string& problem : problems) JudgeProblem(points, problem, budget, verdicts);
   std::cout << "\n" << verdicts.passed << " goals passed, " << verdicts.failed << " failed, "
             << verdicts.not_applicable << " not applicable\n";
   PrintToleranceProportionality(points, problems);
-  WriteCsv(points, csv_path);
-  std::cout << "CSV: " << csv_path << "\n";
+  const std::string csv = (out_dir.empty() ? std::string(".") : out_dir) + "/work_precision.csv";
+  WriteCsv(points, csv);
+  std::cout << "CSV: " << csv << "\n";
   return 0;
 }
 

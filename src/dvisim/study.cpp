@@ -270,6 +270,12 @@ StudyResult RunStudy(const Scene& scene, const StudyOptions& options) {
                            : std::max(10 * estimate, kRoundOff * reference.report.scale);
   result.slopes = FitSlopes(result.runs, result.error_floor);
   result.stiffness = StiffnessAtStart(scene, reference.u0);
+  result.measured_times = times.grid;
+  result.measured_times.insert(result.measured_times.end(), times.switch_points.begin(),
+                               times.switch_points.end());
+  result.reference_values = reference.grid;
+  result.reference_values.insert(result.reference_values.end(), reference.switch_points.begin(),
+                                 reference.switch_points.end());
   return result;
 }
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "run_timing.hpp"
 #include "scene_file.hpp"
 #include "study_settings.hpp"
@@ -120,6 +122,11 @@ struct StudyResult {
   /// ρ(∂f/∂x) at t = 0 (NaN where unavailable): h·ρ ≤ 2 is explicit Euler's
   /// stability bound on a real negative eigenvalue.
   double stiffness = std::numeric_limits<double>::quiet_NaN();
+  /// Where every run was measured (the grid, then the switch points) and the
+  /// reference there: a method run outside the study (bench/work_precision's
+  /// oracle) is measured the same way.
+  std::vector<double> measured_times;
+  std::vector<Eigen::VectorXd> reference_values;
 };
 /// Round-off of a reference at the solution's scale: 1000 ε, as many
 /// digits as a tight event run at rtol = 1e-12 keeps.

@@ -36,9 +36,10 @@ std::string ReadBack(const fs::path& path) {
   return contents.str();
 }
 
-// Every file into `temporary`, which then becomes `dir`.
-void WriteStudy(const StudyResult& result, int jobs, const fs::path& temporary,
-                const fs::path& dir) {
+}  // namespace
+
+void WriteStudyFolder(const StudyResult& result, int jobs, const fs::path& temporary,
+                      const fs::path& dir) {
   std::error_code error;
   if (!fs::create_directory(temporary, error) || error)
     throw std::runtime_error("cannot create " + temporary.string() + " (" + error.message() + ")");
@@ -52,6 +53,8 @@ void WriteStudy(const StudyResult& result, int jobs, const fs::path& temporary,
     throw std::runtime_error("cannot move " + temporary.string() + " to " + dir.string() + " (" +
                              error.message() + ")");
 }
+
+namespace {
 
 void PrintSummary(const StudyResult& result, const fs::path& dir, std::ostream& out) {
   const ReferenceReport& reference = result.reference;
@@ -108,7 +111,7 @@ int RunStudyCommand(const StudyCommand& command, std::ostream& out, std::ostream
     const fs::path temporary =
         parent / ("." + dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
     try {
-      WriteStudy(result, options.jobs, temporary, dir);
+      WriteStudyFolder(result, options.jobs, temporary, dir);
     } catch (...) {
       fs::remove_all(temporary, ignored);
       throw;

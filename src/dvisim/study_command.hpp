@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <filesystem>
 #include <ostream>
 #include <string>
+
+#include "study.hpp"
 
 namespace dvi::dvisim {
 
@@ -23,5 +26,10 @@ struct StudyCommand {
 /// options, or an existing DIR; nothing written), with a one-line message on
 /// `err`. A summary goes to `out`.
 int RunStudyCommand(const StudyCommand& command, std::ostream& out, std::ostream& err);
+
+/// Writes the study's files into `temporary` (created here), then renames
+/// it to `dir`. @throws std::runtime_error, or InputError when gnuplot fails.
+void WriteStudyFolder(const StudyResult& result, int jobs, const std::filesystem::path& temporary,
+                      const std::filesystem::path& dir);
 
 }  // namespace dvi::dvisim
