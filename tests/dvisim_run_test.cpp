@@ -225,7 +225,7 @@ TEST(SceneFile, ErrorsNameTheField) {
             "output: unknown field \"plots\" (expected dir, times, samples, plot)");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "seed": 3})"),
             "(file): unknown field \"seed\" (expected name, description, problem, x0, horizon, "
-            "method, output)");
+            "method, output, exact, study)");
   EXPECT_EQ(ParseError(R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1, 2]], "C": [[1]],
     "D": [[1]]}, "x0": [1], "horizon": 1})"),
             "problem.B: is 1x2, expected 1x1");

@@ -18,7 +18,6 @@
 namespace dvi::dvisim {
 namespace {
 
-
 // A gnuplot single-quoted string: '' stands for one quote, nothing else is
 // special (and noenhanced keeps _ and ^ literal in titles).
 std::string Quoted(const std::string& text) {

@@ -15,12 +15,6 @@
 namespace dvi::dvisim {
 namespace {
 
-std::string Short(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.3g", value);
-  return text;
-}
-
 // The step ladder around the scene's own h: 64h … h/8, the coarse half the
 // stability probes, the fine half where the orders show.
 constexpr int kCoarsestFactor = 6;
@@ -89,22 +83,12 @@ std::string IndexTwoRefusal(const std::vector<PlannedRun>& plan,
   for (std::size_t k = 0; k < plan.size(); ++k) {
     const long reduced = executed[k].stats.reduced_modes;
     if (reduced > 0)
-      return "index two: " + ToString(plan[k].method) + " at rtol = " + Short(plan[k].parameter) +
+      return "index two: " + ToString(plan[k].method) + " at rtol = " + ShortNumber(plan[k].parameter) +
              " chose " + std::to_string(reduced) +
              " mode(s) by the differentiation procedure (Theorems 5.2/5.3), where u(t, x) is "
              "not the Lipschitz function of the state the implicit RHS (5.2) needs";
   }
   return "";
-}
-
-double MaxDistance(const std::vector<Eigen::VectorXd>& a, const std::vector<Eigen::VectorXd>& b) {
-  double distance = 0;
-  for (std::size_t k = 0; k < a.size(); ++k) {
-    const double d = (a[k] - b[k]).lpNorm<Eigen::Infinity>();
-    if (!std::isfinite(d)) return std::numeric_limits<double>::infinity();
-    distance = std::max(distance, d);
-  }
-  return distance;
 }
 
 // Fills outcome, errors, switches and mode comparison of a run that reached
@@ -129,8 +113,8 @@ void Measure(const PlannedRun& planned, const ExecutedRun& executed,
   const ReferenceReport& report = reference.report;
   if (!(run.max_error <= report.scale)) {
     run.outcome = RunOutcome::kFailed;
-    run.reason = "diverged: max error " + Short(run.max_error) + " above the solution's size " +
-                 Short(report.scale);
+    run.reason = "diverged: max error " + ShortNumber(run.max_error) + " above the solution's size " +
+                 ShortNumber(report.scale);
     return;
   }
   run.outcome = RunOutcome::kConverged;

@@ -12,19 +12,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string Short(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.3g", value);
-  return text;
-}
-
-double MaxDistance(const std::vector<Eigen::VectorXd>& a, const std::vector<Eigen::VectorXd>& b) {
-  double distance = 0;
-  for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
-    distance = std::max(distance, (a[k] - b[k]).lpNorm<Eigen::Infinity>());
-  return distance;
-}
-
 // The successful runs of `method`, tightest (or finest) last.
 std::vector<std::size_t> Succeeded(const std::vector<PlannedRun>& plan,
                                    const std::vector<ExecutedRun>& executed, StudyMethod method) {
@@ -35,9 +22,9 @@ std::vector<std::size_t> Succeeded(const std::vector<PlannedRun>& plan,
 }
 
 std::string RunText(const PlannedRun& run) {
-  return ToString(run.method) + (IsAdaptive(run.method) ? " at rtol = " + Short(run.parameter) +
-                                                              ", atol = " + Short(run.atol)
-                                                        : " at h = " + Short(run.parameter));
+  return ToString(run.method) + (IsAdaptive(run.method) ? " at rtol = " + ShortNumber(run.parameter) +
+                                                              ", atol = " + ShortNumber(run.atol)
+                                                        : " at h = " + ShortNumber(run.parameter));
 }
 
 bool SteppedAnywhere(const Trajectory& trajectory) {
@@ -80,9 +67,9 @@ std::optional<Extrapolation> Richardson(const std::vector<PlannedRun>& plan,
     extrapolation.estimate = MaxDistance(extrapolation.values, coarse);
     if (!std::isfinite(extrapolation.estimate)) continue;
     extrapolation.description = "Richardson extrapolation (order " + std::to_string(order) +
-                                ") of " + ToString(method) + " at h = " + Short(h) + ", " +
-                                Short(plan[b].parameter) + ", " + Short(plan[f].parameter) +
-                                " (error estimate " + Short(extrapolation.estimate) + ")";
+                                ") of " + ToString(method) + " at h = " + ShortNumber(h) + ", " +
+                                ShortNumber(plan[b].parameter) + ", " + ShortNumber(plan[f].parameter) +
+                                " (error estimate " + ShortNumber(extrapolation.estimate) + ")";
     return extrapolation;
   }
   return std::nullopt;
@@ -98,6 +85,16 @@ std::optional<Extrapolation> BestRichardson(const std::vector<PlannedRun>& plan,
 }
 
 }  // namespace
+
+double MaxDistance(const std::vector<Eigen::VectorXd>& a, const std::vector<Eigen::VectorXd>& b) {
+  double distance = 0;
+  for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) {
+    const double d = (a[k] - b[k]).lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(d)) return std::numeric_limits<double>::infinity();
+    distance = std::max(distance, d);
+  }
+  return distance;
+}
 
 EvaluationTimes MakeEvaluationTimes(const Scene& scene, const std::vector<double>& switch_times,
                                     const std::vector<double>& step_ladder) {
@@ -201,8 +198,8 @@ Reference CompleteReference(const Scene& scene, const std::vector<PlannedRun>& p
     numerical_text = RunText(plan[*first.run]);
     if (first.next) {
       numerical_estimate = MaxDistance(numerical, ValuesAt(executed[*first.next], times, times.grid));
-      numerical_text += " (distance to the run at rtol = " + Short(plan[*first.next].parameter) +
-                        ": " + Short(numerical_estimate) + ")";
+      numerical_text += " (distance to the run at rtol = " + ShortNumber(plan[*first.next].parameter) +
+                        ": " + ShortNumber(numerical_estimate) + ")";
     }
   }
   const std::optional<Extrapolation> richardson = BestRichardson(plan, executed, times);

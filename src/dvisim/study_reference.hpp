@@ -40,6 +40,10 @@ struct EvaluationTimes {
 EvaluationTimes MakeEvaluationTimes(const Scene& scene, const std::vector<double>& switch_times,
                                     const std::vector<double>& step_ladder);
 
+/// The largest ‖a[k] − b[k]‖∞ over the common length; +∞ where either is
+/// not finite (a run that blew up is as far as can be).
+double MaxDistance(const std::vector<Eigen::VectorXd>& a, const std::vector<Eigen::VectorXd>& b);
+
 /// x of a run that reached the horizon at `at` (some of times.output).
 std::vector<Eigen::VectorXd> ValuesAt(const ExecutedRun& run, const EvaluationTimes& times,
                                       const std::vector<double>& at);

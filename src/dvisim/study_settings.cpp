@@ -14,12 +14,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string Short(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.6g", value);
-  return text;
-}
-
 // A non-empty array whose entries `read` turns into values, no value twice.
 template <typename Value>
 std::vector<Value> ReadList(const json& value, const std::string& path,
@@ -37,6 +31,12 @@ std::vector<Value> ReadList(const json& value, const std::string& path,
 }
 
 }  // namespace
+
+std::string ShortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", value);
+  return text;
+}
 
 std::string ToString(StudyMethod method) {
   switch (method) {
@@ -65,8 +65,8 @@ bool IsImplicitRhsBaseline(StudyMethod method) {
 void CheckStepCount(double h, double horizon, long max_steps, const std::string& field) {
   const double steps = std::ceil(horizon / h);
   if (steps > static_cast<double>(max_steps))
-    throw InputError(field + ": h = " + Short(h) + " asks for " + Short(steps) +
-                     " steps over the horizon " + Short(horizon) + ", more than method.max_steps = " +
+    throw InputError(field + ": h = " + ShortNumber(h) + " asks for " + ShortNumber(steps) +
+                     " steps over the horizon " + ShortNumber(horizon) + ", more than method.max_steps = " +
                      std::to_string(max_steps) +
                      " allows; take a larger h, or raise method.max_steps");
 }
@@ -85,7 +85,7 @@ StudySettings ReadStudySettings(const json& block, const std::string& path, doub
                                                              const std::string& entry) {
         const double h = ReadNumber(value, entry, false);
         if (!(h > 0 && h <= horizon))
-          throw InputError(entry + ": expected a step in (0, horizon] = (0, " + Short(horizon) +
+          throw InputError(entry + ": expected a step in (0, horizon] = (0, " + ShortNumber(horizon) +
                            "], got " + Describe(value));
         CheckStepCount(h, horizon, max_steps, entry);
         return h;

@@ -47,6 +47,9 @@ struct StudySettings {
 StudySettings ReadStudySettings(const nlohmann::json& block, const std::string& path,
                                 double horizon, long max_steps);
 
+/// A number for a message: 3 significant digits ("1e-09", "0.25").
+std::string ShortNumber(double value);
+
 /// Refuses a step ladder rung whose horizon / h exceeds max_steps, naming
 /// `field` (study.h[k], or the default ladder) and what to change.
 /// @throws InputError.
