@@ -4,6 +4,7 @@
 // solution, a parallel study equals a serial one, and bad input is refused
 // with nothing written.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -124,6 +125,30 @@ TEST(StudyOrders, FilippovSlide) {
   // ½ keeps no second order there.
   EXPECT_LT(SlopeOf(result, StudyMethod::kSteppingHalf).slope, 2 - kSecondOrderMargin);
   ExpectBaselinesRefusedAsIndexTwo(result);
+}
+
+// filippov_relay.json's solution is piecewise linear: time-stepping
+// resolves it up to its VI solves (residual 1e-10 a step), so its errors
+// do not fall with h, and no order may be fitted to them. Nor to rungs that
+// are not neighbours on the ladder (θ = γ = ½ at h = 0.064, 0.032 and
+// 1.25e-4, the rungs between at round-off or of another mode sequence).
+TEST(StudyOrders, NoOrderFromErrorsAtTheSolversLevel) {
+  nlohmann::json scene =
+      nlohmann::json::parse(ReadTextFile(DVI_EXAMPLES_DIR "/scenes/filippov_relay.json"));
+  scene["study"] = {{"methods", {"event", "stepping-theta0", "stepping-theta0.5"}}};
+  StudyOptions options;
+  options.jobs = 2;
+  options.repeats = 1;
+  const StudyResult result = RunStudy(ParseScene(scene.dump()), options);
+  for (const StudyMethod method : {StudyMethod::kSteppingTheta0, StudyMethod::kSteppingHalf}) {
+    const Slope& slope = SlopeOf(result, method);
+    EXPECT_LT(slope.rungs, 3) << ToString(method);
+    EXPECT_TRUE(std::isnan(slope.slope)) << ToString(method) << ": " << slope.slope;
+  }
+  // The finest θ = 0 runs are still measured, at the solver's level.
+  const StudyRun& finest = *RunsOf(result, StudyMethod::kSteppingTheta0).back();
+  EXPECT_EQ(finest.outcome, RunOutcome::kConverged);
+  EXPECT_LT(finest.max_error, result.stepping_error_floor);
 }
 
 // rc_diode_event.json has no exact block: the tightest event run is the

@@ -83,7 +83,7 @@ std::string IndexTwoRefusal(const std::vector<PlannedRun>& plan,
   for (std::size_t k = 0; k < plan.size(); ++k) {
     const long reduced = executed[k].stats.reduced_modes;
     if (reduced > 0)
-      return "index two: " + ToString(plan[k].method) + " at rtol = " + ShortNumber(plan[k].parameter) +
+      return "index two or more: " + ToString(plan[k].method) + " at rtol = " + ShortNumber(plan[k].parameter) +
              " chose " + std::to_string(reduced) +
              " mode(s) by the differentiation procedure (Theorems 5.2/5.3), where u(t, x) is "
              "not the Lipschitz function of the state the implicit RHS (5.2) needs";
@@ -139,19 +139,36 @@ void Measure(const PlannedRun& planned, const ExecutedRun& executed,
   run.event_time_error = SwitchTimeError(switches, reference.switches);
 }
 
-std::vector<Slope> FitSlopes(const std::vector<StudyRun>& runs, double floor) {
+// The fitted rungs: neighbours on the ladder, the finest whose error is
+// above `floor` and that converged; a rung between that is not breaks the
+// run of neighbours (an order read across it would mix regimes).
+std::vector<const StudyRun*> FittedRungs(const std::vector<StudyRun>& runs, StudyMethod method,
+                                         double floor) {
+  std::vector<const StudyRun*> ladder;  // coarse (or loose) to fine (or tight)
+  for (const StudyRun& run : runs)
+    if (run.method == method) ladder.push_back(&run);
+  const auto fits = [floor](const StudyRun* run) {
+    return run->outcome == RunOutcome::kConverged && run->max_error > floor;
+  };
+  auto finest = ladder.rbegin();
+  while (finest != ladder.rend() && !fits(*finest)) ++finest;
+  std::vector<const StudyRun*> fitted;
+  for (auto run = finest; run != ladder.rend() && fits(*run) &&
+                          fitted.size() < static_cast<std::size_t>(kFitRungs);
+       ++run)
+    fitted.insert(fitted.begin(), *run);
+  return fitted;
+}
+
+std::vector<Slope> FitSlopes(const std::vector<StudyRun>& runs, double floor,
+                             double stepping_floor) {
   std::vector<Slope> slopes;
   for (const StudyMethod method : kAllStudyMethods) {
-    std::vector<const StudyRun*> fitted;
-    bool any = false;
-    for (const StudyRun& run : runs) {
-      if (run.method != method) continue;
-      any = true;
-      if (run.outcome == RunOutcome::kConverged && run.max_error > floor) fitted.push_back(&run);
-    }
-    if (!any) continue;
-    if (fitted.size() > static_cast<std::size_t>(kFitRungs))
-      fitted.erase(fitted.begin(), fitted.end() - kFitRungs);  // the finest rungs
+    if (std::none_of(runs.begin(), runs.end(),
+                     [method](const StudyRun& run) { return run.method == method; }))
+      continue;
+    const std::vector<const StudyRun*> fitted =
+        FittedRungs(runs, method, IsAdaptive(method) ? floor : stepping_floor);
     Slope slope;
     slope.method = method;
     slope.rungs = static_cast<int>(fitted.size());
@@ -252,7 +269,10 @@ StudyResult RunStudy(const Scene& scene, const StudyOptions& options) {
   result.error_floor = reference.report.kind == "exact" || !std::isfinite(estimate)
                            ? kRoundOff * reference.report.scale
                            : std::max(10 * estimate, kRoundOff * reference.report.scale);
-  result.slopes = FitSlopes(result.runs, result.error_floor);
+  result.stepping_error_floor =
+      std::max(result.error_floor,
+               kSolverLevel * std::max(1.0, scene.horizon) * scene.stepping.solver.tolerance);
+  result.slopes = FitSlopes(result.runs, result.error_floor, result.stepping_error_floor);
   result.stiffness = StiffnessAtStart(scene, reference.u0);
   result.measured_times = times.grid;
   result.measured_times.insert(result.measured_times.end(), times.switch_points.begin(),

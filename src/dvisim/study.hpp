@@ -118,6 +118,10 @@ struct StudyResult {
   /// The error floor of the slopes: 10 × the reference's error estimate
   /// (kRoundOff·scale for an exact one).
   double error_floor = 0;
+  /// The floor of the time-stepping slopes: at least kSolverLevel ×
+  /// max(1, T) × the VI solver's tolerance (method.solver), the error its
+  /// inexact solves can leave.
+  double stepping_error_floor = 0;
   int grid_points = 0;
   /// ρ(∂f/∂x) at t = 0 (NaN where unavailable): h·ρ ≤ 2 is explicit Euler's
   /// stability bound on a real negative eigenvalue.
@@ -128,6 +132,11 @@ struct StudyResult {
   std::vector<double> measured_times;
   std::vector<Eigen::VectorXd> reference_values;
 };
+/// Each step's VI is solved to a residual `tolerance`: u off by about that
+/// much moves x by h·tolerance a step, T·tolerance over the horizon (for
+/// ∂F/∂u and B of order one); ten times that is where a stepping run's error
+/// measures its solves, not its scheme.
+inline constexpr double kSolverLevel = 10;
 /// Round-off of a reference at the solution's scale: 1000 ε, as many
 /// digits as a tight event run at rtol = 1e-12 keeps.
 inline constexpr double kRoundOff = 1000 * std::numeric_limits<double>::epsilon();

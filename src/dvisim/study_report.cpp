@@ -177,11 +177,13 @@ std::vector<std::vector<std::string>> SlopeRows(const StudyResult& result) {
 
 std::string OrdersText(const StudyResult& result) {
   return "Slope of log max error against log h (time-stepping) or log rtol, fitted over each "
-         "method's " + std::to_string(kFitRungs) +
-         " finest converged rungs whose error is above the floor " +
+         "method's finest neighbouring rungs (" + std::to_string(kFitRungs) +
+         " at most) that converged with an error above the floor " +
          StudyNumber(result.error_floor) +
-         " (10 × the reference's error estimate, at least 1000 ε × the solution's size); "
-         "fewer than 3 such rungs give none.";
+         " (10 × the reference's error estimate, at least 1000 ε × the solution's size), "
+         "for time-stepping above " + StudyNumber(result.stepping_error_floor) +
+         " (at least 10 × max(1, horizon) × the VI solver's tolerance: below it the error "
+         "measures the steps' VI solves); fewer than 3 such rungs give none.";
 }
 
 // Converged runs whose error is above the floor: below it the error
@@ -322,6 +324,7 @@ nlohmann::ordered_json StudyJson(const StudyResult& result, int jobs) {
                        {"scale", reference.scale}};
   json["grid_points"] = result.grid_points;
   json["error_floor"] = result.error_floor;
+  json["stepping_error_floor"] = result.stepping_error_floor;
   json["stiffness"] = NumberToJson(result.stiffness);
   nlohmann::ordered_json slopes = nlohmann::ordered_json::array();
   for (const Slope& slope : result.slopes)
