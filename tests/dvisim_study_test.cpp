@@ -175,6 +175,38 @@ TEST(StudyReference, WithoutAnExactBlockTheTwoReferencesAgree) {
   EXPECT_NEAR(reference.switch_times[0], 5e-3, 1e-12);
 }
 
+// filippov_spiral.json is Zeno at t* = 1.5: event fails, auto steps over
+// the accumulation at the scene's h, which no rtol refines, so the distance
+// between two auto runs does not bound its error there. V = |x1| + |x2|
+// falls as 6 − 4t to 0 at t* and stays 0: |V(x_ref) − V(t)| / 2 is a lower
+// bound on the reference's error ‖x_ref − x‖∞ that its estimate must cover.
+TEST(StudyReference, AnAutoReferenceThatSteppedEstimatesItsErrorThere) {
+  nlohmann::json scene =
+      nlohmann::json::parse(ReadTextFile(DVI_EXAMPLES_DIR "/scenes/filippov_spiral.json"));
+  scene["study"] = {{"rtol", {1e-8, 1e-9, 1e-10}},
+                    {"h", {4e-4, 2e-4, 1e-4}},
+                    {"methods", {"event", "auto", "stepping-theta0.5"}}};
+  StudyOptions options;
+  options.jobs = 2;
+  options.repeats = 1;
+  const StudyResult result = RunStudy(ParseScene(scene.dump()), options);
+  const ReferenceReport& reference = result.reference;
+  EXPECT_EQ(reference.kind, "auto");
+  EXPECT_FALSE(reference.modes_known);
+  EXPECT_NE(reference.description.find("stepped"), std::string::npos) << reference.description;
+  double lower_bound = 0;
+  for (std::size_t k = 0; k < result.measured_times.size(); ++k) {
+    const Eigen::VectorXd& x = result.reference_values[k];
+    const double V = std::max(0.0, 6 - 4 * result.measured_times[k]);
+    lower_bound = std::max(lower_bound, std::abs(x.lpNorm<1>() - V) / 2);
+  }
+  EXPECT_GT(lower_bound, 0);
+  EXPECT_GE(reference.error_estimate, lower_bound);
+  EXPECT_GE(result.error_floor, 10 * reference.error_estimate);
+  for (const StudyRun* run : RunsOf(result, StudyMethod::kEvent))
+    EXPECT_EQ(run->outcome, RunOutcome::kFailed) << run->reason;
+}
+
 // The study's CSV without its timing columns (seconds, repeats: the last two).
 std::string WithoutTiming(const std::string& csv) {
   std::string kept;

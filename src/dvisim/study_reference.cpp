@@ -177,7 +177,8 @@ FirstReference ChooseFirstReference(const Scene& scene, const std::vector<Planne
 
 Reference CompleteReference(const Scene& scene, const std::vector<PlannedRun>& plan,
                             const std::vector<ExecutedRun>& executed, const FirstReference& first,
-                            const EvaluationTimes& times) {
+                            const EvaluationTimes& times,
+                            const std::optional<ExecutedRun>& halved) {
   Reference reference;
   ReferenceReport& report = reference.report;
   reference.switches = first.switches;
@@ -200,6 +201,23 @@ Reference CompleteReference(const Scene& scene, const std::vector<PlannedRun>& p
       numerical_estimate = MaxDistance(numerical, ValuesAt(executed[*first.next], times, times.grid));
       numerical_text += " (distance to the run at rtol = " + ShortNumber(plan[*first.next].parameter) +
                         ": " + ShortNumber(numerical_estimate) + ")";
+    }
+    if (!first.modes_known) {
+      // It stepped: its error there is the stepping's, at the scene's h.
+      numerical_text += "; it stepped over part of the horizon at h = " +
+                        ShortNumber(scene.stepping.h);
+      if (halved && halved->succeeded()) {
+        const double change = MaxDistance(numerical, ValuesAt(*halved, times, times.grid));
+        numerical_estimate = std::isnan(numerical_estimate)
+                                 ? kSteppedErrorFactor * change
+                                 : std::max(numerical_estimate, kSteppedErrorFactor * change);
+        numerical_text += ", whose error " + ShortNumber(kSteppedErrorFactor) +
+                          " × its distance to the same run at h/2 estimates: " +
+                          ShortNumber(kSteppedErrorFactor * change);
+      } else {
+        numerical_estimate = kNaN;
+        numerical_text += ", and the same run at h/2 failed: no error estimate";
+      }
     }
   }
   const std::optional<Extrapolation> richardson = BestRichardson(plan, executed, times);

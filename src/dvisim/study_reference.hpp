@@ -73,8 +73,15 @@ struct Reference {
 /// Completes the first reference once every run is in: Richardson
 /// extrapolation of the stepping runs (the θ = ½ or θ = 0 family whose
 /// estimate is smaller) cross-checks it, or is the reference itself.
+/// `halved`: the reference run again with the scene's stepping h halved,
+/// when it stepped over part of the horizon; kSteppedErrorFactor × its
+/// distance to the reference then bounds the reference's error too.
 Reference CompleteReference(const Scene& scene, const std::vector<PlannedRun>& plan,
                             const std::vector<ExecutedRun>& executed, const FirstReference& first,
-                            const EvaluationTimes& times);
+                            const EvaluationTimes& times,
+                            const std::optional<ExecutedRun>& halved = std::nullopt);
+/// A first-order error e(h) = C h is twice its change e(h) − e(h/2) when h
+/// is halved (and 4/3 of it at order two: 2 covers both).
+inline constexpr double kSteppedErrorFactor = 2;
 
 }  // namespace dvi::dvisim

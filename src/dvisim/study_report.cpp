@@ -378,7 +378,7 @@ std::string WorkPrecisionScript(const StudyResult& result) {
                                         std::pair<int, const char*>{3, "RHS evaluations"}}) {
       p << "set xlabel 'max error'\nset ylabel '" << label << "'\n";
       if (drawn.empty()) {
-        p << "set label 1 'no run converged' at graph 0.3, graph 0.5\nplot [1e-12:1] [1:10] 1/0 notitle\n";
+        p << "set label 1 'no converged run above the error floor' at graph 0.2, graph 0.5\nplot [1e-12:1] [1:10] 1/0 notitle\n";
         continue;
       }
       p << "plot ";
