@@ -5,6 +5,7 @@
 // with nothing written.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -308,6 +309,20 @@ TEST_F(StudyCommandTest, RefusesAnOutputFolderThatExists) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(out),
                           std::filesystem::directory_iterator()),
             1);
+}
+
+// gnuplot missing is no fault of the input: exit 1, and no folder either.
+TEST_F(StudyCommandTest, WithoutGnuplotFailsAndWritesNothing) {
+  const std::string scene =
+      Scene("scene.json", R"j(, "study": {"methods": ["event"], "rtol": [1e-3, 1e-4]})j");
+  const std::string out = Path("study");
+  const std::string path = std::getenv("PATH");
+  setenv("PATH", Path("no-such-bin").c_str(), 1);  // dvisim and sh are run by absolute path
+  const testing::RunOutcome run = Dvisim("study '" + scene + "' --out '" + out + "'");
+  setenv("PATH", path.c_str(), 1);
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("gnuplot did not run"), std::string::npos) << run.err;
+  ExpectNothingWritten(out);
 }
 
 // `dvisim run` reads the exact and study blocks too (checked the same way)

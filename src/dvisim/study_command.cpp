@@ -46,7 +46,11 @@ void WriteStudyFolder(const StudyResult& result, int jobs, const fs::path& tempo
   Write(temporary / "study.csv", StudyCsv(result));
   Write(temporary / "study.json", StudyJson(result, jobs).dump(2) + "\n");
   Write(temporary / "stability.md", StabilityMarkdown(result));
-  RunGnuplot(temporary.string(), WorkPrecisionScript(result), "study: work_precision chart");
+  try {
+    RunGnuplot(temporary.string(), WorkPrecisionScript(result), "study: work_precision chart");
+  } catch (const InputError& error) {
+    throw std::runtime_error(error.what());  // the tool failed, not the input
+  }
   Write(temporary / "index.html", StudyHtml(result, ReadBack(temporary / "work_precision.svg")));
   fs::rename(temporary, dir, error);
   if (error)

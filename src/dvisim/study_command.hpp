@@ -28,7 +28,7 @@ struct StudyCommand {
 int RunStudyCommand(const StudyCommand& command, std::ostream& out, std::ostream& err);
 
 /// Writes the study's files into `temporary` (created here), then renames
-/// it to `dir`. @throws std::runtime_error, or InputError when gnuplot fails.
+/// it to `dir`. @throws std::runtime_error (also when gnuplot fails).
 void WriteStudyFolder(const StudyResult& result, int jobs, const std::filesystem::path& temporary,
                       const std::filesystem::path& dir);
 
