@@ -56,6 +56,9 @@ constexpr double kTargetError = 1e-8;
 constexpr double kLastProportionalTolerance = 1e-10;
 // The oracle's schedule comes from an event run this tight (its events).
 constexpr double kScheduleRtol = 1e-13;
+// u_j this far (relative) from a bound of K is off it: far above the VI
+// solver's 1e-10, far below a multiplier of a mode that holds.
+constexpr double kInsideBound = 1e-8;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 struct Point {
@@ -113,6 +116,20 @@ std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
   if (!rhs.SelectMode(0, scene.x0)) throw std::runtime_error(scene.name + ": " + rhs.message());
   std::vector<baselines::ModeSegment> schedule;
   baselines::ModeSegment segment{0, scene.horizon, rhs.mode()};
+  // A reduced (index-two) mode at t = 0 is not the VI's at (0, x0) alone
+  // (the clamp: F = 0 there for every u ≥ 0, and the VI takes u = 0); it
+  // shows in the event run's u(0+) strictly inside K's box.
+  const ConvexSet& K =
+      std::visit([](const auto& dvi) -> const ConvexSet& { return dvi.K; }, problem.dvi);
+  const Eigen::VectorXd u0 = reference.multipliers[0];
+  if (K.IsBox() && segment.mode.size() == static_cast<std::size_t>(u0.size())) {
+    const auto [lower, upper] = K.BoxBounds();
+    for (Eigen::Index j = 0; j < u0.size(); ++j) {
+      const double margin = kInsideBound * std::max(1.0, std::abs(u0(j)));
+      if (u0(j) - lower(j) > margin && upper(j) - u0(j) > margin)  // infinite bounds too
+        segment.mode[static_cast<std::size_t>(j)] = MultiplierBound::kFree;
+    }
+  }
   for (const Event& event : reference.events) {
     if (event.time > segment.from) {
       segment.to = event.time;
