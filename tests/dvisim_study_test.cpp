@@ -16,6 +16,7 @@
 #include "scene_file.hpp"
 #include "study.hpp"
 #include "study_report.hpp"
+#include "study_runs.hpp"
 #include "support/dvisim_fixture.hpp"
 
 namespace dvi::dvisim {
@@ -206,6 +207,19 @@ TEST(StudyReference, AnAutoReferenceThatSteppedEstimatesItsErrorThere) {
   EXPECT_GE(result.error_floor, 10 * reference.error_estimate);
   for (const StudyRun* run : RunsOf(result, StudyMethod::kEvent))
     EXPECT_EQ(run->outcome, RunOutcome::kFailed) << run->reason;
+}
+
+// x' = x² − 1 from 3 blows up at t = ln(2)/2: plain CVODE on (5.2) creeps
+// towards it step after step. The scene's method.max_steps bounds it as it
+// bounds event-driven integration (before, its own 1e7 steps took minutes).
+TEST(StudyRuns, ABaselineStopsAtTheScenesStepLimit) {
+  const Scene scene = ParseScene(R"({"problem": {"type": "box-dvi", "f": ["x1^2 + u1"],
+    "F": ["u1 + x1"], "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3],
+    "horizon": 2, "method": {"max_steps": 20000}})");
+  const ExecutedRun run = ExecuteRun(scene, {StudyMethod::kCvode, 1e-3, 1e-5, ""}, {0, 1, 2}, 1);
+  EXPECT_EQ(run.status, "failed");
+  EXPECT_NE(run.message.find("CV_TOO_MUCH_WORK"), std::string::npos) << run.message;
+  EXPECT_LE(run.stats.steps, 20000);
 }
 
 // The study's CSV without its timing columns (seconds, repeats: the last two).

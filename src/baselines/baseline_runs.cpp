@@ -25,7 +25,6 @@ namespace {
 
 namespace odeint = boost::numeric::odeint;
 
-constexpr long kMaxSteps = 10'000'000;
 // CVODE refuses an output time within 2 ulp of its current time; 4 is
 // round-off on either side of that.
 constexpr double kSameTimeUlps = 4;
@@ -51,7 +50,8 @@ void Check(int flag, const char* call) {
 // (IndexOneCvJac): the linear algebra the event-driven integrator uses.
 class CvodeSolver {
  public:
-  CvodeSolver(IndexOneRhs& rhs, const Eigen::VectorXd& x0, double t0, double rtol, double atol) {
+  CvodeSolver(IndexOneRhs& rhs, const Eigen::VectorXd& x0, double t0, double rtol, double atol,
+              long max_steps) {
     const auto n = static_cast<sunindextype>(x0.size());
     Check(SUNContext_Create(nullptr, &context_), "SUNContext_Create");
     y_ = N_VNew_Serial(n, context_);
@@ -68,7 +68,7 @@ class CvodeSolver {
     Check(CVodeSetUserData(cvode_, &rhs), "CVodeSetUserData");
     Check(CVodeSetLinearSolver(cvode_, solver_, matrix_), "CVodeSetLinearSolver");
     Check(CVodeSetJacFn(cvode_, IndexOneCvJac), "CVodeSetJacFn");
-    Check(CVodeSetMaxNumSteps(cvode_, kMaxSteps), "CVodeSetMaxNumSteps");
+    Check(CVodeSetMaxNumSteps(cvode_, max_steps), "CVodeSetMaxNumSteps");
   }
   ~CvodeSolver() {
     CVodeFree(&cvode_);
@@ -129,7 +129,7 @@ class CvodeSolver {
 BaselineRun RunPlainCvode(const BaselineProblem& problem, double rtol, double atol) {
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
-  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol);
+  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol, problem.max_steps);
   for (const double t : problem.output_times) {
     if (t <= problem.t0) {
       run.states.push_back(problem.x0);
@@ -148,7 +148,7 @@ BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<Mod
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
   rhs.FreezeMode(true);
-  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol);
+  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol, problem.max_steps);
   const std::vector<double>& times = problem.output_times;
   std::size_t next = 0;
   for (; next < times.size() && times[next] <= problem.t0; ++next)

@@ -135,6 +135,7 @@ std::optional<baselines::BaselineProblem> AsBaselineProblem(const Scene& scene) 
   problem.x0 = scene.x0;
   problem.t0 = 0;
   problem.t_end = scene.horizon;
+  problem.max_steps = scene.event.max_steps;  // method.max_steps, as event-driven integration
   const bool has_vi = std::visit(
       [&](const auto& p) {
         using Problem = std::decay_t<decltype(p)>;
