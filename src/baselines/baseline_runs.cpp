@@ -33,6 +33,13 @@ IndexOneRhs MakeRhs(const BaselineProblem& problem) {
   return std::visit([](const auto& dvi) { return IndexOneRhs(dvi); }, problem.dvi);
 }
 
+// odeint's limit on steps between two output times (no_progress_error
+// beyond): max_steps, as CVODE's over the whole run.
+odeint::max_step_checker StepLimit(const BaselineProblem& problem) {
+  return odeint::max_step_checker(
+      static_cast<int>(std::min<long>(problem.max_steps, std::numeric_limits<int>::max())));
+}
+
 // First trial step of the odeint steppers; their controllers shrink it.
 double InitialStep(const BaselineProblem& problem) {
   return 1e-4 * (problem.t_end - problem.t0);
@@ -197,10 +204,12 @@ BaselineRun RunOdeintDopri5(const BaselineProblem& problem, double rtol, double 
   try {
     run.steps = static_cast<long>(odeint::integrate_times(
         stepper, OdeintSystem(rhs), x, problem.output_times.begin(), problem.output_times.end(),
-        InitialStep(problem), [&run](const State& state, double) {
+        InitialStep(problem),
+        [&run](const State& state, double) {
           run.states.push_back(Eigen::Map<const Eigen::VectorXd>(
               state.data(), static_cast<Eigen::Index>(state.size())));
-        }));
+        },
+        StepLimit(problem)));
   } catch (const std::exception& error) {
     run.failure = std::string("dopri5: ") + error.what();
   }
@@ -224,7 +233,8 @@ BaselineRun RunOdeintRosenbrock4(const BaselineProblem& problem, double rtol, do
           for (std::size_t i = 0; i < state.size(); ++i)
             copy(static_cast<Eigen::Index>(i)) = state[i];
           run.states.push_back(copy);
-        }));
+        },
+        StepLimit(problem)));
   } catch (const std::exception& error) {
     run.failure = std::string("rosenbrock4: ") + error.what();
   }

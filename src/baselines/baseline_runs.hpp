@@ -27,8 +27,9 @@ struct BaselineProblem {
   double t0 = 0;
   double t_end = 0;
   std::vector<double> output_times;  ///< Ascending, within [t0, t_end].
-  /// CVODE's step limit (CV_TOO_MUCH_WORK beyond): a solution that blows up
-  /// makes it creep towards the blow-up step after step.
+  /// CVODE's step limit (CV_TOO_MUCH_WORK beyond), odeint's between two
+  /// output times: a solution that blows up makes them creep towards the
+  /// blow-up step after step.
   long max_steps = 10'000'000;
 };
 
