@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "study_runs.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <exception>
@@ -79,11 +80,13 @@ ExecutedRun RunIntegrator(const Scene& scene, const PlannedRun& run,
       const Clock::time_point start = Clock::now();
       executed.trajectory = IntegrateScene(copy);
       const double first = SecondsSince(start);
+      executed.timed_steps = executed.trajectory.stats.steps;
       executed.timing = TimeRepeated([&] { IntegrateScene(copy); }, first, repeats);
     } else {
       executed.trajectory = IntegrateScene(copy);
       const Scene timed = SceneOfRun(scene, run, {scene.horizon});
-      executed.timing = TimeToHorizon([&] { IntegrateScene(timed); }, repeats);
+      executed.timing = TimeToHorizon(
+          [&] { executed.timed_steps = IntegrateScene(timed).stats.steps; }, repeats);
     }
   } catch (const InputError& error) {
     executed.message = error.what();
@@ -115,9 +118,15 @@ ExecutedRun RunBaselineMethod(const Scene& scene, const PlannedRun& run,
   }
   try {
     baselines::BaselineProblem timed = *problem;
-    timed.output_times = {problem->t_end};
+    // odeint starts at the first output time, and CVODE's first step
+    // depends on the first after t0: both as in the measured run.
+    timed.output_times = {problem->t0};
+    const auto first = std::upper_bound(output_times.begin(), output_times.end(), problem->t0);
+    if (first != output_times.end() && *first < problem->t_end) timed.output_times.push_back(*first);
+    timed.output_times.push_back(problem->t_end);
     executed.timing = TimeToHorizon(
-        [&] { RunBaseline(run.method, timed, run.parameter, run.atol); }, repeats);
+        [&] { executed.timed_steps = RunBaseline(run.method, timed, run.parameter, run.atol).steps; },
+        repeats);
     problem->output_times = output_times;
     baselines::BaselineRun result = RunBaseline(run.method, *problem, run.parameter, run.atol);
     executed.stats.rhs_evals = result.rhs_evals;

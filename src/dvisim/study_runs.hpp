@@ -36,6 +36,9 @@ struct ExecutedRun {
   std::vector<Eigen::VectorXd> baseline_states;
   IntegrationStats stats;
   RunTiming timing;
+  /// Steps of the timed runs (which sample nowhere): the answer's steps when
+  /// they integrated the same way.
+  long timed_steps = 0;
   bool succeeded() const { return status == "success"; }
 };
 
