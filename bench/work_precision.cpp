@@ -136,8 +136,13 @@ std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
       schedule.push_back(segment);
       segment.from = event.time;
     }
-    segment.mode[static_cast<std::size_t>(event.index)] =
-        event.kind == EventKind::kReachedLower   ? MultiplierBound::kLower
+    // u_j's events move mode entry j; constraint k of a non-box K moves its
+    // KKT multiplier μ_k, entry m + k (free while active, at 0 released).
+    const bool constraint = event.kind == EventKind::kConstraintActive ||
+                            event.kind == EventKind::kConstraintReleased;
+    segment.mode[static_cast<std::size_t>(event.index + (constraint ? rhs.m() : 0))] =
+        event.kind == EventKind::kReachedLower || event.kind == EventKind::kConstraintReleased
+            ? MultiplierBound::kLower
         : event.kind == EventKind::kReachedUpper ? MultiplierBound::kUpper
                                                  : MultiplierBound::kFree;
   }
