@@ -83,8 +83,8 @@ void ExpectOrder(const StudyResult& result, StudyMethod method, double order, do
 }
 
 void ExpectBaselinesRefusedAsIndexTwo(const StudyResult& result) {
-  for (const StudyMethod method : {StudyMethod::kCvode, StudyMethod::kDopri5,
-                                   StudyMethod::kRosenbrock4})
+  for (const StudyMethod method :
+       {StudyMethod::kCvode, StudyMethod::kDopri5, StudyMethod::kRosenbrock4})
     for (const StudyRun* run : RunsOf(result, method)) {
       EXPECT_EQ(run->outcome, RunOutcome::kRefused);
       EXPECT_NE(run->reason.find("index two"), std::string::npos) << run->reason;
@@ -99,8 +99,8 @@ TEST(StudyOrders, IndexOneBoxDviAsAnLcs) {
   // u = clamp(−x) is continuous: scheme (7.2) at θ = γ = ½ is second order.
   ExpectOrder(result, StudyMethod::kSteppingHalf, 2, kSecondOrderMargin);
   // Index one: the baselines run, and converge.
-  for (const StudyMethod method : {StudyMethod::kCvode, StudyMethod::kDopri5,
-                                   StudyMethod::kRosenbrock4})
+  for (const StudyMethod method :
+       {StudyMethod::kCvode, StudyMethod::kDopri5, StudyMethod::kRosenbrock4})
     for (const StudyRun* run : RunsOf(result, method))
       EXPECT_EQ(run->outcome, RunOutcome::kConverged) << ToString(method) << ": " << run->reason;
   // The switch at t = 2 is located by event to its tolerance.
@@ -230,9 +230,9 @@ TEST(StudyRuns, TheTimedRunsIntegrateAsTheMeasuredOnes) {
   const Scene scene = ReadScene(kScenes + "box_lcs_saturation.json");
   std::vector<double> grid;
   for (int k = 0; k <= 400; ++k) grid.push_back(scene.horizon * k / 400);
-  for (const StudyMethod method : {StudyMethod::kSteppingTheta0, StudyMethod::kSteppingHalf,
-                                   StudyMethod::kCvode, StudyMethod::kDopri5,
-                                   StudyMethod::kRosenbrock4}) {
+  for (const StudyMethod method :
+       {StudyMethod::kSteppingTheta0, StudyMethod::kSteppingHalf, StudyMethod::kCvode,
+        StudyMethod::kDopri5, StudyMethod::kRosenbrock4}) {
     const double parameter = IsAdaptive(method) ? 1e-6 : 0.01;
     const ExecutedRun run = ExecuteRun(scene, {method, parameter, 1e-8, ""}, grid, 1);
     ASSERT_TRUE(run.succeeded()) << ToString(method) << ": " << run.message;
@@ -269,19 +269,21 @@ class StudyCommandTest : public testing::DvisimBinaryTest {
   // Nothing of the study was left beside `out`: no folder, no temporary one.
   void ExpectNothingWritten(const std::string& out) {
     EXPECT_FALSE(std::filesystem::exists(out));
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(out).parent_path()))
+    for (const auto& entry :
+         std::filesystem::directory_iterator(std::filesystem::path(out).parent_path()))
       EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
   }
   std::string Scene(const std::string& name, const std::string& extra) {
     return Write(name, R"({"problem": {"type": "box-dvi", "f": ["u1"], "F": ["u1 + x1"],
-      "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3], "horizon": 4)" + extra + "}");
+      "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3], "horizon": 4)" +
+                           extra + "}");
   }
 };
 
 TEST_F(StudyCommandTest, WritesEveryOutputWithAProgressBar) {
   const std::string out = Path("study");
-  const testing::RunOutcome run =
-      Dvisim("study '" + kScenes + "filippov_slide.json' --out '" + out + "' --repeats 1 --progress");
+  const testing::RunOutcome run = Dvisim("study '" + kScenes + "filippov_slide.json' --out '" +
+                                         out + "' --repeats 1 --progress");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (const char* file : {"study.csv", "study.json", "stability.md", "work_precision.png",
                            "work_precision.svg", "index.html"})

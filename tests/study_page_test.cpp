@@ -45,9 +45,11 @@ std::vector<std::vector<std::string>> ParseCsv(const std::string& text) {
 }
 
 std::string Unescape(std::string text) {
-  for (const auto& [entity, character] :
-       {std::pair<std::string, std::string>{"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""},
-        {"&nbsp;", "\u00a0"}, {"&amp;", "&"}}) {
+  for (const auto& [entity, character] : {std::pair<std::string, std::string>{"&lt;", "<"},
+                                          {"&gt;", ">"},
+                                          {"&quot;", "\""},
+                                          {"&nbsp;", "\u00a0"},
+                                          {"&amp;", "&"}}) {
     for (std::size_t at = text.find(entity); at != std::string::npos;
          at = text.find(entity, at + character.size()))
       text.replace(at, entity.size(), character);
@@ -84,11 +86,11 @@ class StudyPageTest : public DvisimBinaryTest {
   // --screenshot=...); returns its standard output.
   std::string Browser(const std::string& mode, const std::string& page) {
     const std::string output = Path("browser.out");
-    const std::string command =
-        std::string("'") + DVI_CHROMIUM + "' --headless --no-sandbox --disable-gpu "
-        "--disable-background-networking --no-first-run --user-data-dir='" + Path("profile") +
-        "' --window-size=1400,5000 " + mode + " 'file://" + page + "' >'" + output +
-        "' 2>/dev/null";
+    const std::string command = std::string("'") + DVI_CHROMIUM +
+                                "' --headless --no-sandbox --disable-gpu "
+                                "--disable-background-networking --no-first-run --user-data-dir='" +
+                                Path("profile") + "' --window-size=1400,5000 " + mode +
+                                " 'file://" + page + "' >'" + output + "' 2>/dev/null";
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
     return Slurp(output);
   }
@@ -98,12 +100,14 @@ TEST_F(StudyPageTest, RendersWithItsChartAndTheNumbersOfTheCsv) {
   ASSERT_TRUE(std::filesystem::exists(DVI_CHROMIUM))
       << "chromium not found (" << DVI_CHROMIUM << "): scripts/install-deps.sh installs it";
   const std::string out = Path("study");
-  const RunOutcome study = Dvisim("study '" DVI_TEST_SCENES_DIR "/study/box_lcs_saturation.json' --out '" +
-                                  out + "' --repeats 1");
+  const RunOutcome study =
+      Dvisim("study '" DVI_TEST_SCENES_DIR "/study/box_lcs_saturation.json' --out '" + out +
+             "' --repeats 1");
   ASSERT_EQ(study.exit_code, 0) << study.err;
   const std::string page = out + "/index.html";
   const std::string dom = Browser("--dump-dom", page);
-  ASSERT_NE(dom.find("<h1>Study of box-lcs-saturation</h1>"), std::string::npos) << dom.substr(0, 500);
+  ASSERT_NE(dom.find("<h1>Study of box-lcs-saturation</h1>"), std::string::npos)
+      << dom.substr(0, 500);
   // The chart is a data: URI the browser decoded: onload marked it.
   const std::size_t image = dom.find("<img id=\"work-precision\"");
   ASSERT_NE(image, std::string::npos);
@@ -128,7 +132,8 @@ TEST_F(StudyPageTest, RendersWithItsChartAndTheNumbersOfTheCsv) {
   ASSERT_GT(png.size(), 24u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
   const auto big_endian = [&](std::size_t at) {
-    return (static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+    return (static_cast<unsigned char>(png[at]) << 24) |
+           (static_cast<unsigned char>(png[at + 1]) << 16) |
            (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
   };
   EXPECT_EQ(big_endian(16), 1400u);

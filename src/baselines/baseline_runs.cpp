@@ -10,11 +10,11 @@
 #include <stdexcept>
 #include <variant>
 
-#include <boost/numeric/odeint.hpp>
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <boost/numeric/odeint.hpp>
 
 #include "dvi/cvode_rhs.hpp"
 #include "dvi/index_one_rhs.hpp"
@@ -41,16 +41,14 @@ odeint::max_step_checker StepLimit(const BaselineProblem& problem) {
 }
 
 // First trial step of the odeint steppers; their controllers shrink it.
-double InitialStep(const BaselineProblem& problem) {
-  return 1e-4 * (problem.t_end - problem.t0);
-}
+double InitialStep(const BaselineProblem& problem) { return 1e-4 * (problem.t_end - problem.t0); }
 
 // CVODE's failures are reported through the flags; its own printing is off.
 void SilentErrorHandler(int, const char*, const char*, char*, void*) {}
 
 void Check(int flag, const char* call) {
-  if (flag < 0) throw std::runtime_error(std::string(call) + " failed with flag " +
-                                         std::to_string(flag));
+  if (flag < 0)
+    throw std::runtime_error(std::string(call) + " failed with flag " + std::to_string(flag));
 }
 
 // CVODE BDF on an IndexOneRhs with the dense LU and the mode's Jacobian
@@ -158,8 +156,7 @@ BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<Mod
   CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol, problem.max_steps);
   const std::vector<double>& times = problem.output_times;
   std::size_t next = 0;
-  for (; next < times.size() && times[next] <= problem.t0; ++next)
-    run.states.push_back(problem.x0);
+  for (; next < times.size() && times[next] <= problem.t0; ++next) run.states.push_back(problem.x0);
   // Newton's first start is the VI's u at x0 (u = 0 can make a KKT mode's
   // Jacobian singular, e.g. on a ball); x is continuous at a switch, so u
   // restarts from its last value there.

@@ -34,7 +34,8 @@ std::string VectorText(const Eigen::VectorXd& x) {
   return text + ")";
 }
 
-void OnlyFields(const json& object, const std::string& path, const std::vector<std::string>& known) {
+void OnlyFields(const json& object, const std::string& path,
+                const std::vector<std::string>& known) {
   if (!object.is_object()) Refuse(path, "expected an object, got " + Describe(object));
   for (const auto& item : object.items())
     if (std::find(known.begin(), known.end(), item.key()) == known.end())
@@ -73,7 +74,8 @@ ExactSolution::ExactSolution(const json& block, const std::string& path, int n, 
   if (const auto it = block.find("params"); it != block.end()) {
     if (!it->is_object()) Refuse(path + ".params", "expected an object, got " + Describe(*it));
     for (const auto& item : it->items())
-      params.emplace_back(item.key(), ReadNumber(item.value(), path + ".params." + item.key(), false));
+      params.emplace_back(item.key(),
+                          ReadNumber(item.value(), path + ".params." + item.key(), false));
   }
   // t and the parameters only: an exact solution is a function of time.
   const ExpressionVariables variables(0, 0, params, path + ".params");
@@ -96,8 +98,7 @@ ExactSolution::ExactSolution(const json& block, const std::string& path, int n, 
       const GiNaC::ex time = ParseEntry(*to, variables, piece_path + ".to");
       if (time.has(variables.t()))
         Refuse(piece_path + ".to", "a switch time is a number, it must not depend on t");
-      const double value =
-          Evaluate(ExpressionTape({time}, variables, piece_path + ".to"), 0)(0);
+      const double value = Evaluate(ExpressionTape({time}, variables, piece_path + ".to"), 0)(0);
       if (!(value > from && value < horizon))
         Refuse(piece_path + ".to", "switch time " + Text(value) + " is not in (" + Text(from) +
                                        ", horizon " + Text(horizon) +
@@ -120,8 +121,8 @@ ExactSolution::ExactSolution(const json& block, const std::string& path, int n, 
     if (!start.allFinite() ||
         !((start - expected).lpNorm<Eigen::Infinity>() <= kContinuityTolerance * scale))
       Refuse(x_path, "gives x(" + Text(from) + ") = " + VectorText(start) + ", but " +
-                         (k == 0 ? "x0 = " : "the previous piece ends at ") +
-                         VectorText(expected) + " (x is continuous)");
+                         (k == 0 ? "x0 = " : "the previous piece ends at ") + VectorText(expected) +
+                         " (x is continuous)");
     if (!last) from = switch_times_.back();
   }
 }

@@ -29,7 +29,8 @@ void RunJobs(std::size_t count, int workers, const std::function<void(std::size_
       if (done) done();
     }
   };
-  const std::size_t threads = std::min<std::size_t>(count, static_cast<std::size_t>(std::max(workers, 1)));
+  const std::size_t threads =
+      std::min<std::size_t>(count, static_cast<std::size_t>(std::max(workers, 1)));
   if (threads <= 1) {
     work();
   } else {

@@ -26,8 +26,8 @@ RunTiming TimeRepeated(const std::function<void()>& run, double first_seconds, i
   }
   std::sort(samples.begin(), samples.end());
   const std::size_t middle = samples.size() / 2;
-  const double median = samples.size() % 2 == 1 ? samples[middle]
-                                                : (samples[middle - 1] + samples[middle]) / 2;
+  const double median =
+      samples.size() % 2 == 1 ? samples[middle] : (samples[middle - 1] + samples[middle]) / 2;
   return {median, static_cast<int>(samples.size())};
 }
 

@@ -83,8 +83,8 @@ std::string IndexTwoRefusal(const std::vector<PlannedRun>& plan,
   for (std::size_t k = 0; k < plan.size(); ++k) {
     const long reduced = executed[k].stats.reduced_modes;
     if (reduced > 0)
-      return "index two or more: " + ToString(plan[k].method) + " at rtol = " + ShortNumber(plan[k].parameter) +
-             " chose " + std::to_string(reduced) +
+      return "index two or more: " + ToString(plan[k].method) +
+             " at rtol = " + ShortNumber(plan[k].parameter) + " chose " + std::to_string(reduced) +
              " mode(s) by the differentiation procedure (Theorems 5.2/5.3), where u(t, x) is "
              "not the Lipschitz function of the state the implicit RHS (5.2) needs";
   }
@@ -93,9 +93,8 @@ std::string IndexTwoRefusal(const std::vector<PlannedRun>& plan,
 
 // Fills outcome, errors, switches and mode comparison of a run that reached
 // the horizon (or says why it did not).
-void Measure(const PlannedRun& planned, const ExecutedRun& executed,
-             const EvaluationTimes& times, const Reference& reference, double horizon,
-             StudyRun& run) {
+void Measure(const PlannedRun& planned, const ExecutedRun& executed, const EvaluationTimes& times,
+             const Reference& reference, double horizon, StudyRun& run) {
   run.status = executed.status;
   if (executed.status == "refused") {
     run.outcome = RunOutcome::kRefused;
@@ -108,13 +107,14 @@ void Measure(const PlannedRun& planned, const ExecutedRun& executed,
     return;
   }
   run.grid_error = MaxDistance(ValuesAt(executed, times, times.grid), reference.grid);
-  run.switch_error = MaxDistance(ValuesAt(executed, times, times.switch_points), reference.switch_points);
+  run.switch_error =
+      MaxDistance(ValuesAt(executed, times, times.switch_points), reference.switch_points);
   run.max_error = std::max(run.grid_error, run.switch_error);
   const ReferenceReport& report = reference.report;
   if (!(run.max_error <= report.scale)) {
     run.outcome = RunOutcome::kFailed;
-    run.reason = "diverged: max error " + ShortNumber(run.max_error) + " above the solution's size " +
-                 ShortNumber(report.scale);
+    run.reason = "diverged: max error " + ShortNumber(run.max_error) +
+                 " above the solution's size " + ShortNumber(report.scale);
     return;
   }
   run.outcome = RunOutcome::kConverged;
@@ -153,8 +153,8 @@ std::vector<const StudyRun*> FittedRungs(const std::vector<StudyRun>& runs, Stud
   auto finest = ladder.rbegin();
   while (finest != ladder.rend() && !fits(*finest)) ++finest;
   std::vector<const StudyRun*> fitted;
-  for (auto run = finest; run != ladder.rend() && fits(*run) &&
-                          fitted.size() < static_cast<std::size_t>(kFitRungs);
+  for (auto run = finest;
+       run != ladder.rend() && fits(*run) && fitted.size() < static_cast<std::size_t>(kFitRungs);
        ++run)
     fitted.insert(fitted.begin(), *run);
   return fitted;
@@ -194,10 +194,14 @@ std::vector<Slope> FitSlopes(const std::vector<StudyRun>& runs, double floor,
 
 std::string ToString(RunOutcome outcome) {
   switch (outcome) {
-    case RunOutcome::kConverged: return "converged";
-    case RunOutcome::kWrongModes: return "wrong mode sequence";
-    case RunOutcome::kRefused: return "refused";
-    case RunOutcome::kFailed: return "failed";
+    case RunOutcome::kConverged:
+      return "converged";
+    case RunOutcome::kWrongModes:
+      return "wrong mode sequence";
+    case RunOutcome::kRefused:
+      return "refused";
+    case RunOutcome::kFailed:
+      return "failed";
   }
   return "?";
 }
@@ -231,8 +235,8 @@ StudyResult RunStudy(const Scene& scene, const StudyOptions& options) {
   // run), the evaluation times around its switches, then the other methods
   // sampled there.
   FirstReference first_reference = ChooseFirstReference(scene, plan, executed);
-  const EvaluationTimes times = MakeEvaluationTimes(scene, first_reference.switch_times,
-                                                    StepLadder(scene));
+  const EvaluationTimes times =
+      MakeEvaluationTimes(scene, first_reference.switch_times, StepLadder(scene));
   const std::string index_two = IndexTwoRefusal(plan, executed);
   for (const std::size_t k : second)
     if (IsImplicitRhsBaseline(plan[k].method) && plan[k].refused.empty() && !index_two.empty())

@@ -42,10 +42,10 @@ inline constexpr double kDefaultRtols[] = {1e-1, 1e-2, 1e-3, 1e-4,  1e-5,  1e-6,
 
 /// How a run ended, for the stability table.
 enum class RunOutcome {
-  kConverged,  ///< Reached the horizon, modes as the reference's, error below the solution's size.
-  kWrongModes, ///< Reached the horizon through another sequence of modes.
-  kRefused,    ///< The method does not apply to the scene (reason says why); not run.
-  kFailed,     ///< Stopped early, or diverged (error above the solution's size).
+  kConverged,   ///< Reached the horizon, modes as the reference's, error below the solution's size.
+  kWrongModes,  ///< Reached the horizon through another sequence of modes.
+  kRefused,     ///< The method does not apply to the scene (reason says why); not run.
+  kFailed,      ///< Stopped early, or diverged (error above the solution's size).
 };
 /// "converged", "wrong mode sequence", "refused", "failed".
 std::string ToString(RunOutcome outcome);
@@ -105,13 +105,13 @@ struct ReferenceReport {
 struct Slope {
   StudyMethod method = StudyMethod::kEvent;
   double slope = std::numeric_limits<double>::quiet_NaN();
-  int rungs = 0;        ///< Fitted (kFitRungs at most; < 3: no slope).
-  double decades = 0;   ///< log10 of the largest over the smallest fitted parameter.
+  int rungs = 0;       ///< Fitted (kFitRungs at most; < 3: no slope).
+  double decades = 0;  ///< log10 of the largest over the smallest fitted parameter.
 };
 inline constexpr int kFitRungs = 5;
 
 struct StudyResult {
-  std::string title;  ///< The scene's name (its type without one).
+  std::string title;           ///< The scene's name (its type without one).
   std::vector<StudyRun> runs;  ///< Methods in kAllStudyMethods order, each down its ladder.
   ReferenceReport reference;
   std::vector<Slope> slopes;

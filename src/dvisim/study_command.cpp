@@ -95,8 +95,9 @@ int RunStudyCommand(const StudyCommand& command, std::ostream& out, std::ostream
       throw InputError("--out: the folder " + parent.string() + " of " + dir.string() +
                        " does not exist");
     StudyOptions options;
-    options.jobs = command.jobs > 0 ? command.jobs
-                                    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    options.jobs = command.jobs > 0
+                       ? command.jobs
+                       : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     options.repeats = command.repeats;
     if (command.progress_bar)
       options.progress = [&err](int done, int total) {

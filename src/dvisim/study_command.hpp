@@ -12,9 +12,9 @@ namespace dvi::dvisim {
 /// `dvisim study SCENE.json --out DIR [--jobs N] [--repeats R] [--progress]`.
 struct StudyCommand {
   std::string scene_path;
-  std::string out_dir;  ///< Must not exist: the study writes a new folder.
-  int jobs = 0;         ///< Runs at once; 0: one per core.
-  int repeats = 3;      ///< Timing samples per run.
+  std::string out_dir;        ///< Must not exist: the study writes a new folder.
+  int jobs = 0;               ///< Runs at once; 0: one per core.
+  int repeats = 3;            ///< Timing samples per run.
   bool progress_bar = false;  ///< Draw "[####  ] k/N runs" on `err`.
 };
 

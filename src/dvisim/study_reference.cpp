@@ -22,9 +22,10 @@ std::vector<std::size_t> Succeeded(const std::vector<PlannedRun>& plan,
 }
 
 std::string RunText(const PlannedRun& run) {
-  return ToString(run.method) + (IsAdaptive(run.method) ? " at rtol = " + ShortNumber(run.parameter) +
-                                                              ", atol = " + ShortNumber(run.atol)
-                                                        : " at h = " + ShortNumber(run.parameter));
+  return ToString(run.method) +
+         (IsAdaptive(run.method)
+              ? " at rtol = " + ShortNumber(run.parameter) + ", atol = " + ShortNumber(run.atol)
+              : " at h = " + ShortNumber(run.parameter));
 }
 
 bool SteppedAnywhere(const Trajectory& trajectory) {
@@ -68,8 +69,9 @@ std::optional<Extrapolation> Richardson(const std::vector<PlannedRun>& plan,
     if (!std::isfinite(extrapolation.estimate)) continue;
     extrapolation.description = "Richardson extrapolation (order " + std::to_string(order) +
                                 ") of " + ToString(method) + " at h = " + ShortNumber(h) + ", " +
-                                ShortNumber(plan[b].parameter) + ", " + ShortNumber(plan[f].parameter) +
-                                " (error estimate " + ShortNumber(extrapolation.estimate) + ")";
+                                ShortNumber(plan[b].parameter) + ", " +
+                                ShortNumber(plan[f].parameter) + " (error estimate " +
+                                ShortNumber(extrapolation.estimate) + ")";
     return extrapolation;
   }
   return std::nullopt;
@@ -78,8 +80,10 @@ std::optional<Extrapolation> Richardson(const std::vector<PlannedRun>& plan,
 std::optional<Extrapolation> BestRichardson(const std::vector<PlannedRun>& plan,
                                             const std::vector<ExecutedRun>& executed,
                                             const EvaluationTimes& times) {
-  std::optional<Extrapolation> half = Richardson(plan, executed, times, StudyMethod::kSteppingHalf, 2);
-  std::optional<Extrapolation> zero = Richardson(plan, executed, times, StudyMethod::kSteppingTheta0, 1);
+  std::optional<Extrapolation> half =
+      Richardson(plan, executed, times, StudyMethod::kSteppingHalf, 2);
+  std::optional<Extrapolation> zero =
+      Richardson(plan, executed, times, StudyMethod::kSteppingTheta0, 1);
   if (half && (!zero || half->estimate <= zero->estimate)) return half;
   return zero;
 }
@@ -159,9 +163,8 @@ FirstReference ChooseFirstReference(const Scene& scene, const std::vector<Planne
   if (!scene.exact) return first;
   const std::vector<double>& exact_times = scene.exact->switch_times();
   if (first.run && first.switches.size() != exact_times.size()) {
-    first.note = "the exact block has " + std::to_string(exact_times.size()) +
-                 " switches, the " + first.kind + " reference run " +
-                 std::to_string(first.switches.size()) +
+    first.note = "the exact block has " + std::to_string(exact_times.size()) + " switches, the " +
+                 first.kind + " reference run " + std::to_string(first.switches.size()) +
                  ": runs are compared with the exact switch times but not their events";
     first.switches.assign(exact_times.size(), Switch{});
   }
@@ -194,18 +197,19 @@ Reference CompleteReference(const Scene& scene, const std::vector<PlannedRun>& p
   if (first.run) {
     const ExecutedRun& run = executed[*first.run];
     numerical = ValuesAt(run, times, times.grid);
-    if (!run.trajectory.multipliers.empty())
-      reference.u0 = run.trajectory.multipliers[0];
+    if (!run.trajectory.multipliers.empty()) reference.u0 = run.trajectory.multipliers[0];
     numerical_text = RunText(plan[*first.run]);
     if (first.next) {
-      numerical_estimate = MaxDistance(numerical, ValuesAt(executed[*first.next], times, times.grid));
-      numerical_text += " (distance to the run at rtol = " + ShortNumber(plan[*first.next].parameter) +
-                        ": " + ShortNumber(numerical_estimate) + ")";
+      numerical_estimate =
+          MaxDistance(numerical, ValuesAt(executed[*first.next], times, times.grid));
+      numerical_text +=
+          " (distance to the run at rtol = " + ShortNumber(plan[*first.next].parameter) + ": " +
+          ShortNumber(numerical_estimate) + ")";
     }
     if (!first.modes_known) {
       // It stepped: its error there is the stepping's, at the scene's h.
-      numerical_text += "; it stepped over part of the horizon at h = " +
-                        ShortNumber(scene.stepping.h);
+      numerical_text +=
+          "; it stepped over part of the horizon at h = " + ShortNumber(scene.stepping.h);
       if (halved && halved->succeeded()) {
         const double change = MaxDistance(numerical, ValuesAt(*halved, times, times.grid));
         numerical_estimate = std::isnan(numerical_estimate)
@@ -228,12 +232,13 @@ Reference CompleteReference(const Scene& scene, const std::vector<PlannedRun>& p
                          std::to_string(scene.exact->switch_times().size() + 1) + " pieces)";
     report.error_estimate = 0;
     for (const double t : times.grid) reference.grid.push_back(scene.exact->State(t));
-    for (const double t : times.switch_points) reference.switch_points.push_back(scene.exact->State(t));
+    for (const double t : times.switch_points)
+      reference.switch_points.push_back(scene.exact->State(t));
     if (first.run) {
       other = numerical;
       other_estimate = numerical_estimate;
-      report.cross_check = "the tightest " + ToString(plan[*first.run].method) +
-                           " run: " + numerical_text;
+      report.cross_check =
+          "the tightest " + ToString(plan[*first.run].method) + " run: " + numerical_text;
     } else if (richardson) {
       other = richardson->values;
       other_estimate = richardson->estimate;
@@ -257,8 +262,9 @@ Reference CompleteReference(const Scene& scene, const std::vector<PlannedRun>& p
     report.error_estimate = richardson->estimate;
     reference.grid = richardson->values;
   } else {
-    throw std::runtime_error("no reference: the scene has no exact block, and neither event, "
-                     "auto nor two halvings of time-stepping reached the horizon");
+    throw std::runtime_error(
+        "no reference: the scene has no exact block, and neither event, "
+        "auto nor two halvings of time-stepping reached the horizon");
   }
   if (!first.note.empty()) report.cross_check += "; " + first.note;
   report.scale = 0;

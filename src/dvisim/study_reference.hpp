@@ -51,9 +51,9 @@ std::vector<Eigen::VectorXd> ValuesAt(const ExecutedRun& run, const EvaluationTi
 /// The reference as far as the event and auto runs tell: the exact block,
 /// or the tightest event run that succeeded (auto's when none did).
 struct FirstReference {
-  std::string kind;                ///< "exact", "event", "auto" or "" (stepping decides).
-  std::optional<std::size_t> run;  ///< The tightest event (or auto) run that succeeded.
-  std::optional<std::size_t> next; ///< The next tightest one: the reference's error estimate.
+  std::string kind;                 ///< "exact", "event", "auto" or "" (stepping decides).
+  std::optional<std::size_t> run;   ///< The tightest event (or auto) run that succeeded.
+  std::optional<std::size_t> next;  ///< The next tightest one: the reference's error estimate.
   std::vector<double> switch_times;
   std::vector<Switch> switches;
   bool modes_known = false;

@@ -23,11 +23,20 @@ std::string Escape(const std::string& text) {
   std::string escaped;
   for (const char c : text) {
     switch (c) {
-      case '<': escaped += "&lt;"; break;
-      case '>': escaped += "&gt;"; break;
-      case '&': escaped += "&amp;"; break;
-      case '"': escaped += "&quot;"; break;
-      default: escaped += c;
+      case '<':
+        escaped += "&lt;";
+        break;
+      case '>':
+        escaped += "&gt;";
+        break;
+      case '&':
+        escaped += "&amp;";
+        break;
+      case '"':
+        escaped += "&quot;";
+        break;
+      default:
+        escaped += c;
     }
   }
   return escaped;
@@ -109,9 +118,9 @@ std::vector<OutcomeTable> OutcomeTables(const StudyResult& result,
       if (IsAdaptive(method) != adaptive) continue;
       std::vector<std::string> row{ToString(method)};
       for (const double rung : rungs) {
-        const auto run = std::find_if(result.runs.begin(), result.runs.end(), [&](const StudyRun& r) {
-          return r.method == method && r.parameter == rung;
-        });
+        const auto run = std::find_if(
+            result.runs.begin(), result.runs.end(),
+            [&](const StudyRun& r) { return r.method == method && r.parameter == rung; });
         if (run == result.runs.end()) {
           row.push_back("");
           continue;
@@ -168,20 +177,20 @@ std::vector<std::string> SlopeHeader() {
 std::vector<std::vector<std::string>> SlopeRows(const StudyResult& result) {
   std::vector<std::vector<std::string>> rows;
   for (const Slope& slope : result.slopes)
-    rows.push_back({ToString(slope.method) + (IsAdaptive(slope.method) ? " (error vs rtol)"
-                                                                       : " (error vs h)"),
-                    StudyNumber(slope.slope), std::to_string(slope.rungs),
-                    StudyNumber(slope.decades)});
+    rows.push_back(
+        {ToString(slope.method) + (IsAdaptive(slope.method) ? " (error vs rtol)" : " (error vs h)"),
+         StudyNumber(slope.slope), std::to_string(slope.rungs), StudyNumber(slope.decades)});
   return rows;
 }
 
 std::string OrdersText(const StudyResult& result) {
   return "Slope of log max error against log h (time-stepping) or log rtol, fitted over each "
-         "method's finest neighbouring rungs (" + std::to_string(kFitRungs) +
-         " at most) that converged with an error above the floor " +
+         "method's finest neighbouring rungs (" +
+         std::to_string(kFitRungs) + " at most) that converged with an error above the floor " +
          StudyNumber(result.error_floor) +
          " (10 × the reference's error estimate, at least 1000 ε × the solution's size), "
-         "for time-stepping above " + StudyNumber(result.stepping_error_floor) +
+         "for time-stepping above " +
+         StudyNumber(result.stepping_error_floor) +
          " (at least 10 × max(1, horizon) × the VI solver's tolerance: below it the error "
          "measures the steps' VI solves); fewer than 3 such rungs give none.";
 }
@@ -196,8 +205,8 @@ std::vector<WorkPoint> Points(const StudyResult& result, StudyMethod method, boo
   std::vector<WorkPoint> points;
   for (const StudyRun& run : result.runs)
     if (OnChart(result, run) && run.method == method)
-      points.push_back({run.max_error, seconds ? run.timing.seconds
-                                               : static_cast<double>(run.rhs_evals)});
+      points.push_back(
+          {run.max_error, seconds ? run.timing.seconds : static_cast<double>(run.rhs_evals)});
   return points;
 }
 
@@ -286,8 +295,8 @@ std::string StudyCsv(const StudyResult& result) {
 
 std::string StabilityMarkdown(const StudyResult& result) {
   std::ostringstream text;
-  text << "# Study of " << result.title << ": stability\n\n" << ReferenceText(result.reference)
-       << "\n\n";
+  text << "# Study of " << result.title << ": stability\n\n"
+       << ReferenceText(result.reference) << "\n\n";
   if (result.stiffness > 0)
     text << "ρ(∂f/∂x) at t = 0 is " << StudyNumber(result.stiffness)
          << ": explicit Euler (θ = 1) is stable on a real eigenvalue −ρ only for h·ρ ≤ 2, "
@@ -296,14 +305,16 @@ std::string StabilityMarkdown(const StudyResult& result) {
   const std::vector<OutcomeTable> tables = OutcomeTables(result, notes);
   for (const OutcomeTable& table : tables) {
     text << "## " << (table.header[1].rfind("rtol", 0) == 0 ? "Tolerance ladder" : "Step ladder")
-         << "\n\n" << MarkdownTable(table.header, table.rows) << "\n";
+         << "\n\n"
+         << MarkdownTable(table.header, table.rows) << "\n";
   }
   if (!notes.empty()) {
     text << "Notes:\n\n";
     for (std::size_t k = 0; k < notes.size(); ++k) text << k + 1 << ". " << notes[k] << "\n";
     text << "\n";
   }
-  text << "## Orders\n\n" << OrdersText(result) << "\n\n"
+  text << "## Orders\n\n"
+       << OrdersText(result) << "\n\n"
        << MarkdownTable(SlopeHeader(), SlopeRows(result));
   return text.str();
 }
@@ -339,10 +350,11 @@ nlohmann::ordered_json StudyJson(const StudyResult& result, int jobs) {
     if (by_time.empty()) continue;
     for (const double target : kCostTargets) {
       const double error = target * reference.scale;
-      costs.push_back({{"method", ToString(method)},
-                       {"error", error},
-                       {"seconds", NumberToJson(CostAt(by_time, error).interpolated)},
-                       {"rhs_evals", NumberToJson(CostAt(Points(result, method, false), error).interpolated)}});
+      costs.push_back(
+          {{"method", ToString(method)},
+           {"error", error},
+           {"seconds", NumberToJson(CostAt(by_time, error).interpolated)},
+           {"rhs_evals", NumberToJson(CostAt(Points(result, method, false), error).interpolated)}});
     }
   }
   json["cost_at_error"] = costs;
@@ -364,12 +376,11 @@ std::string WorkPrecisionScript(const StudyResult& result) {
     script << "$m" << drawn.size() << " << EOD\n";
     for (const StudyRun& run : result.runs)
       if (OnChart(result, run) && run.method == method)
-        script << run.max_error << " " << run.timing.seconds << " "
-               << run.rhs_evals << "\n";
+        script << run.max_error << " " << run.timing.seconds << " " << run.rhs_evals << "\n";
     script << "EOD\n";
   }
-  std::string title = result.title + ": work-precision against the " + result.reference.kind +
-                      " reference";
+  std::string title =
+      result.title + ": work-precision against the " + result.reference.kind + " reference";
   std::replace(title.begin(), title.end(), '\'', ' ');
   const auto panels = [&]() {
     std::ostringstream p;
@@ -378,7 +389,8 @@ std::string WorkPrecisionScript(const StudyResult& result) {
                                         std::pair<int, const char*>{3, "RHS evaluations"}}) {
       p << "set xlabel 'max error'\nset ylabel '" << label << "'\n";
       if (drawn.empty()) {
-        p << "set label 1 'no converged run above the error floor' at graph 0.2, graph 0.5\nplot [1e-12:1] [1:10] 1/0 notitle\n";
+        p << "set label 1 'no converged run above the error floor' at graph 0.2, graph 0.5\nplot "
+             "[1e-12:1] [1:10] 1/0 notitle\n";
         continue;
       }
       p << "plot ";
@@ -439,8 +451,8 @@ std::string StudyHtml(const StudyResult& result, const std::string& svg) {
   for (std::string column; std::getline(columns, column, ',');) header.push_back(column);
   std::vector<std::vector<std::string>> rows;
   for (const StudyRun& run : result.runs) rows.push_back(StudyCsvFields(run));
-  html << "<h2>Every run (study.csv)</h2>\n" << HtmlTable("runs", header, rows)
-       << "</body>\n</html>\n";
+  html << "<h2>Every run (study.csv)</h2>\n"
+       << HtmlTable("runs", header, rows) << "</body>\n</html>\n";
   return html.str();
 }
 

@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <type_traits>
 #include <variant>
 
@@ -43,9 +43,9 @@ Scene SceneOfRun(const Scene& scene, const PlannedRun& run,
       copy.stepping.h = run.parameter;
       // A fixed h: what the convergence results of Sect. 7 are about.
       copy.stepping.adaptive = false;
-      copy.stepping.theta = run.method == StudyMethod::kSteppingTheta0  ? 0.0
+      copy.stepping.theta = run.method == StudyMethod::kSteppingTheta0 ? 0.0
                             : run.method == StudyMethod::kSteppingHalf ? 0.5
-                                                                        : 1.0;
+                                                                       : 1.0;
       copy.stepping.gamma = run.method == StudyMethod::kSteppingHalf ? 0.5 : 1.0;
       copy.output.times = output_times;
       break;
@@ -85,8 +85,8 @@ ExecutedRun RunIntegrator(const Scene& scene, const PlannedRun& run,
     } else {
       executed.trajectory = IntegrateScene(copy);
       const Scene timed = SceneOfRun(scene, run, {scene.horizon});
-      executed.timing = TimeToHorizon(
-          [&] { executed.timed_steps = IntegrateScene(timed).stats.steps; }, repeats);
+      executed.timing =
+          TimeToHorizon([&] { executed.timed_steps = IntegrateScene(timed).stats.steps; }, repeats);
     }
   } catch (const InputError& error) {
     executed.message = error.what();
@@ -122,10 +122,13 @@ ExecutedRun RunBaselineMethod(const Scene& scene, const PlannedRun& run,
     // depends on the first after t0: both as in the measured run.
     timed.output_times = {problem->t0};
     const auto first = std::upper_bound(output_times.begin(), output_times.end(), problem->t0);
-    if (first != output_times.end() && *first < problem->t_end) timed.output_times.push_back(*first);
+    if (first != output_times.end() && *first < problem->t_end)
+      timed.output_times.push_back(*first);
     timed.output_times.push_back(problem->t_end);
     executed.timing = TimeToHorizon(
-        [&] { executed.timed_steps = RunBaseline(run.method, timed, run.parameter, run.atol).steps; },
+        [&] {
+          executed.timed_steps = RunBaseline(run.method, timed, run.parameter, run.atol).steps;
+        },
         repeats);
     problem->output_times = output_times;
     baselines::BaselineRun result = RunBaseline(run.method, *problem, run.parameter, run.atol);

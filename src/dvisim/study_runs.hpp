@@ -20,7 +20,7 @@ struct PlannedRun {
   StudyMethod method = StudyMethod::kEvent;
   double parameter = 0;  ///< rtol, or h for time-stepping.
   double atol = 0;
-  std::string refused;   ///< Why the method does not apply ("": it runs).
+  std::string refused;  ///< Why the method does not apply ("": it runs).
 };
 
 /// A run as it came back, before it is measured against the reference.

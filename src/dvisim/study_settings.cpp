@@ -40,14 +40,22 @@ std::string ShortNumber(double value) {
 
 std::string ToString(StudyMethod method) {
   switch (method) {
-    case StudyMethod::kEvent: return "event";
-    case StudyMethod::kAuto: return "auto";
-    case StudyMethod::kSteppingTheta0: return "stepping-theta0";
-    case StudyMethod::kSteppingHalf: return "stepping-theta0.5";
-    case StudyMethod::kSteppingTheta1: return "stepping-theta1";
-    case StudyMethod::kCvode: return "cvode";
-    case StudyMethod::kDopri5: return "dopri5";
-    case StudyMethod::kRosenbrock4: return "rosenbrock4";
+    case StudyMethod::kEvent:
+      return "event";
+    case StudyMethod::kAuto:
+      return "auto";
+    case StudyMethod::kSteppingTheta0:
+      return "stepping-theta0";
+    case StudyMethod::kSteppingHalf:
+      return "stepping-theta0.5";
+    case StudyMethod::kSteppingTheta1:
+      return "stepping-theta1";
+    case StudyMethod::kCvode:
+      return "cvode";
+    case StudyMethod::kDopri5:
+      return "dopri5";
+    case StudyMethod::kRosenbrock4:
+      return "rosenbrock4";
   }
   return "?";
 }
@@ -66,8 +74,8 @@ void CheckStepCount(double h, double horizon, long max_steps, const std::string&
   const double steps = std::ceil(horizon / h);
   if (steps > static_cast<double>(max_steps))
     throw InputError(field + ": h = " + ShortNumber(h) + " asks for " + ShortNumber(steps) +
-                     " steps over the horizon " + ShortNumber(horizon) + ", more than method.max_steps = " +
-                     std::to_string(max_steps) +
+                     " steps over the horizon " + ShortNumber(horizon) +
+                     ", more than method.max_steps = " + std::to_string(max_steps) +
                      " allows; take a larger h, or raise method.max_steps");
 }
 
@@ -81,26 +89,27 @@ StudySettings ReadStudySettings(const json& block, const std::string& path, doub
       settings.rtol = ReadList<double>(item.value(), field, ReadTolerance);
       std::sort(settings.rtol.rbegin(), settings.rtol.rend());
     } else if (item.key() == "h") {
-      settings.h = ReadList<double>(item.value(), field, [&](const json& value,
-                                                             const std::string& entry) {
-        const double h = ReadNumber(value, entry, false);
-        if (!(h > 0 && h <= horizon))
-          throw InputError(entry + ": expected a step in (0, horizon] = (0, " + ShortNumber(horizon) +
-                           "], got " + Describe(value));
-        CheckStepCount(h, horizon, max_steps, entry);
-        return h;
-      });
+      settings.h =
+          ReadList<double>(item.value(), field, [&](const json& value, const std::string& entry) {
+            const double h = ReadNumber(value, entry, false);
+            if (!(h > 0 && h <= horizon))
+              throw InputError(entry + ": expected a step in (0, horizon] = (0, " +
+                               ShortNumber(horizon) + "], got " + Describe(value));
+            CheckStepCount(h, horizon, max_steps, entry);
+            return h;
+          });
       std::sort(settings.h.rbegin(), settings.h.rend());
     } else if (item.key() == "methods") {
-      settings.methods = ReadList<StudyMethod>(item.value(), field, [](const json& value,
-                                                                       const std::string& entry) {
-        std::string names;
-        for (const StudyMethod method : kAllStudyMethods) {
-          if (value.is_string() && value.get<std::string>() == ToString(method)) return method;
-          names += (names.empty() ? "" : ", ") + ToString(method);
-        }
-        throw InputError(entry + ": unknown method " + Describe(value) + " (expected " + names + ")");
-      });
+      settings.methods = ReadList<StudyMethod>(
+          item.value(), field, [](const json& value, const std::string& entry) {
+            std::string names;
+            for (const StudyMethod method : kAllStudyMethods) {
+              if (value.is_string() && value.get<std::string>() == ToString(method)) return method;
+              names += (names.empty() ? "" : ", ") + ToString(method);
+            }
+            throw InputError(entry + ": unknown method " + Describe(value) + " (expected " + names +
+                             ")");
+          });
     } else {
       throw InputError(path + ": unknown field \"" + item.key() +
                        "\" (expected rtol, h or methods)");

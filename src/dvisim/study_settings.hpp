@@ -10,19 +10,19 @@ namespace dvi::dvisim {
 
 /// The methods `dvisim study` compares (docs/scenes.md, "dvisim study").
 enum class StudyMethod {
-  kEvent,            ///< IntegrateEventDriven over the tolerance ladder.
-  kAuto,             ///< IntegrateAuto over the tolerance ladder (stepping h from the scene).
-  kSteppingTheta0,   ///< θ = 0, γ = 1: backward Euler, the paper's scheme.
-  kSteppingHalf,     ///< θ = γ = ½: second order where u is continuous.
-  kSteppingTheta1,   ///< θ = 1, γ = 1: explicit in f, the stability probe.
-  kCvode,            ///< Plain CVODE BDF on the implicit RHS (5.2), no events.
-  kDopri5,           ///< Boost.Odeint runge_kutta_dopri5 on (5.2).
-  kRosenbrock4,      ///< Boost.Odeint rosenbrock4 on (5.2).
+  kEvent,           ///< IntegrateEventDriven over the tolerance ladder.
+  kAuto,            ///< IntegrateAuto over the tolerance ladder (stepping h from the scene).
+  kSteppingTheta0,  ///< θ = 0, γ = 1: backward Euler, the paper's scheme.
+  kSteppingHalf,    ///< θ = γ = ½: second order where u is continuous.
+  kSteppingTheta1,  ///< θ = 1, γ = 1: explicit in f, the stability probe.
+  kCvode,           ///< Plain CVODE BDF on the implicit RHS (5.2), no events.
+  kDopri5,          ///< Boost.Odeint runge_kutta_dopri5 on (5.2).
+  kRosenbrock4,     ///< Boost.Odeint rosenbrock4 on (5.2).
 };
 inline constexpr StudyMethod kAllStudyMethods[] = {
-    StudyMethod::kEvent,          StudyMethod::kAuto,   StudyMethod::kSteppingTheta0,
-    StudyMethod::kSteppingHalf,   StudyMethod::kSteppingTheta1, StudyMethod::kCvode,
-    StudyMethod::kDopri5,         StudyMethod::kRosenbrock4};
+    StudyMethod::kEvent,        StudyMethod::kAuto,           StudyMethod::kSteppingTheta0,
+    StudyMethod::kSteppingHalf, StudyMethod::kSteppingTheta1, StudyMethod::kCvode,
+    StudyMethod::kDopri5,       StudyMethod::kRosenbrock4};
 /// "event", "auto", "stepping-theta0", "stepping-theta0.5", "stepping-theta1",
 /// "cvode", "dopri5", "rosenbrock4".
 std::string ToString(StudyMethod method);

@@ -8,9 +8,10 @@ namespace dvi::dvisim {
 
 CostAtError CostAt(std::vector<WorkPoint> points, double target) {
   CostAtError result;
-  points.erase(std::remove_if(points.begin(), points.end(),
-                              [](const WorkPoint& p) { return !std::isfinite(p.error) || !(p.cost > 0); }),
-               points.end());
+  points.erase(
+      std::remove_if(points.begin(), points.end(),
+                     [](const WorkPoint& p) { return !std::isfinite(p.error) || !(p.cost > 0); }),
+      points.end());
   std::sort(points.begin(), points.end(),
             [](const WorkPoint& a, const WorkPoint& b) { return a.cost < b.cost; });
   std::vector<const WorkPoint*> front;
