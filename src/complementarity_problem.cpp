@@ -103,6 +103,7 @@ BoxMcp BoxMcp::Affine(SparseMatrix M, Eigen::VectorXd q, Eigen::VectorXd lower,
   auto matrix = std::make_shared<const SparseMatrix>(std::move(M));
   BoxMcp mcp = AffineMcp(matrix, std::move(q), std::move(lower), std::move(upper));
   mcp.sparse_jacobian = [matrix](const Eigen::VectorXd&, SparseMatrix& J) { J = *matrix; };
+  mcp.constant_jacobian = matrix;
   mcp.Validate();
   return mcp;
 }

@@ -47,9 +47,13 @@ void KluSolver::Release() {
   if (symbolic_ != nullptr) klu_free_symbolic(&symbolic_, &common_);
 }
 
-bool KluSolver::Analyze(const Matrix& A) {
+bool KluSolver::Analyze(const Matrix& A, bool given_order) {
   Release();
-  symbolic_ = klu_analyze(static_cast<int>(A.rows()), Pointers(A), Indices(A), &common_);
+  const int n = static_cast<int>(A.rows());
+  common_.btf = given_order ? 0 : 1;
+  // klu_analyze_given with no permutations keeps the identity order.
+  symbolic_ = given_order ? klu_analyze_given(n, Pointers(A), Indices(A), nullptr, nullptr, &common_)
+                          : klu_analyze(n, Pointers(A), Indices(A), &common_);
   return symbolic_ != nullptr;
 }
 

@@ -24,10 +24,11 @@ class KluSolver {
   KluSolver(const KluSolver&) = delete;
   KluSolver& operator=(const KluSolver&) = delete;
 
-  /// Orders the pattern of A (BTF, then AMD on each block) and drops any
-  /// earlier factorization. @pre A is square and compressed.
+  /// Orders the pattern of A (BTF, then AMD on each block; or, when
+  /// given_order, A's own order without BTF) and drops any earlier
+  /// factorization. @pre A is square and compressed.
   /// @returns false when KLU rejects the pattern (see status()).
-  bool Analyze(const Matrix& A);
+  bool Analyze(const Matrix& A, bool given_order = false);
 
   /// Factors A, whose pattern must be the analyzed one. After the first
   /// call, the previous pivot order is reused (klu_refactor, no search);

@@ -311,6 +311,8 @@ class DenseAlgebra {
       DVI_THROW_UNLESS(J_.rows() == m_ && J_.cols() == m_,
                        "mcp.jacobian returned a " << J_.rows() << "x" << J_.cols()
                                                   << " matrix, expected " << m_ << "x" << m_);
+    } else if (mcp_.constant_jacobian) {
+      J_ = *mcp_.constant_jacobian;
     } else if (mcp_.sparse_jacobian) {
       if (J_sparse_.rows() != m_ || J_sparse_.cols() != m_) J_sparse_.resize(m_, m_);
       mcp_.sparse_jacobian(z, J_sparse_);
@@ -430,50 +432,50 @@ class DenseAlgebra {
 // Sparse linear algebra: H = diag(Da) + diag(Db) J in compressed columns
 // with the pattern of J plus the diagonal, factored by KLU. The symbolic
 // analysis is done for the first Jacobian and kept while its pattern holds;
-// every later factorization reuses the pivot order (klu_refactor).
+// every later factorization reuses the pivot order (klu_refactor). A
+// constant Jacobian (mcp.constant_jacobian) is read in place, not copied.
 class SparseAlgebra {
  public:
-  SparseAlgebra(const BoxMcp& mcp, int m) : mcp_(mcp), m_(m), J_(m, m) {}
+  SparseAlgebra(const BoxMcp& mcp, int m, const SolverOptions& options)
+      : mcp_(mcp), m_(m), given_order_(options.sparse_ordering == SparseOrdering::kGiven) {}
 
   static constexpr const char* kName = "KLU";
   /// The natural-map step factors a matrix of H's size and pattern.
   static constexpr bool kReducedNaturalMap = false;
 
   bool EvaluateJacobian(const Eigen::VectorXd& z, const Eigen::VectorXd&) {
-    mcp_.sparse_jacobian(z, J_);
-    DVI_THROW_UNLESS(J_.rows() == m_ && J_.cols() == m_,
-                     "mcp.sparse_jacobian returned a " << J_.rows() << "x" << J_.cols()
-                                                       << " matrix, expected " << m_ << "x"
-                                                       << m_);
-    J_.makeCompressed();
+    if (const SparseMatrix* constant = mcp_.constant_jacobian.get()) {
+      if (J_ != constant) {
+        J_ = constant;
+        CheckShape("mcp.constant_jacobian");
+        DVI_THROW_UNLESS(J_->isCompressed(), "mcp.constant_jacobian is not compressed");
+        BuildPattern();
+        finite_ = Eigen::Map<const Eigen::VectorXd>(J_->valuePtr(), J_->nonZeros()).allFinite();
+      }
+      return finite_;
+    }
+    if (own_J_.rows() != m_ || own_J_.cols() != m_) own_J_.resize(m_, m_);
+    mcp_.sparse_jacobian(z, own_J_);
+    J_ = &own_J_;
+    CheckShape("mcp.sparse_jacobian");
+    own_J_.makeCompressed();
     if (!PatternUnchanged()) BuildPattern();
-    return Eigen::Map<const Eigen::VectorXd>(J_.valuePtr(), J_.nonZeros()).allFinite();
+    return Eigen::Map<const Eigen::VectorXd>(J_->valuePtr(), J_->nonZeros()).allFinite();
   }
 
   void AddAbsJacobianTimes(const Eigen::VectorXd& z, Eigen::VectorXd& scale) const {
-    scale += J_.cwiseAbs() * z.cwiseAbs();
+    scale += J_->cwiseAbs() * z.cwiseAbs();
   }
 
   void Gradient(const Eigen::VectorXd& da, const Eigen::VectorXd& db, const Eigen::VectorXd& phi,
                 Eigen::VectorXd& scratch, Eigen::VectorXd& gradient) const {
     scratch = db.cwiseProduct(phi);
-    gradient.noalias() = J_.transpose() * scratch;
+    gradient.noalias() = J_->transpose() * scratch;
     gradient += da.cwiseProduct(phi);
   }
 
   bool Factor(const Eigen::VectorXd& da, const Eigen::VectorXd& db) {
-    double* h = H_.valuePtr();
-    std::fill(h, h + H_.nonZeros(), 0.0);
-    const int* rows = J_.innerIndexPtr();
-    const double* values = J_.valuePtr();
-    const Eigen::Index nnz = J_.nonZeros();
-    for (Eigen::Index k = 0; k < nnz; ++k) h[j_to_h_[k]] = db(rows[k]) * values[k];
-    for (int j = 0; j < m_; ++j) h[diagonal_[j]] += da(j);
-    if (!analyzed_) {
-      if (!klu_.Analyze(H_)) return false;
-      analyzed_ = true;
-    }
-    return klu_.Factor(H_);
+    return FactorWith([&da](int j) { return da(j); }, [&db](int i) { return db(i); });
   }
 
   void Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
@@ -484,22 +486,18 @@ class SparseAlgebra {
   /// As DenseAlgebra's, but on the full system with rows e_iᵀ for active
   /// components (Da = 1, Db = 0, rhs d_i) and ∇F_iᵀ + shift·e_iᵀ for the
   /// others (Da = shift, Db = 1, rhs −F_i): it has H's pattern, so KLU's
-  /// analysis is reused.
+  /// analysis is reused. Da and Db are read off the active set, and the
+  /// right-hand side is built in d, which the solve overwrites: no vectors
+  /// of the problem's size beyond H (3 of them were 72 MB at 3·10⁶ unknowns).
   bool SolveNaturalMap(const Eigen::VectorXd& f, const std::vector<signed char>& active,
                        double shift, Eigen::VectorXd& d) {
-    if (natural_da_.size() != m_) {
-      natural_da_.resize(m_);
-      natural_db_.resize(m_);
-      natural_rhs_.resize(m_);
-    }
-    for (int i = 0; i < m_; ++i) {
-      const bool is_free = active[static_cast<std::size_t>(i)] == 0;
-      natural_da_(i) = is_free ? shift : 1.0;
-      natural_db_(i) = is_free ? 1.0 : 0.0;
-      natural_rhs_(i) = is_free ? -f(i) : d(i);
-    }
-    if (!Factor(natural_da_, natural_db_)) return false;
-    Solve(natural_rhs_, d);
+    const auto is_free = [&active](int i) { return active[static_cast<std::size_t>(i)] == 0; };
+    if (!FactorWith([&](int j) { return is_free(j) ? shift : 1.0; },
+                    [&](int i) { return is_free(i) ? 1.0 : 0.0; }))
+      return false;
+    for (int i = 0; i < m_; ++i)
+      if (is_free(i)) d(i) = -f(i);
+    if (!klu_.Solve(d)) return false;
     return d.allFinite();
   }
 
@@ -519,25 +517,56 @@ class SparseAlgebra {
   }
 
  private:
+  void CheckShape(const char* name) const {
+    DVI_THROW_UNLESS(J_->rows() == m_ && J_->cols() == m_,
+                     name << " returned a " << J_->rows() << "x" << J_->cols()
+                          << " matrix, expected " << m_ << "x" << m_);
+  }
+
+  // H = diag(Da) + diag(Db) J with Da(j) = da(j), Db(i) = db(i), factored.
+  template <class DaOf, class DbOf>
+  bool FactorWith(DaOf da, DbOf db) {
+    double* h = H_.valuePtr();
+    std::fill(h, h + H_.nonZeros(), 0.0);
+    const int* rows = J_->innerIndexPtr();
+    const double* values = J_->valuePtr();
+    const Eigen::Index nnz = J_->nonZeros();
+    if (j_to_h_.empty()) {
+      for (Eigen::Index k = 0; k < nnz; ++k) h[k] = db(rows[k]) * values[k];
+    } else {
+      for (Eigen::Index k = 0; k < nnz; ++k) h[j_to_h_[k]] = db(rows[k]) * values[k];
+    }
+    for (int j = 0; j < m_; ++j) h[diagonal_[j]] += da(j);
+    if (!analyzed_) {
+      if (!klu_.Analyze(H_, given_order_)) return false;
+      analyzed_ = true;
+    }
+    return klu_.Factor(H_);
+  }
+
   bool PatternUnchanged() const {
-    return J_.nonZeros() == static_cast<Eigen::Index>(j_inner_.size()) &&
-           std::equal(j_outer_.begin(), j_outer_.end(), J_.outerIndexPtr()) &&
-           std::equal(j_inner_.begin(), j_inner_.end(), J_.innerIndexPtr());
+    return J_->nonZeros() == static_cast<Eigen::Index>(j_inner_.size()) &&
+           std::equal(j_outer_.begin(), j_outer_.end(), J_->outerIndexPtr()) &&
+           std::equal(j_inner_.begin(), j_inner_.end(), J_->innerIndexPtr());
   }
 
   // Merges the diagonal into J's pattern (rows sorted within each column,
   // as Eigen keeps them) and records where each entry of J and each
-  // diagonal entry lands in H.
+  // diagonal entry lands in H. When J already holds every diagonal entry,
+  // H has J's pattern and j_to_h_ stays empty (the identity). A constant J
+  // keeps no copy of its pattern: it cannot change.
   void BuildPattern() {
-    const int* outer = J_.outerIndexPtr();
-    const int* inner = J_.innerIndexPtr();
-    j_outer_.assign(outer, outer + m_ + 1);
-    j_inner_.assign(inner, inner + J_.nonZeros());
-    j_to_h_.resize(J_.nonZeros());
+    const int* outer = J_->outerIndexPtr();
+    const int* inner = J_->innerIndexPtr();
+    if (J_ == &own_J_) {
+      j_outer_.assign(outer, outer + m_ + 1);
+      j_inner_.assign(inner, inner + J_->nonZeros());
+    }
+    j_to_h_.resize(J_->nonZeros());
     diagonal_.assign(m_, -1);
     std::vector<int> h_outer(m_ + 1, 0);
     std::vector<int> h_inner;
-    h_inner.reserve(J_.nonZeros() + m_);
+    h_inner.reserve(J_->nonZeros() + m_);
     for (int j = 0; j < m_; ++j) {
       h_outer[j] = static_cast<int>(h_inner.size());
       bool placed = false;
@@ -556,6 +585,8 @@ class SparseAlgebra {
       }
     }
     h_outer[m_] = static_cast<int>(h_inner.size());
+    if (h_inner.size() == static_cast<std::size_t>(J_->nonZeros())) j_to_h_.clear();
+    j_to_h_.shrink_to_fit();
     H_.resize(m_, m_);
     H_.resizeNonZeros(static_cast<Eigen::Index>(h_inner.size()));
     std::copy(h_outer.begin(), h_outer.end(), H_.outerIndexPtr());
@@ -565,17 +596,17 @@ class SparseAlgebra {
 
   const BoxMcp& mcp_;
   int m_;
-  SparseMatrix J_;
+  bool given_order_;
+  const SparseMatrix* J_ = nullptr;  // own_J_ or mcp_.constant_jacobian
+  SparseMatrix own_J_;
+  bool finite_ = true;  // of a constant J
   SparseMatrix H_;
   std::vector<int> j_outer_;
   std::vector<int> j_inner_;
-  std::vector<int> j_to_h_;    // position in H of each stored entry of J
+  std::vector<int> j_to_h_;    // position in H of each stored entry of J (empty: the same)
   std::vector<int> diagonal_;  // position in H of each diagonal entry
   internal::KluSolver klu_;
   bool analyzed_ = false;
-  Eigen::VectorXd natural_da_;
-  Eigen::VectorXd natural_db_;
-  Eigen::VectorXd natural_rhs_;
 };
 
 // "%.3g": messages are built once, when the solve ends, and std::to_chars
@@ -886,8 +917,8 @@ SolveResult SolveNewton(const BoxMcp& mcp, const SolverOptions& options,
   Eigen::VectorXd z = warm_started ? warm_start : Eigen::VectorXd::Zero(m);
   z = z.cwiseMax(mcp.lower).cwiseMin(mcp.upper);
 
-  if (mcp.sparse_jacobian && options.allow_sparse) {
-    SparseAlgebra algebra(mcp, m);
+  if ((mcp.sparse_jacobian || mcp.constant_jacobian) && options.allow_sparse) {
+    SparseAlgebra algebra(mcp, m, options);
     return RunNewton(mcp, options, std::move(z), algebra, start);
   }
   DenseAlgebra algebra(mcp, m);

@@ -50,6 +50,10 @@ void SolverOptions::Validate() const {
                    "SolverOptions::tolerance = " << tolerance << " is outside (0, 1)");
   DVI_THROW_UNLESS(max_iterations >= 0,
                    "SolverOptions::max_iterations = " << max_iterations << " is negative");
+  DVI_THROW_UNLESS(sparse_ordering == SparseOrdering::kAmd ||
+                       sparse_ordering == SparseOrdering::kGiven,
+                   "SolverOptions::sparse_ordering = " << static_cast<int>(sparse_ordering)
+                                                       << " is not a SparseOrdering");
   DVI_THROW_UNLESS(pgs_relaxation > 0.0 && pgs_relaxation < 2.0,
                    "SolverOptions::pgs_relaxation = " << pgs_relaxation << " is outside (0, 2)");
 }
