@@ -77,6 +77,9 @@ constexpr int kCheapNaturalMapSize = 200;
 // KKT systems (half of them failed) and on Siconos' deltasigma/Buck2 MLCPs.
 // Memory 3 was the best of 1, 2, 3, 5, 10 on those and the P-matrix LCPs.
 constexpr int kMeritMemory = 3;
+// The watchdog (SolverOptions::watchdog_steps) ends a sequence of relaxed
+// steps once the merit has fallen this fraction below the best before it.
+constexpr double kWatchdogDecrease = 1e-4;
 // Forward-difference step √eps·max(1, |z_j|) balances truncation (O(h))
 // against cancellation (O(eps/h)) [Facchinei–Pang 2003, §9.1 notes].
 const double kDifferenceStep = std::sqrt(kEps);
@@ -730,6 +733,21 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   // up to rounding), and is also taken when it solves the problem.
   std::vector<double> history(kMeritMemory, merit);
   int history_next = 0;
+  // The watchdog [Chamberlain–Powell–Lemaréchal–Pedersen 1982; the
+  // nonmonotone stabilization of Grippo–Lampariello–Lucidi 1991, as in
+  // PATH]: where the natural-map step fails the line search, it is taken in
+  // full anyway, up to watchdog_steps times, from the best point so far;
+  // if the merit has not fallen below that point's by then, the method
+  // returns there and searches monotonically until a step passes the test.
+  // An affine problem warm-started from an interpolated coarse grid has a
+  // few wrong components of its active set where u switches: the full steps
+  // find the right set in 3 iterations where the Armijo search took 11 short
+  // ones (boundary-value LCS of 10⁵ steps, warm start 16 times coarser).
+  const int watchdog_steps = options.watchdog_steps;
+  bool watchdog_armed = watchdog_steps > 0;
+  int relaxed = 0;  // relaxed steps since the best point
+  double best_merit = 0;
+  Eigen::VectorXd z_best;
   // The full natural-map step along d when it cuts Ψ by kQuadraticReduction
   // or solves the problem (1), else 0; on success as line_search.
   auto quadratic_step = [&](const std::vector<signed char>& snap) {
@@ -817,6 +835,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     phi_map.ActiveSet(z, f, active);
     const std::vector<signed char>& current_active = active;
     double t = 0;
+    bool relaxed_step = false;  // taken by the watchdog, without a merit test
     double natural_slope = 0;  // < 0: natural_d is a descent direction
     phi_map.StepToActiveBounds(z, current_active, d);
     bool natural = algebra.SolveNaturalMap(f, current_active, 0.0, d);
@@ -842,6 +861,21 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
         t = line_search(slope, &current_active, natural_backtracks);
       } else if (moves && slope < 0) {
         t = quadratic_step(current_active);
+      }
+      if (t == 0 && moves && watchdog_armed && relaxed < watchdog_steps) {
+        z_trial.noalias() = z + d;
+        phi_map.SnapToActiveBounds(current_active, z_trial);
+        mcp.F(z_trial, f_trial);
+        if (f_trial.allFinite()) {
+          if (relaxed == 0) {
+            z_best = z;
+            best_merit = merit;
+          }
+          ++relaxed;
+          relaxed_step = true;
+          merit = phi_map.Evaluate(z_trial, f_trial, phi_trial);
+          t = 1;
+        }
       }
     }
 
@@ -876,8 +910,13 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
                         "not solve the problem (natural residual " +
                         Format(residual) + ")");
     }
-    history[static_cast<std::size_t>(history_next)] = merit;
-    history_next = (history_next + 1) % kMeritMemory;
+    // A relaxed step's merit stays out of the nonmonotone reference, so that
+    // only the watchdog lets the merit rise.
+    if (!relaxed_step) {
+      history[static_cast<std::size_t>(history_next)] = merit;
+      history_next = (history_next + 1) % kMeritMemory;
+      watchdog_armed = watchdog_steps > 0;
+    }
     const double step = (z_trial - z).lpNorm<Eigen::Infinity>();
 
     const double scale = 1.0 + z.lpNorm<Eigen::Infinity>();
@@ -885,6 +924,20 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     f.swap(f_trial);
     phi.swap(phi_trial);
     residual = BoxNaturalResidual(lower, upper, z, f);
+    if (relaxed > 0 && merit <= (1 - kWatchdogDecrease) * best_merit) {
+      relaxed = 0;
+    } else if (relaxed >= watchdog_steps && relaxed > 0 && residual > options.tolerance) {
+      // The relaxed steps did not pay off: back to the best point, monotone
+      // until a step passes the line search again.
+      z.swap(z_best);
+      mcp.F(z, f);
+      merit = phi_map.Evaluate(z, f, phi);
+      residual = BoxNaturalResidual(lower, upper, z, f);
+      std::fill(history.begin(), history.end(), merit);
+      relaxed = 0;
+      watchdog_armed = false;
+      continue;
+    }
     if (residual > options.tolerance && step <= kStagnationStep * scale) {
       if (at_rounding_floor()) return finish_at_rounding_floor();
       return finish(SolveStatus::kFailed,

@@ -54,6 +54,8 @@ void SolverOptions::Validate() const {
                        sparse_ordering == SparseOrdering::kGiven,
                    "SolverOptions::sparse_ordering = " << static_cast<int>(sparse_ordering)
                                                        << " is not a SparseOrdering");
+  DVI_THROW_UNLESS(watchdog_steps >= 0,
+                   "SolverOptions::watchdog_steps = " << watchdog_steps << " is negative");
   DVI_THROW_UNLESS(pgs_relaxation > 0.0 && pgs_relaxation < 2.0,
                    "SolverOptions::pgs_relaxation = " << pgs_relaxation << " is outside (0, 2)");
 }

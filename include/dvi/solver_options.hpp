@@ -49,6 +49,13 @@ struct SolverOptions {
   bool allow_sparse = true;
   /// Newton's KLU path: the fill-reducing order.
   SparseOrdering sparse_ordering = SparseOrdering::kAmd;
+  /// Newton's watchdog: where the natural-map step fails the line search,
+  /// take it in full anyway, up to this many times from the best point so
+  /// far, and return to that point if the merit has not fallen below it
+  /// by then (nonmonotone stabilization, as in PATH). 0 (the default) keeps
+  /// every step within the line search. For affine problems whose warm start
+  /// gets a few components of the active set wrong (boundary-value VIs).
+  int watchdog_steps = 0;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "dvi/boundary_value_mcp.hpp"
+#include "kkt_decomposition.hpp"
+
+namespace dvi::internal {
+
+/// Each step's K as a box in its KKT lifting ũ = (u, μ_G, μ_B, ν)
+/// [Facchinei–Pang 2003, Prop. 1.2.1]: u within K's bounds, μ_G ≥ 0 for the
+/// rows G u ≤ h, μ_B ≥ 0 for the balls ‖u_B − c‖ ≤ r, ν free for E u = e.
+/// The VI rows become
+///   w(u) + Gᵀμ_G + Σ_B μ_B (u_B − c_B) + Eᵀν ⊥ u,   h − G u ⊥ μ_G,
+///   (r² − ‖u_B − c_B‖²)/2 ⊥ μ_B,                      e − E u = 0,
+/// as in SolveKktVi. A box K lifts to itself.
+struct LiftedSet {
+  int m = 0;  ///< u.
+  int p = 0;  ///< Rows of G.
+  int r = 0;  ///< Balls.
+  int q = 0;  ///< Rows of E.
+  Eigen::VectorXd lower, upper;  ///< Bounds of ũ.
+  Eigen::MatrixXd G;
+  Eigen::VectorXd h;
+  Eigen::MatrixXd E;
+  Eigen::VectorXd e;
+  std::vector<BallBlock> balls;
+
+  int size() const { return m + p + r + q; }
+};
+/// @throws InvalidInputError (naming "K") when K's rows alone prove it empty.
+LiftedSet LiftSet(const ConvexSet& K);
+
+/// The affine step of a (generalized) LCS x' = p + A x + B u,
+/// w = q + C x + D u, with weights per state column: f sees
+/// θ_j x^i_j + (1 − θ_j) x^{i+1}_j and the VI η_j x^i_j + (1 − η_j) x^{i+1}_j.
+/// (9.14): θ_j = θ, η = 0; (9.11): η = 1; the game's (a)–(e): θ = η = 1 on
+/// λ, 0 on x.
+struct AffineStep {
+  SparseMatrix A, B, C, D;
+  Eigen::VectorXd p, q;
+  Eigen::VectorXd theta, eta;
+};
+
+/// One step's equations of a nonlinear problem, from (x^i, x^{i+1}, u^{i+1})
+/// on step i = [t, t + h]: rows 0..n−1 the x-equation ρ = x^{i+1} − x^i −
+/// h Φ, rows n..n+m−1 the VI's map w (before K's lifting).
+class StepEquations {
+ public:
+  using ConstRef = Eigen::Ref<const Eigen::VectorXd>;
+  virtual ~StepEquations() = default;
+  virtual void Evaluate(double t, double h, const ConstRef& x_old, const ConstRef& x_new,
+                        const ConstRef& u, Eigen::Ref<Eigen::VectorXd> out) = 0;
+  /// ∂(ρ, w)/∂(x^i, x^{i+1}, u^{i+1}): (n + m) × (2n + m).
+  virtual void Jacobian(double t, double h, const ConstRef& x_old, const ConstRef& x_new,
+                        const ConstRef& u, Eigen::Ref<Eigen::MatrixXd> J) = 0;
+};
+
+/// A problem the aggregate VI is assembled from: an affine step or
+/// nonlinear step equations, K's lifting, and the boundary conditions.
+struct AggregateProblem {
+  int n = 0;
+  LiftedSet set;
+  BoundaryConditions conditions;
+  double horizon = 0;
+  std::shared_ptr<const AffineStep> affine;  ///< Exactly one of affine and
+  std::shared_ptr<StepEquations> equations;  ///< equations is set.
+};
+
+/// The aggregate MCP on `steps` steps (boundary_value_mcp.hpp).
+BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps);
+
+/// Which free position takes each boundary row (see BoundaryValueMcp):
+/// component j runs backward when backward[j]; boundary row r sits at the
+/// end of component component_of_row[r]. Rows are matched to components by
+/// their largest entries in M (forward) or N (backward), by augmenting
+/// paths where the greedy choice collides.
+struct RowPlacement {
+  std::vector<char> backward;
+  std::vector<int> component_of_row;
+};
+RowPlacement PlaceBoundaryRows(const BoundaryConditions& conditions);
+
+}  // namespace dvi::internal
