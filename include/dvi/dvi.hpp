@@ -3,6 +3,8 @@
 
 /// Umbrella header of dvi: everything a user of the library needs.
 #include "dvi/auto_driver.hpp"
+#include "dvi/boundary_value.hpp"
+#include "dvi/boundary_value_mcp.hpp"
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/convex_set.hpp"
 #include "dvi/cvode_rhs.hpp"
@@ -17,6 +19,7 @@
 #include "dvi/matrix_classes.hpp"
 #include "dvi/mode.hpp"
 #include "dvi/mode_dae.hpp"
+#include "dvi/nash_game.hpp"
 #include "dvi/odeint_system.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/projected_gauss_seidel.hpp"
