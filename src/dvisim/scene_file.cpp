@@ -10,6 +10,7 @@
 #include "dvi/error.hpp"
 #include "expression.hpp"
 #include "problem_file.hpp"
+#include "scene_fields.hpp"
 
 namespace dvi::dvisim {
 namespace {
@@ -23,48 +24,6 @@ constexpr int kDefaultStepsPerHorizon = 1000;
 constexpr double kMinHorizon = 1e-100;
 // Without output.times and output.samples: this many rows, enough for a plot.
 constexpr int kDefaultSamples = 501;
-
-[[noreturn]] void Fail(const std::string& path, const std::string& message) {
-  throw InputError(path + ": " + message);
-}
-
-std::string Field(const std::string& path, const std::string& key) {
-  return path.empty() ? key : path + "." + key;
-}
-std::string Indexed(const std::string& path, std::size_t k) {
-  return path + "[" + std::to_string(k) + "]";
-}
-
-const json* FindField(const json& object, const std::string& key) {
-  const auto it = object.find(key);
-  return it == object.end() ? nullptr : &*it;
-}
-
-void RejectUnknownFields(const json& object, const std::string& path,
-                         const std::vector<std::string>& known, const std::string& context = "") {
-  for (const auto& item : object.items()) {
-    if (std::find(known.begin(), known.end(), item.key()) != known.end()) continue;
-    std::string list;
-    for (const std::string& key : known) list += (list.empty() ? "" : ", ") + key;
-    Fail(path.empty() ? "(file)" : path,
-         "unknown field \"" + item.key() + "\"" + context + " (expected " + list + ")");
-  }
-}
-
-void RequireObject(const json& value, const std::string& path) {
-  if (!value.is_object()) Fail(path, "expected an object, got " + Describe(value));
-}
-
-// Library constructors and Validate() check their arguments; their messages
-// gain the JSON path so the user knows which field to fix.
-template <typename Build>
-auto WithPath(const std::string& path, Build build) -> decltype(build()) {
-  try {
-    return build();
-  } catch (const InvalidInputError& error) {
-    Fail(path, error.what());
-  }
-}
 
 // An expression is a string, or a number standing for itself.
 std::string ReadExpressionText(const json& value, const std::string& path) {
