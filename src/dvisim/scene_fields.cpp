@@ -38,4 +38,33 @@ void RequireObject(const json& value, const std::string& path) {
   if (!value.is_object()) Fail(path, "expected an object, got " + Describe(value));
 }
 
+double ReadUnitInterval(const json& value, const std::string& path) {
+  const double x = ReadNumber(value, path, false);
+  if (!(x >= 0 && x <= 1)) Fail(path, "expected a number in [0, 1], got " + Describe(value));
+  return x;
+}
+
+double ReadPositive(const json& value, const std::string& path) {
+  const double x = ReadNumber(value, path, false);
+  if (!(x > 0)) Fail(path, "expected a number > 0, got " + Describe(value));
+  return x;
+}
+
+long ReadCount(const json& value, const std::string& path) {
+  if (!value.is_number_integer() || value.get<long>() < 1)
+    Fail(path, "expected an integer ≥ 1, got " + Describe(value));
+  return value.get<long>();
+}
+
+void CheckShape(const MatrixField& M, const std::string& path, Eigen::Index rows,
+                Eigen::Index cols) {
+  if (M.rows() != rows || M.cols() != cols)
+    Fail(path, "is " + std::to_string(M.rows()) + "x" + std::to_string(M.cols()) + ", expected " +
+                   std::to_string(rows) + "x" + std::to_string(cols));
+}
+
+SparseMatrix ToSparse(const MatrixField& M) {
+  return M.is_sparse ? M.sparse : SparseMatrix(M.dense.sparseView());
+}
+
 }  // namespace dvi::dvisim

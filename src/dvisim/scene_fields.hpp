@@ -31,6 +31,18 @@ void RejectUnknownFields(const nlohmann::json& object, const std::string& path,
 /// @throws InputError unless value is an object.
 void RequireObject(const nlohmann::json& value, const std::string& path);
 
+/// A number in [0, 1]. @throws InputError naming path otherwise.
+double ReadUnitInterval(const nlohmann::json& value, const std::string& path);
+/// A number > 0. @throws InputError naming path otherwise.
+double ReadPositive(const nlohmann::json& value, const std::string& path);
+/// An integer ≥ 1. @throws InputError naming path otherwise.
+long ReadCount(const nlohmann::json& value, const std::string& path);
+/// @throws InputError "path: is RxC, expected rows x cols" on another shape.
+void CheckShape(const MatrixField& M, const std::string& path, Eigen::Index rows,
+                Eigen::Index cols);
+/// The matrix as sparse (column-major), dense input converted.
+SparseMatrix ToSparse(const MatrixField& M);
+
 /// Library constructors and Validate() check their arguments; their messages
 /// gain the JSON path so the user knows which field to fix.
 template <typename Build>

@@ -65,17 +65,6 @@ ConvexSet ReadOptionalSet(const json& problem, const std::string& path, int dim)
   return set ? ReadSet(*set, Field(path, "set"), dim) : ConvexSet::Orthant(dim);
 }
 
-void CheckShape(const MatrixField& M, const std::string& path, Eigen::Index rows,
-                Eigen::Index cols) {
-  if (M.rows() != rows || M.cols() != cols)
-    Fail(path, "is " + std::to_string(M.rows()) + "x" + std::to_string(M.cols()) + ", expected " +
-                   std::to_string(rows) + "x" + std::to_string(cols));
-}
-
-SparseMatrix ToSparse(const MatrixField& M) {
-  return M.is_sparse ? M.sparse : SparseMatrix(M.dense.sparseView());
-}
-
 void ReadLcs(const json& problem, const std::string& path, Scene& scene) {
   RejectUnknownFields(problem, path, {"type", "A", "B", "C", "D", "p", "q", "set"},
                       " for type lcs");
@@ -270,18 +259,6 @@ void ReadProblem(const json& problem, Scene& scene) {
   }
 }
 
-double ReadUnitInterval(const json& value, const std::string& path) {
-  const double x = ReadNumber(value, path, false);
-  if (!(x >= 0 && x <= 1)) Fail(path, "expected a number in [0, 1], got " + Describe(value));
-  return x;
-}
-
-double ReadPositive(const json& value, const std::string& path) {
-  const double x = ReadNumber(value, path, false);
-  if (!(x > 0)) Fail(path, "expected a number > 0, got " + Describe(value));
-  return x;
-}
-
 OdeMethod ReadOdeMethod(const json& value, const std::string& path) {
   for (const OdeMethod method : {OdeMethod::kBdf, OdeMethod::kAdams})
     if (value.is_string() && value.get<std::string>() == ToString(method)) return method;
@@ -292,12 +269,6 @@ LinearSolver ReadLinearSolver(const json& value, const std::string& path) {
   for (const LinearSolver solver : {LinearSolver::kAuto, LinearSolver::kDense, LinearSolver::kKlu})
     if (value.is_string() && value.get<std::string>() == ToString(solver)) return solver;
   Fail(path, "expected \"auto\", \"dense\" or \"klu\", got " + Describe(value));
-}
-
-long ReadCount(const json& value, const std::string& path) {
-  if (!value.is_number_integer() || value.get<long>() < 1)
-    Fail(path, "expected an integer ≥ 1, got " + Describe(value));
-  return value.get<long>();
 }
 
 // The fields shared by both integrators set both option sets, so that auto
