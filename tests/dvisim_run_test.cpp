@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "boundary_scene.hpp"
 #include "plot.hpp"
 #include "scene_file.hpp"
 #include "support/convergence.hpp"
@@ -159,7 +160,7 @@ TEST(SceneFile, MethodMayBeJustItsName) {
   EXPECT_EQ(scene.stepping.h, 1e-3);
   EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["-x1"]},
     "x0": [1], "horizon": 1, "method": "euler"})"),
-            "method: unknown method \"euler\" (expected auto, stepping or event)");
+            "method: unknown method \"euler\" (expected auto, stepping, event or bvp)");
 }
 
 TEST(SceneFile, DviExpressionsBecomeFunctionsWithExactJacobians) {
@@ -188,18 +189,18 @@ TEST(SceneFile, ErrorsNameTheField) {
   const std::string lcs =
       R"("problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]], "D": [[1]]})";
   EXPECT_EQ(ParseError(R"({"problem": {"type": "ode"}, "x0": [1], "horizon": 1})"),
-            "problem.type: unknown type \"ode\" (expected lcs, dvi, box-dvi, pds or filippov)");
-  EXPECT_EQ(ParseError(R"({"problem": {"type": "nash", "players": []}, "x0": [1], "horizon": 1})"),
-            "problem.type: \"nash\" scenes are not supported yet");
+            "problem.type: unknown type \"ode\" (expected lcs, dvi, box-dvi, pds, filippov or "
+            "nash)");
+  EXPECT_EQ(ParseError(R"({"problem": {"type": "nash", "players": []}, "horizon": 1})"),
+            "problem.players: expected a non-empty list of players, got []");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "boundary": {"M": [[1]]}, "horizon": 1})"),
-            "boundary: boundary-value scenes are not supported yet (give \"x0\")");
+            "boundary: missing field \"N\"");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1, 2], "horizon": 1})"),
             "x0: has 2 entries, expected 1");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 0})"),
             "horizon: expected a number > 0, got 0");
-  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"name": "bvp"}})"),
-            "method.name: \"bvp\" is not available in this version (use \"auto\", \"stepping\" "
-            "or \"event\")");
+  EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"name": "bvq"}})"),
+            "method.name: unknown method \"bvq\" (expected auto, stepping, event or bvp)");
   EXPECT_EQ(ParseError(std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1,
     "method": "event"})"),
             "method: \"event\" needs a DVI with a multiplier u (Sect. 5), or a pds scene in the "
@@ -224,8 +225,8 @@ TEST(SceneFile, ErrorsNameTheField) {
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "output": {"plots": true}})"),
             "output: unknown field \"plots\" (expected dir, times, samples, plot)");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "seed": 3})"),
-            "(file): unknown field \"seed\" (expected name, description, problem, x0, horizon, "
-            "method, output, exact, study)");
+            "(file): unknown field \"seed\" (expected name, description, problem, x0, boundary, "
+            "horizon, method, output, exact, study)");
   EXPECT_EQ(ParseError(R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1, 2]], "C": [[1]],
     "D": [[1]]}, "x0": [1], "horizon": 1})"),
             "problem.B: is 1x2, expected 1x1");
@@ -605,8 +606,8 @@ TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {
        "problem.f[0]: cannot parse \"u1 *\""},
       {R"({"problem": {"type": "dvi", "f": ["u1"], "F": ["u1 + y"]}, "x0": [1], "horizon": 1})", "",
        "problem.F[0]: unknown symbol \"y\""},
-      {"{" + dvi + R"(, "x0": [1], "horizon": 1})", "--method bvp",
-       "--method: \"bvp\" is not available in this version"},
+      {std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1})", "--method bvp",
+       "--method: \"bvp\" takes lcs, dvi, box-dvi, filippov and nash scenes, not pds"},
       {std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1})",
        "--method event", "--method: \"event\" needs a DVI with a multiplier u"},
       {std::string(kPdsOnBallTimesBox) + R"(, "x0": [0, 0, 0.5], "horizon": 1,
@@ -1077,6 +1078,239 @@ TEST_F(DvisimRun, EventOnTheZenoSpiralExitsOneNamingTheAccumulationAndWritesNoth
   EXPECT_TRUE(run.out.empty()) << run.out;
   EXPECT_TRUE(Listing("out").empty());
   for (const std::string& name : Listing("")) EXPECT_FALSE(Contains(name, ".tmp")) << name;
+}
+
+// ---------------------------------------------------------------------------
+// Boundary-value and nash scenes, method bvp (boundary_scene.cpp,
+// boundary_run.cpp).
+
+// The two-point LCS of boundary_value_test.cpp as a scene: x1' = −x1 − 1 +
+// u, x2' = x1, 0 ≤ u ⊥ x1, x2(0) + x1(T) = 0, x2(T) = 1 − ln 2; open at the
+// end for method and output.
+constexpr char kTwoPointLcs[] = R"({"problem": {"type": "lcs", "A": [[-1, 0], [1, 0]],
+    "B": [[1], [0]], "C": [[1, 0]], "D": [[0]], "p": [-1, 0]},
+    "boundary": {"M": [[0, 1], [0, 0]], "N": [[1, 0], [0, 1]], "b": [0, 0.30685281944005469]},
+    "horizon": 2)";
+
+// Two scalar players; player 1's blocks open for the test to fill in.
+std::string NashScene(const std::string& second_player_p, const std::string& extra = "") {
+  return R"({"problem": {"type": "nash", "players": [
+      {"x0": [1], "G": [[-0.5]], "H": [[1]], "P": [[[1]], [[0.3]]], "S": [[[0.5]], [[0]]],
+       "U": {"box": {"lower": [-0.8], "upper": [0.8]}}},
+      {"x0": [-0.5], "G": [[0.3]], "H": [[0.8]], "P": )" +
+         second_player_p + R"(, "S": [[[0]], [[0.8]]]}]}, "horizon": 2)" + extra + "}";
+}
+
+TEST(SceneFile, ReadsBoundaryAndNashScenesForBvp) {
+  const Scene boundary = ParseScene(std::string(kTwoPointLcs) + "}");
+  ASSERT_TRUE(boundary.boundary.has_value());
+  EXPECT_EQ(boundary.boundary->N, Eigen::Matrix2d::Identity());
+  EXPECT_EQ(boundary.x0.size(), 0);
+  EXPECT_EQ(boundary.method, "auto");
+  EXPECT_TRUE(RunsBoundaryValue(boundary));
+  // Documented defaults: h = T/1000, θ = 0, scheme (9.3), refinement off.
+  EXPECT_EQ(boundary.bvp.h, 2.0 / 1000);
+  EXPECT_EQ(boundary.bvp.theta, 0.0);
+  EXPECT_EQ(boundary.bvp.scheme, BoundaryValueScheme::kImplicit);
+  EXPECT_FALSE(boundary.bvp.refine);
+  const Scene fields = ParseScene(std::string(kTwoPointLcs) + R"(, "method": {"name": "bvp",
+    "steps": 500, "theta": 0.5, "scheme": "9.11", "tol": 1e-9, "max_iterations": 40,
+    "refine": true, "rtol": 1e-4, "atol": 1e-5, "max_steps": 100000}})");
+  EXPECT_EQ(fields.bvp.steps, 500);
+  EXPECT_EQ(fields.bvp.theta, 0.5);
+  EXPECT_EQ(fields.bvp.scheme, BoundaryValueScheme::kImplicitExplicit);
+  EXPECT_EQ(fields.bvp.solver.tolerance, 1e-9);
+  EXPECT_EQ(fields.bvp.solver.max_iterations, 40);
+  EXPECT_TRUE(fields.bvp.refine);
+  EXPECT_EQ(fields.bvp.rtol, 1e-4);
+  EXPECT_EQ(fields.bvp.atol, 1e-5);
+  EXPECT_EQ(fields.bvp.max_steps, 100000);
+
+  const Scene nash = ParseScene(NashScene("[[[-0.2]], [[0.5]]]"));
+  ASSERT_TRUE(std::holds_alternative<LqNashGame>(nash.problem));
+  const LqNashGame& game = std::get<LqNashGame>(nash.problem);
+  EXPECT_EQ(game.players.size(), 2u);
+  EXPECT_EQ(nash.n, 2);
+  EXPECT_EQ(nash.output_multipliers, 2);
+  EXPECT_EQ(game.players[1].P[0](0, 0), -0.2);
+  // Absent blocks and vectors are zero; an absent U is the whole space.
+  EXPECT_TRUE(game.players[0].Q.empty());
+  EXPECT_EQ(game.players[1].U.Describe(), ConvexSet::Whole(1).Describe());
+  EXPECT_TRUE(RunsBoundaryValue(nash));
+}
+
+TEST(SceneFile, BoundaryAndNashErrorsNameTheField) {
+  const std::string lcs =
+      R"("problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]], "D": [[1]]})";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"{" + lcs + R"(, "x0": [1], "boundary": {"M": [[1]], "N": [[0]], "b": [1]}, "horizon": 1})",
+       "x0: a boundary scene gives \"boundary\" in place of \"x0\"; remove one"},
+      {"{" + lcs + R"(, "boundary": {"M": [[1, 0]], "N": [[0]], "b": [1]}, "horizon": 1})",
+       "boundary.M: is 1x2, expected 1x1"},
+      {"{" + lcs + R"(, "boundary": {"M": [[1]], "N": [[0]], "b": [1, 2]}, "horizon": 1})",
+       "boundary.b: has 2 entries, expected 1"},
+      {"{" + lcs + R"(, "boundary": {"M": [[0]], "N": [[0]], "b": [1]}, "horizon": 1})",
+       "boundary: the rows of [M N] have rank 0 < n = 1"},
+      {"{" + lcs + R"(, "boundary": {"M": [[1]], "N": [[0]], "b": [1], "c": 1}, "horizon": 1})",
+       "boundary: unknown field \"c\""},
+      {"{" + lcs + R"(, "boundary": {"M": [[1]], "N": [[-1]], "b": [0]}, "horizon": 1,
+         "method": "stepping"})",
+       "method: \"stepping\" integrates from x0, but a boundary scene fixes its states at both "
+       "ends: use \"bvp\" (or \"auto\")"},
+      {"{" + lcs + R"(, "boundary": {"M": [[1]], "N": [[-1]], "b": [0]}, "horizon": 1,
+         "method": {"gamma": 0.5}})",
+       "method.gamma: is not used by \"bvp\""},
+      {"{" + lcs + R"(, "boundary": {"M": [[1]], "N": [[-1]], "b": [0]}, "horizon": 1,
+         "method": {"h": 0.1, "steps": 10}})",
+       "method.steps: give h or steps, not both"},
+      {"{" + lcs + R"(, "boundary": {"M": [[1]], "N": [[-1]], "b": [0]}, "horizon": 1,
+         "method": {"scheme": "7.2"}})",
+       "method.scheme: unknown boundary-value scheme \"7.2\" (expected 9.3 or 9.11)"},
+      {NashScene("[[[-0.2]], [[0.5]]]", R"(, "x0": [1, 2])"),
+       "x0: a nash scene gives each player's x0 in problem.players"},
+      {NashScene("[[[-0.2, 1]], [[0.5]]]"),
+       "problem.players[1].P[0]: is 1x2, expected 1x1 (n_1 x n_0)"},
+      {NashScene("[[[0.5]]]"),
+       "problem.players[1].P: expected a list of 2 matrices (one per player)"},
+      {NashScene("[[[-0.2]], [[0.5]]]", R"(, "method": {"theta": 0.5})"),
+       "method.theta: does not apply to a nash scene"},
+      {NashScene("[[[-0.2]], [[0.5]]]", R"(, "method": "event")"),
+       "method: \"event\" integrates from x0, but a nash scene fixes its states at both ends"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string error = ParseError(text);
+    EXPECT_EQ(error.substr(0, expected.size()), expected) << text;
+  }
+}
+
+TEST_F(DvisimRun, PeriodicRectifierExampleIsPeriodicAndSaysMPlusNIsSingular) {
+  const RunOutcome run = RunExample("periodic_rectifier.json", "out");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(Contains(run.out, "bvp: aggregate VI on 2000 steps")) << run.out;
+  const Csv csv = ReadCsv("out");
+  ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "u1"}));
+  // v(0) = v(T) to Newton's tolerance on the boundary row.
+  EXPECT_NEAR(csv.rows.front()[1], csv.rows.back()[1], 1e-10);
+  double u_min = 0, u_max = 0;
+  for (const auto& row : csv.rows) {
+    u_min = std::min(u_min, row[2]);
+    u_max = std::max(u_max, row[2]);
+  }
+  EXPECT_GE(u_min, 0.0);  // the diode current
+  EXPECT_GT(u_max, 0.5);  // it conducts near the source's peak
+  const nlohmann::json summary = ReadSummary("out");
+  EXPECT_EQ(summary["status"], "success");
+  EXPECT_EQ(summary["method"][0]["name"], "bvp");
+  EXPECT_EQ(summary["steps"], 2000);
+  EXPECT_EQ(summary["scheme"], "9.3");
+  EXPECT_TRUE(summary["boundary"]["m_plus_n_singular"].get<bool>());
+  EXPECT_EQ(summary["boundary"]["condition_9_5"], "not-applicable");
+  EXPECT_LE(summary["newton"]["residual"].get<double>(), 1e-10);
+  // The diode conducts on one interval: it starts and stops once.
+  EXPECT_EQ(summary["events"].size(), 2u);
+}
+
+TEST_F(DvisimRun, NashExampleWritesStatesAdjointsAndControls) {
+  const RunOutcome run = RunExample("nash_game.json", "out");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Csv csv = ReadCsv("out");
+  ASSERT_EQ(csv.header, (std::vector<std::string>{"t", "x1", "x2", "lambda1", "lambda2", "u1",
+                                                  "u2"}));
+  for (std::size_t k = 0; k < csv.rows.size(); ++k) {
+    EXPECT_LE(std::abs(csv.Column(k, "u1")), 0.8 + 1e-12);
+    EXPECT_LE(std::abs(csv.Column(k, "u2")), 2 + 1e-12);
+  }
+  EXPECT_EQ(csv.Column(0, "u1"), -0.8);  // saturated at the start
+  EXPECT_EQ(csv.Column(0, "x1"), 1.0);   // (e) x(0) = x0
+  const nlohmann::json summary = ReadSummary("out");
+  EXPECT_TRUE(summary["nash"]["proposition_10_1"].get<bool>());
+  EXPECT_EQ(summary["scheme"], "(a)-(e) of Sect. 10");
+  // (d) λ(T) = c + W x(T) with W = [W^{νν'}] + diag(W^{νν}):
+  // λ1 = 0.3 + 2·1·x1 + 0.2 x2, λ2 = −0.1 − 0.3 x1 + 2·0.5 x2.
+  const double x1 = summary["x_final"][0], x2 = summary["x_final"][1];
+  EXPECT_NEAR(summary["lambda_final"][0].get<double>(), 0.3 + 2 * x1 + 0.2 * x2, 1e-12);
+  EXPECT_NEAR(summary["lambda_final"][1].get<double>(), -0.1 - 0.3 * x1 + x2, 1e-12);
+  ASSERT_EQ(summary["events"].size(), 1u);
+  EXPECT_EQ(summary["events"][0]["kind"], "left-bound");
+}
+
+// An initial-value scene run as a boundary-value problem (M = I, N = 0)
+// solves the discrete equations of stepping's (7.2) with θ = 0, γ = 1: the
+// same numbers at the same rows, but for u at t = 0 (stepping solves the VI
+// at x0 there, bvp reports u¹, as the aggregate VI has no u⁰).
+TEST_F(DvisimRun, BvpOnAnInitialValueSceneReproducesTimeStepping) {
+  const std::string scene = Write("ivp.json", R"({"problem": {"type": "lcs",
+    "A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[1]]},
+    "x0": [-1, 0.5], "horizon": 5, "method": {"h": 0.005}})");
+  ASSERT_EQ(Dvisim("run '" + scene + "' --method stepping --out '" + Path("stepping") + "'")
+                .exit_code, 0);
+  ASSERT_EQ(Dvisim("run '" + scene + "' --method bvp --out '" + Path("bvp") + "'").exit_code, 0);
+  const Csv stepping = ReadCsv("stepping"), bvp = ReadCsv("bvp");
+  ASSERT_EQ(stepping.rows.size(), bvp.rows.size());
+  double difference = 0;
+  for (std::size_t k = 0; k < bvp.rows.size(); ++k)
+    for (std::size_t c = 0; c < (k == 0 ? 3u : 4u); ++c)
+      difference = std::max(difference, std::abs(stepping.rows[k][c] - bvp.rows[k][c]));
+  // Both solve each step's equations to the solvers' 1e-10.
+  EXPECT_LE(difference, 1e-9);
+  EXPECT_EQ(ReadSummary("bvp")["boundary"]["condition_9_5"], "holds");
+}
+
+TEST_F(DvisimRun, RefinementSceneReportsEachGridsErrorEstimate) {
+  const std::string scene = Write("refine.json", std::string(kTwoPointLcs) +
+      R"(, "method": {"name": "bvp", "steps": 100, "refine": true, "atol": 1e-3, "rtol": 1e-9}})");
+  const RunOutcome run = Dvisim("run '" + scene + "' --out '" + Path("out") + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json summary = ReadSummary("out");
+  const nlohmann::json& grids = summary["newton"]["grids"];
+  ASSERT_GE(grids.size(), 3u);
+  EXPECT_LE(grids.back()["error_estimate"].get<double>(), 1e-3);
+  EXPECT_TRUE(grids.back()["refinement"].get<bool>());
+  EXPECT_EQ(summary["steps"], grids.back()["steps"]);
+}
+
+// x' = u, 0 ≤ u ⊥ 1 ≥ 0 (u = 0) with x(0) − x(T) = 1: no solution.
+TEST_F(DvisimRun, UnsolvableBoundaryValueVIExitsOneNamingIterationAndResidual) {
+  const std::string scene = Write("none.json", R"({"problem": {"type": "lcs", "A": [[0]],
+    "B": [[1]], "C": [[0]], "D": [[0]], "q": [1]},
+    "boundary": {"M": [[1]], "N": [[-1]], "b": [1]}, "horizon": 1})");
+  const RunOutcome run = Dvisim("run '" + scene + "' --out '" + Path("out") + "'");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_TRUE(Contains(run.err, "step-failure: the aggregate VI on 1000 steps")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "iteration")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "residual")) << run.err;
+  EXPECT_TRUE(Contains(run.err, "no files written")) << run.err;
+  EXPECT_TRUE(Listing("out").empty());
+}
+
+// Prop. 10.1's hypotheses are reported, not required: P^{11} < 0 makes
+// Ξ^1 indefinite; the game is solved, with a warning and the summary saying so.
+TEST_F(DvisimRun, NashSceneWithoutPropositionHypothesesRunsWithAWarning) {
+  const std::string scene = Write("nonconvex.json", NashScene("[[[-0.2]], [[-0.4]]]"));
+  const RunOutcome run = Dvisim("run '" + scene + "' --out '" + Path("out") + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(Contains(run.err, "warning: Prop. 10.1 does not hold: Xi^1 has eigenvalue -0.8"))
+      << run.err;
+  EXPECT_FALSE(ReadSummary("out")["nash"]["proposition_10_1"].get<bool>());
+}
+
+TEST_F(DvisimRun, BvpOverridesAreCheckedLikeTheFile) {
+  const std::string nash = Write("nash.json", NashScene("[[[-0.2]], [[0.5]]]"));
+  RunOutcome run = Dvisim("run '" + nash + "' --method event --out '" + Path("out") + "'");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_TRUE(Contains(run.err, "--method: \"event\" integrates from x0, but a nash scene"))
+      << run.err;
+  run = Dvisim("run '" + nash + "' --theta 0.5 --out '" + Path("out") + "'");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_TRUE(Contains(run.err, "--theta: does not apply to a nash scene")) << run.err;
+  const std::string lcs = Write("lcs.json", std::string(kTwoPointLcs) + "}");
+  run = Dvisim("run '" + lcs + "' --gamma 0.5 --out '" + Path("out") + "'");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_TRUE(Contains(run.err, "--gamma: not used by bvp")) << run.err;
+  run = Dvisim("run '" + lcs + "' --h 0.01 --out '" + Path("out") + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(ReadSummary("out")["steps"], 200);
+  EXPECT_TRUE(Listing("").size() > 0);
 }
 
 }  // namespace

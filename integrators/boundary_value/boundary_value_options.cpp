@@ -73,7 +73,7 @@ BoundaryValueScheme ParseBoundaryValueScheme(std::string_view name) {
   for (const BoundaryValueScheme scheme :
        {BoundaryValueScheme::kImplicit, BoundaryValueScheme::kImplicitExplicit})
     if (ToString(scheme) == name) return scheme;
-  throw InvalidInputError("scheme: unknown boundary-value scheme \"" + std::string(name) +
+  throw InvalidInputError("unknown boundary-value scheme \"" + std::string(name) +
                           "\" (expected 9.3 or 9.11)");
 }
 

@@ -302,6 +302,8 @@ NashSolution SolveNashGame(const LqNashGame& game, double horizon,
   out.hypotheses = game.CheckHypotheses();
   BoundaryValueSolution solution = internal::SolveAggregate(
       problem, options, "the scheme (a)-(e) of Sect. 10 (x implicit, lambda explicit)");
+  solution.diagnostics.text +=
+      "; the game needs no (9.5): Prop. 10.1 gives the discrete solution, Theorem 7.1 its limit";
   // The aggregate's state is z = (λ, x); the game reports x and λ apart.
   const int n = game.n();
   Trajectory& trajectory = solution.trajectory;

@@ -37,7 +37,7 @@ CLI::App* AddRunCommand(CLI::App& app, dvi::dvisim::RunCommand& command, std::st
   CLI::App* run = app.add_subcommand(
       "run", "Integrate a scene and write trajectory.csv, summary.json and plots");
   run->add_option("scene", command.scene_path, "The scene file (JSON)")->required();
-  run->add_option("--method", method, "auto, stepping or event (overrides method.name)");
+  run->add_option("--method", method, "auto, stepping, event or bvp (overrides method.name)");
   run->add_option("--out", out_dir, "Output directory (overrides output.dir)");
   run->add_option("--h", h, "Step size (overrides method.h)");
   run->add_option("--theta", theta, "Weight of the old state in f, in [0, 1] (0: backward Euler)");

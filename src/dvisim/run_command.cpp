@@ -18,6 +18,8 @@
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/projected_dynamics.hpp"
+#include "boundary_run.hpp"
+#include "boundary_scene.hpp"
 #include "plot.hpp"
 #include "scene_limits.hpp"
 #include "solve_command.hpp"
@@ -92,7 +94,8 @@ class SignalsDeferred {
 // Writes the files into a temporary directory beside dir, then moves them
 // in, so a reader never sees half an output; the temporary directory goes
 // away on every path, a signal's included.
-std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& trajectory) {
+std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& trajectory,
+                                      const BoundaryValueReport* report) {
   const SignalsDeferred deferred;
   const std::string& source = scene.output.dir_source;
   fs::path dir(scene.output.dir);
@@ -107,12 +110,15 @@ std::vector<std::string> WriteOutputs(const Scene& scene, const Trajectory& traj
     if (error || !fs::create_directory(temporary, error) || error)
       throw InputError(source + ": cannot create " + temporary.string() + " (" + error.message() +
                        ")");
-    WriteFile(temporary / "trajectory.csv", TrajectoryCsv(scene, trajectory), source);
-    WriteFile(temporary / "summary.json", SummaryJson(scene, trajectory).dump(2) + "\n", source);
+    WriteFile(temporary / "trajectory.csv", TrajectoryCsv(scene, trajectory, report), source);
+    WriteFile(temporary / "summary.json", SummaryJson(scene, trajectory, report).dump(2) + "\n",
+              source);
     std::vector<std::string> names{"trajectory.csv", "summary.json"};
     if (scene.output.plot) {
-      PlotRequest request{
-          scene.name.empty() ? scene.type : scene.name, scene.n, scene.output_multipliers, {}};
+      // A nash scene's lambda columns follow x in the upper panel.
+      const int lambdas = report && !report->adjoints.empty() ? scene.n : 0;
+      PlotRequest request{scene.name.empty() ? scene.type : scene.name, scene.n + lambdas,
+                          scene.output_multipliers, {}};
       for (const Event& event : trajectory.events) request.event_times.push_back(event.time);
       WritePlots(temporary.string(), request);
       names.insert(names.end(), {"plot.png", "plot.svg"});
@@ -179,6 +185,10 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
     out << "  time-stepping on " << IntervalCount(trajectory, "stepping")
         << " with h = " << Short(scene.stepping.h) << ", theta = " << Short(scene.stepping.theta)
         << ", gamma = " << Short(scene.stepping.gamma) << "\n";
+  if (UsedMethod(trajectory, "bvp"))
+    out << "  bvp: aggregate VI on " << stats.steps << " steps, " << stats.solver_iterations
+        << " Newton iterations on " << stats.vi_solves << (stats.vi_solves == 1 ? " grid" : " grids")
+        << ", residual " << Short(stats.max_residual) << "\n";
   out << "  " << stats.steps << " steps (" << stats.rejected_steps << " rejected), "
       << stats.vi_solves << " VI solves, " << trajectory.events.size() << " events, "
       << Short(stats.wall_seconds) << " s\n";
@@ -201,6 +211,8 @@ Trajectory IntegrateStepping(const Scene& scene, std::function<void(double t)> p
         if constexpr (std::is_same_v<Problem, FilippovSystem>) {
           return IntegrateTimeStepping(problem.ToSeparable(), scene.x0, 0.0, scene.horizon,
                                        options);
+        } else if constexpr (std::is_same_v<Problem, LqNashGame>) {
+          throw InputError(WhyNotMethod(scene, "stepping"));
         } else {
           return IntegrateTimeStepping(problem, scene.x0, 0.0, scene.horizon, options);
         }
@@ -220,6 +232,8 @@ Trajectory WithEventDrivenForm(const Scene& scene, Integrate integrate) {
         using Problem = std::decay_t<decltype(problem)>;
         if constexpr (std::is_same_v<Problem, FilippovSystem>) {
           return integrate(problem.ToSeparable().ToDvi());
+        } else if constexpr (std::is_same_v<Problem, LqNashGame>) {
+          throw InputError(WhyNotMethod(scene, "event"));
         } else if constexpr (std::is_same_v<Problem, ProjectedDynamics>) {
           problem.CheckInitialState(scene.x0);  // (2.10) itself does not need x0 ∈ K
           Trajectory trajectory = integrate(ProjectedDynamicsAsKkt(problem));
@@ -276,12 +290,11 @@ Trajectory IntegrateAutomatically(const Scene& scene, std::function<void(double 
 void ApplyOverrides(const RunCommand& command, Scene& scene) {
   if (command.method) {
     const std::string& name = *command.method;
-    if (name == "bvp")
-      throw InputError("--method: \"bvp\" is not available in this version (use auto, stepping "
-                       "or event)");
-    if (name != "auto" && name != "stepping" && name != "event")
+    if (name != "auto" && name != "stepping" && name != "event" && name != "bvp")
       throw InputError("--method: unknown method \"" + name +
-                       "\" (expected auto, stepping or event)");
+                       "\" (expected auto, stepping, event or bvp)");
+    if (const std::string why = WhyNotMethod(scene, name); !why.empty())
+      throw InputError("--method: " + why);
     if (name == "event") {
       const std::string why = WhyNotEventDriven(scene);
       if (!why.empty()) throw InputError("--method: " + EventDrivenMismatch(why));
@@ -304,8 +317,12 @@ void ApplyOverrides(const RunCommand& command, Scene& scene) {
       throw InputError("--h: expected a step in (0, horizon] = (0, " + Short(scene.horizon) +
                        "], got " + Short(*command.h));
     scene.stepping.h = *command.h;
+    scene.bvp.h = *command.h;
+    scene.bvp.steps = 0;
   }
   if (command.max_wall) scene.max_wall = *command.max_wall;  // checked by RunScene
+  if (command.gamma && RunsBoundaryValue(scene))
+    throw InputError("--gamma: not used by bvp (its schemes (9.3), (9.11) have no gamma)");
   for (const auto& [name, value, field] :
        {std::tuple{"--theta", command.theta, &scene.stepping.theta},
         std::tuple{"--gamma", command.gamma, &scene.stepping.gamma}}) {
@@ -314,17 +331,31 @@ void ApplyOverrides(const RunCommand& command, Scene& scene) {
       throw InputError(std::string(name) + ": expected a number in [0, 1], got " + Short(*value));
     *field = *value;
   }
+  if (command.theta) {
+    if (std::holds_alternative<LqNashGame>(scene.problem) && RunsBoundaryValue(scene))
+      throw InputError("--theta: does not apply to a nash scene: its scheme (a)-(e) of Sect. 10 "
+                       "fixes x implicit and lambda explicit");
+    scene.bvp.theta = *command.theta;
+  }
 }
 
 Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress) {
+  if (RunsBoundaryValue(scene)) {
+    BoundaryValueReport report;
+    return SolveBoundaryValueScene(scene, report);
+  }
   if (scene.method == "stepping") return IntegrateStepping(scene, std::move(progress));
   if (scene.method == "event") return IntegrateEvent(scene);
   return IntegrateAutomatically(scene, std::move(progress));
 }
 
-std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory) {
+std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory,
+                          const BoundaryValueReport* report) {
+  const VectorSamples* adjoints = report && !report->adjoints.empty() ? &report->adjoints : nullptr;
   std::string csv = "t";
   for (int i = 1; i <= scene.n; ++i) csv += ",x" + std::to_string(i);
+  if (adjoints)
+    for (int i = 1; i <= scene.n; ++i) csv += ",lambda" + std::to_string(i);
   for (int j = 1; j <= scene.output_multipliers; ++j) csv += ",u" + std::to_string(j);
   csv += "\n";
   const auto& times = trajectory.times;
@@ -336,6 +367,8 @@ std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory) {
     csv += Number(times[k]);
     for (Eigen::Index i = 0; i < trajectory.states[k].size(); ++i)
       csv += "," + Number(trajectory.states[k](i));
+    if (adjoints)
+      for (Eigen::Index i = 0; i < (*adjoints)[k].size(); ++i) csv += "," + Number((*adjoints)[k](i));
     const Eigen::VectorXd u = OutputMultiplier(scene, trajectory.multipliers[k]);
     for (Eigen::Index j = 0; j < u.size(); ++j) csv += "," + Number(u(j));
     csv += "\n";
@@ -343,7 +376,8 @@ std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory) {
   return csv;
 }
 
-nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& trajectory) {
+nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& trajectory,
+                                   const BoundaryValueReport* report) {
   nlohmann::ordered_json summary;
   summary["status"] = std::string(ToString(trajectory.status));
   summary["message"] = trajectory.message;
@@ -374,6 +408,7 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
     events.push_back({{"time", event.time},
                       {"kind", std::string(ToString(event.kind))},
                       {"index", event.index}});
+  if (report) AddBoundaryValueSummary(scene, *report, summary);
   summary["events"] = events;
   const IntegrationStats& stats = trajectory.stats;
   summary["stats"] = {{"steps", stats.steps},
@@ -430,9 +465,15 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
     if (!command.max_wall && scene.max_wall > 0)
       wall_limit.Arm(scene.max_wall, wall_message("method.max_wall", scene.max_wall));
     Trajectory trajectory;
+    std::optional<BoundaryValueReport> report;
     try {
-      trajectory = IntegrateScene(scene, command.progress_bar ? ProgressBar(err, scene.horizon)
-                                                              : std::function<void(double)>());
+      if (RunsBoundaryValue(scene)) {
+        report.emplace();
+        trajectory = SolveBoundaryValueScene(scene, *report);
+      } else {
+        trajectory = IntegrateScene(scene, command.progress_bar ? ProgressBar(err, scene.horizon)
+                                                                : std::function<void(double)>());
+      }
     } catch (const InvalidInputError& error) {
       // The integrators name their own argument: x0, a solver, or an option
       // ("scheme: 3.3 does not apply to projected dynamics"), which a scene
@@ -442,7 +483,8 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
       for (const std::string prefix : {"AutoOptions.event.", "AutoOptions.stepping."})
         if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
       const std::string option = what.substr(0, what.find_first_of(":(["));
-      for (const char* field : {"h", "theta", "gamma", "scheme", "h_max", "max_steps", "max_events"})
+      for (const char* field : {"h", "theta", "gamma", "scheme", "h_max", "max_steps", "max_events",
+                                "steps"})
         if (option == field) throw InputError(command.scene_path + ": method." + what);
       if (option == "output_times")
         throw InputError(command.scene_path + ": output (horizon, output.samples, output.times): " +
@@ -451,12 +493,15 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
     }
     wall_limit.Disarm();  // The files are written whole or not at all, never cut off.
     if (command.progress_bar) err << "\n";
+    if (report && report->hypotheses && !report->hypotheses->hold)
+      err << "dvisim: " << command.scene_path << ": warning: " << report->hypotheses->text << "\n";
     if (!trajectory.succeeded()) {
       err << "dvisim: " << command.scene_path << ": " << ToString(trajectory.status) << ": "
           << trajectory.message << " (no files written)\n";
       return kExitNumericalFailure;
     }
-    PrintSummary(scene, trajectory, WriteOutputs(scene, trajectory), out);
+    PrintSummary(scene, trajectory,
+                 WriteOutputs(scene, trajectory, report ? &*report : nullptr), out);
     return kExitSolved;
   } catch (const InputError& error) {
     err << "dvisim: " << error.what() << "\n";

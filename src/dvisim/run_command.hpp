@@ -8,6 +8,7 @@
 #include <string>
 
 #include "dvi/trajectory.hpp"
+#include "boundary_run.hpp"
 #include "scene_file.hpp"
 
 namespace dvi::dvisim {
@@ -16,7 +17,7 @@ namespace dvi::dvisim {
 /// [--max-wall SECONDS]`.
 struct RunCommand {
   std::string scene_path;
-  std::optional<std::string> method;   ///< auto, stepping or event; overrides method.name.
+  std::optional<std::string> method;   ///< auto, stepping, event or bvp; overrides method.name.
   std::optional<std::string> out_dir;  ///< Overrides output.dir.
   std::optional<double> h;
   std::optional<double> theta;
@@ -37,19 +38,24 @@ void ApplyOverrides(const RunCommand& command, Scene& scene);
 /// with dvi::IntegrateEventDriven (a filippov scene in f0/f1/h form as the
 /// Dvi of its separable DVI; a refusal, e.g. events accumulating, is the
 /// returned status), "auto" with dvi::IntegrateAuto (pds scenes, which it
-/// does not take, stepped throughout); each interval's reason says which
+/// does not take, stepped throughout; boundary and nash scenes by bvp),
+/// "bvp" with SolveBoundaryValueScene; each interval's reason says which
 /// method ran and why. `progress` is called by time-stepping only.
 /// @throws InvalidInputError when the library rejects the problem or x0.
 Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> progress = {});
 
 /// trajectory.csv: header t,x1..xn,u1..um, one row per sample; u holds s for
-/// filippov scenes in matrix form and ν for pds scenes (scene-format.md).
-std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory);
+/// filippov scenes in matrix form and ν for pds scenes (scene-format.md); a
+/// nash scene's report adds lambda1..lambdan after the x columns.
+std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory,
+                          const BoundaryValueReport* report = nullptr);
 
 /// summary.json: status, message, name, type, method (intervals), requested
 /// method, the parameters of the integrator that ran (h, theta, gamma for
 /// stepping; rtol, atol, ode for event), events, stats, x_final.
-nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& trajectory);
+/// A bvp run's report adds its fields (AddBoundaryValueSummary).
+nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& trajectory,
+                                   const BoundaryValueReport* report = nullptr);
 
 /// Runs the command; returns the exit code of solve_command.hpp: 0 success,
 /// 1 numerical failure (message naming time and step on `err`, no files),

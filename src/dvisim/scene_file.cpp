@@ -7,6 +7,7 @@
 #include <sstream>
 #include <utility>
 
+#include "boundary_scene.hpp"
 #include "dvi/error.hpp"
 #include "expression.hpp"
 #include "problem_file.hpp"
@@ -252,10 +253,10 @@ void ReadProblem(const json& problem, Scene& scene) {
   } else if (scene.type == "filippov") {
     ReadFilippov(problem, path, scene);
   } else if (scene.type == "nash") {
-    Fail(Field(path, "type"), "\"nash\" scenes are not supported yet");
+    ReadNash(problem, path, scene);
   } else {
-    Fail(Field(path, "type"),
-         "unknown type " + Describe(type) + " (expected lcs, dvi, box-dvi, pds or filippov)");
+    Fail(Field(path, "type"), "unknown type " + Describe(type) +
+                                  " (expected lcs, dvi, box-dvi, pds, filippov or nash)");
   }
 }
 
@@ -339,33 +340,38 @@ void ReadMethodFields(const json& method, Scene& scene) {
 void ReadMethod(const json* method, Scene& scene) {
   const std::string path = "method";
   scene.stepping.h = scene.horizon / kDefaultStepsPerHorizon;
+  scene.bvp.h = scene.stepping.h;
   if (!method) return;
   if (method->is_string()) {
     scene.method = method->get<std::string>();
   } else {
     RequireObject(*method, path);
-    RejectUnknownFields(*method, path,
-                        {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
-                         "h_max", "max_steps", "solver", "tol", "ode", "linear_solver", "max_events",
-                         "stepping_window", "max_handovers", "max_wall"});
     if (const json* name = FindField(*method, "name")) {
       if (!name->is_string())
         Fail(Field(path, "name"), "expected a string, got " + Describe(*name));
       scene.method = name->get<std::string>();
     }
+    if (!RunsBoundaryValue(scene))
+      RejectUnknownFields(*method, path,
+                          {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
+                           "h_max", "max_steps", "solver", "tol", "ode", "linear_solver",
+                           "max_events", "stepping_window", "max_handovers", "max_wall"});
   }
   const std::string name_path = method->is_string() ? path : Field(path, "name");
-  if (scene.method == "bvp")
-    Fail(name_path, "\"bvp\" is not available in this version (use \"auto\", \"stepping\" or "
-                    "\"event\")");
-  if (scene.method != "auto" && scene.method != "stepping" && scene.method != "event")
+  if (scene.method != "auto" && scene.method != "stepping" && scene.method != "event" &&
+      scene.method != "bvp")
     Fail(name_path,
-         "unknown method " + Describe(scene.method) + " (expected auto, stepping or event)");
+         "unknown method " + Describe(scene.method) + " (expected auto, stepping, event or bvp)");
+  if (const std::string why = WhyNotMethod(scene, scene.method); !why.empty()) Fail(name_path, why);
   if (scene.method == "event") {
     const std::string why = WhyNotEventDriven(scene);
     if (!why.empty()) Fail(name_path, EventDrivenMismatch(why));
   }
-  if (!method->is_string()) ReadMethodFields(*method, scene);
+  if (method->is_string()) return;
+  if (RunsBoundaryValue(scene))
+    ReadBoundaryValueMethod(*method, scene);
+  else
+    ReadMethodFields(*method, scene);
 }
 
 void ReadOutput(const json* output, Scene& scene) {
@@ -445,11 +451,9 @@ std::vector<double> OutputTimes(const Scene& scene) {
 Scene ParseScene(const std::string& text) {
   const json root = ParseJson(text);
   if (!root.is_object()) Fail("(file)", "expected a JSON object, got " + Describe(root));
-  if (FindField(root, "boundary"))
-    Fail("boundary", "boundary-value scenes are not supported yet (give \"x0\")");
   RejectUnknownFields(root, "",
-                      {"name", "description", "problem", "x0", "horizon", "method", "output",
-                       "exact", "study"});
+                      {"name", "description", "problem", "x0", "boundary", "horizon", "method",
+                       "output", "exact", "study"});
   Scene scene;
   if (const json* name = FindField(root, "name")) {
     if (!name->is_string()) Fail("name", "expected a string, got " + Describe(*name));
@@ -464,7 +468,21 @@ Scene ParseScene(const std::string& text) {
       description && !description->is_string())
     Fail("description", "expected a string, got " + Describe(*description));
   ReadProblem(RequireField(root, "problem", "(file)"), scene);
-  scene.x0 = ReadVector(RequireField(root, "x0", "(file)"), "x0", false, scene.n);
+  // x(0) = x0, or the two-point conditions of a boundary scene; a nash
+  // scene's players carry their own x0.
+  const json* x0 = FindField(root, "x0");
+  const json* boundary = FindField(root, "boundary");
+  if (std::holds_alternative<LqNashGame>(scene.problem)) {
+    for (const auto& [field, value] : {std::pair{"x0", x0}, std::pair{"boundary", boundary}})
+      if (value)
+        Fail(field, "a nash scene gives each player's x0 in problem.players (the game's own "
+                    "boundary conditions are x(0) = x0 and lambda(T) = c + W x(T))");
+  } else if (boundary) {
+    if (x0) Fail("x0", "a boundary scene gives \"boundary\" in place of \"x0\"; remove one");
+    scene.boundary = ReadBoundary(*boundary, scene.n);
+  } else {
+    scene.x0 = ReadVector(RequireField(root, "x0", "(file)"), "x0", false, scene.n);
+  }
   scene.horizon = ReadPositive(RequireField(root, "horizon", "(file)"), "horizon");
   if (scene.horizon < kMinHorizon)
     Fail("horizon", "is " + Describe(root["horizon"]) +

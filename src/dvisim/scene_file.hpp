@@ -9,9 +9,11 @@
 #include <vector>
 
 #include "dvi/auto_driver.hpp"
+#include "dvi/boundary_value.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/lcs.hpp"
+#include "dvi/nash_game.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/time_stepping.hpp"
 #include "exact_solution.hpp"
@@ -24,9 +26,10 @@ namespace dvi::dvisim {
 /// this version accepts, its extras and every default are in docs/scenes.md):
 ///
 ///   {"name": "...", "problem": {"type": "lcs" | "dvi" | "box-dvi" | "pds" |
-///    "filippov", ...}, "x0": [...], "horizon": T,
-///    "method": {"name": "auto" | "stepping" | "event", "h", "theta", "gamma",
-///    "rtol", "atol", ...},
+///    "filippov" | "nash", ...}, "x0": [...] or "boundary": {"M", "N", "b"},
+///    "horizon": T,
+///    "method": {"name": "auto" | "stepping" | "event" | "bvp", "h", "theta",
+///    "gamma", "rtol", "atol", ...},
 ///    "output": {"dir", "times", "samples", "plot"}}
 ///
 /// Unknown fields are errors, so a misspelt field never falls back silently
@@ -46,21 +49,25 @@ struct Scene {
   std::string type;  ///< problem.type as written.
   /// The problem in the library's types; FilippovSystem runs as its
   /// separable DVI.
-  std::variant<Lcs, Dvi, ProjectedDynamics, FilippovSystem> problem;
+  std::variant<Lcs, Dvi, ProjectedDynamics, FilippovSystem, LqNashGame> problem;
   /// The filippov matrix form: problem holds FilippovSignLcs(E, p), whose
   /// multiplier u = (v, x⁻) is reported as s = FilippovSignFromLcs(u).
   bool filippov_sign_lcs = false;
   int n = 0;                   ///< State dimension.
   int output_multipliers = 0;  ///< u columns of trajectory.csv (s for filippov, ν for pds).
-  Eigen::VectorXd x0;
+  Eigen::VectorXd x0;  ///< Empty in boundary and nash scenes.
+  /// A boundary scene's b = M x(0) + N x(T), given in place of x0.
+  std::optional<BoundaryConditions> boundary;
   double horizon = 0;
   /// "auto" (IntegrateAuto: event-driven where the state allows it,
   /// time-stepping over the intervals where it does not; pds scenes are
-  /// stepped throughout), "stepping" (IntegrateTimeStepping) or "event"
-  /// (IntegrateEventDriven).
+  /// stepped throughout; boundary and nash scenes solved by bvp), "stepping"
+  /// (IntegrateTimeStepping), "event" (IntegrateEventDriven) or "bvp"
+  /// (SolveBoundaryValue / SolveNashGame).
   std::string method = "auto";
   TimeSteppingOptions stepping;  ///< h, θ, γ and the extras, defaults resolved.
   EventDrivenOptions event;      ///< rtol, atol and the extras, defaults resolved.
+  BoundaryValueOptions bvp;      ///< h or steps, θ, scheme, tol, refinement (method bvp).
   /// auto's own options (AutoOptions): the time-stepping window relative
   /// to the horizon, and the limit on hand-overs to time-stepping.
   double stepping_window = AutoOptions().stepping_window;
