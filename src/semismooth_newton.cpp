@@ -667,8 +667,12 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
                                      ? kMaxBacktracks
                                      : kNaturalMapBacktracks;
 
-  Eigen::VectorXd f(m), phi(m), da(m), db(m), gradient(m), scratch(m), d(m);
-  Eigen::VectorXd z_trial(m), f_trial(m), phi_trial(m), natural_d(m);
+  // The vectors of the problem's size, each 24 MB at 3·10⁶ unknowns (a
+  // boundary-value VI of 10⁶ steps): d doubles as the scratch of the
+  // gradient and of the rounding floor, and the natural-map direction is
+  // solved again, not kept, where the FB direction fails after it.
+  Eigen::VectorXd f(m), phi(m), da(m), db(m), gradient(m), d(m);
+  Eigen::VectorXd z_trial(m), f_trial(m), phi_trial(m);
   std::vector<signed char> active(m);
 
   SolveResult result;
@@ -786,9 +790,9 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   // within the data's rounding floor (rounding_floor.hpp) is a solution.
   auto at_rounding_floor = [&] {
     if (!std::isfinite(residual) || !algebra.EvaluateJacobian(z, f)) return false;
-    scratch = f.cwiseAbs();
-    algebra.AddAbsJacobianTimes(z, scratch);
-    const double floor = internal::RoundingFloor(z, scratch);
+    d = f.cwiseAbs();
+    algebra.AddAbsJacobianTimes(z, d);
+    const double floor = internal::RoundingFloor(z, d);
     if (!(residual <= floor)) return false;
     rounding_floor = floor;
     return true;
@@ -829,14 +833,15 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
                                               std::to_string(iterations));
     }
     phi_map.EvaluateWithDerivatives(z, f, phi, da, db);
-    algebra.Gradient(da, db, phi, scratch, gradient);
+    algebra.Gradient(da, db, phi, d, gradient);
 
     // 1. The natural-map direction at the current active set.
     phi_map.ActiveSet(z, f, active);
     const std::vector<signed char>& current_active = active;
     double t = 0;
     bool relaxed_step = false;  // taken by the watchdog, without a merit test
-    double natural_slope = 0;  // < 0: natural_d is a descent direction
+    double natural_slope = 0;  // < 0: the natural-map direction is a descent direction
+    double natural_shift = 0;  // the shift it was solved with
     phi_map.StepToActiveBounds(z, current_active, d);
     bool natural = algebra.SolveNaturalMap(f, current_active, 0.0, d);
     if (!natural) {
@@ -848,6 +853,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       // [Yamashita–Fukushima 2001; Fan–Yuan 2005].
       phi_map.StepToActiveBounds(z, current_active, d);
       natural = algebra.SolveNaturalMap(f, current_active, residual, d);
+      natural_shift = residual;
     }
     if (natural) {
       const double slope = gradient.dot(d);
@@ -857,7 +863,6 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
                          kStagnationStep * (1.0 + z.lpNorm<Eigen::Infinity>());
       if (moves && IsDescent(slope, d)) {
         natural_slope = slope;
-        natural_d = d;
         t = line_search(slope, &current_active, natural_backtracks);
       } else if (moves && slope < 0) {
         t = quadratic_step(current_active);
@@ -893,8 +898,9 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       const double slope = newton ? gradient.dot(d) : 0.0;
       if (newton && IsDescent(slope, d)) t = line_search(slope, nullptr, kMaxBacktracks);
       if (t == 0 && natural_slope < 0 && natural_backtracks < kMaxBacktracks) {
-        d = natural_d;
-        t = line_search(natural_slope, &current_active, kMaxBacktracks);
+        phi_map.StepToActiveBounds(z, current_active, d);
+        if (algebra.SolveNaturalMap(f, current_active, natural_shift, d))
+          t = line_search(gradient.dot(d), &current_active, kMaxBacktracks);
       }
       if (t == 0) {
         d = -gradient;
@@ -951,7 +957,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
 }  // namespace
 
 SolveResult SolveNewton(const BoxMcp& mcp, const SolverOptions& options,
-                        const Eigen::VectorXd& warm_start) {
+                        Eigen::VectorXd warm_start) {
   const Clock::time_point start = Clock::now();
   options.Validate();
   mcp.Validate();
@@ -966,8 +972,9 @@ SolveResult SolveNewton(const BoxMcp& mcp, const SolverOptions& options,
     DVI_THROW_UNLESS(std::isfinite(warm_start(i)),
                      "warm_start(" << i << ") is " << warm_start(i));
   }
-  const bool warm_started = warm_start.size() == m;
-  Eigen::VectorXd z = warm_started ? warm_start : Eigen::VectorXd::Zero(m);
+  // The warm start becomes the first iterate in place (taken by value: a
+  // caller that moves it in keeps no second copy).
+  Eigen::VectorXd z = warm_start.size() == m ? std::move(warm_start) : Eigen::VectorXd::Zero(m);
   z = z.cwiseMax(mcp.lower).cwiseMin(mcp.upper);
 
   if ((mcp.sparse_jacobian || mcp.constant_jacobian) && options.allow_sparse) {

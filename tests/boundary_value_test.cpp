@@ -229,7 +229,7 @@ TEST(BoundaryValueLcs, AssembledMcpHoldsTheDiscreteEquations) {
   Eigen::VectorXd w(z.size());
   mcp.mcp.F(z, w);
   EXPECT_LE(BoxNaturalResidual(mcp.mcp.lower, mcp.mcp.upper, z, w), 1e-12);
-  EXPECT_EQ((*mcp.matrix * z + mcp.offset - w).lpNorm<Eigen::Infinity>(), 0.0);
+  EXPECT_EQ((*mcp.matrix * z + *mcp.offset - w).lpNorm<Eigen::Infinity>(), 0.0);
   // The step equation of step 7 for x2: x2^8 − x2^7 − h x1^8 = 0, and the
   // boundary rows x2^0 + x1^N = 0, x2^N = β, by hand.
   const double h = TwoPointLcs::kT / steps;

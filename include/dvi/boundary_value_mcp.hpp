@@ -54,7 +54,7 @@ struct BoundaryValueMcp {
   /// Jacobian. Otherwise matrix holds the constant entries and explicit
   /// zeros on the Jacobian's whole pattern.
   std::shared_ptr<const SparseMatrix> matrix;
-  Eigen::VectorXd offset;
+  std::shared_ptr<const Eigen::VectorXd> offset;
   bool affine = false;
 };
 

@@ -16,9 +16,10 @@ namespace dvi {
 /// Jacobian and options.allow_sparse (symbolic analysis done once per
 /// solve and reused by every iteration). Without any Jacobian, dense
 /// forward differences are used.
-/// warm_start (empty: the projection of 0 onto [l, u]) is the first iterate.
+/// warm_start (empty: the projection of 0 onto [l, u]) is the first iterate;
+/// a caller done with it may move it in (no copy is made then).
 /// @throws InvalidInputError from Validate(), or a wrong-size warm_start.
 SolveResult SolveNewton(const BoxMcp& mcp, const SolverOptions& options = {},
-                        const Eigen::VectorXd& warm_start = Eigen::VectorXd());
+                        Eigen::VectorXd warm_start = Eigen::VectorXd());
 
 }  // namespace dvi

@@ -126,7 +126,7 @@ struct AggregateData {
   RowPlacement placement;
   LiftedSet set;
   std::shared_ptr<const SparseMatrix> matrix;
-  Eigen::VectorXd offset;
+  std::shared_ptr<const Eigen::VectorXd> offset;
   std::shared_ptr<StepEquations> equations;
   int variables_per_step = 0;
   int dense_variables = 0;   // the nonlinear block's share of them
@@ -141,7 +141,7 @@ struct AggregateData {
 
   void Evaluate(const Eigen::VectorXd& z, Eigen::VectorXd& w) {
     w.noalias() = *matrix * z;
-    w += offset;
+    w += *offset;
     const int n = layout.n, m = layout.m;
     for (long s = 0; s < layout.steps; ++s) {
       if (equations) {
@@ -398,10 +398,11 @@ BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
   std::copy(values.begin(), values.end(), matrix->valuePtr());
   data->matrix = matrix;
 
-  data->offset = Eigen::VectorXd::Zero(size);
+  auto offset = std::make_shared<Eigen::VectorXd>(Eigen::VectorXd::Zero(size));
   for (long s = 0; s < steps; ++s)
-    for (int row = 0; row < n + k; ++row) data->offset(local_row(s, row)) += step.offset(row);
-  for (int r = 0; r < n; ++r) data->offset(boundary_row(r)) -= problem.conditions.b(r);
+    for (int row = 0; row < n + k; ++row) (*offset)(local_row(s, row)) += step.offset(row);
+  for (int r = 0; r < n; ++r) (*offset)(boundary_row(r)) -= problem.conditions.b(r);
+  data->offset = offset;
   data->buffer.resize(n + set.m);
   data->jacobian.resize(n + set.m, 2 * n + set.m);
 

@@ -86,7 +86,7 @@ class GridSolver {
       : problem_(problem), options_(options) {}
 
   // Newton on `steps` steps from `start` (empty: the projection of 0).
-  Grid Solve(long steps, const Eigen::VectorXd& start, bool refinement) {
+  Grid Solve(long steps, Eigen::VectorXd start, bool refinement) {
     const Clock::time_point begin = Clock::now();
     Grid grid{Assemble(problem_, steps), {}};
     // Counted for the statistics (rhs_evals).
@@ -100,7 +100,7 @@ class GridSolver {
     // instead of 3 on the coarsest grid of the two-point LCS).
     SolverOptions solver = options_.solver;
     if (start.size() == 0) solver.watchdog_steps = 0;
-    grid.result = SolveNewton(grid.mcp.mcp, solver, start);
+    grid.result = SolveNewton(grid.mcp.mcp, solver, std::move(start));
     grid.mcp.mcp.F = std::move(F);
     BoundaryValueGrid record;
     record.steps = steps;
@@ -121,8 +121,7 @@ class GridSolver {
     const long factor = options_.coarsening_factor;
     if (factor < 2 || steps <= options_.coarsest_steps) return {};
     const long coarse_steps = (steps + factor - 1) / factor;
-    const Eigen::VectorXd start = WarmStart(coarse_steps);
-    const Grid coarse = Solve(coarse_steps, start, false);
+    const Grid coarse = Solve(coarse_steps, WarmStart(coarse_steps), false);
     if (!coarse.result.solved()) {
       failed_warm_start_ = coarse_steps;
       return {};
