@@ -209,34 +209,44 @@ TEST(BoundaryValueLcs, RefinementBeyondMaxStepsIsReported) {
 }
 
 // The assembled MCP is the discrete problem itself: the solution's
-// residual there is at rounding level, and its rows are (9.14) and (9.4).
+// residual there is at rounding level, and its rows are (9.14) and (9.4),
+// checked by hand at every step — on grids of 1 to 3 steps (built column by
+// column) and of 40 (most blocks copied from one).
 TEST(BoundaryValueLcs, AssembledMcpHoldsTheDiscreteEquations) {
   const TwoPointLcs problem;
-  const long steps = 40;
-  const BoundaryValueMcp mcp =
-      AssembleBoundaryValueMcp(problem.lcs, problem.conditions(), TwoPointLcs::kT, steps);
-  EXPECT_TRUE(mcp.affine);
-  ASSERT_EQ(mcp.layout.size(), 2 + steps * 3);
-  const BoundaryValueSolution solution = SolveBoundaryValue(
-      problem.lcs, problem.conditions(), TwoPointLcs::kT, Steps(steps));
-  ASSERT_TRUE(solution.trajectory.succeeded());
-  // Rebuild z from the samples (every node is sampled) and check F.
-  Eigen::VectorXd z(mcp.layout.size());
-  for (long i = 0; i <= steps; ++i) {
-    z.segment(mcp.layout.State(i, 0), 2) = solution.trajectory.states[static_cast<std::size_t>(i)];
-    if (i > 0) z(mcp.layout.Multiplier(i, 0)) = solution.trajectory.multipliers[static_cast<std::size_t>(i)](0);
+  // Backward Euler's residuals are sums of O(1) terms: rounding level.
+  constexpr double kRowTolerance = 1e-13;
+  for (const long steps : {1L, 2L, 3L, 40L}) {
+    const BoundaryValueMcp mcp =
+        AssembleBoundaryValueMcp(problem.lcs, problem.conditions(), TwoPointLcs::kT, steps);
+    EXPECT_TRUE(mcp.affine);
+    ASSERT_EQ(mcp.layout.size(), 2 + steps * 3);
+    const BoundaryValueSolution solution = SolveBoundaryValue(
+        problem.lcs, problem.conditions(), TwoPointLcs::kT, Steps(steps));
+    ASSERT_TRUE(solution.trajectory.succeeded()) << steps << ": " << solution.trajectory.message;
+    // Every node is sampled: rebuild z and check F against the matrix.
+    const auto x = [&](long i, int j) { return solution.trajectory.states[static_cast<std::size_t>(i)](j); };
+    const auto u = [&](long i) { return solution.trajectory.multipliers[static_cast<std::size_t>(i)](0); };
+    Eigen::VectorXd z(mcp.layout.size());
+    for (long i = 0; i <= steps; ++i) {
+      z.segment(mcp.layout.State(i, 0), 2) = solution.trajectory.states[static_cast<std::size_t>(i)];
+      if (i > 0) z(mcp.layout.Multiplier(i, 0)) = u(i);
+    }
+    Eigen::VectorXd w(z.size());
+    mcp.mcp.F(z, w);
+    EXPECT_LE(BoxNaturalResidual(mcp.mcp.lower, mcp.mcp.upper, z, w), 1e-12);
+    EXPECT_EQ((*mcp.matrix * z + *mcp.offset - w).lpNorm<Eigen::Infinity>(), 0.0);
+    const double h = TwoPointLcs::kT / static_cast<double>(steps);
+    for (long i = 0; i < steps; ++i) {
+      EXPECT_NEAR(x(i + 1, 0) - x(i, 0) - h * (-x(i + 1, 0) - 1 + u(i + 1)), 0, kRowTolerance);
+      EXPECT_NEAR(x(i + 1, 1) - x(i, 1) - h * x(i + 1, 0), 0, kRowTolerance);
+      EXPECT_GE(u(i + 1), 0);
+      EXPECT_GE(x(i + 1, 0), -kRowTolerance);
+      EXPECT_NEAR(std::min(u(i + 1), x(i + 1, 0)), 0, kRowTolerance);
+    }
+    EXPECT_NEAR(x(0, 1) + x(steps, 0), 0, kRowTolerance);
+    EXPECT_NEAR(x(steps, 1), problem.beta, kRowTolerance);
   }
-  Eigen::VectorXd w(z.size());
-  mcp.mcp.F(z, w);
-  EXPECT_LE(BoxNaturalResidual(mcp.mcp.lower, mcp.mcp.upper, z, w), 1e-12);
-  EXPECT_EQ((*mcp.matrix * z + *mcp.offset - w).lpNorm<Eigen::Infinity>(), 0.0);
-  // The step equation of step 7 for x2: x2^8 − x2^7 − h x1^8 = 0, and the
-  // boundary rows x2^0 + x1^N = 0, x2^N = β, by hand.
-  const double h = TwoPointLcs::kT / steps;
-  const auto x = [&](long i, int j) { return z(mcp.layout.State(i, j)); };
-  EXPECT_NEAR(x(8, 1) - x(7, 1) - h * x(8, 0), 0, 1e-14);
-  EXPECT_NEAR(x(0, 1) + x(steps, 0), 0, 1e-14);
-  EXPECT_NEAR(x(steps, 1), problem.beta, 1e-14);
 }
 
 // ---------------------------------------------------------------------------
