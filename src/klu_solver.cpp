@@ -12,6 +12,12 @@ namespace {
 // stability) and a fresh factorization with partial pivoting is cheaper
 // than a useless Newton direction.
 constexpr double kRefactorPivotDrop = 1e-3;
+// Without AMD's count KLU sizes L + U at first as initmem·nnz(A) (10 by
+// default) and grows it as needed. The banded aggregate VIs of
+// boundary-value problems fill 1.6 (LCS) to 2.3 (game) times nnz(A) in
+// their own order; 10× reserved 6.2 GB of address space for the game at
+// 10⁶ steps (1.1 GB used), which a machine without overcommit refuses.
+constexpr double kGivenOrderInitialMemory = 4;
 
 // KLU's C interface takes non-const pointers for inputs it only reads
 // ("inputs, not modified" in klu.h), hence the casts below.
@@ -51,6 +57,9 @@ bool KluSolver::Analyze(const Matrix& A, bool given_order) {
   Release();
   const int n = static_cast<int>(A.rows());
   common_.btf = given_order ? 0 : 1;
+  klu_common defaults;
+  klu_defaults(&defaults);
+  common_.initmem = given_order ? kGivenOrderInitialMemory : defaults.initmem;
   // klu_analyze_given with no permutations keeps the identity order.
   symbolic_ = given_order ? klu_analyze_given(n, Pointers(A), Indices(A), nullptr, nullptr, &common_)
                           : klu_analyze(n, Pointers(A), Indices(A), &common_);
