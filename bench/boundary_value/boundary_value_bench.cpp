@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: Apache-2.0
+// dvi's side of the boundary-value benchmark (README.md): solves one problem
+// on N steps — the aggregate VI with its warm-start ladder, as
+// SolveBoundaryValue / SolveNashGame run it — and prints one line of JSON:
+// wall and CPU time (each the best of `repeat` solves; on a shared machine
+// the CPU time shows the work where the wall time also shows the queue),
+// Newton iterations on the finest grid and in all, the finest residual,
+// unknowns, nonzeros and the process's peak RSS. One process per N, so that
+// the peak is this N's.
+#include <sys/resource.h>
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "bench_problems.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app("dvi's aggregate-VI solve of a boundary-value benchmark problem");
+  std::string name = "lcs";
+  long steps = 1000;
+  int repeat = 1;
+  app.add_option("--problem", name, "lcs or game")->check(CLI::IsMember({"lcs", "game"}));
+  app.add_option("--steps", steps, "N, the number of steps")->check(CLI::PositiveNumber);
+  app.add_option("--repeat", repeat, "solves timed; the best counts")->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+
+  const dvi::bench::BenchProblem problem = dvi::bench::MakeBenchProblem(name);
+  dvi::BoundaryValueOptions options;
+  options.steps = steps;
+  options.output_times = {0.0, problem.horizon};  // a solve, not an output run
+  double best = std::numeric_limits<double>::infinity();
+  double best_cpu = std::numeric_limits<double>::infinity();
+  const auto cpu_seconds = [] {
+    timespec now{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+  };
+  dvi::BoundaryValueSolution solution;
+  for (int k = 0; k < repeat; ++k) {
+    const double cpu_start = cpu_seconds();
+    const auto start = std::chrono::steady_clock::now();
+    solution = problem.is_game
+                   ? dvi::SolveNashGame(problem.game, problem.horizon, options).solution
+                   : dvi::SolveBoundaryValue(problem.lcs, problem.conditions, problem.horizon,
+                                             options);
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                              .count());
+    best_cpu = std::min(best_cpu, cpu_seconds() - cpu_start);
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const dvi::BoundaryValueStats& newton = solution.newton;
+  std::printf(
+      "{\"solver\": \"dvi\", \"problem\": \"%s\", \"steps\": %ld, \"status\": \"%s\", "
+      "\"seconds\": %.6f, \"cpu_seconds\": %.6f, \"iterations\": %d, \"total_iterations\": %d, \"grids\": %zu, "
+      "\"residual\": %.3e, \"unknowns\": %ld, \"nonzeros\": %ld, \"peak_rss_mb\": %.1f}\n",
+      name.c_str(), steps, std::string(dvi::ToString(solution.trajectory.status)).c_str(), best, best_cpu,
+      newton.iterations, newton.total_iterations, newton.grids.size(), newton.residual,
+      newton.unknowns, newton.nonzeros, static_cast<double>(usage.ru_maxrss) / 1024.0);
+  return solution.trajectory.succeeded() ? 0 : 1;
+}
