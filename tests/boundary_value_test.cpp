@@ -88,6 +88,10 @@ TEST(BoundaryValueLcs, TwoPointSwitchConvergesAtFirstOrder) {
     ASSERT_TRUE(solution.trajectory.succeeded()) << solution.trajectory.message;
     const Trajectory& trajectory = solution.trajectory;
     EXPECT_LE(solution.newton.residual, 1e-10);
+    // Every row is checked against the VI (Certificate), at every node here.
+    EXPECT_TRUE(trajectory.certificate.evaluated);
+    EXPECT_EQ(trajectory.certificate.vi.checked, steps + 1);
+    EXPECT_LE(trajectory.certificate.vi.ratio, 1.0);
     steps_sizes.push_back(TwoPointLcs::kT / static_cast<double>(steps));
     state_errors.push_back(MaxError(trajectory, [&](double t) { return problem.State(t); }));
     start_errors.push_back(std::abs(trajectory.states.front()(0) - TwoPointLcs::kA));

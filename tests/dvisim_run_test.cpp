@@ -1206,6 +1206,8 @@ TEST_F(DvisimRun, PeriodicRectifierExampleIsPeriodicAndSaysMPlusNIsSingular) {
   EXPECT_TRUE(summary["boundary"]["m_plus_n_singular"].get<bool>());
   EXPECT_EQ(summary["boundary"]["condition_9_5"], "not-applicable");
   EXPECT_LE(summary["newton"]["residual"].get<double>(), 1e-10);
+  EXPECT_TRUE(summary["certificate"]["certified"].get<bool>());
+  EXPECT_GT(summary["certificate"]["vi_residual"]["checked"].get<long>(), 400);
   // The diode conducts on one interval: it starts and stops once.
   EXPECT_EQ(summary["events"].size(), 2u);
 }

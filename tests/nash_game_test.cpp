@@ -252,6 +252,10 @@ TEST(NashGame, UnconstrainedGameMatchesItsMatrixExponentialAtFirstOrder) {
     const NashSolution solution = SolveNashGame(game, scalar.T, Steps(steps));
     ASSERT_TRUE(solution.solution.trajectory.succeeded()) << solution.solution.trajectory.message;
     EXPECT_TRUE(solution.hypotheses.hold) << solution.hypotheses.text;
+    // The rows are checked against (4.5)'s VI where (c) solved it: λ^{h,i}
+    // with x^{h,i+1} (Certificate).
+    EXPECT_TRUE(solution.solution.trajectory.certificate.evaluated);
+    EXPECT_LE(solution.solution.trajectory.certificate.vi.ratio, 1.0);
     finest = Errors(solution, reference);
     step_sizes.push_back(scalar.T / static_cast<double>(steps));
     x_errors.push_back(finest.x);

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include "certify.hpp"
 #include "dvi/boundary_value_mcp.hpp"
 #include "kkt_decomposition.hpp"
 
@@ -69,6 +70,15 @@ struct AggregateProblem {
   double horizon = 0;
   std::shared_ptr<const AffineStep> affine;  ///< Exactly one of affine and
   std::shared_ptr<StepEquations> equations;  ///< equations is set.
+  /// Checks the output rows against the VI of the (unlifted) problem in its
+  /// state, for the run's Certificate; null leaves the run uncertified.
+  std::shared_ptr<RowCertifier> certifier;
+  /// Where step i's VI was solved, for the certificate: at the state
+  /// η∘x^i + (1−η)∘x^{i+1} (η per component, empty meaning 0: (9.3); 1:
+  /// (9.11); 1 on λ, 0 on x: the game's (c)) and at t_i when
+  /// vi_at_old_time ((9.11)), else t_{i+1}.
+  Eigen::VectorXd vi_weight;
+  bool vi_at_old_time = false;
 };
 
 /// The aggregate MCP on `steps` steps (boundary_value_mcp.hpp).

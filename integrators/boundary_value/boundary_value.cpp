@@ -61,7 +61,9 @@ internal::AggregateProblem LcsProblem(const Lcs& lcs, const BoundaryConditions& 
   problem.set = Lift(lcs.K, "Lcs.K");
   problem.conditions = conditions;
   problem.horizon = horizon;
+  problem.vi_weight = step->eta;
   problem.affine = std::move(step);
+  problem.certifier = std::make_shared<internal::RowCertifier>(lcs, options.solver);
   return problem;
 }
 
@@ -105,6 +107,11 @@ internal::AggregateProblem SeparableProblem(const SeparableDvi& dvi,
   problem.horizon = horizon;
   problem.equations = internal::MakeSeparableStep(
       dvi, options.theta, options.scheme == BoundaryValueScheme::kImplicitExplicit);
+  problem.certifier = std::make_shared<internal::RowCertifier>(dvi.ToDvi(), options.solver);
+  if (options.scheme == BoundaryValueScheme::kImplicitExplicit) {
+    problem.vi_weight = Eigen::VectorXd::Ones(dvi.n);
+    problem.vi_at_old_time = true;
+  }
   return problem;
 }
 
@@ -120,6 +127,11 @@ internal::AggregateProblem DviProblem(const Dvi& dvi, const BoundaryConditions& 
   problem.horizon = horizon;
   problem.equations = internal::MakeDviStep(
       dvi, options.theta, options.scheme == BoundaryValueScheme::kImplicitExplicit);
+  problem.certifier = std::make_shared<internal::RowCertifier>(dvi, options.solver);
+  if (options.scheme == BoundaryValueScheme::kImplicitExplicit) {
+    problem.vi_weight = Eigen::VectorXd::Ones(dvi.n);
+    problem.vi_at_old_time = true;
+  }
   return problem;
 }
 

@@ -192,9 +192,15 @@ std::vector<Event> ModeChanges(const Grid& grid, const LiftedSet& set) {
 }
 
 // x̂ᴴ and ûᴴ at the output times, the event times, 0 and T (every node when
-// no output time is asked for).
-void Sample(const Grid& grid, const LiftedSet& set, const std::vector<double>& output_times,
-            Trajectory& trajectory) {
+// no output time is asked for), each row checked against the VI when the
+// problem has a certifier: a row of step i (x̂ᴴ between x^i and x^{i+1},
+// u^{i+1}) may be off its VI by as far as F moves from the row to where the
+// scheme solved it (AggregateProblem::vi_weight), and across the step, as
+// for time-stepping (Certificate).
+void Sample(const Grid& grid, const AggregateProblem& problem,
+            const std::vector<double>& output_times, Trajectory& trajectory) {
+  const LiftedSet& set = problem.set;
+  RowCertifier* certifier = problem.certifier.get();
   const BoundaryValueLayout& layout = grid.mcp.layout;
   const double h = grid.mcp.h, horizon = grid.mcp.horizon;
   std::vector<double> times;
@@ -215,10 +221,14 @@ void Sample(const Grid& grid, const LiftedSet& set, const std::vector<double>& o
   const Eigen::VectorXd& z = grid.result.z;
   trajectory.states.reserve(times.size(), layout.n);
   trajectory.multipliers.reserve(times.size(), set.m);
+  Eigen::VectorXd x_old, x_new, x_vi, x_other, u_next;
+  const Eigen::VectorXd eta = problem.vi_weight.size() == layout.n
+                                  ? problem.vi_weight
+                                  : Eigen::VectorXd::Zero(layout.n);
   for (const double t : times) {
     const double s = t / h;
     const long node = std::lround(s);
-    long step = 0;  // ũ^{step} is u's value at t
+    long step = 0;  // the row belongs to the step ending at t_step: ũ^{step} is u at t
     if (std::abs(s - static_cast<double>(node)) <= kNodeFraction) {
       trajectory.states.push_back(z.segment(layout.State(node, 0), layout.n));
       step = std::max(node, 1L);
@@ -231,6 +241,16 @@ void Sample(const Grid& grid, const LiftedSet& set, const std::vector<double>& o
     }
     trajectory.multipliers.push_back(z.segment(layout.Multiplier(step, 0), set.m));
     trajectory.times.push_back(t);
+    if (!certifier) continue;
+    x_old = z.segment(layout.State(step - 1, 0), layout.n);
+    x_new = z.segment(layout.State(step, 0), layout.n);
+    x_vi = eta.cwiseProduct(x_old) + (1 - eta.array()).matrix().cwiseProduct(x_new);
+    x_other = eta.cwiseProduct(x_new) + (1 - eta.array()).matrix().cwiseProduct(x_old);
+    u_next = z.segment(layout.Multiplier(step, 0), set.m);
+    const double t_vi = static_cast<double>(problem.vi_at_old_time ? step - 1 : step) * h;
+    const RowCertifier::Step row_step{t_vi, &x_other, &x_vi, &u_next};
+    certifier->Check(t, trajectory.states.back(), trajectory.multipliers.back(),
+                     {0, 0, &row_step}, trajectory.certificate.vi);
   }
 }
 
@@ -395,7 +415,7 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
   counts.max_residual = grid.result.residual;
   if (trajectory.status != IntegrationStatus::kStepFailure) {
     trajectory.events = ModeChanges(grid, problem.set);
-    Sample(grid, problem.set, options.output_times, trajectory);
+    Sample(grid, problem, options.output_times, trajectory);
     solution.diagnostics = Diagnose(problem.conditions, grid);
     std::ostringstream reason;
     reason << "boundary-value problem: aggregate VI (9.2)-(9.4) of " << describe << " on "
@@ -408,6 +428,13 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
     if (options.refine && trajectory.succeeded())
       reason << "; refined to an estimated error of " << Format(stats.grids.back().error_estimate);
     trajectory.intervals.push_back({0, problem.horizon, "bvp", reason.str()});
+  }
+  if (problem.certifier) {
+    std::ostringstream basis;
+    basis << "boundary-value: VI residual <= " << Certificate::kViSafety
+          << "·(Newton's tolerance " << options.solver.tolerance
+          << " + how far F moves between the row and its step's end) at every row";
+    ConcludeCertificate(basis.str(), trajectory);
   }
   counts.wall_seconds = Seconds(begin);
   return solution;

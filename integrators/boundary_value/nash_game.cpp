@@ -81,7 +81,8 @@ std::string Number(double value) {
   return text.str();
 }
 
-internal::AggregateProblem GameProblem(const LqNashGame& game, double horizon) {
+internal::AggregateProblem GameProblem(const LqNashGame& game, double horizon,
+                                       const SolverOptions& solver) {
   game.Validate();
   const NashDavi davi = game.Davi();
   const int n = game.n();
@@ -113,6 +114,11 @@ internal::AggregateProblem GameProblem(const LqNashGame& game, double horizon) {
   conditions.b.resize(2 * n);
   conditions.b << davi.c, davi.x0;
   problem.horizon = horizon;
+  // The rows are checked against (4.5)'s VI in z = (λ, x).
+  Lcs davi_lcs = Lcs::Sparse(step->A, step->B, step->C, step->D, step->p, step->q);
+  davi_lcs.K = davi.U;
+  problem.certifier = std::make_shared<internal::RowCertifier>(davi_lcs, solver);
+  problem.vi_weight = step->eta;
   problem.affine = std::move(step);
   return problem;
 }
@@ -297,7 +303,7 @@ NashSolution SolveNashGame(const LqNashGame& game, double horizon,
                    "theta: the game's scheme (a)-(e) of Sect. 10 fixes x implicit and lambda "
                    "explicit; theta must be 0 and scheme 9.3 (got theta = "
                        << options.theta << ", scheme " << ToString(options.scheme) << ")");
-  const internal::AggregateProblem problem = GameProblem(game, horizon);
+  const internal::AggregateProblem problem = GameProblem(game, horizon, options.solver);
   NashSolution out;
   out.hypotheses = game.CheckHypotheses();
   BoundaryValueSolution solution = internal::SolveAggregate(
@@ -320,7 +326,7 @@ NashSolution SolveNashGame(const LqNashGame& game, double horizon,
 }
 
 BoundaryValueMcp AssembleNashGameMcp(const LqNashGame& game, double horizon, long steps) {
-  return internal::Assemble(GameProblem(game, horizon), steps);
+  return internal::Assemble(GameProblem(game, horizon, SolverOptions()), steps);
 }
 
 }  // namespace dvi
