@@ -389,6 +389,54 @@ TEST(BoundaryValueInput, ConditionsOfTheWrongSizeOrRankAreNamed) {
   ExpectThrowNaming([&] { SolveBoundaryValue(problem.lcs, bc, 2, Steps(10)); }, "rank 1 < n = 2");
 }
 
+// Conditions are invariant under scaling a row of [M N | b]; rows near the
+// overflow threshold (M + N = inf before the rows were equilibrated, a
+// crash in the (9.5) diagnostics) and near underflow give the same grid
+// solution as rows of order one.
+TEST(BoundaryValueInput, ScaledConditionRowsGiveTheSameSolution) {
+  const TwoPointLcs problem;
+  const BoundaryValueSolution reference =
+      SolveBoundaryValue(problem.lcs, problem.conditions(), TwoPointLcs::kT, Steps(200));
+  ASSERT_TRUE(reference.trajectory.succeeded()) << reference.trajectory.message;
+  for (const double scale : {1e300, 1e-300}) {
+    BoundaryConditions bc = problem.conditions();
+    bc.M.row(0) *= scale;
+    bc.N.row(0) *= scale;
+    bc.b(0) *= scale;
+    bc.M.row(1) *= 1 / scale;
+    bc.N.row(1) *= 1 / scale;
+    bc.b(1) *= 1 / scale;
+    const BoundaryValueSolution scaled =
+        SolveBoundaryValue(problem.lcs, bc, TwoPointLcs::kT, Steps(200));
+    ASSERT_TRUE(scaled.trajectory.succeeded()) << scale << ": " << scaled.trajectory.message;
+    EXPECT_NEAR(scaled.diagnostics.kappa, reference.diagnostics.kappa, 1e-12);
+    ASSERT_EQ(scaled.trajectory.times.size(), reference.trajectory.times.size());
+    for (std::size_t k = 0; k < scaled.trajectory.times.size(); ++k)
+      EXPECT_NEAR((scaled.trajectory.states[k] - reference.trajectory.states[k]).lpNorm<Eigen::Infinity>(),
+                  0, 1e-12);
+  }
+  // b too large for its row's scale cannot be represented once scaled.
+  BoundaryConditions bc = problem.conditions();
+  bc.M.row(1) *= 1e-300;
+  bc.N.row(1) *= 1e-300;
+  bc.b(1) = 1e300;
+  ExpectThrowNaming([&] { SolveBoundaryValue(problem.lcs, bc, TwoPointLcs::kT, Steps(10)); },
+                    "boundary.b[1]");
+}
+
+// Every grid is held at once: a first grid beyond max_steps is refused
+// before anything is allocated, refining or not.
+TEST(BoundaryValueInput, FirstGridBeyondMaxStepsIsRefused) {
+  const TwoPointLcs problem;
+  BoundaryValueOptions options = Steps(1000000000000L);
+  ExpectThrowNaming([&] { SolveBoundaryValue(problem.lcs, problem.conditions(), 2, options); },
+                    "max_steps");
+  options = BoundaryValueOptions();
+  options.h = 1e-13;
+  ExpectThrowNaming([&] { SolveBoundaryValue(problem.lcs, problem.conditions(), 2, options); },
+                    "max_steps");
+}
+
 TEST(BoundaryValueInput, OptionsOutOfRangeAreNamed) {
   const TwoPointLcs problem;
   BoundaryValueOptions options = Steps(10);

@@ -31,8 +31,9 @@ struct BoundaryConditions {
 
   /// @throws InvalidInputError naming M, N or b: a size other than n×n, n×n
   /// and n for the problem's state dimension n; a non-finite entry (with its
-  /// row and column); or rank [M N] < n (conditions that repeat or contradict
-  /// each other, so no solution is unique whatever the dynamics).
+  /// row and column); or rank [M N] < n, each row scaled to a largest entry
+  /// of 1 (conditions that repeat or contradict each other, so no solution
+  /// is unique whatever the dynamics).
   void Validate(int n) const;
 };
 
@@ -96,7 +97,8 @@ struct BoundaryValueOptions {
   /// of ‖x_h − x_{2h}‖∞ / (2ᵖ − 1) (p the observed order, clamped to
   /// [1/2, 2] once three grids give it, 1 before), is at most
   /// atol + rtol·max ‖x‖∞. A grid beyond max_steps stops the refinement with
-  /// kMaxSteps.
+  /// kMaxSteps; a first grid beyond it is refused (InvalidInputError), as
+  /// every grid is held in memory at once.
   bool refine = false;
   double rtol = 1e-3;
   double atol = 1e-6;

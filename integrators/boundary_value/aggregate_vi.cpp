@@ -293,6 +293,23 @@ RowPlacement PlaceBoundaryRows(const BoundaryConditions& conditions) {
   return placement;
 }
 
+BoundaryConditions EquilibrateRows(const BoundaryConditions& conditions) {
+  BoundaryConditions scaled = conditions;
+  for (Eigen::Index r = 0; r < conditions.M.rows(); ++r) {
+    const double scale = std::max(conditions.M.row(r).cwiseAbs().maxCoeff(),
+                                  conditions.N.row(r).cwiseAbs().maxCoeff());
+    if (scale == 0) continue;  // Validate refuses such a row (rank [M N] < n)
+    scaled.M.row(r) /= scale;
+    scaled.N.row(r) /= scale;
+    scaled.b(r) /= scale;
+    DVI_THROW_UNLESS(std::isfinite(scaled.b(r)),
+                     "boundary.b[" << r << "] = " << conditions.b(r)
+                                   << " is too large for its row of [M N], whose largest entry is "
+                                   << scale << ": the condition overflows");
+  }
+  return scaled;
+}
+
 BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
   DVI_THROW_UNLESS(steps >= 1, "steps: " << steps << " must be at least 1");
   DVI_THROW_UNLESS(std::isfinite(problem.horizon) && problem.horizon > 0,

@@ -81,6 +81,14 @@ struct AggregateProblem {
   bool vi_at_old_time = false;
 };
 
+/// The same conditions (9.1) with each row of [M N | b] divided by its
+/// largest entry in [M N]: entries of order one, like the step rows', so that
+/// M + N, the boundary rows' residuals and KLU's pivots stay finite (entries
+/// near the overflow threshold would otherwise make M + N infinite).
+/// @throws InvalidInputError naming boundary.b[r] when b_r is too large for
+/// its row's scale to be represented.
+BoundaryConditions EquilibrateRows(const BoundaryConditions& conditions);
+
 /// The aggregate MCP on `steps` steps (boundary_value_mcp.hpp).
 BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps);
 

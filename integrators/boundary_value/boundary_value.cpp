@@ -59,7 +59,7 @@ internal::AggregateProblem LcsProblem(const Lcs& lcs, const BoundaryConditions& 
   internal::AggregateProblem problem;
   problem.n = lcs.n();
   problem.set = Lift(lcs.K, "Lcs.K");
-  problem.conditions = conditions;
+  problem.conditions = internal::EquilibrateRows(conditions);
   problem.horizon = horizon;
   problem.vi_weight = step->eta;
   problem.affine = std::move(step);
@@ -103,7 +103,7 @@ internal::AggregateProblem SeparableProblem(const SeparableDvi& dvi,
   internal::AggregateProblem problem;
   problem.n = dvi.n;
   problem.set = Lift(dvi.K, "SeparableDvi.K");
-  problem.conditions = conditions;
+  problem.conditions = internal::EquilibrateRows(conditions);
   problem.horizon = horizon;
   problem.equations = internal::MakeSeparableStep(
       dvi, options.theta, options.scheme == BoundaryValueScheme::kImplicitExplicit);
@@ -123,7 +123,7 @@ internal::AggregateProblem DviProblem(const Dvi& dvi, const BoundaryConditions& 
   internal::AggregateProblem problem;
   problem.n = dvi.n;
   problem.set = Lift(dvi.K, "Dvi.K");
-  problem.conditions = conditions;
+  problem.conditions = internal::EquilibrateRows(conditions);
   problem.horizon = horizon;
   problem.equations = internal::MakeDviStep(
       dvi, options.theta, options.scheme == BoundaryValueScheme::kImplicitExplicit);
@@ -141,7 +141,7 @@ BoundaryValueSolution SolveBoundaryValue(const Lcs& lcs, const BoundaryCondition
                                          double horizon, const BoundaryValueOptions& options) {
   options.Validate();
   const internal::AggregateProblem problem = LcsProblem(lcs, conditions, horizon, options);
-  CheckLinearPart(lcs, conditions, horizon, internal::ResolveSteps(options, horizon),
+  CheckLinearPart(lcs, problem.conditions, horizon, internal::ResolveSteps(options, horizon),
                   options.theta);
   return internal::SolveAggregate(problem, options, Describe(options));
 }

@@ -48,8 +48,12 @@ void BoundaryConditions::Validate(int n) const {
   CheckEntries(N, "N");
   for (Eigen::Index i = 0; i < b.size(); ++i)
     DVI_THROW_UNLESS(std::isfinite(b(i)), "boundary.b[" << i << "] = " << b(i) << " is not finite");
+  // The rank of the conditions, not of their scaling: each row of [M N]
+  // equilibrated to a largest entry of 1 first.
   Eigen::MatrixXd both(n, 2 * n);
   both << M, N;
+  for (Eigen::Index r = 0; r < n; ++r)
+    if (const double scale = both.row(r).cwiseAbs().maxCoeff(); scale > 0) both.row(r) /= scale;
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(both);
   const Eigen::VectorXd& sigma = svd.singularValues();
   int rank = 0;

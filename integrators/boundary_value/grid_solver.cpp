@@ -327,7 +327,7 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
                    "horizon: " << problem.horizon << " is not a positive final time");
   internal::CheckOutputTimesWithin(options.output_times, 0, problem.horizon);
   const long first_steps = ResolveSteps(options, problem.horizon);
-  DVI_THROW_UNLESS(!options.refine || first_steps <= options.max_steps,
+  DVI_THROW_UNLESS(first_steps <= options.max_steps,
                    "steps: the first grid of " << first_steps << " steps exceeds max_steps = "
                                                << options.max_steps);
 

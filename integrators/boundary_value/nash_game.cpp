@@ -113,6 +113,7 @@ internal::AggregateProblem GameProblem(const LqNashGame& game, double horizon,
   conditions.N.topRightCorner(n, n) = -davi.W;
   conditions.b.resize(2 * n);
   conditions.b << davi.c, davi.x0;
+  conditions = internal::EquilibrateRows(conditions);
   problem.horizon = horizon;
   // The rows are checked against (4.5)'s VI in z = (λ, x).
   Lcs davi_lcs = Lcs::Sparse(step->A, step->B, step->C, step->D, step->p, step->q);
