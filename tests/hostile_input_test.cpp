@@ -69,6 +69,22 @@ std::string OnSet(const std::string& set) {
   return Problem(R"({"type": "dvi", "f": ["-x1 + u1"], "F": ["u1 - x1"], "set": )" + set + "}");
 }
 
+// A boundary scene x' = -x, M x(0) + N x(T) = b, solved by bvp (auto),
+// with `method` fields added.
+std::string Boundary(const std::string& M, const std::string& N, const std::string& b,
+                     const std::string& method = "") {
+  return R"({"problem": {"type": "dvi", "f": ["-x1"]}, "boundary": {"M": )" + M + R"(, "N": )" +
+         N + R"(, "b": )" + b +
+         R"(}, "horizon": 1, "output": {"samples": 11}, "method": {"name": "bvp", "steps": 100)" +
+         method + "}}";
+}
+// A nash scene of one scalar player (x' = -x + u) with the fields `player`
+// added (none of x0, G, H) and `rest` added to the scene.
+std::string Nash(const std::string& player, const std::string& rest = "") {
+  return R"({"problem": {"type": "nash", "players": [{"x0": [1], "G": [[-1]], "H": [[1]], )" +
+         player + R"(}]}, "horizon": 1, "output": {"samples": 11})" + rest + "}";
+}
+
 const std::vector<HostileCase>& Cases() {
   static const std::vector<HostileCase> cases{
       // --- malformed JSON -------------------------------------------------
@@ -102,10 +118,10 @@ const std::vector<HostileCase>& Cases() {
        2, {"problem.type: expected a string"}},
       {"TypeUnknown", R"({"problem": {"type": "ode"}, "x0": [1], "horizon": 1})",
        "run input.json", 2, {"problem.type: unknown type \"ode\""}},
-      {"TypeNash", R"({"problem": {"type": "nash"}, "x0": [1], "horizon": 1})", "run input.json",
-       2, {"\"nash\" scenes are not supported yet"}},
-      {"BoundaryBlock", Valid(R"("x0": [1], "horizon": 1, "boundary": {})"), "run input.json", 2,
-       {"boundary-value scenes are not supported yet"}},
+      {"TypeNashWithoutPlayers", R"({"problem": {"type": "nash"}, "x0": [1], "horizon": 1})",
+       "run input.json", 2, {"problem", "missing field \"players\""}},
+      {"BoundaryBlockWithX0", Valid(R"("x0": [1], "horizon": 1, "boundary": {})"),
+       "run input.json", 2, {"x0", "in place of \"x0\""}},
       {"NameWithLineBreak", Valid(R"("name": "a\nb", "x0": [1], "horizon": 1)"),
        "run input.json", 2, {"name", "control character"}},
       {"NameDotDot", Valid(R"("name": "..", "x0": [1], "horizon": 1)"), "run input.json", 2,
@@ -133,8 +149,7 @@ const std::vector<HostileCase>& Cases() {
       // --- method --------------------------------------------------------------
       {"MethodUnknown", Dvi("-x1", "", R"("method": "rk4")"), "run input.json", 2,
        {"method: unknown method \"rk4\""}},
-      {"MethodBvp", Dvi("-x1", "", R"("method": "bvp")"), "run input.json", 2,
-       {"\"bvp\" is not available"}},
+      {"MethodBvp", Dvi("-x1", "", R"("method": "bvp")"), "run input.json", 0, {}},
       {"StepNegative", Dvi("-x1", "", R"("method": {"name": "stepping", "h": -1})"),
        "run input.json", 2, {"method.h: expected a number > 0"}},
       {"StepBeyondHorizon", Dvi("-x1", "", R"("method": {"name": "stepping", "h": 2})"),
@@ -413,8 +428,11 @@ const std::vector<HostileCase>& Cases() {
       {"RunDirectory", "", "run .", 2, {"is a directory"}},
       {"MethodOptionUnknown", Dvi("-x1"), "run input.json --method rk4", 2,
        {"--method: unknown method \"rk4\""}},
-      {"MethodOptionBvp", Dvi("-x1"), "run input.json --method bvp", 2,
-       {"--method: \"bvp\" is not available"}},
+      {"MethodOptionBvp", Dvi("-x1"), "run input.json --method bvp", 0, {}},
+      {"GammaOptionBvp", Boundary("[[1]]", "[[1]]", "[1]"), "run input.json --gamma 0.5", 2,
+       {"--gamma", "not used by bvp"}},
+      {"StepOptionBvpBeyondMaxSteps", Boundary("[[1]]", "[[1]]", "[1]"),
+       "run input.json --h 1e-12", 2, {"method.h", "1e+12 steps", "method.max_steps"}},
       {"StepOptionZero", Dvi("-x1"), "run input.json --h 0", 2, {"--h: expected a step"}},
       {"StepOptionNotANumber", Dvi("-x1"), "run input.json --h abc", 2, {"--h"}},
       {"ThetaOptionTwo", Dvi("-x1"), "run input.json --theta 2", 2, {"--theta", "[0, 1]"}},
@@ -428,6 +446,77 @@ const std::vector<HostileCase>& Cases() {
        {"--out", "cannot create"}},
       {"OutOverTheScene", Dvi("-x1"), "run input.json --out input.json", 2, {"--out"}},
       {"UnknownOption", Dvi("-x1"), "run input.json --fast", 2, {"--fast"}},
+      // --- boundary and nash scenes (bvp, issue 32) ---------------------------------------
+      {"BoundaryMWrongSize", Boundary("[[1, 0], [0, 1]]", "[[1]]", "[1]"), "run input.json", 2,
+       {"boundary.M", "2x2", "expected 1x1"}},
+      {"BoundaryBWrongSize", Boundary("[[1]]", "[[1]]", "[1, 2]"), "run input.json", 2,
+       {"boundary.b"}},
+      {"BoundaryRankDeficient", Boundary("[[0]]", "[[0]]", "[1]"), "run input.json", 2,
+       {"boundary", "rank 0 < n = 1"}},
+      {"BoundaryNotANumber", Boundary("[[\"abc\"]]", "[[1]]", "[1]"), "run input.json", 2,
+       {"boundary.M"}},
+      // x(0) + x(T) = 1 in entries near the overflow threshold: M + N
+      // overflowed (a crash in the (9.5) diagnostics) before the rows were
+      // equilibrated.
+      {"BoundaryHugeEntries", Boundary("[[1e308]]", "[[1e308]]", "[1e308]"), "run input.json", 0,
+       {}},
+      {"BoundaryHugeB", Boundary("[[1e-300]]", "[[1e-300]]", "[1e300]"), "run input.json", 2,
+       {"boundary.b[0]", "too large"}},
+      {"BoundaryOnPds",
+       R"({"problem": {"type": "pds", "F": ["1"], "set": {"box": {"lower": [0], "upper": [1]}}},
+          "boundary": {"M": [[1]], "N": [[1]], "b": [1]}, "horizon": 1})",
+       "run input.json", 2, {"bvp takes", "not pds"}},
+      {"BoundaryStepping", Boundary("[[1]]", "[[1]]", "[1]"), "run input.json --method stepping", 2, {"stepping", "use \"bvp\""}},
+      {"BvpStepsBeyondMaxSteps", Boundary("[[1]]", "[[1]]", "[1]", R"(, "max_steps": 50)"),
+       "run input.json", 2, {"method.steps", "100 steps", "method.max_steps = 50"}},
+      {"BvpStepsHuge",
+       R"({"problem": {"type": "dvi", "f": ["-x1"]}, "boundary": {"M": [[1]], "N": [[1]], "b": [1]},
+          "horizon": 1, "method": {"name": "bvp", "steps": 1000000000000}})",
+       "run input.json", 2, {"method.steps", "1e+12 steps", "method.max_steps"}},
+      {"BvpStepTiny",
+       R"({"problem": {"type": "dvi", "f": ["-x1"]}, "boundary": {"M": [[1]], "N": [[1]], "b": [1]},
+          "horizon": 1, "method": {"name": "bvp", "h": 1e-13}})",
+       "run input.json", 2, {"method.h", "steps", "method.max_steps"}},
+      {"BvpUnknownsBeyondLimit",
+       R"({"problem": {"type": "lcs", "A": [[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]],
+          "B": [[1], [0], [0], [0]], "C": [[1, 0, 0, 0]], "D": [[1]]},
+          "boundary": {"M": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],
+                       "N": [[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]], "b": [1, 1, 1, 1]},
+          "horizon": 1, "method": {"name": "bvp", "steps": 4000000}})",
+       "run input.json", 2, {"method.steps", "unknowns", "fewer steps"}},
+      {"BvpGammaField", Boundary("[[1]]", "[[1]]", "[1]", R"(, "gamma": 0.5)"), "run input.json", 2,
+       {"method.gamma", "not used by \"bvp\""}},
+      {"BvpStepsAndH", Boundary("[[1]]", "[[1]]", "[1]", R"(, "h": 0.01)"), "run input.json", 2,
+       {"method.steps", "not both"}},
+      {"BvpSchemeUnknown", Boundary("[[1]]", "[[1]]", "[1]", R"(, "scheme": "7.2")"),
+       "run input.json", 2, {"method.scheme", "9.3 or 9.11"}},
+      {"BvpMaxWall", Boundary("[[1]]", "[[1]]", "[1]", R"(, "max_wall": 60)"), "run input.json", 0,
+       {}},
+      // x' = u, 0 <= u ⊥ 1 >= 0 forces u = 0, so x(0) - x(T) = 1 has no
+      // solution: Newton fails on the aggregate VI.
+      {"BvpUnsolvable",
+       R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[0]], "D": [[0]], "q": [1]},
+          "boundary": {"M": [[1]], "N": [[-1]], "b": [1]}, "horizon": 1,
+          "method": {"name": "bvp", "steps": 100}})",
+       "run input.json", 1, {"step-failure", "100 steps", "iteration", "residual", "no files written"}},
+      {"NashWithX0", Nash(R"("S": [[[1]]])", R"(, "x0": [1])"), "run input.json", 2,
+       {"x0", "problem.players"}},
+      {"NashBlockWrongSize", Nash(R"("P": [[[1, 0]]])"), "run input.json", 2,
+       {"problem.players[0].P[0]", "1x2", "expected 1x1"}},
+      {"NashBlockListTooShort", Nash(R"("P": [])"), "run input.json", 2,
+       {"problem.players[0].P", "a list of 1 matrices"}},
+      {"NashHWrongRows", R"({"problem": {"type": "nash", "players": [{"x0": [1], "G": [[-1]],
+          "H": [[1], [1]]}]}, "horizon": 1})",
+       "run input.json", 2, {"problem.players[0].H", "2x1"}},
+      {"NashUnknownField", Nash(R"("Z": 1)"), "run input.json", 2,
+       {"problem.players[0]", "\"Z\""}},
+      {"NashTheta", Nash(R"("S": [[[1]]])", R"(, "method": {"name": "bvp", "theta": 0.5})"),
+       "run input.json", 2, {"method.theta", "nash"}},
+      // S = -1 makes Xi^0 of (10.2) indefinite: Prop. 10.1 does not hold.
+      // The run goes on (the discrete (4.5) may still be solvable) with a
+      // warning, and summary.json records the check.
+      {"NashXiNotPsd", Nash(R"("S": [[[-1]]], "U": {"box": {"lower": [-1], "upper": [1]}})"),
+       "run input.json", 0, {"warning", "Prop. 10.1"}},
       // --- dvisim solve ---------------------------------------------------------------------
       {"SolveOutOverTheProblem",
        R"({"problem": {"type": "lcp", "M": [[2, 1], [1, 2]], "q": [-1, -1]}})",

@@ -183,10 +183,10 @@ void ReadBoundaryValueMethod(const json& method, Scene& scene) {
   for (const auto& item : method.items())
     if (BelongsToAnotherMethod(item.key()))
       Fail(Field(path, item.key()), "is not used by \"bvp\" (it takes h or steps, theta, scheme, "
-                                    "tol, max_iterations, refine, rtol, atol, max_steps)");
+                                    "tol, max_iterations, refine, rtol, atol, max_steps, max_wall)");
   RejectUnknownFields(method, path,
                       {"name", "h", "steps", "theta", "scheme", "tol", "max_iterations", "refine",
-                       "rtol", "atol", "max_steps"},
+                       "rtol", "atol", "max_steps", "max_wall"},
                       " for bvp");
   const json* h = FindField(method, "h");
   const json* steps = FindField(method, "steps");
@@ -227,9 +227,9 @@ void ReadBoundaryValueMethod(const json& method, Scene& scene) {
     options.atol = ReadTolerance(*atol, Field(path, "atol"));
   if (const json* max_steps = FindField(method, "max_steps"))
     options.max_steps = ReadCount(*max_steps, Field(path, "max_steps"));
-  const long first = options.steps > 0 ? options.steps : std::max(1L, std::lround(scene.horizon / options.h));
-  if (options.refine && first > options.max_steps)
-    Fail(Field(path, "max_steps"), "is below the first grid's " + std::to_string(first) + " steps");
+  // The first grid against max_steps: CheckSceneLimits, after the overrides.
+  if (const json* max_wall = FindField(method, "max_wall"))
+    scene.max_wall = ReadPositive(*max_wall, Field(path, "max_wall"));
 }
 
 }  // namespace dvi::dvisim

@@ -38,7 +38,7 @@ bool RunsBoundaryValue(const Scene& scene);
 std::string WhyNotMethod(const Scene& scene, const std::string& method);
 
 /// The method object's fields for bvp: h or steps, theta, scheme ("9.3",
-/// "9.11"), tol, max_iterations, refine, rtol, atol, max_steps.
+/// "9.11"), tol, max_iterations, refine, rtol, atol, max_steps, max_wall.
 /// @throws InputError naming the field (any other field is unknown for bvp).
 void ReadBoundaryValueMethod(const nlohmann::json& method, Scene& scene);
 

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <string>
 
+#include "boundary_scene.hpp"
+
 namespace dvi::dvisim {
 namespace {
 
@@ -23,10 +25,35 @@ void CheckSteps(double steps, const std::string& field, double value, double hor
                    "method.max_steps = " + std::to_string(max_steps) + " allows; raise method.max_steps to allow it, or take a larger " + field);
 }
 
+// bvp holds every step of its grid at once: refuses a first grid beyond
+// method.max_steps, or beyond kMaxBoundaryValueUnknowns.
+void CheckBoundaryValueGrid(const Scene& scene) {
+  const BoundaryValueOptions& bvp = scene.bvp;
+  const bool by_steps = bvp.steps > 0;
+  const double steps =
+      by_steps ? static_cast<double>(bvp.steps) : std::max(1.0, std::round(scene.horizon / bvp.h));
+  const std::string field = by_steps ? "method.steps" : "method.h";
+  const std::string asks = by_steps ? "asks for " + Short(steps) + " steps"
+                                    : "asks for " + Short(steps) + " steps (horizon " +
+                                          Short(scene.horizon) + " / h = " + Short(bvp.h) + ")";
+  if (steps > static_cast<double>(bvp.max_steps))
+    throw InputError(field + ": the scene " + asks + ", more than method.max_steps = " +
+                     std::to_string(bvp.max_steps) + " allows; raise method.max_steps to allow " +
+                     "it, or take " + (by_steps ? "fewer steps" : "a larger h"));
+  const double unknowns = steps * (scene.n + scene.output_multipliers);
+  if (unknowns > kMaxBoundaryValueUnknowns)
+    throw InputError(field + ": the scene " + asks + " of " + std::to_string(scene.n) +
+                     " states and " + std::to_string(scene.output_multipliers) +
+                     " multipliers, " + Short(unknowns) + " unknowns in one aggregate VI, more " +
+                     "than the " + Short(kMaxBoundaryValueUnknowns) + " bvp solves; take " +
+                     (by_steps ? "fewer steps" : "a larger h"));
+}
+
 }  // namespace
 
 void CheckSceneLimits(const Scene& scene) {
   const double T = scene.horizon;
+  if (RunsBoundaryValue(scene)) CheckBoundaryValueGrid(scene);
   const bool stepping = scene.method == "stepping";
   if (stepping && !scene.stepping.adaptive)
     CheckSteps(std::ceil(T / scene.stepping.h), "h", scene.stepping.h, T,
