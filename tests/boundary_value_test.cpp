@@ -103,6 +103,10 @@ TEST(BoundaryValueLcs, TwoPointSwitchConvergesAtFirstOrder) {
     EXPECT_NEAR(trajectory.MultiplierAt(1.5)(0), 1.0, 1e-9);
   }
   const double h = steps_sizes.back();
+  RecordProperty("state_order", std::to_string(FittedOrder(steps_sizes, state_errors)));
+  RecordProperty("x0_order", std::to_string(FittedOrder(steps_sizes, start_errors)));
+  RecordProperty("finest_state_error", std::to_string(state_errors.back()));
+  RecordProperty("finest_switch_error", std::to_string(switch_errors.back()));
   EXPECT_NEAR(FittedOrder(steps_sizes, state_errors), 1.0, kOrderMargin);
   EXPECT_NEAR(FittedOrder(steps_sizes, start_errors), 1.0, kOrderMargin);
   // The error constants of backward Euler here are below 1 (|x''| ≤ 2 on
@@ -140,6 +144,9 @@ TEST(BoundaryValueLcs, NewtonIterationsStayBoundedFrom1e2To1e5Steps) {
     finest.push_back(solution.newton.iterations);
     total.push_back(solution.newton.total_iterations);
   }
+  for (std::size_t k = 0; k < finest.size(); ++k)
+    RecordProperty("iterations_1e" + std::to_string(k + 2),
+                   std::to_string(finest[k]) + " finest / " + std::to_string(total[k]) + " all");
   for (std::size_t k = 1; k < finest.size(); ++k) {
     EXPECT_LE(finest[k], finest[0]) << "steps 10^" << k + 2;
     EXPECT_LE(total[k], 2 * total[0]) << "steps 10^" << k + 2;
@@ -311,6 +318,9 @@ TEST(BoundaryValueDvi, PeriodicOrbitWithSingularMPlusNConvergesAtFirstOrder) {
       if (event.kind == EventKind::kLeftBound && event.time > kPi) release = event.time;
     release_errors.push_back(std::abs(release - problem.t1));
   }
+  RecordProperty("order", std::to_string(FittedOrder(step_sizes, errors)));
+  RecordProperty("finest_error", std::to_string(errors.back()));
+  RecordProperty("finest_release_error", std::to_string(release_errors.back()));
   EXPECT_NEAR(FittedOrder(step_sizes, errors), 1.0, kOrderMargin);
   // |x''| ≤ 1 on the orbit: backward Euler's error stays below h.
   EXPECT_LE(errors.back(), step_sizes.back());

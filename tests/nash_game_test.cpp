@@ -261,6 +261,11 @@ TEST(NashGame, UnconstrainedGameMatchesItsMatrixExponentialAtFirstOrder) {
     x_errors.push_back(finest.x);
     lambda_errors.push_back(finest.lambda);
   }
+  RecordProperty("x_order", std::to_string(FittedOrder(step_sizes, x_errors)));
+  RecordProperty("lambda_order", std::to_string(FittedOrder(step_sizes, lambda_errors)));
+  RecordProperty("finest_errors_x_lambda_u", std::to_string(finest.x) + " " +
+                                                 std::to_string(finest.lambda) + " " +
+                                                 std::to_string(finest.u));
   EXPECT_NEAR(FittedOrder(step_sizes, x_errors), 1.0, kOrderMargin);
   EXPECT_NEAR(FittedOrder(step_sizes, lambda_errors), 1.0, kOrderMargin);
   // The constants of the Euler errors here (|y''| ≲ 1 over [0, 2], one
@@ -359,6 +364,10 @@ TEST(NashGame, ControlBoundActiveOnAnIntervalMatchesShootingOnTheModes) {
     EXPECT_EQ(trajectory.events.front().index, 0);
     switch_errors.push_back(std::abs(trajectory.events.front().time - reference.tau));
   }
+  RecordProperty("x_lambda_order", std::to_string(FittedOrder(step_sizes, x_errors)));
+  RecordProperty("finest_errors_max_x_lambda_then_u_then_switch",
+                 std::to_string(x_errors.back()) + " " + std::to_string(finest.u) + " " +
+                     std::to_string(switch_errors.back()));
   EXPECT_NEAR(FittedOrder(step_sizes, x_errors), 1.0, kOrderMargin);
   const double h = step_sizes.back();
   EXPECT_LE(x_errors.back(), h);
