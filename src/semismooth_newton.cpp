@@ -268,6 +268,38 @@ class Reformulation {
     }
   }
 
+  /// The proximal shift of the natural-map step on the components free in
+  /// `active`: their largest natural residual |z_i − mid(l_i, u_i, z_i −
+  /// F_i)| divided by their widest finite box (at least 1), so that where
+  /// J_FF = 0 the step −F_F/shift carries that component across its box.
+  double ProximalShift(const Eigen::VectorXd& z, const Eigen::VectorXd& f,
+                       const std::vector<signed char>& active) const {
+    double largest = 0, width = 1;
+    for (Eigen::Index i = 0; i < z.size(); ++i) {
+      if (active[i] != 0) continue;
+      largest = std::max(largest, std::abs(z(i) - std::clamp(z(i) - f(i), lower_(i), upper_(i))));
+      if (kinds_[i] == BoundKind::kTwoSided) width = std::max(width, upper_(i) - lower_(i));
+    }
+    return largest / width;
+  }
+
+  /// crossed = active with each free component that z + d carries past a
+  /// finite bound held at that bound; returns whether there was one.
+  bool HoldCrossedBounds(const Eigen::VectorXd& z, const Eigen::VectorXd& d,
+                         const std::vector<signed char>& active,
+                         std::vector<signed char>& crossed) const {
+    bool any = false;
+    for (Eigen::Index i = 0; i < z.size(); ++i) {
+      crossed[i] = active[i];
+      if (active[i] != 0) continue;
+      const double next = z(i) + d(i);
+      if (next < lower_(i)) crossed[i] = -1;
+      else if (next > upper_(i)) crossed[i] = 1;
+      any = any || crossed[i] != 0;
+    }
+    return any;
+  }
+
   /// Puts the components frozen at a bound exactly on it (z_i + d_i there
   /// equals the bound in exact arithmetic).
   void SnapToActiveBounds(const std::vector<signed char>& active, Eigen::VectorXd& z) const {
@@ -648,7 +680,9 @@ bool IsDescent(double slope, const Eigen::VectorXd& d) {
 //     instead of m (about m/2 on an LCP: 8× fewer flops).
 //  2. The FB Newton direction H d = −Φ (H ∈ ∂Φ(z)) [De Luca–Facchinei–
 //     Kanzow 1996; Kanzow–Petra 2004 for the box], or the Levenberg–
-//     Marquardt system (HᵀH + μI) d = −HᵀΦ when H is singular.
+//     Marquardt system (HᵀH + μI) d = −HᵀΦ when H is singular; where its
+//     line search fails, its full step projected onto [l, u] if that
+//     solves or cuts Ψ by kQuadraticReduction.
 //  3. The natural-map direction of 1 again, with the full line search.
 //  4. d = −∇Ψ.
 // Every accepted step satisfies the Armijo test on Ψ (or solves), so the
@@ -673,7 +707,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   // solved again, not kept, where the FB direction fails after it.
   Eigen::VectorXd f(m), phi(m), da(m), db(m), gradient(m), d(m);
   Eigen::VectorXd z_trial(m), f_trial(m), phi_trial(m);
-  std::vector<signed char> active(m);
+  std::vector<signed char> active(m), crossed_active(m), next_active(m);
 
   SolveResult result;
   result.method = "newton";
@@ -752,11 +786,9 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   int relaxed = 0;  // relaxed steps since the best point
   double best_merit = 0;
   Eigen::VectorXd z_best;
-  // The full natural-map step along d when it cuts Ψ by kQuadraticReduction
-  // or solves the problem (1), else 0; on success as line_search.
-  auto quadratic_step = [&](const std::vector<signed char>& snap) {
-    z_trial.noalias() = z + d;
-    phi_map.SnapToActiveBounds(snap, z_trial);
+  // z_trial kept (1) when it cuts Ψ by kQuadraticReduction or solves the
+  // problem, else 0; on success as line_search.
+  auto keep_if_quadratic = [&] {
     mcp.F(z_trial, f_trial);
     if (!f_trial.allFinite()) return 0.0;
     const double merit_trial = phi_map.Evaluate(z_trial, f_trial, phi_trial);
@@ -765,6 +797,21 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       return 0.0;
     merit = merit_trial;
     return 1.0;
+  };
+  // The full natural-map step along d, kept as keep_if_quadratic says.
+  auto quadratic_step = [&](const std::vector<signed char>& snap) {
+    z_trial.noalias() = z + d;
+    phi_map.SnapToActiveBounds(snap, z_trial);
+    return keep_if_quadratic();
+  };
+  // The full FB step projected onto [l, u], kept as keep_if_quadratic says.
+  // Where F hardly depends on a bounded z_i (a Filippov sign s whose VI map
+  // −h(t, x) does not involve s), H's diagonal there is nearly 0 and the
+  // step in z_i huge: the descent test rejects it for its length, yet its
+  // sign points to the bound that solves the problem.
+  auto projected_step = [&] {
+    z_trial = (z + d).cwiseMax(lower).cwiseMin(upper);
+    return keep_if_quadratic();
   };
   auto line_search = [&](double slope, const std::vector<signed char>* snap, int backtracks) {
     const double nonmonotone = *std::max_element(history.begin(), history.end());
@@ -842,20 +889,57 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     bool relaxed_step = false;  // taken by the watchdog, without a merit test
     double natural_slope = 0;  // < 0: the natural-map direction is a descent direction
     double natural_shift = 0;  // the shift it was solved with
-    phi_map.StepToActiveBounds(z, current_active, d);
-    bool natural = algebra.SolveNaturalMap(f, current_active, 0.0, d);
-    if (!natural) {
+    // The natural-map step at an active set into d, and the shift it was
+    // solved with; false if it fails.
+    const auto natural_step = [&](const std::vector<signed char>& active_set, double& shift) {
+      phi_map.StepToActiveBounds(z, active_set, d);
+      const double proximal = phi_map.ProximalShift(z, f, active_set);
+      shift = 0;
+      if (std::none_of(active_set.begin(), active_set.end(),
+                       [](signed char held) { return held == 0; }))
+        return true;
+      if (algebra.SolveNaturalMap(f, active_set, 0.0, d)) return true;
       // J_FF singular (a projection's KKT system with more free multipliers
       // than the dimension): the proximal shift J_FF + δI, δ = the natural
-      // residual, is nonsingular for a monotone J and vanishes at a solution,
-      // the same choice of shift as the Levenberg–Marquardt parameter
-      // μ = ‖residual‖ that keeps fast local convergence
-      // [Yamashita–Fukushima 2001; Fan–Yuan 2005].
-      phi_map.StepToActiveBounds(z, current_active, d);
-      natural = algebra.SolveNaturalMap(f, current_active, residual, d);
-      natural_shift = residual;
+      // residual of the free components, is nonsingular for a monotone J and
+      // vanishes at a solution, the same choice of shift as the
+      // Levenberg–Marquardt parameter μ = ‖residual‖ that keeps fast local
+      // convergence [Yamashita–Fukushima 2001; Fan–Yuan 2005]. The free
+      // components' own (ProximalShift), so that the one furthest from
+      // solving moves across its box where J_FF is 0 (F independent of z):
+      // a component held at a bound far from it shrank their steps to 4e-4
+      // per iteration, and a step of 1 does not cross a box of width 2. The
+      // whole residual where theirs is 0 (signs on their switching
+      // surfaces, F = 0: the shift keeps them where they are).
+      shift = proximal > 0 ? proximal : residual;
+      phi_map.StepToActiveBounds(z, active_set, d);
+      return algebra.SolveNaturalMap(f, active_set, shift, d);
+    };
+    const bool natural = natural_step(current_active, natural_shift);
+    if (natural && phi_map.HoldCrossedBounds(z, d, current_active, crossed_active)) {
+      // 1a. The step carries a free bounded component across its bound: the
+      // natural map's active set lags one step behind (a Filippov sign s
+      // whose VI map −h(t, x) depends on s only through x = x⁰ + h f1 s
+      // moves s far past ±1). Held at the bound it crosses, with the free
+      // components solved again, the step is the next active set's Newton
+      // step (the primal–dual active set update [Hintermüller–Ito–Kunisch
+      // 2002]); kept when it solves or cuts Ψ by kQuadraticReduction. The
+      // free ones' proximal shift is then their own residual, which may
+      // carry more of them across: held in turn, at most m rounds (F
+      // independent of z: every sign goes to the bound −F points to). Where
+      // none is kept, the natural-map direction is solved again.
+      double crossed_shift = 0;
+      for (int round = 0; round < m && t == 0; ++round) {
+        if (!natural_step(crossed_active, crossed_shift)) break;
+        if (!phi_map.HoldCrossedBounds(z, d, crossed_active, next_active)) {
+          t = quadratic_step(crossed_active);
+          break;
+        }
+        crossed_active.swap(next_active);
+      }
+      if (t == 0) natural_step(current_active, natural_shift);
     }
-    if (natural) {
+    if (natural && t == 0) {
       const double slope = gradient.dot(d);
       // d ≈ 0 at a point where A is wrong but self-consistent (z_A on the
       // bounds, F_F = 0, some F_A of the wrong sign): no use trying it.
@@ -897,6 +981,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       }
       const double slope = newton ? gradient.dot(d) : 0.0;
       if (newton && IsDescent(slope, d)) t = line_search(slope, nullptr, kMaxBacktracks);
+      if (t == 0 && newton) t = projected_step();
       if (t == 0 && natural_slope < 0 && natural_backtracks < kMaxBacktracks) {
         phi_map.StepToActiveBounds(z, current_active, d);
         if (algebra.SolveNaturalMap(f, current_active, natural_shift, d))

@@ -136,20 +136,26 @@ TEST(BoundaryValueLcs, DiagnosticsOfCondition95) {
 // coarser, so its iterations do not grow with N, nor do the ladder's.
 TEST(BoundaryValueLcs, NewtonIterationsStayBoundedFrom1e2To1e5Steps) {
   const TwoPointLcs problem;
-  std::vector<int> finest, total;
+  // Since the natural-map step holds the bounds it crosses (the primal-dual
+  // active set update), each grid takes one or two iterations (measured: 1,
+  // 2, 2, 1 on the finest grid), so the smallest problem's count is no
+  // scale on its own.
+  constexpr int kFewIterations = 2;
+  std::vector<int> finest, total, grids;
   for (const long steps : {100L, 1000L, 10000L, 100000L}) {
     const BoundaryValueSolution solution =
         SolveBoundaryValue(problem.lcs, problem.conditions(), TwoPointLcs::kT, Steps(steps));
     ASSERT_TRUE(solution.trajectory.succeeded()) << solution.trajectory.message;
     finest.push_back(solution.newton.iterations);
     total.push_back(solution.newton.total_iterations);
+    grids.push_back(static_cast<int>(solution.newton.grids.size()));
   }
   for (std::size_t k = 0; k < finest.size(); ++k)
     RecordProperty("iterations_1e" + std::to_string(k + 2),
                    std::to_string(finest[k]) + " finest / " + std::to_string(total[k]) + " all");
   for (std::size_t k = 1; k < finest.size(); ++k) {
-    EXPECT_LE(finest[k], finest[0]) << "steps 10^" << k + 2;
-    EXPECT_LE(total[k], 2 * total[0]) << "steps 10^" << k + 2;
+    EXPECT_LE(finest[k], std::max(finest[0], kFewIterations)) << "steps 10^" << k + 2;
+    EXPECT_LE(total[k], std::max(2 * total[0], kFewIterations * grids[k])) << "steps 10^" << k + 2;
   }
 }
 
@@ -169,8 +175,11 @@ TEST(BoundaryValueLcs, WatchdogTakesTheFullStepsWhereTheLineSearchCrawls) {
       SolveBoundaryValue(problem.lcs, problem.conditions(), TwoPointLcs::kT, watchdog);
   ASSERT_TRUE(a.trajectory.succeeded()) << a.trajectory.message;
   ASSERT_TRUE(b.trajectory.succeeded()) << b.trajectory.message;
-  // Measured 10 against 5 on the finest grid; the same discrete solution.
-  EXPECT_LT(b.newton.iterations, a.newton.iterations);
+  // Measured 10 against 5 on the finest grid before semismooth Newton held
+  // the bounds its natural-map step crosses; since then the plain search
+  // no longer crawls here (1 against 1), and the watchdog must not cost
+  // iterations. The same discrete solution.
+  EXPECT_LE(b.newton.iterations, a.newton.iterations);
   EXPECT_LE(b.newton.iterations, 5);
   for (std::size_t k = 0; k < a.trajectory.times.size(); ++k)
     EXPECT_NEAR(a.trajectory.states[k](1), b.trajectory.states[k](1), 1e-12);

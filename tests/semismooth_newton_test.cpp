@@ -416,6 +416,108 @@ TEST(SemismoothNewton, WarmStartOutsideTheBoxIsProjected) {
   EXPECT_EQ(r.z(1), 0.0);
 }
 
+// F independent of z: the VI of a Filippov sign s ∈ SOL([−1, 1], −h(t, x))
+// at a state, whose map does not depend on s. The solution is the bound F
+// points to (−1 for F > 0). From an interior start FB's Jacobian is nearly 0
+// (≈ 2e-5 for F = 4e-4), so its Newton step (−19) fails the descent test by
+// its length, and steepest descent crawled 100 iterations without moving z.
+TEST(SemismoothNewton, MapIndependentOfZGoesToTheBoundItPointsTo) {
+  for (const double F : {4e-4, 1e-6, -4e-4}) {
+    for (const double start : {0.5, -0.5, 0.0}) {
+      const BoxMcp mcp = BoxMcp::Affine(Eigen::MatrixXd::Zero(1, 1), Eigen::VectorXd::Constant(1, F),
+                                        Eigen::VectorXd::Constant(1, -1),
+                                        Eigen::VectorXd::Constant(1, 1));
+      const SolveResult r = SolveNewton(mcp, {}, Eigen::VectorXd::Constant(1, start));
+      ASSERT_TRUE(r.solved()) << "F = " << F << ", start " << start << ": " << r.message;
+      EXPECT_EQ(r.z(0), F > 0 ? -1.0 : 1.0) << "F = " << F << ", start " << start;
+    }
+  }
+}
+
+// The same with four signs, one of them on its switching surface (F ≈ 0:
+// any s₃ solves), the VI at a state of a Filippov relay that slides on one
+// surface: the natural-map step needs the proximal shift (J_FF = 0) both
+// before and after the crossed bounds are held, and the shift of the
+// components still free is their own residual: with the largest |F| held,
+// the others (|F| of 2e-3 against a shift of 8e-3) moved a quarter of the
+// way per iteration and crawled. Both failed at 100 iterations (natural
+// residual 0.01 and 0.008), from states of filippov-relay seeds 6 and 15.
+TEST(SemismoothNewton, MapIndependentOfZWithOneComponentOnItsSurface) {
+  for (const Eigen::Vector4d& F :
+       {Eigen::Vector4d(0.010045538027437129, 0.10805492998084942, 9.7144514654701197e-17,
+                        2.3684104320081354),
+        Eigen::Vector4d(-0.0020619145784562809, -2.7755575615628914e-16, 0.05756325966904019,
+                        -0.00800793113794529)}) {
+    const BoxMcp mcp = BoxMcp::Affine(Eigen::Matrix4d::Zero(), F, Eigen::Vector4d::Constant(-1),
+                                      Eigen::Vector4d::Constant(1));
+    const SolveResult r = SolveNewton(mcp);
+    ASSERT_TRUE(r.solved()) << r.message;
+    for (const int i : {0, 1, 3}) {
+      if (std::abs(F(i)) > 1e-12) {
+        EXPECT_EQ(r.z(i), F(i) > 0 ? -1.0 : 1.0) << "i = " << i;
+      }
+    }
+  }
+}
+
+// F independent of z on [−1, 1]ᵏ, as the VI of k Filippov signs at a state:
+// random F with components exactly 0, round-off small or of any size down
+// to 1e-7, from cold and random warm starts. Every one is solved with each
+// z_i on the bound −F_i points to. Before, 62 % of these failed; the last
+// ones crawled because a proximal step of length 1 did not cross a box of
+// width 2 (F₃ = −3e-8 from z₃ = −0.92).
+TEST(SemismoothNewton, RandomMapsIndependentOfZAreSolvedFromAnyStart) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int k = 1 + trial % 6;
+    Eigen::VectorXd F(k), start(k);
+    for (int i = 0; i < k; ++i) {
+      const double kind = uniform(rng);
+      F(i) = kind < -0.6   ? 0.0
+             : kind < -0.3 ? 1e-16 * uniform(rng)
+                           : uniform(rng) * std::pow(10.0, -7 * std::abs(uniform(rng)));
+      start(i) = uniform(rng) < 0 ? 0.0 : uniform(rng);
+    }
+    const BoxMcp mcp = BoxMcp::Affine(Eigen::MatrixXd::Zero(k, k), F, Eigen::VectorXd::Constant(k, -1),
+                                      Eigen::VectorXd::Constant(k, 1));
+    for (const bool warm : {false, true}) {
+      const SolveResult r = SolveNewton(mcp, {}, warm ? start : Eigen::VectorXd());
+      ASSERT_TRUE(r.solved()) << "trial " << trial << (warm ? " warm" : " cold") << ": " << r.message;
+      for (int i = 0; i < k; ++i) {
+        if (std::abs(F(i)) > 1e-12) {
+          EXPECT_EQ(r.z(i), F(i) > 0 ? -1.0 : 1.0) << "trial " << trial;
+        }
+      }
+    }
+  }
+}
+
+// One backward Euler step of the relay x' = f0 − λ s, s ∈ Sgn(x), from
+// x0 = −1e-4 below the switching surface, as time-stepping (7.2) stacks it:
+// z = (x, s), F = (x − x0 − H (f0 − λ s), −x), x free, s ∈ [−1, 1]. Sliding
+// would need s = (x0 + H f0)/(H λ) < −1, so s = −1 and x = x0 + H (f0 + λ).
+// From s0 = 1 or 0 the natural map kept s free and its Newton step put s
+// far below −1; Newton crawled 100 iterations at natural residual ~1e-5.
+TEST(SemismoothNewton, RelayStepThatCannotReachItsSwitchingSurfaceHoldsSAtItsBound) {
+  constexpr double x0 = -1e-4, f0 = 0.5, lambda = 1;
+  for (const double H : {5e-5, 2e-5, 1e-6}) {
+    BoxMcp mcp;
+    mcp.lower = Eigen::Vector2d(-kInf, -1);
+    mcp.upper = Eigen::Vector2d(kInf, 1);
+    mcp.F = [H](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
+      w.resize(2);
+      w << z(0) - x0 - H * (f0 - lambda * z(1)), -z(0);
+    };
+    for (const double s0 : {1.0, 0.0}) {
+      const SolveResult r = SolveNewton(mcp, {}, Eigen::Vector2d(x0, s0));
+      ASSERT_TRUE(r.solved()) << "H = " << H << ", s0 = " << s0 << ": " << r.message;
+      EXPECT_EQ(r.z(1), -1.0);
+      EXPECT_NEAR(r.z(0), x0 + H * (f0 + lambda), kSolutionTolerance);
+    }
+  }
+}
+
 // The KKT system of the projection of v onto {u : G u ≤ h} (G: p unit rows
 // in R^m, h = 1) as ConvexSet builds it: z = (u free, λ ≥ 0),
 // F(z) = (u − v + Gᵀλ, h − G u), all data divided by max(1, ‖v‖∞), and the
