@@ -43,7 +43,7 @@ namespace dvi::testing {
 /// others the run must also be in the reference's mode. The event sequence
 /// must match too: each event of the run within the window of a switch of
 /// the reference's finest level, and each such switch within the window of
-/// an event. Where it does not, the reference is refined (up to 3 halvings)
+/// an event. Where it does not, the reference is refined (up to 5 halvings)
 /// before the mismatch counts: a contact that the coarse levels graze past
 /// is seen at a finer one.
 struct DifferentialOptions {
