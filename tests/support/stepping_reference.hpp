@@ -41,7 +41,9 @@ namespace dvi::testing {
 /// (differential_check.hpp), and unmatched ones refine the reference
 /// further before they count as a disagreement.
 ///
-/// R(h/4)'s error estimate is max over those times of |R(h/2) − R(h/4)|
+/// R(h/4)'s error estimate is, first, the error its switches' locations can
+/// carry: per switch, 2·max|x'| times the steps the levels located it within
+/// (2δ_{h/8} + δ_{h/4}). Then max over those times of |R(h/2) − R(h/4)|
 /// and |R(h) − R(h/2)|: where c₂ is smooth R's error falls by 4 per halving,
 /// so the last change is about 3 times R(h/4)'s error and the one before 12
 /// times. Both are kept because the refined steps leave second-order
@@ -58,10 +60,11 @@ struct ReferenceOptions {
   /// output time is a step end at every level (no interpolation).
   int steps_per_interval = 4;
   /// A step where the mode changes is bisected this often: switches are
-  /// located to h·2⁻ᵈ (7.6e-7 for the default h = 0.0125), and the error
+  /// located to h·2⁻ᵈ (1.2e-8 for the default h = 0.0125), and the error
   /// of a crossing of a discontinuity, jump·(its distance to the step's
-  /// end), stays below the extrapolation's O(h²).
-  int refinement_depth = 14;
+  /// end), stays below the extrapolation's O(h²). It is bounded in the
+  /// reference's error estimate all the same (SteppingLevel::switch_resolution).
+  int refinement_depth = 20;
   /// Output times within this many coarse steps of a switch (of any level,
   /// or of a run compared against the reference) are not compared: the
   /// levels switch up to a few steps apart, so the expansion in h does not
@@ -79,7 +82,8 @@ inline constexpr double kOrderMargin = 0.3;
 inline constexpr double kRoundOff = 1e-10;
 /// A component whose levels differ by less than this (relative to
 /// 1 + max|x_i|) is exact but for round-off and for where the refined steps
-/// put its switches (jump·h·2⁻ᵈ, up to 7.6e-7·jump, most often far less):
+/// put its switches (jump·h·2⁻ᵈ, at most 1.2e-8·jump, or more where a
+/// refined step's VI was not solved):
 /// piecewise linear solutions (x' = p + E sgn(x)), whose erratic
 /// differences of 1e-9 have no order to observe. Its extrapolation's error
 /// is still estimated (and bounded) as for any other component.
@@ -107,6 +111,8 @@ struct SteppingLevel {
   std::string first_split_failure;
   /// Switches left in a longer step because its halves' VIs were not solved.
   long coarse_switches = 0;
+  /// The longest step a switch was located within.
+  double switch_resolution = 0;
 };
 
 SteppingLevel RunSteppingLevel(const RandomDvi& problem, double h,
