@@ -200,7 +200,7 @@ MethodOutcome Judge(const std::string& name, const Trajectory& run, double h_aut
       }
     }
     const std::vector<int> mode =
-        problem.mode(t, x, problem.SteppingMultiplier(x, run.multipliers[sample]));
+        problem.event_mode(t, x, run.multipliers[sample]);
     if (mode_difference.empty() && mode != reference.modes[k])
       mode_difference = "mode " + ModeText(mode) + " at t = " + Text(t) + " where the reference is in " +
                         ModeText(reference.modes[k]);

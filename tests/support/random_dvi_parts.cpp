@@ -15,11 +15,12 @@ namespace {
 // closer than this to a bound is within an event's exclusion window, where
 // modes are not compared (differential_check.hpp).
 constexpr double kBoundSlack = 1e-8;
-// A constraint of K with slack below this (relative to 1 + |h_i|) is active.
-// States reach K's faces to the solvers' tolerance and the event-driven
-// projection's (both below 1e-8); a free state this close to a face is
-// within an event's exclusion window.
-constexpr double kFaceSlack = 1e-6;
+// A constraint of K with slack below this (relative to 1 + |h_i|) holds a
+// time-stepping state, as the stepping's own mode reads it: (7.3) puts x on
+// an active face to its solver's tolerance (1e-12 in the reference). Looser,
+// the release of a face that x leaves tangentially (slack ~ (t − t_r)²) was
+// read 8e-4 late with 1e-6 (pds-polytope seed 386).
+constexpr double kFaceSlack = 1e-9;
 
 }  // namespace
 
@@ -107,6 +108,14 @@ ModeFunction FaceMode(const ConvexSet& K) {
   };
 }
 
+ModeFunction PositiveMultipliers() {
+  return [](double, const Eigen::VectorXd&, const Eigen::VectorXd& lambda) {
+    std::vector<int> mode(lambda.size(), 0);
+    for (Eigen::Index i = 0; i < lambda.size(); ++i) mode[i] = lambda[i] > 0 ? 1 : 0;
+    return mode;
+  };
+}
+
 std::string Describe(const std::string& text, int n, int m) {
   std::ostringstream out;
   out << "n = " << n << ", m = " << m << ", " << text;
@@ -117,7 +126,7 @@ RandomDvi FromLcs(Lcs lcs, Eigen::VectorXd x0, double t_end, std::string structu
   RandomDvi instance;
   instance.structure = std::move(structure);
   instance.dvi = lcs.ToDvi();
-  instance.mode = OrthantMode(lcs.m());
+  instance.mode = instance.event_mode = OrthantMode(lcs.m());
   instance.x0 = std::move(x0);
   instance.t_end = t_end;
   instance.lcs = std::move(lcs);

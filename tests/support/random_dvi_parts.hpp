@@ -47,6 +47,9 @@ ModeFunction BoxMode(Eigen::VectorXd lower, Eigen::VectorXd upper);
 ModeFunction OrthantMode(int m);
 /// The active inequalities of K = {x : G x ≤ h} at x (projected dynamics).
 ModeFunction FaceMode(const ConvexSet& K);
+/// The same from KKT multipliers λ ≥ 0: active where λ_i > 0 (the
+/// event-driven form of projected dynamics, (2.10)).
+ModeFunction PositiveMultipliers();
 /// "n = …, m = …, text".
 std::string Describe(const std::string& text, int n, int m);
 /// An instance whose problem is `lcs` (its Dvi, the orthant's mode).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 #include <stdexcept>
 
 #include "support/random_dvi_parts.hpp"
@@ -70,7 +71,7 @@ RandomDvi BoxDvi(unsigned seed) {
     dvi.F_time_derivative = [g](double t, const Eigen::VectorXd&, const Eigen::VectorXd&,
                                 Eigen::VectorXd& out) { out = g.Rate(t); };
   }
-  instance.mode = BoxMode(lower, upper);
+  instance.mode = instance.event_mode = BoxMode(lower, upper);
   instance.x0 = test::RandomVector(n, rng, -2, 2);
   instance.t_end = 10;
   return instance;
@@ -140,7 +141,8 @@ RandomDvi FilippovRelay(unsigned seed) {
                                 n, k);
   instance.separable = system.ToSeparable();
   instance.dvi = instance.separable->ToDvi();
-  instance.mode = BoxMode(Eigen::VectorXd::Constant(k, -1), Eigen::VectorXd::Constant(k, 1));
+  instance.mode = instance.event_mode =
+      BoxMode(Eigen::VectorXd::Constant(k, -1), Eigen::VectorXd::Constant(k, 1));
   instance.x0 = test::RandomVector(n, rng, -2, 2);
   instance.t_end = 10;
   instance.legitimate_refusals = {IntegrationStatus::kEventAccumulation};
@@ -171,6 +173,7 @@ RandomDvi FromProjectedDynamics(std::mt19937& rng, ConvexSet K, Eigen::VectorXd 
                n, static_cast<int>(pds.K.AsPolyhedron().G.rows()));
   instance.dvi = ProjectedDynamicsAsKkt(pds);
   instance.mode = FaceMode(pds.K);
+  instance.event_mode = PositiveMultipliers();
   instance.x0 = std::move(x0);
   instance.t_end = 10;
   instance.pds = std::move(pds);
@@ -236,10 +239,7 @@ Trajectory RandomDvi::Step(const Eigen::VectorXd& x, double t0, double t1,
   return IntegrateTimeStepping(dvi, x, t0, t1, options);
 }
 
-Eigen::VectorXd RandomDvi::SteppingMultiplier(const Eigen::VectorXd& x,
-                                              const Eigen::VectorXd& u) const {
-  return pds ? NormalConeElement(*pds, PdsForm::kKkt, x, u) : u;
-}
+void PrintTo(const RandomDviClass& problem_class, std::ostream* out) { *out << problem_class.name; }
 
 const std::vector<RandomDviClass>& RandomDviClasses() {
   static const std::vector<RandomDviClass> classes = {

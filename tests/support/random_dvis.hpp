@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <iosfwd>
 #include <optional>
 #include <set>
 #include <string>
@@ -30,9 +31,9 @@ namespace dvi::testing {
 /// carried forward without amplification, so a run's global error is at most
 /// the sum of its local errors (differential_check.hpp).
 
-/// The mode of u at a sample, one entry per component of the VI's u in the
-/// stepping form (−1 at the lower bound, +1 at the upper, 0 between; for
-/// projected dynamics: 1 where a constraint of K is active, else 0).
+/// The mode at a sample: one entry per component of u (−1 at the lower
+/// bound, +1 at the upper, 0 between), or for projected dynamics one per
+/// constraint of K (1 where it is active, else 0).
 using ModeFunction = std::function<std::vector<int>(double t, const Eigen::VectorXd& x,
                                                     const Eigen::VectorXd& u)>;
 
@@ -50,7 +51,7 @@ struct RandomDvi {
   /// Set for f0 + f1 sgn(h) Filippov systems: time-stepping (7.2).
   std::optional<SeparableDvi> separable;
   /// Set for projected dynamics: time-stepping (7.3); dvi is its KKT form
-  /// (2.10), whose multipliers are mapped to the normal-cone element ν.
+  /// (2.10), whose multipliers λ ≥ 0 give event_mode.
   std::optional<ProjectedDynamics> pds;
 
   Eigen::VectorXd x0;
@@ -64,14 +65,16 @@ struct RandomDvi {
 
   /// The mode at (t, x, u) with u as the time-stepping form reports it.
   ModeFunction mode;
+  /// The same mode read from the event-driven form's u: the same function
+  /// but for projected dynamics, whose KKT multipliers λ say which
+  /// constraints hold x (λ_i > 0) where the states of a reduced mode lie on
+  /// their faces only to the integrator's tolerance.
+  ModeFunction event_mode;
 
   /// Time-stepping in the form the class is stepped in (7.2 for an LCS or a
   /// separable DVI, 3.3 for a general Dvi, 7.3 for projected dynamics).
   Trajectory Step(const Eigen::VectorXd& x, double t0, double t1,
                   const TimeSteppingOptions& options) const;
-  /// An event-driven sample's u in the time-stepping form (projected
-  /// dynamics: ν = Jg(x)ᵀu; the others: u itself).
-  Eigen::VectorXd SteppingMultiplier(const Eigen::VectorXd& x, const Eigen::VectorXd& u) const;
 };
 
 /// A problem class: its name and its generator.
@@ -80,6 +83,8 @@ struct RandomDviClass {
   std::string_view description;
   RandomDvi (*generate)(unsigned seed);
 };
+/// Prints the class's name (gtest parameter values and ctest names).
+void PrintTo(const RandomDviClass& problem_class, std::ostream* out);
 
 /// Every class, in a fixed order. A new class is one generator function and
 /// one line in this list.

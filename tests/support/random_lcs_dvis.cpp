@@ -118,7 +118,7 @@ RandomDvi LcsWithSources(std::mt19937& rng, int n, int m, const LcsData& data,
     dvi.F_time_derivative = [q](double t, const Eigen::VectorXd&, const Eigen::VectorXd&,
                                 Eigen::VectorXd& out) { out = q.Rate(t); };
   }
-  instance.mode = OrthantMode(m);
+  instance.mode = instance.event_mode = OrthantMode(m);
   instance.x0 = std::move(x0);
   instance.t_end = 10;
   return instance;
