@@ -104,5 +104,31 @@ INSTANTIATE_TEST_SUITE_P(Classes, Differential, ::testing::ValuesIn(testing::Ran
                            return name;
                          });
 
+// Instances that once disagreed, each the minimal reproducer of a defect
+// found by the bench (bench/differential/README.md) and fixed since: every
+// method must agree with the reference (or refuse as its class may).
+struct Reproducer {
+  std::string_view problem_class;
+  unsigned seed;
+  std::string_view defect;
+};
+constexpr Reproducer kReproducers[] = {
+    {"lcs-index2", 24,
+     "ida: IDA_ILL_INPUT (IDARcheck2: root found at and very near t = 9.3083) one step after a "
+     "kept root whose function stays exactly zero"},
+};
+
+TEST(DifferentialReproducers, EveryMethodAgrees) {
+  for (const Reproducer& reproducer : kReproducers) {
+    const DifferentialResult result = testing::RunDifferential(
+        testing::GenerateRandomDvi(reproducer.problem_class, reproducer.seed));
+    ASSERT_TRUE(result.reference.available) << result.Reproducer() << ": " << result.reference.why_not;
+    for (const MethodOutcome& outcome : result.methods)
+      EXPECT_NE(outcome.verdict, Verdict::kDisagree)
+          << result.Reproducer() << " (was: " << reproducer.defect << "): " << outcome.method
+          << " " << outcome.detail;
+  }
+}
+
 }  // namespace
 }  // namespace dvi
