@@ -66,10 +66,48 @@ std::vector<Method> MethodsFor(const RandomDvi& problem, const DifferentialOptio
 }
 
 // Halvings of the reference's step when a run's events and the reference's
-// switches do not match: backward Euler saw the brief contact of pds-box
-// seed 10 (0.046 s) from h = 1e-4, that of seed 151 (0.014 s) from 3e-5;
-// 5 takes the finest level from 7.8e-4 down to 2.4e-5.
-constexpr int kMaxEventRefinements = 5;
+// switches do not match, or its values lie outside the bound: backward Euler
+// saw the brief contact of pds-box seed 10 (0.046 s) from h = 1e-4, that of
+// seed 151 (0.014 s) from 3e-5; 5 takes the finest level from 7.8e-4 down to
+// 2.4e-5. The extrapolation's error estimate (the changes of R) can miss an
+// erratic second-order error that the refined steps at a switch leave at
+// the coarser levels: on lcs-index2 seed 41, R(h/4) was 4.8e-6 off after an
+// index-two contact where its changes said 3.2e-6 (R's errors from h down:
+// 0.8, 4.0, 4.8, 1.2, 0.3 e-6); one more level estimates it.
+constexpr int kMaxRefinements = 5;
+
+// Refusals that a class cannot legitimately produce but a method is known to
+// give, left to the mode-selection work (reported with issue 27): the CVODE
+// path refuses a Filippov sign system (the LCS (4.2)) where a component
+// arrives at its switching surface from the side where x⁻ > 0 and slides:
+// x⁻ reaches its bound while 2 − v vanishes too (β ≠ ∅), D_SS = [0 1; −1 0]
+// on the vanishing rows is nonsingular, so the differentiation procedure
+// finds no dependent row, and the look-ahead does not try modes that need
+// it. From the other side (v at its bound) the same sliding mode is
+// reduced; IDA and auto integrate both. Matched by class, method, status and
+// message, so that any other refusal is still a disagreement.
+struct KnownGap {
+  std::string_view problem_class;
+  std::string_view method;
+  IntegrationStatus status;
+  std::string_view message_part;
+};
+constexpr KnownGap kKnownGaps[] = {
+    {"filippov-sign", "event", IntegrationStatus::kNotIndexOne, "the look-ahead fails"},
+    {"filippov-sign", "event-klu", IntegrationStatus::kNotIndexOne, "the look-ahead fails"},
+};
+
+bool IsKnownGap(std::string_view problem_class, const std::string& method,
+                const Trajectory& run) {
+  return std::any_of(std::begin(kKnownGaps), std::end(kKnownGaps), [&](const KnownGap& gap) {
+    return gap.problem_class == problem_class && gap.method == method && gap.status == run.status &&
+           run.message.find(gap.message_part) != std::string::npos;
+  });
+}
+
+std::string KnownGapText(const Trajectory& run) {
+  return "known gap, " + std::string(ToString(run.status)) + ": " + run.message;
+}
 
 std::string Text(double value) {
   std::ostringstream out;
@@ -114,7 +152,7 @@ bool SteppedPartOfTheWay(const Trajectory& trajectory) {
 // part refuses a mode change, time-stepping starts in the mode its own VI
 // gives there and records changes from that one.
 std::string UnmatchedEvent(const Trajectory& run, const SteppingReference& reference,
-                           double window) {
+                           double window, double& event_without_switch) {
   using Switch = SteppingReference::Switch;
   const std::vector<Switch>& switches = reference.switches;
   // A run that stopped did so at a switch it could not take.
@@ -124,9 +162,11 @@ std::string UnmatchedEvent(const Trajectory& run, const SteppingReference& refer
     if (event.time <= t0 + window || event.time > t_end) continue;
     if (std::none_of(switches.begin(), switches.end(), [&](const Switch& s) {
           return std::abs(event.time - s.time) <= s.tolerance;
-        }))
+        })) {
+      event_without_switch = event.time;
       return "an event at t = " + Text(event.time) + " (" + std::string(ToString(event.kind)) +
              " " + std::to_string(event.index) + ") that the reference does not switch near";
+    }
   }
   for (const Switch& s : switches) {
     if (s.time <= t0 + window || s.time > t_end) continue;
@@ -158,7 +198,12 @@ MethodOutcome Judge(const std::string& name, const Trajectory& run, double h_aut
                      std::string(ToString(run.status)) + ": " + run.message;
   }
   if (!reference.available) {
-    if (outcome.verdict != Verdict::kDisagree) outcome.verdict = Verdict::kNoReference;
+    if (outcome.verdict != Verdict::kDisagree) {
+      outcome.verdict = Verdict::kNoReference;
+    } else if (IsKnownGap(problem.problem_class, name, run)) {
+      outcome.verdict = Verdict::kKnownGap;
+      outcome.detail = KnownGapText(run);
+    }
     return outcome;
   }
 
@@ -225,7 +270,7 @@ MethodOutcome Judge(const std::string& name, const Trajectory& run, double h_aut
   }
   if (!mode_difference.empty())
     disagreement += (disagreement.empty() ? "" : "; ") + mode_difference;
-  outcome.unmatched_event = UnmatchedEvent(run, reference, window);
+  outcome.unmatched_event = UnmatchedEvent(run, reference, window, outcome.event_without_switch);
   if (!outcome.unmatched_event.empty())
     disagreement += (disagreement.empty() ? "" : "; ") + outcome.unmatched_event;
   if (!disagreement.empty()) {
@@ -233,8 +278,46 @@ MethodOutcome Judge(const std::string& name, const Trajectory& run, double h_aut
     outcome.detail = outcome.detail.empty() ? disagreement : outcome.detail + "; " + disagreement;
   } else if (outcome.verdict == Verdict::kNoReference) {  // success, nothing off
     outcome.verdict = Verdict::kAgree;
+  } else if (outcome.verdict == Verdict::kDisagree && IsKnownGap(problem.problem_class, name, run)) {
+    // Agreed up to the refusal: only the status differs.
+    outcome.verdict = Verdict::kKnownGap;
+    outcome.detail = KnownGapText(run);
   }
   return outcome;
+}
+
+// A sixteenth of the refined reference's finest step for the local check of
+// an event it does not switch near: pds-polytope seed 386 touches a face
+// for 4.4 ms at t = 3.83 with a penetration that backward Euler's O(h) error
+// hides at h = 4.9e-5 (the fifth refinement) and shows at 1e-5.
+constexpr int kLocalCheckHalvings = 4;
+
+// Whether backward Euler from the run's state one switch window before
+// `event_time` (at the last sample there) switches within that window of it
+// at h_finest·2^−kLocalCheckHalvings (differential_check.hpp).
+bool LocalSteppingSwitchesNear(const RandomDvi& problem, const Trajectory& run, double event_time,
+                               const SteppingReference& reference, const ReferenceOptions& options,
+                               std::string& what) {
+  const double window = options.switch_window_steps * reference.h_coarsest;
+  std::size_t start = 0;
+  for (std::size_t k = 0; k < run.times.size() && run.times[k] <= event_time - window; ++k)
+    start = k;
+  RandomDvi local = problem;
+  local.x0 = run.states[start];
+  const double t_start = run.times[start], t_stop = std::min(problem.t_end, event_time + window);
+  const double h = reference.h_finest / (1 << kLocalCheckHalvings);
+  // Switches located to h·2⁻¹⁰: the check asks only whether there is one,
+  // and deeper halvings of so small a step reach spans the stepping refuses.
+  ReferenceOptions located = options;
+  located.refinement_depth = 10;
+  const SteppingLevel level = RunSteppingLevel(local, h, {t_start, t_stop}, located);
+  what = "backward Euler from the run's state at t = " + Text(t_start) + " at h = " + Text(h);
+  if (level.status != IntegrationStatus::kSuccess) {
+    what += " failed (" + std::string(ToString(level.status)) + "): " + level.message;
+    return false;
+  }
+  return std::any_of(level.switch_times.begin(), level.switch_times.end(),
+                     [&](double s) { return std::abs(s - event_time) <= window; });
 }
 
 }  // namespace
@@ -244,6 +327,7 @@ std::string_view ToString(Verdict verdict) {
     case Verdict::kAgree: return "agree";
     case Verdict::kDisagree: return "disagree";
     case Verdict::kRefused: return "refused";
+    case Verdict::kKnownGap: return "known-gap";
     case Verdict::kNoReference: return "no-reference";
   }
   return "?";
@@ -265,15 +349,34 @@ DifferentialResult RunDifferential(const RandomDvi& problem, const DifferentialO
     runs.emplace_back(method.name, method.run());
   for (int refinement = 0;; ++refinement) {
     result.methods.clear();
-    bool unmatched = false;
+    bool outside = false;
     for (const auto& [name, run] : runs) {
       result.methods.push_back(Judge(name, run, h_auto, problem, result.reference, options));
-      unmatched = unmatched || !result.methods.back().unmatched_event.empty();
+      const MethodOutcome& outcome = result.methods.back();
+      outside = outside || !outcome.unmatched_event.empty() || outcome.worst_ratio > 1;
     }
-    if (!unmatched || !result.reference.available || refinement == kMaxEventRefinements)
-      return result;
+    if (!outside || !result.reference.available) return result;
+    if (refinement == kMaxRefinements) break;
     RefineSteppingReference(problem, options.reference, result.reference);
   }
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const double event_time = result.methods[k].event_without_switch;
+    if (std::isnan(event_time)) continue;
+    std::string what;
+    if (!LocalSteppingSwitchesNear(problem, runs[k].second, event_time, result.reference,
+                                   options.reference, what))
+      continue;
+    result.reference.available = false;
+    result.reference.why_not = "the levels down to h = " + Text(result.reference.h_finest) +
+                               " do not switch near the " + runs[k].first + " run's event at t = " +
+                               Text(event_time) + ", which " + what +
+                               " confirms: a contact too brief for the reference";
+    for (std::size_t j = 0; j < runs.size(); ++j)
+      result.methods[j] =
+          Judge(runs[j].first, runs[j].second, h_auto, problem, result.reference, options);
+    break;
+  }
+  return result;
 }
 
 }  // namespace dvi::testing
