@@ -94,20 +94,21 @@ void CheckLinearPart(const Lcs& lcs, const BoundaryConditions& conditions, doubl
                           "multipliers the two-point problem has no unique solution");
 }
 
-internal::AggregateProblem SeparableProblem(const SeparableDvi& dvi,
-                                            const BoundaryConditions& conditions, double horizon,
-                                            const BoundaryValueOptions& options) {
+// What every aggregate problem takes from its DVI (a SeparableDvi or a Dvi,
+// validated here): the lifted K, the equilibrated boundary rows and, for
+// scheme (9.11), the VI at the old time with unit weights.
+template <class Problem>
+internal::AggregateProblem CommonProblem(const Problem& dvi, const char* set_name,
+                                         const BoundaryConditions& conditions, double horizon,
+                                         const BoundaryValueOptions& options) {
   dvi.Validate();
   conditions.Validate(dvi.n);
   dvi.CheckShapes(0, Eigen::VectorXd::Zero(dvi.n));
   internal::AggregateProblem problem;
   problem.n = dvi.n;
-  problem.set = Lift(dvi.K, "SeparableDvi.K");
+  problem.set = Lift(dvi.K, set_name);
   problem.conditions = internal::EquilibrateRows(conditions);
   problem.horizon = horizon;
-  problem.equations = internal::MakeSeparableStep(
-      dvi, options.theta, options.scheme == BoundaryValueScheme::kImplicitExplicit);
-  problem.certifier = std::make_shared<internal::RowCertifier>(dvi.ToDvi(), options.solver);
   if (options.scheme == BoundaryValueScheme::kImplicitExplicit) {
     problem.vi_weight = Eigen::VectorXd::Ones(dvi.n);
     problem.vi_at_old_time = true;
@@ -115,23 +116,23 @@ internal::AggregateProblem SeparableProblem(const SeparableDvi& dvi,
   return problem;
 }
 
+internal::AggregateProblem SeparableProblem(const SeparableDvi& dvi,
+                                            const BoundaryConditions& conditions, double horizon,
+                                            const BoundaryValueOptions& options) {
+  internal::AggregateProblem problem =
+      CommonProblem(dvi, "SeparableDvi.K", conditions, horizon, options);
+  problem.equations = internal::MakeSeparableStep(
+      dvi, options.theta, options.scheme == BoundaryValueScheme::kImplicitExplicit);
+  problem.certifier = std::make_shared<internal::RowCertifier>(dvi.ToDvi(), options.solver);
+  return problem;
+}
+
 internal::AggregateProblem DviProblem(const Dvi& dvi, const BoundaryConditions& conditions,
                                       double horizon, const BoundaryValueOptions& options) {
-  dvi.Validate();
-  conditions.Validate(dvi.n);
-  dvi.CheckShapes(0, Eigen::VectorXd::Zero(dvi.n));
-  internal::AggregateProblem problem;
-  problem.n = dvi.n;
-  problem.set = Lift(dvi.K, "Dvi.K");
-  problem.conditions = internal::EquilibrateRows(conditions);
-  problem.horizon = horizon;
+  internal::AggregateProblem problem = CommonProblem(dvi, "Dvi.K", conditions, horizon, options);
   problem.equations = internal::MakeDviStep(
       dvi, options.theta, options.scheme == BoundaryValueScheme::kImplicitExplicit);
   problem.certifier = std::make_shared<internal::RowCertifier>(dvi, options.solver);
-  if (options.scheme == BoundaryValueScheme::kImplicitExplicit) {
-    problem.vi_weight = Eigen::VectorXd::Ones(dvi.n);
-    problem.vi_at_old_time = true;
-  }
   return problem;
 }
 
