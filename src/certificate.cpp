@@ -39,6 +39,7 @@ void Certificate::Merge(const Certificate& other) {
   if (!other.evaluated) return;
   MergeMeasure(other.vi, vi);
   MergeMeasure(other.ode, ode);
+  MergeMeasure(other.window, window);
   if (basis.empty())
     basis = other.basis;
   else if (basis.find(other.basis) == std::string::npos)

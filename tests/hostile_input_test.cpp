@@ -361,7 +361,7 @@ const std::vector<HostileCase>& Cases() {
       {"HugeStateUnderAuto",
        R"({"problem": {"type": "lcs", "A": [[0]], "B": [[-1e6]], "C": [[-1]], "D": [[100]],
           "p": [1e3], "q": [5]}, "x0": [1e300], "horizon": 1e-2})",
-       "run input.json", 0, {}},
+       "run input.json", 1, {"uncertified", "time-stepping over [0, 0.01]"}},
       {"GrowthOverflowsUnderStepping",
        R"({"problem": {"type": "lcs", "A": [[1]], "B": [[1]], "C": [[1]], "D": [[1]]},
           "x0": [1e300], "horizon": 100, "method": "stepping"})",

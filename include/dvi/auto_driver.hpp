@@ -37,6 +37,14 @@ struct AutoOptions {
   /// steps to the end, as does a hand-over after an event-driven run that
   /// took more steps than time-stepping at stepping.h needs to the end.
   int max_handovers = 64;
+  /// The accuracy a time-stepping window is held to (Certificate, window:
+  /// its error estimated against the same window at h/2, h halved up to 5
+  /// times): 0 takes event.rtol / event.atol. A looser value lets a run
+  /// whose windows step over what event-driven integration cannot resolve
+  /// (a Zeno accumulation) be certified to what the windows reach, and says
+  /// so in the certificate; the event-driven intervals keep event.rtol.
+  double window_rtol = 0;
+  double window_atol = 0;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

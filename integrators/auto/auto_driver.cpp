@@ -17,6 +17,7 @@
 #include "events/zeno_prediction.hpp"
 #include "ida/mode_dae_validated.hpp"
 #include "output_times_check.hpp"
+#include "window_error.hpp"
 
 namespace dvi {
 
@@ -37,6 +38,9 @@ void AutoOptions::Validate() const {
   }
   DVI_THROW_UNLESS(std::isfinite(stepping_window) && stepping_window > 0 && stepping_window <= 1,
                    "AutoOptions.stepping_window: " << stepping_window << " is outside (0, 1]");
+  for (const auto& [name, value] : {std::pair{"window_rtol", window_rtol}, {"window_atol", window_atol}})
+    DVI_THROW_UNLESS(std::isfinite(value) && value >= 0 && value < 1,
+                     "AutoOptions." << name << ": " << value << " is outside [0, 1)");
   DVI_THROW_UNLESS(max_handovers > 0,
                    "AutoOptions.max_handovers: " << max_handovers << " is not positive");
 }
@@ -59,10 +63,15 @@ struct EventMethod {
       certify;
 };
 // Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`, its u⁰
-// warm-started from u_a.
-using SteppingMethod =
-    std::function<Trajectory(double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a,
-                             double t_b, std::vector<double> outputs)>;
+// warm-started from u_a, with the step (and, adaptive, the step-doubling
+// tolerances) of the options times `refinement`.
+using SteppingMethod = std::function<Trajectory(
+    double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a, double t_b,
+    const std::vector<double>& outputs, double refinement)>;
+
+// A window is refined at most this often: 1 + 2 + … + 2⁵ = 63 times the
+// work of one run at the scene's h.
+constexpr int kMaxWindowHalvings = 5;
 
 std::string Fixed(double value, int digits) {
   std::ostringstream text;
@@ -144,6 +153,93 @@ void Append(Trajectory& whole, Trajectory&& part) {
   sum.reduced_modes += add.reduced_modes;
   whole.status = part.status;
   whole.message = std::move(part.message);
+}
+
+// Adds the work of `earlier` to `later`'s statistics.
+void AddWork(const IntegrationStats& earlier, IntegrationStats& later) {
+  later.steps += earlier.steps;
+  later.rejected_steps += earlier.rejected_steps;
+  later.rhs_evals += earlier.rhs_evals;
+  later.jacobian_evals += earlier.jacobian_evals;
+  later.vi_solves += earlier.vi_solves;
+  later.solver_iterations += earlier.solver_iterations;
+}
+
+// A time-stepping window held to the run's tolerances (Certificate, window).
+// It runs at h, h/2 and h/4: the distances d₁ (h to h/2) and d₂ (h/2 to h/4)
+// measure the order the scheme reaches here, 2ᵖ = d₁/d₂, and the error of
+// the h/4 run is d₂/(2ᵖ − 1) (Richardson with the observed order). Two runs
+// alone assume the order: stepping over a Zeno accumulation converges barely
+// if at all (backward Euler reaches the spiral's origin about 0.01 early at
+// every h), and there two runs agreed to half the error. Without a drop
+// (d₁ ≤ d₂: where a step holds a switch, the error varies with where in the
+// step it falls, not smoothly with h), d₁ + d₂ stands in. While the estimate exceeds
+// its bound, h is halved again. An error made in one window is carried into
+// the next (a neutral oscillation keeps it), so the windows share one
+// budget: `spent`, the earlier windows' error / bound, plus this one's must
+// stay ≤ 1. The finest run is kept, carrying the work of all of them and the
+// estimate (its ratio the sum); one still above after kMaxWindowHalvings
+// ends `uncertified`.
+Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eigen::VectorXd& x_a,
+                           const Eigen::VectorXd& u_a, double t_b,
+                           const std::vector<double>& outputs, double spent,
+                           const AutoOptions& options) {
+  const double rtol = options.window_rtol > 0 ? options.window_rtol : options.event.rtol;
+  const double atol = options.window_atol > 0 ? options.window_atol : options.event.atol;
+  double refinement = 1;
+  Trajectory coarse = stepping(t_a, x_a, u_a, t_b, outputs, refinement);
+  if (!coarse.succeeded()) return coarse;
+  Trajectory fine = stepping(t_a, x_a, u_a, t_b, outputs, refinement / 2);
+  for (int halvings = 2;; ++halvings) {
+    const auto failed = [&](Trajectory& run) {
+      run.message = "checking the window's error at h = " +
+                    Short(options.stepping.h * refinement / 4) + ": " + run.message;
+      return std::move(run);
+    };
+    AddWork(coarse.stats, fine.stats);
+    if (!fine.succeeded()) return failed(fine);
+    Trajectory finest = stepping(t_a, x_a, u_a, t_b, outputs, refinement / 4);
+    AddWork(fine.stats, finest.stats);
+    if (!finest.succeeded()) return failed(finest);
+    const CertifiedMeasure d1 = internal::WindowError(coarse, fine, rtol, atol);
+    CertifiedMeasure error = internal::WindowError(fine, finest, rtol, atol);
+    const double drop = d1.ratio / error.ratio;  // 2ᵖ
+    const double factor =
+        error.ratio == 0 ? 0 : (drop > 1 ? 1 / (drop - 1) : 1 + d1.ratio / error.ratio);
+    error.value *= factor;
+    error.ratio = error.ratio * factor + spent;
+    refinement /= 2;
+    const double h = options.stepping.h * refinement / 2;
+    if (error.ratio <= 1 || halvings == kMaxWindowHalvings) {
+      finest.certificate.window = error;
+      finest.certificate.evaluated = true;
+      std::ostringstream account;
+      account.precision(3);
+      account << "; h = " << h << " after " << halvings << " halvings, order "
+              << std::log2(drop) << " measured, estimated error " << error.value << " in x_"
+              << error.component << " at t = " << Short(error.time);
+      if (!finest.intervals.empty()) finest.intervals.front().reason += account.str();
+      if (error.ratio > 1) {
+        std::ostringstream message;
+        message.precision(6);
+        message << "the output is not certified: its error at h = " << h
+                << ", estimated from the runs at 4h, 2h and h (Richardson with the order "
+                << std::log2(drop) << " they show), is " << error.value << " in x_"
+                << error.component << " at t = " << Short(error.time) << " against a bound of "
+                << error.bound << ", which with the earlier windows' makes " << error.ratio
+                << " times the budget (" << Certificate::kWindowSafety
+                << "·(atol + rtol·max |x_" << error.component << "|), rtol = " << rtol
+                << ", atol = " << atol << ") after " << kMaxWindowHalvings
+                << " halvings of the step: a looser window_rtol, a smaller h, or time-stepping "
+                   "alone";
+        finest.status = IntegrationStatus::kUncertified;
+        finest.message = message.str();
+      }
+      return finest;
+    }
+    coarse = std::move(fine);
+    fine = std::move(finest);
+  }
 }
 
 // The method's own account of the part (index one by which test, the
@@ -242,7 +338,8 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     // none falls in the window, its end alone (always sampled) stands in.
     std::vector<double> window_outputs = Clip(outputs, t_a, t_b, true);
     if (window_outputs.empty() && !outputs.empty()) window_outputs.push_back(t_b);
-    Trajectory steps = stepping(t_a, x_a, u_a, t_b, std::move(window_outputs));
+    Trajectory steps = CertifiedWindow(stepping, t_a, x_a, u_a, t_b, window_outputs,
+                                       whole.certificate.window.ratio, options);
     const bool stepped = steps.succeeded();
     // The failure of an interval, not of the run's start, and why it began.
     if (!stepped)
@@ -276,9 +373,14 @@ void CheckStart(int n, const Eigen::VectorXd& x0, double t0, double t_end,
 template <typename Problem>
 SteppingMethod SteppingOf(const Problem& problem, const AutoOptions& options) {
   return [&problem, &options](double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a,
-                              double t_b, std::vector<double> outputs) {
+                              double t_b, const std::vector<double>& outputs, double refinement) {
     TimeSteppingOptions stepping = options.stepping;
-    stepping.output_times = std::move(outputs);
+    stepping.h *= refinement;
+    if (stepping.adaptive) {
+      stepping.rtol *= refinement;
+      stepping.atol *= refinement;
+    }
+    stepping.output_times = outputs;
     stepping.initial_guess = u_a;
     return IntegrateTimeStepping(problem, x_a, t_a, t_b, stepping);
   };

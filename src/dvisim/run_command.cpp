@@ -197,7 +197,11 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
     out << "  certified: VI residual at " << Short(certificate.vi.ratio)
         << " of its bound over " << certificate.vi.checked << " rows, ODE defect at "
         << Short(certificate.ode.ratio) << " of its bound over " << certificate.ode.checked
-        << " steps\n";
+        << " steps";
+  if (certificate.evaluated && certificate.window.checked > 0)
+    out << ", time-stepping windows' error at " << Short(certificate.window.ratio)
+        << " of their budget over " << certificate.window.checked << " rows";
+  if (certificate.evaluated) out << "\n";
   for (const std::string& file : files) out << "  wrote " << file << "\n";
 }
 
@@ -280,6 +284,8 @@ Trajectory IntegrateAutomatically(const Scene& scene, std::function<void(double 
   options.stepping.progress = std::move(progress);
   options.stepping_window = scene.stepping_window;
   options.max_handovers = scene.max_handovers;
+  options.window_rtol = scene.window_rtol;
+  options.window_atol = scene.window_atol;
   return WithEventDrivenForm(scene, [&](const auto& problem) {
     return IntegrateAuto(problem, scene.x0, 0.0, scene.horizon, options);
   });
@@ -432,6 +438,7 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
   summary["certificate"] = {{"certified", certificate.certified()},
                             {"vi_residual", measure(certificate.vi, "u")},
                             {"ode_defect", measure(certificate.ode, "x")},
+                            {"window_error", measure(certificate.window, "x")},
                             {"basis", certificate.basis}};
   summary["x_final"] =
       VectorToJson(trajectory.states.empty() ? Eigen::VectorXd()

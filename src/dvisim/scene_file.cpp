@@ -325,6 +325,10 @@ void ReadMethodFields(const json& method, Scene& scene) {
     if (scene.stepping_window > 1)
       Fail(Field(path, "stepping_window"), "expected a number in (0, 1], got " + Describe(*window));
   }
+  if (const json* window_rtol = FindField(method, "window_rtol"))
+    scene.window_rtol = ReadTolerance(*window_rtol, Field(path, "window_rtol"));
+  if (const json* window_atol = FindField(method, "window_atol"))
+    scene.window_atol = ReadTolerance(*window_atol, Field(path, "window_atol"));
   if (const json* max_wall = FindField(method, "max_wall"))
     scene.max_wall = ReadPositive(*max_wall, Field(path, "max_wall"));
   if (const json* max_handovers = FindField(method, "max_handovers")) {
@@ -355,7 +359,8 @@ void ReadMethod(const json* method, Scene& scene) {
       RejectUnknownFields(*method, path,
                           {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
                            "h_max", "max_steps", "solver", "tol", "ode", "linear_solver",
-                           "max_events", "stepping_window", "max_handovers", "max_wall"});
+                           "max_events", "stepping_window", "max_handovers", "max_wall",
+                           "window_rtol", "window_atol"});
   }
   const std::string name_path = method->is_string() ? path : Field(path, "name");
   if (scene.method != "auto" && scene.method != "stepping" && scene.method != "event" &&

@@ -72,6 +72,8 @@ struct Scene {
   /// to the horizon, and the limit on hand-overs to time-stepping.
   double stepping_window = AutoOptions().stepping_window;
   int max_handovers = AutoOptions().max_handovers;
+  double window_rtol = 0;  ///< AutoOptions::window_rtol (0: rtol).
+  double window_atol = 0;  ///< AutoOptions::window_atol (0: atol).
   /// method.max_wall: the run's wall-clock budget in seconds, 0 for none
   /// (dvisim's WallClockLimit ends a run beyond it with exit code 1).
   double max_wall = 0;
