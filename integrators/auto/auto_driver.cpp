@@ -173,8 +173,8 @@ void AddWork(const IntegrationStats& earlier, IntegrationStats& later) {
 // if at all (backward Euler reaches the spiral's origin about 0.01 early at
 // every h), and there two runs agreed to half the error. Without a drop
 // (d₁ ≤ d₂: where a step holds a switch, the error varies with where in the
-// step it falls, not smoothly with h), d₁ + d₂ stands in. While the estimate exceeds
-// its bound, h is halved again. An error made in one window is carried into
+// step it falls, not smoothly with h), d₁ + d₂ stands in. While the
+// estimate exceeds its bound, h is halved again. An error made in one window is carried into
 // the next (a neutral oscillation keeps it), so the windows share one
 // budget: `spent`, the earlier windows' error / bound, plus this one's must
 // stay ≤ 1. The finest run is kept, carrying the work of all of them and the
@@ -191,21 +191,29 @@ Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eig
   if (!coarse.succeeded()) return coarse;
   Trajectory fine = stepping(t_a, x_a, u_a, t_b, outputs, refinement / 2);
   for (int halvings = 2;; ++halvings) {
-    const auto failed = [&](Trajectory& run) {
+    const auto failed = [&](Trajectory& run, double run_refinement) {
       run.message = "checking the window's error at h = " +
-                    Short(options.stepping.h * refinement / 4) + ": " + run.message;
+                    Short(options.stepping.h * run_refinement) + ": " + run.message;
       return std::move(run);
     };
     AddWork(coarse.stats, fine.stats);
-    if (!fine.succeeded()) return failed(fine);
+    if (!fine.succeeded()) return failed(fine, refinement / 2);
     Trajectory finest = stepping(t_a, x_a, u_a, t_b, outputs, refinement / 4);
     AddWork(fine.stats, finest.stats);
-    if (!finest.succeeded()) return failed(finest);
+    if (!finest.succeeded()) return failed(finest, refinement / 4);
     const CertifiedMeasure d1 = internal::WindowError(coarse, fine, rtol, atol);
     CertifiedMeasure error = internal::WindowError(fine, finest, rtol, atol);
     const double drop = d1.ratio / error.ratio;  // 2ᵖ
     const double factor =
         error.ratio == 0 ? 0 : (drop > 1 ? 1 / (drop - 1) : 1 + d1.ratio / error.ratio);
+    std::ostringstream order;
+    order.precision(3);
+    if (error.ratio == 0)
+      order << "the runs at 2h and h agree";
+    else if (drop > 1)
+      order << "order " << std::log2(drop) << " measured";
+    else
+      order << "no convergence measured from 4h to h, d₁ + d₂ taken";
     error.value *= factor;
     error.ratio = error.ratio * factor + spent;
     refinement /= 2;
@@ -215,16 +223,16 @@ Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eig
       finest.certificate.evaluated = true;
       std::ostringstream account;
       account.precision(3);
-      account << "; h = " << h << " after " << halvings << " halvings, order "
-              << std::log2(drop) << " measured, estimated error " << error.value << " in x_"
-              << error.component << " at t = " << Short(error.time);
+      account << "; h = " << h << " after " << halvings << " halvings, " << order.str()
+              << ", estimated error " << error.value << " in x_" << error.component
+              << " at t = " << Short(error.time);
       if (!finest.intervals.empty()) finest.intervals.front().reason += account.str();
       if (error.ratio > 1) {
         std::ostringstream message;
         message.precision(6);
         message << "the output is not certified: its error at h = " << h
-                << ", estimated from the runs at 4h, 2h and h (Richardson with the order "
-                << std::log2(drop) << " they show), is " << error.value << " in x_"
+                << ", estimated from the runs at 4h, 2h and h (Richardson: " << order.str()
+                << "), is " << error.value << " in x_"
                 << error.component << " at t = " << Short(error.time) << " against a bound of "
                 << error.bound << ", which with the earlier windows' makes " << error.ratio
                 << " times the budget (" << Certificate::kWindowSafety

@@ -183,7 +183,8 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
         << ", atol = " << Short(scene.event.atol) << "\n";
   if (UsedMethod(trajectory, "stepping"))
     out << "  time-stepping on " << IntervalCount(trajectory, "stepping")
-        << " with h = " << Short(scene.stepping.h) << ", theta = " << Short(scene.stepping.theta)
+        << (scene.method == "auto" ? " from h = " : " with h = ") << Short(scene.stepping.h)
+        << ", theta = " << Short(scene.stepping.theta)
         << ", gamma = " << Short(scene.stepping.gamma) << "\n";
   if (UsedMethod(trajectory, "bvp"))
     out << "  bvp: aggregate VI on " << stats.steps << " steps, " << stats.solver_iterations
