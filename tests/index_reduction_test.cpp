@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // Event-driven integration through index-two modes: the differentiation
 // procedure of Theorems 5.2/5.3 (ideal diodes clamping a state, Filippov
-// sliding), the look-ahead through non-strongly-regular crossings (the diode
-// bridge, Filippov crossings) and the Zeno detector, against exact solutions.
+// sliding), the look-ahead through non-strongly-regular crossings (Filippov
+// crossings) and the Zeno detector, against exact solutions. The scenarios
+// every back-end shares (clamp, graze, sliding, diode bridge) are in
+// backend_suite_test.
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -12,7 +14,6 @@
 
 #include <gtest/gtest.h>
 
-#include "circuits/diode_bridge.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "support/convergence.hpp"
@@ -43,35 +44,6 @@ Lcs FallingOntoAConstraint() {
   return Lcs::Dense(A, B, C, D, Eigen::VectorXd::Constant(1, -1));
 }
 
-TEST(IndexReduction, ScalarContactEventStateAndMultiplier) {
-  EventDrivenOptions options = Tight();
-  options.output_times = testing::Linspace(0, 3, 301);
-  const Trajectory trajectory =
-      IntegrateEventDriven(FallingOntoAConstraint(), Eigen::VectorXd::Ones(1), 0, 3, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ASSERT_EQ(trajectory.events.size(), 1u);
-  EXPECT_EQ(trajectory.events[0].kind, EventKind::kLeftBound);
-  const double event_error = std::abs(trajectory.events[0].time - 1);
-  EXPECT_LE(event_error, 1e-9);
-  const double state_error = testing::MaxStateError(trajectory, [](double t) {
-    return Eigen::VectorXd::Constant(1, std::max(1 - t, 0.0));
-  });
-  EXPECT_LE(state_error, 1e-9);
-  double multiplier_error = 0;
-  // u jumps at the event: compare from just after it.
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
-    if (trajectory.times[k] > trajectory.events[0].time)
-      multiplier_error = std::max(multiplier_error, std::abs(trajectory.multipliers[k](0) - 1));
-  EXPECT_LE(multiplier_error, 1e-8);
-  EXPECT_LE(trajectory.stats.max_constraint_drift, 1e-12);
-  ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_NE(trajectory.intervals[0].reason.find("Theorem 5.3"), std::string::npos);
-  RecordProperty("event_time_error", Scientific(event_error));
-  RecordProperty("state_error", Scientific(state_error));
-  RecordProperty("multiplier_error", Scientific(multiplier_error));
-  RecordProperty("drift", Scientific(trajectory.stats.max_constraint_drift));
-}
-
 // IntegrationStats::reduced_modes counts the modes the differentiation
 // procedure chose: the one contact mode here, none for the same fall when
 // D = 1 makes ∂F/∂u a P-matrix (index one, Theorem 5.1).
@@ -80,6 +52,8 @@ TEST(IndexReduction, StatsCountTheModesReducedByDifferentiation) {
       IntegrateEventDriven(FallingOntoAConstraint(), Eigen::VectorXd::Ones(1), 0, 3, Tight());
   ASSERT_TRUE(contact.succeeded()) << contact.message;
   EXPECT_EQ(contact.stats.reduced_modes, 1);
+  ASSERT_EQ(contact.intervals.size(), 1u);
+  EXPECT_NE(contact.intervals[0].reason.find("Theorem 5.3"), std::string::npos);
   Lcs compliant = FallingOntoAConstraint();
   compliant.D = Eigen::MatrixXd::Ones(1, 1).sparseView();
   const Trajectory index_one =
@@ -121,27 +95,22 @@ TEST(IndexReduction, ContactAtALargeTimeOvershootsWithinTheStateError) {
 // whatever the output times. The same LCS as a general Dvi (Newton in each
 // mode, no affine map) takes the nonlinear modes' check, interpolation at
 // the step's nodes, which the samples alone were until 2af181e.
-TEST(IndexReduction, ContactGrazedWithinOneStepIsFoundBetweenOutputTimes) {
+TEST(IndexReduction, ContactGrazedWithinOneStepIsFoundOnTheDviForm) {
   const double c = std::sqrt(2.002);
   const std::vector<std::vector<double>> output_grids = {{0, c, 10}, {0, 10}, {0, 0.5, 9}, {}};
   for (const auto& [D, exact] : testing::kGrazingCases) {
-    const Lcs lcs = testing::GrazingContact(D);
-    for (const bool as_dvi : {false, true}) {
-      for (const auto& grid : output_grids) {
-        EventDrivenOptions options = Tight();
-        options.output_times = grid;
-        const Eigen::VectorXd x0 = testing::GrazingContactStart();
-        const Trajectory trajectory = as_dvi
-                                          ? IntegrateEventDriven(lcs.ToDvi(), x0, 0, 10, options)
-                                          : IntegrateEventDriven(lcs, x0, 0, 10, options);
-        const std::string what = (as_dvi ? "Dvi, D = " : "Lcs, D = ") + std::to_string(D) +
-                                 ", " + std::to_string(grid.size()) + " output times";
-        ASSERT_TRUE(trajectory.succeeded()) << what << ": " << trajectory.message;
-        ASSERT_EQ(trajectory.events.size(), 2u) << what;
-        EXPECT_NEAR(trajectory.events.front().time, testing::GrazingContactTime(), 1e-8) << what;
-        EXPECT_EQ(trajectory.times.back(), 10) << what;
-        EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << what;
-      }
+    for (const auto& grid : output_grids) {
+      EventDrivenOptions options = Tight();
+      options.output_times = grid;
+      const Trajectory trajectory = IntegrateEventDriven(
+          testing::GrazingContact(D).ToDvi(), testing::GrazingContactStart(), 0, 10, options);
+      const std::string what =
+          "D = " + std::to_string(D) + ", " + std::to_string(grid.size()) + " output times";
+      ASSERT_TRUE(trajectory.succeeded()) << what << ": " << trajectory.message;
+      ASSERT_EQ(trajectory.events.size(), 2u) << what;
+      EXPECT_NEAR(trajectory.events.front().time, testing::GrazingContactTime(), 1e-8) << what;
+      EXPECT_EQ(trajectory.times.back(), 10) << what;
+      EXPECT_NEAR(trajectory.states.back()(0), exact, 1e-8) << what;
     }
   }
 }
@@ -520,34 +489,6 @@ TEST(IndexReduction, ThirdNonlinearPassStopsInsteadOfFallingThrough) {
   EXPECT_EQ(trajectory.states[0], Eigen::Vector3d::Zero());
 }
 
-// x' = −sgn(x) + a through (4.2), a = 0.3, x0 = 1: x = 1 − (1 − a)t until
-// t = 1/(1 − a), then sliding on x = 0 with the equivalent control
-// sgn = a, i.e. v = 1 − a (Theorem 5.2's modified problem: x' = a − 1 + v).
-TEST(IndexReduction, FilippovSlidingByTheLcs42) {
-  const double a = 0.3, arrival = 1 / (1 - a);
-  const Lcs lcs = FilippovSignLcs(Eigen::MatrixXd::Constant(1, 1, -1), Eigen::VectorXd::Constant(1, a));
-  EventDrivenOptions options = Tight();
-  options.output_times = testing::Linspace(0, 3, 301);
-  const Trajectory trajectory = IntegrateEventDriven(lcs, Eigen::VectorXd::Ones(1), 0, 3, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ASSERT_FALSE(trajectory.events.empty());
-  const double event_error = std::abs(trajectory.events[0].time - arrival);
-  EXPECT_LE(event_error, 1e-9);
-  double state_error = 0, control_error = 0;
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
-    const double t = trajectory.times[k];
-    state_error = std::max(state_error,
-                           std::abs(trajectory.states[k](0) - std::max(1 - (1 - a) * t, 0.0)));
-    if (t >= arrival)
-      control_error = std::max(control_error, std::abs(trajectory.multipliers[k](0) - (1 - a)));
-  }
-  EXPECT_LE(state_error, 1e-9);
-  EXPECT_LE(control_error, 1e-9);
-  RecordProperty("arrival_time_error", Scientific(event_error));
-  RecordProperty("state_error", Scientific(state_error));
-  RecordProperty("equivalent_control_error", Scientific(control_error));
-}
-
 // The same sliding with s ∈ SOL([−1, 1], −x) (FilippovSystem): Φ = −x,
 // Φ̇ = −(a − s) = 0 gives s = a on the sliding interval.
 TEST(IndexReduction, FilippovSlidingOnTheBoxForm) {
@@ -602,30 +543,6 @@ TEST(IndexReduction, TwoDimensionalFilippovSlidesToTheOrigin) {
   RecordProperty("sliding_entry_error", Scientific(entry_error));
   RecordProperty("arrival_error", Scientific(arrival_error));
   RecordProperty("state_error", Scientific(state_error));
-}
-
-// Siconos' tutorial diode bridge: D is positive semidefinite, not P, and at
-// every zero crossing of v the multiplier λ = 0 is not strongly regular; the
-// look-ahead passes it (λ is Lipschitz there, Proposition 5.1). The voltage
-// must follow the damped RLC solution to 1e-9 V at rtol 1e-11 (the issue's
-// goal) with Adams, the family for this non-stiff oscillation.
-TEST(IndexReduction, DiodeBridgeFollowsTheDampedRlcSolution) {
-  const circuits::DiodeBridgeParameters parameters;
-  EventDrivenOptions options;
-  options.method = OdeMethod::kAdams;
-  options.rtol = 1e-11;
-  options.atol = 1e-13;
-  options.output_times = testing::Linspace(0, 5e-3, 501);
-  const Trajectory trajectory =
-      IntegrateEventDriven(circuits::DiodeBridge(parameters),
-                           circuits::DiodeBridgeInitialState(parameters), 0, 5e-3, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  const double worst = testing::MaxComponentError(
-      trajectory, [&](double t) { return circuits::DiodeBridgeExactState(parameters, t); }, 0);
-  EXPECT_LE(worst, 1e-9);
-  EXPECT_GE(trajectory.events.size(), 4u);
-  RecordProperty("max_voltage_error", Scientific(worst));
-  RecordProperty("events", std::to_string(trajectory.events.size()));
 }
 
 // Siconos' Filippov spiral x' = Bλ, λ ∈ −Sgn(x), B = 2[[1, −(1+c)], [1+c, 1]],

@@ -30,84 +30,6 @@ Lcs ScalarIndexTwo() {
                     Eigen::VectorXd::Constant(1, -1.0));
 }
 
-TEST(ModeDae, ScalarIndexTwoExactEventStateAndMultiplier) {
-  ModeDaeOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  const Trajectory result =
-      IntegrateModeDae(ScalarIndexTwo(), Eigen::VectorXd::Ones(1), 0, 2, options);
-  ASSERT_TRUE(result.succeeded()) << result.message;
-  ASSERT_EQ(result.events.size(), 1u);
-  EXPECT_NEAR(result.events[0].time, 1.0, 1e-9);
-  EXPECT_EQ(result.events[0].kind, EventKind::kLeftBound);
-  EXPECT_EQ(result.events[0].index, 0);
-  EXPECT_DOUBLE_EQ(result.final_time(), 2.0);
-  int contact_samples = 0;
-  for (std::size_t k = 0; k < result.times.size(); ++k) {
-    const double t = result.times[k];
-    EXPECT_NEAR(result.states[k](0), std::max(1 - t, 0.0), 1e-9) << "t = " << t;
-    if (t > result.events[0].time) {
-      ++contact_samples;
-      EXPECT_NEAR(result.multipliers[k](0), 1.0, 1e-8) << "t = " << t;
-    } else if (t < result.events[0].time) {
-      EXPECT_EQ(result.multipliers[k](0), 0.0) << "t = " << t;
-    }
-  }
-  EXPECT_GT(contact_samples, 0);
-  EXPECT_LE(result.stats.max_constraint_drift, 1e-12);
-  ASSERT_EQ(result.intervals.size(), 1u);
-  EXPECT_EQ(result.intervals[0].name, "event-ida");
-  EXPECT_GT(result.stats.steps, 0);
-  EXPECT_GT(result.stats.jacobian_evals, 0);
-}
-
-// x1' = x2 + u, x2' = 1 − x1, 0 ≤ u ⊥ x1 ≥ 0, x0 = (3, 0): free rotation
-// x = (1 + 2 cos t, −2 sin t) until x1 = 0 at t1 = 2π/3; clamped (Theorem 5.3:
-// u = −x2, x2' = 1) until u = 0 at t2 = t1 + √3; then free again from the
-// origin, x = (1 − cos s, sin s), s = t − t2.
-struct TwoDimensionalExact {
-  const double t1 = 2 * M_PI / 3;
-  const double t2 = 2 * M_PI / 3 + std::sqrt(3.0);
-  Eigen::Vector2d State(double t) const {
-    if (t <= t1) return {1 + 2 * std::cos(t), -2 * std::sin(t)};
-    if (t <= t2) return {0, -std::sqrt(3.0) + (t - t1)};
-    return {1 - std::cos(t - t2), std::sin(t - t2)};
-  }
-  double Multiplier(double t) const { return t > t1 && t < t2 ? -State(t)(1) : 0; }
-};
-
-TEST(ModeDae, TwoDimensionalIndexTwoClampsAndReleasesAtExactTimes) {
-  Eigen::MatrixXd A(2, 2);
-  A << 0, 1, -1, 0;
-  const Lcs lcs = Lcs::Dense(A, Eigen::Vector2d(1, 0), Eigen::RowVector2d(1, 0),
-                             Eigen::MatrixXd::Zero(1, 1), Eigen::Vector2d(0, 1));
-  const TwoDimensionalExact exact;
-  // BDF's global error over the rotation is ~20·rtol: measured release-time
-  // errors 1.8e-9 at rtol 1e-10, 4.5e-10 at rtol 1e-11 (atol 1e-12).
-  ModeDaeOptions options;
-  options.rtol = 1e-11;
-  options.atol = 1e-12;
-  options.output_times = testing::Linspace(0, exact.t2 + 3, 401);
-  const Trajectory result = IntegrateModeDae(lcs, Eigen::Vector2d(3, 0), 0, exact.t2 + 3, options);
-  ASSERT_TRUE(result.succeeded()) << result.message;
-  ASSERT_EQ(result.events.size(), 2u);
-  EXPECT_NEAR(result.events[0].time, exact.t1, 1e-9);
-  EXPECT_EQ(result.events[0].kind, EventKind::kLeftBound);
-  EXPECT_NEAR(result.events[1].time, exact.t2, 1e-9);
-  EXPECT_EQ(result.events[1].kind, EventKind::kReachedLower);
-  double state_error = 0, multiplier_error = 0;
-  for (std::size_t k = 0; k < result.times.size(); ++k) {
-    const double t = result.times[k];
-    state_error = std::max(state_error, (result.states[k] - exact.State(t)).cwiseAbs().maxCoeff());
-    if (t > exact.t1 && t < exact.t2)
-      multiplier_error =
-          std::max(multiplier_error, std::abs(result.multipliers[k](0) - exact.Multiplier(t)));
-  }
-  EXPECT_LT(state_error, 1e-9);
-  EXPECT_LT(multiplier_error, 1e-8);
-  EXPECT_LE(result.stats.max_constraint_drift, 1e-12);
-}
-
 // x' = −1 + u, u ∈ [0, ½] ⊥-box x + u (D = 1, index one): x = 1 − t until
 // t = 1, then u = −x with x = −1 + e^{−(t−1)} until u reaches ½ at
 // t = 1 + ln 2, then u = ½ and x = −½ − ½(t − 1 − ln 2).
@@ -368,25 +290,20 @@ TEST(ModeDae, CoupledSingularDInTenThousandBlocksReducesBlockByBlock) {
   }
 }
 
-// Siconos' tutorial diode bridge on IDA: D (4×4, coupled) is positive
-// semidefinite, not P, and λ = 0 at every zero crossing of v is not strongly
-// regular; the modified LCP's mode does not hold there, and the look-ahead
-// along the flow picks the diode pair that conducts (Proposition 5.1).
-// Measured: max voltage error 7.5e-9 V at rtol 1e-11 (BDF; CVODE with Adams
-// reaches 1e-9, IndexReduction.DiodeBridgeFollowsTheDampedRlcSolution).
-TEST(ModeDae, DiodeBridgeFollowsTheDampedRlcSolution) {
+// Siconos' tutorial diode bridge on IDA (its voltage against the damped RLC
+// solution: backend_suite_test): D (4×4, coupled) is positive semidefinite,
+// not P, and λ = 0 at every zero crossing of v is not strongly regular; the
+// modified LCP's mode does not hold there, and the look-ahead along the
+// flow picks the diode pair that conducts (Proposition 5.1).
+TEST(ModeDae, DiodeBridgeCrossingsAreChosenByLookAhead) {
   const circuits::DiodeBridgeParameters parameters;
   ModeDaeOptions options;
   options.rtol = 1e-11;
   options.atol = 1e-13;
-  options.output_times = testing::Linspace(0, 5e-3, 501);
   const Trajectory result =
       IntegrateModeDae(circuits::DiodeBridge(parameters),
                        circuits::DiodeBridgeInitialState(parameters), 0, 5e-3, options);
   ASSERT_TRUE(result.succeeded()) << result.message;
-  const double worst = testing::MaxComponentError(
-      result, [&](double t) { return circuits::DiodeBridgeExactState(parameters, t); }, 0);
-  EXPECT_LE(worst, 1e-8);
   EXPECT_GE(result.events.size(), 16u);
   EXPECT_NE(result.intervals[0].reason.find("chosen by look-ahead"), std::string::npos)
       << result.intervals[0].reason;
@@ -418,28 +335,6 @@ TEST(ModeDae, OverflowingFirstStepIsNamed) {
                                   "reaches 9.90099e+307, whose square overflows"),
               std::string::npos)
         << result.message;
-  }
-}
-
-// testing::GrazingContact on IDA: IDA reported success with the
-// unconstrained x1(10) = 36.8507950753 whatever the output times (its
-// samples were not checked either). Each step's root polynomials now find it.
-TEST(ModeDae, ContactGrazedWithinOneStepIsFound) {
-  for (const auto& [D, exact] : testing::kGrazingCases) {
-    for (const auto& grid :
-         std::vector<std::vector<double>>{{0, 10}, {}, testing::Linspace(0, 10, 1001)}) {
-      ModeDaeOptions options;
-      options.rtol = 1e-10;
-      options.atol = 1e-12;
-      options.output_times = grid;
-      const Trajectory result = IntegrateModeDae(testing::GrazingContact(D),
-                                                 testing::GrazingContactStart(), 0, 10, options);
-      ASSERT_TRUE(result.succeeded()) << D << ": " << result.message;
-      ASSERT_EQ(result.events.size(), 2u) << D << ", " << grid.size() << " output times";
-      EXPECT_NEAR(result.events.front().time, testing::GrazingContactTime(), 1e-8) << D;
-      EXPECT_EQ(result.times.back(), 10) << D;
-      EXPECT_NEAR(result.states.back()(0), exact, 1e-8) << D << ", " << grid.size();
-    }
   }
 }
 

@@ -12,7 +12,6 @@
 
 #include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
-#include "dvi/mode_dae.hpp"
 #include "support/convergence.hpp"
 #include "support/forced_box_dvi.hpp"
 #include "support/rectifier.hpp"
@@ -22,7 +21,6 @@ namespace {
 
 using testing::Rectifier;
 using testing::RectifierDvi;
-using testing::RectifierLcs;
 
 // The dimensional circuit of issue 27 (10 V, 50 Hz, RC = 10 ms) and a
 // nondimensional one (RC = ω = Vs = 1) with other turn-off/turn-on angles.
@@ -43,24 +41,12 @@ double Horizon(const Rectifier& c) { return kPeriods * 2 * M_PI / c.w; }
 // Checks x1 (v) at the output times and the switch times of a run.
 void ExpectExact(const Rectifier& c, const Trajectory& trajectory, const std::string& what) {
   ASSERT_TRUE(trajectory.succeeded()) << what << ": " << trajectory.message;
-  const testing::RectifierSwitches exact = testing::RectifierExactSwitches(c, Horizon(c));
-  double worst = 0, worst_t = 0;
-  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
-    const double t = trajectory.times[k];
-    const double error = std::abs(trajectory.states[k](0) - testing::RectifierExactV(c, exact, t));
-    if (error > worst) worst = error, worst_t = t;
-  }
-  EXPECT_LE(worst, kStateBound * c.Vs) << what << ": v off the exact solution at t = " << worst_t;
-
-  std::vector<double> off, on;
-  for (const Event& e : trajectory.events)
-    (e.kind == EventKind::kReachedLower ? off : on).push_back(e.time);
-  ASSERT_EQ(off.size(), exact.off.size()) << what;
-  ASSERT_EQ(on.size(), exact.on.size()) << what;
-  for (std::size_t k = 0; k < off.size(); ++k)
-    EXPECT_NEAR(off[k], exact.off[k], kEventTimeBound) << what << ": turn-off " << k;
-  for (std::size_t k = 0; k < on.size(); ++k)
-    EXPECT_NEAR(on[k], exact.on[k], kEventTimeBound) << what << ": turn-on " << k;
+  const testing::RectifierDeviation deviation = testing::MeasureRectifier(c, trajectory, Horizon(c));
+  EXPECT_LE(deviation.state_error, kStateBound * c.Vs)
+      << what << ": v off the exact solution at t = " << deviation.state_error_time;
+  ASSERT_EQ(deviation.off.size(), deviation.exact.off.size()) << what;
+  ASSERT_EQ(deviation.on.size(), deviation.exact.on.size()) << what;
+  EXPECT_LE(deviation.event_time_error(), kEventTimeBound) << what;
 }
 
 EventDrivenOptions Tight(const Rectifier& c) {
@@ -93,21 +79,6 @@ TEST_P(HalfWaveRectifier, AutoRunsItEventDriven) {
       IntegrateAuto(RectifierDvi(c, true), Eigen::VectorXd::Zero(1), 0, Horizon(c), options);
   ExpectExact(c, trajectory, "auto");
   for (const MethodInterval& interval : trajectory.intervals) EXPECT_EQ(interval.name, "event");
-}
-
-// The oscillator form on CVODE and on IDA: v = x1, s1 = sin ωt exactly.
-// atol is the oscillator's (its states are O(1), not O(Vs)).
-TEST_P(HalfWaveRectifier, SourceAsStatesOnCvodeAndIda) {
-  const Rectifier c = GetParam();
-  const Eigen::Vector3d x0(0, 0, 1);
-  EventDrivenOptions options = Tight(c);
-  options.atol = kRtol;
-  ExpectExact(c, IntegrateEventDriven(RectifierLcs(c), x0, 0, Horizon(c), options), "event, LCS");
-  ModeDaeOptions dae;
-  dae.rtol = kRtol;
-  dae.atol = kRtol;
-  dae.output_times = Tight(c).output_times;
-  ExpectExact(c, IntegrateModeDae(RectifierLcs(c), x0, 0, Horizon(c), dae), "IDA");
 }
 
 // Every run above carries a certificate that it passes: its rows solve the

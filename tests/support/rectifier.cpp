@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "support/rectifier.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -58,6 +59,32 @@ double RectifierExactV(const Rectifier& c, const RectifierSwitches& s, double t)
       return c.Source(s.off[k]) * std::exp(-(t - s.off[k]) / c.RC());
   }
   return c.Source(t);
+}
+
+double RectifierDeviation::event_time_error() const {
+  double worst = 0;
+  for (std::size_t k = 0; k < off.size() && k < exact.off.size(); ++k)
+    worst = std::max(worst, std::abs(off[k] - exact.off[k]));
+  for (std::size_t k = 0; k < on.size() && k < exact.on.size(); ++k)
+    worst = std::max(worst, std::abs(on[k] - exact.on[k]));
+  return worst;
+}
+
+RectifierDeviation MeasureRectifier(const Rectifier& c, const Trajectory& trajectory,
+                                    double horizon) {
+  RectifierDeviation deviation;
+  deviation.exact = RectifierExactSwitches(c, horizon);
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    const double error = std::abs(trajectory.states[k](0) - RectifierExactV(c, deviation.exact, t));
+    if (error > deviation.state_error) {
+      deviation.state_error = error;
+      deviation.state_error_time = t;
+    }
+  }
+  for (const Event& e : trajectory.events)
+    (e.kind == EventKind::kReachedLower ? deviation.off : deviation.on).push_back(e.time);
+  return deviation;
 }
 
 Dvi RectifierDvi(const Rectifier& c, bool jacobians) {

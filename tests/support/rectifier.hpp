@@ -6,6 +6,7 @@
 
 #include "dvi/dvi_problem.hpp"
 #include "dvi/lcs.hpp"
+#include "dvi/trajectory.hpp"
 
 namespace dvi::testing {
 
@@ -33,6 +34,21 @@ struct RectifierSwitches {
 RectifierSwitches RectifierExactSwitches(const Rectifier& c, double horizon);
 /// v(t) of the exact solution from v(0) = 0.
 double RectifierExactV(const Rectifier& c, const RectifierSwitches& switches, double t);
+
+/// How far a run on [0, horizon] is from the exact solution: the largest
+/// |v − v_exact| over its samples (and where), its turn-offs (kReachedLower)
+/// and turn-ons (other events) against the exact switches.
+struct RectifierDeviation {
+  double state_error = 0;
+  double state_error_time = 0;
+  std::vector<double> off, on;        ///< the run's switch times
+  RectifierSwitches exact;            ///< the exact ones
+  bool switches_match() const { return off.size() == exact.off.size() && on.size() == exact.on.size(); }
+  /// The largest switch-time error; meaningful when switches_match().
+  double event_time_error() const;
+};
+RectifierDeviation MeasureRectifier(const Rectifier& c, const Trajectory& trajectory,
+                                    double horizon);
 
 /// The circuit as a Dvi in x = (v), u = (diode current); jacobians: with
 /// exact f_jacobian, F_jacobian and F_time_derivative, else none.
