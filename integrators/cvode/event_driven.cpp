@@ -26,9 +26,14 @@
 #include "dvi/error.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "events/event_times.hpp"
+#include "events/missed_root.hpp"
+#include "events/mode_changes.hpp"
+#include "events/output_schedule.hpp"
+#include "events/step_ends.hpp"
 #include "events/zeno_prediction.hpp"
 #include "modes/box_mode.hpp"
 #include "modes/kkt_lifting.hpp"
+#include "modes/mode_selection.hpp"
 #include "modes/step_interpolant.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
@@ -91,8 +96,6 @@ using internal::kMaxInterpolantDegree;
 using internal::PieceBound;
 using internal::StepInterpolant;
 
-// Look-ahead length at a degenerate event, relative to the horizon.
-constexpr double kLookAheadFraction = 1e-5;
 // Steps in a row within the round-off of t that end a run (StepsResolveTime).
 constexpr int kUnresolvedSteps = 10;
 // The largest tolerance an event's VI is solved to when the state's error
@@ -339,7 +342,7 @@ class EventDrivenRun {
   BoxModeSystem system_;
   Trajectory trajectory_;
   std::string index_one_reason_;
-  std::size_t next_output_ = 0;
+  internal::OutputSchedule outputs_{options_.output_times, t0_, t_end_};
   double t_ = 0;
   double mode_start_ = 0;  // where the current mode was entered
 
@@ -360,8 +363,8 @@ class EventDrivenRun {
   // StepClear and PieceViolation: the step's start and end roots (the last
   // step's end, x and x' there, for the next step's start in the mode), x
   // at a node and the root slots' floors (their slack applied or not).
-  Eigen::VectorXd start_roots_, end_roots_, end_x_, end_rate_, step_moves_;
-  double end_roots_time_ = NAN;
+  internal::StepEnds step_ends_;
+  Eigen::VectorXd step_moves_;
   bool start_known_ = false;
   Eigen::VectorXd node_x_;
   Eigen::VectorXd root_floors_;
@@ -378,7 +381,7 @@ class EventDrivenRun {
   long refusals_before_unresolved_ = 0;  // data_.refusals when they began
   double last_event_time_ = 0;
   int burst_ = 0;
-  std::vector<Mode> modes_at_event_time_;
+  internal::ModesAtOneTime modes_at_event_time_;
   std::vector<double> switch_times_;  // times of the mode changes, for Zeno detection
   long reduced_selections_ = 0;       // modes chosen by the differentiation procedure
   long look_ahead_selections_ = 0;    // non-strongly-regular points passed by look-ahead
@@ -422,36 +425,25 @@ void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x
 // lets a step span the horizon, a polynomial x grazes a constraint) shows
 // only here or in StepViolation, which checks each whole step.
 double EventDrivenRun::SampleOutputs(double before) {
-  // The times are non-decreasing (validated): the step's are a range of
-  // them, found by bisection.
-  const auto& times = options_.output_times;
-  const auto first = times.begin() + static_cast<std::ptrdiff_t>(next_output_);
-  const auto last =
-      std::partition_point(first, times.end(), [before](double t) { return t < before; });
-  const std::size_t end = static_cast<std::size_t>(last - times.begin());
-  if (end == next_output_) return NAN;
+  const internal::OutputSchedule::Range due = outputs_.TakeBefore(before);
+  if (due.empty()) return NAN;
   void* cvode = cvode_.get();
   const auto [t_n, h_u, q] = LastStep();
   // StepViolation may have read the polynomial already.
-  const bool by_polynomial = HasTaylor(t_n, q) ||
-                             (static_cast<int>(end - next_output_) > q + 1 && ReadTaylor(t_n, q));
-  // CVodeGetDky's own bound of the step, with its slack.
-  const double step_start =
-      t_n - h_u - 100 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + std::abs(h_u));
-  // A time the step's interpolant cannot serve (outside it, or where the
-  // mode's Newton fails) is left unsampled rather than guessed.
-  const auto served =
-      std::partition_point(first, last, [&](double t) { return t <= t0_ || t < step_start; });
-  const auto served_end =
-      std::partition_point(served, last, [this](double t) { return t < t_end_; });
-  next_output_ = end;
-  const auto count = static_cast<std::size_t>(served_end - served);
+  const bool by_polynomial =
+      HasTaylor(t_n, q) || (static_cast<int>(due.size()) > q + 1 && ReadTaylor(t_n, q));
+  // CVodeGetDky's own bound of the step, with its slack. A time the step's
+  // interpolant cannot serve (outside it, or where the mode's Newton fails)
+  // is left unsampled rather than guessed.
+  const internal::OutputSchedule::Range served =
+      outputs_.Served(due, t_n - h_u - internal::RootTimeTolerance(t_n, h_u));
+  const std::size_t count = served.size();
   if (count == 0) return NAN;
   // Straight into the trajectory (room for every output time is reserved):
   // x at all of the step's times, then u (one product for an LCS mode).
   std::vector<double>& sample_times = trajectory_.times;
   const std::size_t first_sample = sample_times.size();
-  sample_times.insert(sample_times.end(), served, served_end);
+  sample_times.insert(sample_times.end(), served.begin, served.end);
   const Eigen::Map<const Eigen::ArrayXd> step_times(sample_times.data() + first_sample,
                                                     static_cast<Eigen::Index>(count));
   auto X = trajectory_.states.Extend(count, x0_.size());
@@ -560,9 +552,7 @@ void EventDrivenRun::DropSamplesFrom(double t) {
   trajectory_.times.resize(kept);
   trajectory_.states.resize(kept);
   trajectory_.multipliers.resize(kept);
-  const auto& times = options_.output_times;
-  next_output_ = static_cast<std::size_t>(std::lower_bound(times.begin(), times.end(), t) -
-                                          times.begin());
+  outputs_.RetakeFrom(t);
 }
 
 // Where the dense output is kept: the last step's interpolant over [its
@@ -644,9 +634,10 @@ double EventDrivenRun::StepViolation() {
   if (!(exact && system_.HasDenseRows()) && StepClear(t_n, h)) return NAN;
   if (!ReadTaylor(t_n, q)) return NAN;
   if (!exact) {
-    if (end_roots_time_ != t_n) {  // StepClear could not take them
-      end_roots_.resize(2 * dvi_.m);
-      if (!RootsOnStep(t_n, q, t_n, end_roots_.data())) return t_n;
+    Eigen::VectorXd& end_roots = step_ends_.end_roots();
+    if (!step_ends_.HasEnd(t_n)) {  // StepClear could not take them
+      end_roots.resize(2 * dvi_.m);
+      if (!RootsOnStep(t_n, q, t_n, end_roots.data())) return t_n;
     }
     system_.RootFloors(0, root_floors_);
     slack_applied_ = false;
@@ -656,11 +647,12 @@ double EventDrivenRun::StepViolation() {
     // 2 or 3, so that a step that needs no halving costs 2–3 solves.
     const StepInterpolant& interpolant = StepInterpolant::OfDegree(
         system_.affine() ? std::min(q, kMaxInterpolantDegree) : std::clamp(q, 2, 3));
+    Eigen::VectorXd& start_roots = step_ends_.start_roots();
     if (!start_known_) {
-      start_roots_.resize(2 * dvi_.m);
-      if (!RootsOnStep(t_n, q, t_n - h, start_roots_.data())) return t_n - h;
+      start_roots.resize(2 * dvi_.m);
+      if (!RootsOnStep(t_n, q, t_n - h, start_roots.data())) return t_n - h;
     }
-    return PieceViolation(t_n, h, q, interpolant, -1, 0, start_roots_, end_roots_, 0);
+    return PieceViolation(t_n, h, q, interpolant, -1, 0, start_roots, end_roots, 0);
   }
   // A bound row's F may be off by what the state's error moves it (Holds),
   // the state's size taken at the step's ends.
@@ -682,18 +674,15 @@ double EventDrivenRun::StepViolation() {
 // every step's end), the start's the last step's end's, kept here with x
 // and x' there (start_known_ tells whether they are this step's start).
 bool EventDrivenRun::StepClear(double t_n, double h) {
-  // CVODE's t_n − h is the last step's end up to rounding.
-  start_known_ = std::abs(end_roots_time_ - (t_n - h)) <=
-                 4 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + h);
-  if (start_known_) start_roots_.swap(end_roots_);
-  end_roots_time_ = NAN;
+  start_known_ = step_ends_.Begin(t_n, h);
+  Eigen::VectorXd& end_roots = step_ends_.end_roots();
   if (data_.root_time == t_n && !data_.root_undefined) {
-    end_roots_ = data_.roots;
+    end_roots = data_.roots;
   } else {
     node_x_ = Eigen::Map<const Eigen::VectorXd>(y_.data(), x0_.size());
     if (t_n != t_ || !system_.Solve(t_n, node_x_)) return false;
-    end_roots_.resize(2 * dvi_.m);
-    system_.Roots(t_n, node_x_, end_roots_.data());
+    end_roots.resize(2 * dvi_.m);
+    system_.Roots(t_n, node_x_, end_roots.data());
   }
   if (CVodeGetDky(cvode_.get(), t_n, 1, dky_.get()) != CV_SUCCESS) return false;
   const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(dky_.data(), x0_.size());
@@ -702,12 +691,11 @@ bool EventDrivenRun::StepClear(double t_n, double h) {
     // How far each x_i moves from x_n within the step (HermiteMoves),
     // kMoveMargin times as far for the step's own polynomial.
     constexpr double kMoveMargin = 1.5;
-    internal::HermiteMoves(end_x_, end_rate_, x_n, rate, h, kMoveMargin, step_moves_);
-    clear = system_.StepClearOfBounds(start_roots_.data(), end_roots_.data(), step_moves_, h);
+    step_ends_.Moves(x_n, rate, h, kMoveMargin, step_moves_);
+    clear = system_.StepClearOfBounds(step_ends_.start_roots().data(), end_roots.data(),
+                                      step_moves_, h);
   }
-  end_x_ = x_n;
-  end_rate_ = rate;
-  end_roots_time_ = t_n;
+  step_ends_.End(t_n, x_n, rate);
   return clear;
 }
 
@@ -855,7 +843,7 @@ bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const Mode& mode,
 // reason.
 bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode) {
   IntegrationStats& stats = trajectory_.stats;
-  const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
+  const double delta = internal::LookAheadLength(t, t0_, t_end_);
   const MatrixClassVerdict regular =
       IsStronglyRegular(system_.problem().MultiplierJacobian(t, x, vi.z), vi.index_sets);
   const Eigen::VectorXd x_event = x;
@@ -982,8 +970,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     CVodeGetLastStep(cvode_.get(), &h_last);
     Eigen::VectorXd xdot(x.size());
     system_.Rhs(t, x, xdot);
-    const double root_time_error =
-        100 * std::numeric_limits<double>::epsilon() * (std::abs(t) + std::abs(h_last));
+    const double root_time_error = internal::RootTimeTolerance(t, h_last);
     const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol +
                                xdot.lpNorm<Eigen::Infinity>() * root_time_error;
     const double slack = std::min(system_.FSlack(t, x, state_error), kMaxEventSlack);
@@ -1028,23 +1015,14 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   // A root function that only touched zero (or vanishes identically, as F_j
   // of a degenerate component) leaves the mode as it is: no event.
   if (mode == old_mode) return true;
-  if (!same_time) modes_at_event_time_.assign(1, old_mode);
-  if (std::find(modes_at_event_time_.begin(), modes_at_event_time_.end(), mode) !=
-      modes_at_event_time_.end()) {
+  if (!modes_at_event_time_.Enter(same_time, old_mode, mode)) {
     std::ostringstream message;
     message << at() << "chattering: mode " << ModeLetters(mode)
             << " (f free, l lower, u upper bound) was "
             << "left at this time and would be re-entered";
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
-  modes_at_event_time_.push_back(mode);
-  for (int j = 0; j < dvi_.m; ++j) {
-    if (mode[j] == old_mode[j]) continue;
-    const EventKind kind = mode[j] == MultiplierBound::kLower   ? EventKind::kReachedLower
-                           : mode[j] == MultiplierBound::kUpper ? EventKind::kReachedUpper
-                                                                : EventKind::kLeftBound;
-    trajectory_.events.push_back({t, kind, j});
-  }
+  internal::AppendModeChangeEvents(t, old_mode, mode, trajectory_.events);
   if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
     std::ostringstream message;
     message << at() << "more than max_events = " << options_.max_events << " events";
@@ -1139,24 +1117,9 @@ EventDrivenRun::MissedRoot EventDrivenRun::LocateMissedRoot(double t_until, doub
   const double t_start = t_n - h_last;
   last_defined = t_start;
   if (!roots_at(t_start, g_start)) return MissedRoot::kUndefined;
-  constexpr int kScanPoints = 16;
-  double good = t_start;
-  double bad = t_until;
-  for (int k = 1; k <= kScanPoints; ++k) {
-    const double t = t_start + (t_until - t_start) * k / kScanPoints;
-    if (!holds_at(t)) {
-      bad = t;
-      break;
-    }
-    good = t;
-  }
+  const auto [good, bad] = internal::BracketFirstFailure(
+      t_start, t_until, internal::RootTimeTolerance(t_n, h_last), holds_at);
   if (good == t_until) return MissedRoot::kNone;
-  const double tolerance =
-      100 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + std::abs(h_last));
-  while (bad - good > tolerance) {
-    const double middle = good + (bad - good) / 2;
-    (holds_at(middle) ? good : bad) = middle;
-  }
   last_defined = good;
   if (!holds_at(bad) && crossed) {
     t_ = bad;
@@ -1275,7 +1238,7 @@ bool EventDrivenRun::IntegrateModes() {
     if (event) {
       SampleOutputs(t_);
       AddCvodeStats();
-      end_roots_time_ = NAN;  // the next step starts in another mode
+      step_ends_.Forget();  // the next step starts in another mode
       Eigen::VectorXd x = y;
       const Eigen::VectorXd x_left = x, u_left = system_.u();
       if (!HandleEvent(t_, x)) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 namespace dvi::internal {
 
@@ -14,6 +15,14 @@ constexpr double kSameTimeFraction = 1e-12;
 /// of length horizon, are one time.
 inline double SameTimeWidth(double t, double horizon) {
   return kSameTimeFraction * (std::abs(t) + horizon);
+}
+
+/// The tolerance to which CVODE's and IDA's root finders locate a zero in a
+/// step ending at t of length h, 100 ε (|t| + |h|) (cvRootfind, IDARootfind:
+/// the Illinois algorithm of Hiebert & Shampine stops within it): a root's
+/// time is known to this, its state to x' times it.
+inline double RootTimeTolerance(double t, double h) {
+  return 100 * std::numeric_limits<double>::epsilon() * (std::abs(t) + std::abs(h));
 }
 
 }  // namespace dvi::internal

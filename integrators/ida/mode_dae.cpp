@@ -2,7 +2,6 @@
 #include "dvi/mode_dae.hpp"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -22,9 +21,14 @@
 #include "certify.hpp"
 #include "check.hpp"
 #include "events/event_times.hpp"
+#include "events/missed_root.hpp"
+#include "events/mode_changes.hpp"
+#include "events/output_schedule.hpp"
+#include "events/step_ends.hpp"
 #include "ida/ida_memory.hpp"
 #include "ida/lcs_mode_dae.hpp"
 #include "ida/mode_dae_validated.hpp"
+#include "modes/mode_selection.hpp"
 #include "modes/polynomial_floor.hpp"
 #include "modes/step_interpolant.hpp"
 #include "non_finite_samples.hpp"
@@ -55,9 +59,6 @@ using internal::FlagName;
 using internal::GuardedCallback;
 using internal::LcsModeDae;
 
-// The look-ahead step at a mode the modified LCP cannot place, as a fraction
-// of the horizon (the CVODE path's, event_driven.cpp).
-constexpr double kLookAheadFraction = 1e-5;
 // Above this x'/(rtol |x| + atol), the square in IDA's weighted norm
 // overflows (√DBL_MAX ≈ 1.3e154, less a margin for the sum over components).
 constexpr double kOverflowingScaledRate = 1e150;
@@ -191,7 +192,7 @@ class ModeDaeRun {
   const int m_;
   const double u_tolerance_;
   Trajectory trajectory_;
-  std::size_t next_output_ = 0;
+  internal::OutputSchedule outputs_{options_.output_times, t0_, t_end_};
   double t_ = 0;
   bool initialized_ = false;
 
@@ -207,7 +208,7 @@ class ModeDaeRun {
 
   double last_event_time_ = 0;
   int same_time_events_ = 0;
-  std::vector<Mode> modes_at_event_time_;
+  internal::ModesAtOneTime modes_at_event_time_;
   long reduced_modes_ = 0;  // modes entered with rows differentiated
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
   std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
@@ -220,8 +221,8 @@ class ModeDaeRun {
   Eigen::VectorXd mid_y_, mid_yp_, mid_f_, mid_rounding_;
   // MissedRoot's screen: the last step's end, its y, y' and root values
   // (the next step's start), and how far y and the root functions move.
-  double step_end_time_ = NAN;
-  Eigen::VectorXd end_y_, end_yp_, end_roots_, start_roots_, step_moves_, root_moves_;
+  internal::StepEnds step_ends_;
+  Eigen::VectorXd step_moves_, root_moves_;
   // A root that left the mode unchanged, until a step shows the mode holds.
   double kept_mode_time_ = 0;
   Eigen::VectorXd kept_mode_y_;
@@ -260,15 +261,15 @@ void ModeDaeRun::Sample(double t) {
 // Requested times before `before` from IDA's interpolant of the last step
 // (x and u alike: u is a smooth part of y inside a mode).
 void ModeDaeRun::SampleOutputs(double before) {
-  const auto& times = options_.output_times;
   // The certificate's ODE defect at the sample nearest the step's middle.
   double t_n = 0, h = 0, middle = NAN, nearest = NAN;
   if (IDAGetCurrentTime(ida_.get(), &t_n) == IDA_SUCCESS &&
       IDAGetLastStep(ida_.get(), &h) == IDA_SUCCESS)
     middle = t_n - h / 2;
-  while (next_output_ < times.size() && times[next_output_] < before) {
-    const double t = times[next_output_++];
-    if (t <= t0_ || t >= t_end_) continue;
+  const internal::OutputSchedule::Range served =
+      outputs_.Served(outputs_.TakeBefore(before), -std::numeric_limits<double>::infinity());
+  for (auto time = served.begin; time != served.end; ++time) {
+    const double t = *time;
     if (IDAGetDky(ida_.get(), t, 0, dky_.get()) != IDA_SUCCESS) continue;
     const Eigen::Map<const Eigen::VectorXd> y(dky_.data(), dae_.size());
     trajectory_.times.push_back(t);
@@ -391,7 +392,7 @@ bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen
     }
   }
   checked_at_x_ = false;
-  step_end_time_ = NAN;  // MissedRoot's kept step end is another mode's
+  step_ends_.Forget();  // MissedRoot's kept step end is another mode's
   if (dae_.passes() > 0) ++reduced_modes_;
   Eigen::VectorXd xdot;
   dae_.StateDerivative(x, u, xdot);
@@ -475,7 +476,7 @@ bool ModeDaeRun::ModeHolds(const Mode& mode, const Eigen::VectorXd& x, const Eig
 bool ModeDaeRun::LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                Mode& mode, Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead,
                                std::string& why) {
-  const double delta = std::min(kLookAheadFraction * (t_end_ - t0_), t_end_ - t);
+  const double delta = internal::LookAheadLength(t, t0_, t_end_);
   if (!look_ahead_) {
     TimeSteppingOptions stepping;
     stepping.solver = options_.solver;
@@ -586,23 +587,14 @@ bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
                          t - last_event_time_ <= internal::SameTimeWidth(t, horizon);
   same_time_events_ = same_time ? same_time_events_ + 1 : 1;
   last_event_time_ = t;
-  if (!same_time) modes_at_event_time_.assign(1, old_mode);
-  const bool revisited = std::find(modes_at_event_time_.begin(), modes_at_event_time_.end(),
-                                   mode) != modes_at_event_time_.end();
+  const bool revisited = !modes_at_event_time_.Enter(same_time, old_mode, mode);
   if (revisited || same_time_events_ > kMaxSameTimeEvents) {
     Sample(t);
     message << "chattering: " << same_time_events_ << " mode changes at this instant"
             << (revisited ? ", the last re-entering a mode it left" : "");
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
-  modes_at_event_time_.push_back(mode);
-  for (int j = 0; j < m_; ++j) {
-    if (mode[j] == old_mode[j]) continue;
-    const EventKind kind = mode[j] == MultiplierBound::kLower   ? EventKind::kReachedLower
-                           : mode[j] == MultiplierBound::kUpper ? EventKind::kReachedUpper
-                                                                : EventKind::kLeftBound;
-    trajectory_.events.push_back({t, kind, j});
-  }
+  internal::AppendModeChangeEvents(t, old_mode, mode, trajectory_.events);
   if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
     Sample(t);
     message << "more than max_events = " << options_.max_events << " events";
@@ -634,24 +626,21 @@ double ModeDaeRun::MissedRoot(std::vector<int>& roots) {
     return NAN;
   const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size()), yp(yp_.data(), dae_.size());
   const double tolerance = u_tolerance_ * (1 + y.lpNorm<Eigen::Infinity>());
-  // IDA's t_n − h is the last step's end up to rounding.
-  const bool start_known = std::abs(step_end_time_ - (t_n - h)) <=
-                           4 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + h);
-  start_roots_.swap(end_roots_);
-  end_roots_.resize(2 * m_);
-  dae_.Roots(y.data(), end_roots_.data());
+  const bool start_known = step_ends_.Begin(t_n, h);
+  const Eigen::VectorXd& start_roots = step_ends_.start_roots();
+  Eigen::VectorXd& end_roots = step_ends_.end_roots();
+  end_roots.resize(2 * m_);
+  dae_.Roots(y.data(), end_roots.data());
   bool clear = false;
   if (start_known) {
     constexpr double kMoveMargin = 2;
-    internal::HermiteMoves(end_y_, end_yp_, y, yp, h, kMoveMargin, step_moves_);
+    step_ends_.Moves(y, yp, h, kMoveMargin, step_moves_);
     dae_.RootMoves(step_moves_, root_moves_);
     clear = true;
     for (int slot = 0; clear && slot < 2 * m_; ++slot)
-      clear = std::max(start_roots_(slot), end_roots_(slot)) - root_moves_(slot) > -tolerance;
+      clear = std::max(start_roots(slot), end_roots(slot)) - root_moves_(slot) > -tolerance;
   }
-  end_y_ = y;
-  end_yp_ = yp;
-  step_end_time_ = t_n;
+  step_ends_.End(t_n, y, yp);
   if (clear) return NAN;
   step_taylor_.resize(dae_.size(), q + 1);
   double factorial = 1;
@@ -661,20 +650,9 @@ double ModeDaeRun::MissedRoot(std::vector<int>& roots) {
     step_taylor_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), dae_.size()) / factorial;
   }
   dae_.RootPolynomials(step_taylor_, step_roots_);
-  std::array<double, internal::kMaxFloorDegree + 1> coefficients{};
-  double first = NAN;
   int first_slot = -1;
-  for (int slot = 0; slot < 2 * m_; ++slot) {
-    for (int k = 0; k <= q; ++k) coefficients[k] = step_roots_(slot, k);
-    if (std::isnan(internal::FirstTimeBelow(coefficients.data(), q, t_n, h, -tolerance)))
-      continue;
-    // Its first zero: the search meets the earliest point below 0 first.
-    const double zero = internal::FirstTimeBelow(coefficients.data(), q, t_n, h, 0);
-    if (!(zero >= first)) {
-      first = zero;
-      first_slot = slot;
-    }
-  }
+  const double first =
+      internal::EarliestZeroOfDippingRoot(step_roots_, q, t_n, h, tolerance, &first_slot);
   if (first_slot < 0) return NAN;
   roots.assign(2 * static_cast<std::size_t>(m_), 0);
   roots[first_slot] = -1;

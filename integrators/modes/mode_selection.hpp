@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,17 @@ namespace dvi::internal {
 /// solution continues in, from the full VI's solution there ([Seed]
 /// Sect. 5.3 where it is strongly regular, the differentiation procedure of
 /// Sect. 5.4 / Theorems 5.2–5.3 where it is not).
+
+/// The look-ahead's length at a degenerate event or start, relative to the
+/// horizon: a backward-Euler step this long moves the state by O(δ·|x'|),
+/// far above the root finder's error, far below the scale of the modes.
+constexpr double kLookAheadFraction = 1e-5;
+
+/// The look-ahead step from t in a run over [t0, t_end]: kLookAheadFraction
+/// of the horizon, never past t_end.
+inline double LookAheadLength(double t, double t0, double t_end) {
+  return std::min(kLookAheadFraction * (t_end - t0), t_end - t);
+}
 
 /// What SelectMode concluded: a mode, or why none.
 enum class Selection { kChosen, kViNotSolved, kChattering };
