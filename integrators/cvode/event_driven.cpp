@@ -34,7 +34,7 @@
 #include "modes/box_mode.hpp"
 #include "modes/kkt_lifting.hpp"
 #include "modes/mode_selection.hpp"
-#include "modes/step_interpolant.hpp"
+#include "modes/step_root_check.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 #include "rounding_floor.hpp"
@@ -92,9 +92,6 @@ namespace {
 using internal::BoxModeSystem;
 using internal::FlagName;
 using internal::GuardedCallback;
-using internal::kMaxInterpolantDegree;
-using internal::PieceBound;
-using internal::StepInterpolant;
 
 // Steps in a row within the round-off of t that end a run (StepsResolveTime).
 constexpr int kUnresolvedSteps = 10;
@@ -304,10 +301,6 @@ class EventDrivenRun {
   double SampleOutputs(double before);
   double StepViolation();
   bool StepClear(double t_n, double h);
-  double PieceViolation(double t_n, double h, int q, const StepInterpolant& interpolant,
-                        double s_start, double s_end, const Eigen::VectorXd& g_start,
-                        const Eigen::VectorXd& g_end, int depth);
-  bool RootsOnStep(double t_n, int q, double t, double* g);
   void DropSamplesFrom(double t);
   void RecordStep(double end);
   void SampleDefects(double t_n, double h, int q, bool by_polynomial,
@@ -360,16 +353,15 @@ class EventDrivenRun {
   Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_;
   Eigen::MatrixXd scaled_taylor_;
   double recorded_until_ = -std::numeric_limits<double>::infinity();  // RecordStep's last end
-  // StepClear and PieceViolation: the step's start and end roots (the last
-  // step's end, x and x' there, for the next step's start in the mode), x
-  // at a node and the root slots' floors (their slack applied or not).
+  // StepClear and StepViolation: the last step's end kept as the next's
+  // start (its root values, x and x' there), whether this step starts
+  // there, how far x moves within it, x at its end; the whole-step check of
+  // a mode whose roots are no polynomials.
   internal::StepEnds step_ends_;
   Eigen::VectorXd step_moves_;
   bool start_known_ = false;
   Eigen::VectorXd node_x_;
-  Eigen::VectorXd root_floors_;
-  double f_slack_ = 0;
-  bool slack_applied_ = false;
+  internal::StepRootCheck root_check_{system_};
   std::unique_ptr<internal::DenseLinearSolver> dense_;
   std::unique_ptr<internal::KluLinearSolver> klu_;
   internal::CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
@@ -622,7 +614,7 @@ bool EventDrivenRun::ReadTaylor(double t_n, int q) {
 // it: a constraint grazed between output times is found too. In a mode
 // whose root functions are polynomials along the step (an LCS mode with an
 // affine u) they are bounded exactly (BoxModeSystem::FirstViolationInStep);
-// in any other, through their interpolant (PieceViolation). Where that
+// in any other, through their interpolant (StepRootCheck). Where that
 // costs more than a small LCS's few products (reading the step's
 // polynomial is O(q² n)), a step whose root functions stay clear of their
 // bounds by their slopes (StepClear) is passed first. NaN when none is
@@ -637,22 +629,15 @@ double EventDrivenRun::StepViolation() {
     Eigen::VectorXd& end_roots = step_ends_.end_roots();
     if (!step_ends_.HasEnd(t_n)) {  // StepClear could not take them
       end_roots.resize(2 * dvi_.m);
-      if (!RootsOnStep(t_n, q, t_n, end_roots.data())) return t_n;
+      if (!root_check_.RootsAt(taylor_, t_n, q, t_n, end_roots.data())) return t_n;
     }
-    system_.RootFloors(0, root_floors_);
-    slack_applied_ = false;
-    // An LCS mode here (G_u singular at the split: no affine map) has root
-    // functions of x's degree, which its interpolant reproduces. A
-    // nonlinear one's are resolved by halving pieces rather than by degree:
-    // 2 or 3, so that a step that needs no halving costs 2–3 solves.
-    const StepInterpolant& interpolant = StepInterpolant::OfDegree(
-        system_.affine() ? std::min(q, kMaxInterpolantDegree) : std::clamp(q, 2, 3));
     Eigen::VectorXd& start_roots = step_ends_.start_roots();
     if (!start_known_) {
       start_roots.resize(2 * dvi_.m);
-      if (!RootsOnStep(t_n, q, t_n - h, start_roots.data())) return t_n - h;
+      if (!root_check_.RootsAt(taylor_, t_n, q, t_n - h, start_roots.data())) return t_n - h;
     }
-    return PieceViolation(t_n, h, q, interpolant, -1, 0, start_roots, end_roots, 0);
+    return root_check_.FirstViolation(taylor_, t_n, h, q, start_roots, end_roots, options_.rtol,
+                                      options_.atol);
   }
   // A bound row's F may be off by what the state's error moves it (Holds),
   // the state's size taken at the step's ends.
@@ -688,7 +673,7 @@ bool EventDrivenRun::StepClear(double t_n, double h) {
   const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(dky_.data(), x0_.size());
   bool clear = false;
   if (start_known_) {
-    // How far each x_i moves from x_n within the step (HermiteMoves),
+    // How far each x_i moves from x_n within the step (StepEnds::Moves),
     // kMoveMargin times as far for the step's own polynomial.
     constexpr double kMoveMargin = 1.5;
     step_ends_.Moves(x_n, rate, h, kMoveMargin, step_moves_);
@@ -697,76 +682,6 @@ bool EventDrivenRun::StepClear(double t_n, double h) {
   }
   step_ends_.End(t_n, x_n, rate);
   return clear;
-}
-
-// The root functions at t on the last step's polynomial (taylor_, read at
-// t_n, of order q); false where the mode's Newton fails there.
-bool EventDrivenRun::RootsOnStep(double t_n, int q, double t, double* g) {
-  node_x_ = taylor_.col(q);
-  for (int k = q - 1; k >= 0; --k) node_x_ = taylor_.col(k) + (t - t_n) * node_x_;
-  if (!system_.Solve(t, node_x_)) return false;
-  system_.Roots(t, node_x_, g);
-  return true;
-}
-
-// The piece [t_n + h s_start, t_n + h s_end] of the last step, whose ends'
-// root values are g_start and g_end: the root functions at the
-// interpolant's interior nodes and its extra node, and the polynomials
-// through them bounded over the piece (StepInterpolant::Bound), so a dip
-// between the nodes is found as well as one at them. A dip counts once the
-// root functions themselves confirm it at its lowest point; a piece too long
-// for the degree to tell (the error estimate reaches the floor, or a dip is
-// not confirmed) is halved, kMaxPieceDepth times at most: a root function
-// driven by t (F's own time dependence) varies on scales the steps of x
-// need not resolve. A point where the mode's Newton fails is returned for
-// LocateMissedRoot to tell a crossing from an undefined F.
-double EventDrivenRun::PieceViolation(double t_n, double h, int q,
-                                      const StepInterpolant& interpolant, double s_start,
-                                      double s_end, const Eigen::VectorXd& g_start,
-                                      const Eigen::VectorXd& g_end, int depth) {
-  constexpr int kMaxPieceDepth = 8;
-  const double t_end = t_n + h * s_end, width = h * (s_end - s_start);
-  const int degree = interpolant.degree();
-  const int m2 = 2 * dvi_.m;
-  Eigen::MatrixXd values(m2, degree + 1);
-  values.col(0) = g_start;
-  values.col(degree) = g_end;
-  for (int i = 1; i < degree; ++i) {
-    const double t = t_end + width * interpolant.node(i);
-    if (!RootsOnStep(t_n, q, t, values.col(i).data())) return t;
-  }
-  // An LCS's root functions have x's degree: its interpolant is exact.
-  Eigen::VectorXd extra(system_.affine() ? 0 : m2);
-  const double t_extra = t_end + width * interpolant.extra_node();
-  if (extra.size() > 0 && !RootsOnStep(t_n, q, t_extra, extra.data())) return t_extra;
-  PieceBound bound = interpolant.Bound(values, extra, root_floors_, t_end, width);
-  if ((!std::isnan(bound.dip) || bound.uncertain) && !slack_applied_) {
-    // A bound row's F may be off by what the state's error moves it
-    // (Holds): that slack costs F's Jacobians, so only a piece that dips
-    // pays it.
-    node_x_ = taylor_.col(0);
-    const double state_error = options_.rtol * node_x_.lpNorm<Eigen::Infinity>() + options_.atol;
-    f_slack_ = system_.FSlack(t_n, node_x_, state_error);
-    system_.RootFloors(f_slack_, root_floors_);
-    slack_applied_ = true;
-    bound = interpolant.Bound(values, extra, root_floors_, t_end, width);
-  }
-  if (!std::isnan(bound.dip)) {
-    extra.resize(m2);
-    if (!RootsOnStep(t_n, q, bound.dip, extra.data())) return bound.dip;
-    if (system_.FirstViolation(Eigen::VectorXd::Constant(1, bound.dip), node_x_, system_.u(),
-                               f_slack_) >= 0)
-      return bound.dip;
-    bound.uncertain = true;
-  }
-  if (!bound.uncertain || depth == kMaxPieceDepth) return NAN;
-  const double s_middle = (s_start + s_end) / 2, t_middle = t_n + h * s_middle;
-  Eigen::VectorXd g_middle(m2);
-  if (!RootsOnStep(t_n, q, t_middle, g_middle.data())) return t_middle;
-  const double left = PieceViolation(t_n, h, q, interpolant, s_start, s_middle, g_start, g_middle,
-                                     depth + 1);
-  if (!std::isnan(left)) return left;
-  return PieceViolation(t_n, h, q, interpolant, s_middle, s_end, g_middle, g_end, depth + 1);
 }
 
 // CVODE goes on, with a warning only, when its steps no longer resolve t
