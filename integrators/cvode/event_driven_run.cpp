@@ -1,0 +1,491 @@
+// SPDX-License-Identifier: Apache-2.0
+// EventDrivenRun's loop: start, integrate a mode, handle an event.
+#include "cvode/event_driven_run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <cvode/cvode_ls.h>
+#include <cvode/cvode_proj.h>
+
+#include "check.hpp"
+#include "cvode/event_driven_validated.hpp"
+#include "dvi/matrix_classes.hpp"
+#include "events/event_times.hpp"
+#include "events/zeno_prediction.hpp"
+#include "modes/mode_selection.hpp"
+#include "sundials/callbacks.hpp"
+
+namespace dvi::internal {
+
+// Steps in a row within the round-off of t that end a run (StepsResolveTime).
+constexpr int kUnresolvedSteps = 10;
+// The largest tolerance an event's VI is solved to when the state's error
+// makes it infeasible at the solver's own (HandleEvent).
+constexpr double kMaxEventSlack = 1e-3;
+
+bool EventDrivenRun::Fail(IntegrationStatus status, const std::string& message) {
+  trajectory_.status = status;
+  trajectory_.message = message;
+  return false;
+}
+
+bool EventDrivenRun::Check(int flag, const char* call) {
+  if (data_.error) std::rethrow_exception(data_.error);
+  if (flag >= 0) return true;
+  std::ostringstream message;
+  message << "event: " << call << " failed at t = " << t_ << ": "
+          << FlagName(CVodeGetReturnFlagName(flag));
+  if (!data_.cvode_message.empty()) message << " (" << data_.cvode_message << ")";
+  if (!data_.non_finite.empty()) message << ": " << data_.non_finite;
+  return Fail(IntegrationStatus::kStepFailure, message.str());
+}
+
+// CVODE goes on, with a warning only, when its steps no longer resolve t
+// (h within an ulp or so of t). Near a singularity of f (x' = −1/x as x → 0)
+// they shrink to that and carry x across to another branch: plain CVODE
+// returns x = 3266 at t = 0.5 from x0 = 1, where the solution ends. A first
+// step may be that short at a large t (CVODE's estimate at t0 = 1e8), so
+// only kUnresolvedSteps in a row end the run.
+bool EventDrivenRun::StepsResolveTime() {
+  void* cvode = cvode_.get();
+  double t_n = 0, h = 0;
+  // h = 0 before the first step completes; a NaN h is Load's to report.
+  if (CVodeGetCurrentTime(cvode, &t_n) != CV_SUCCESS || CVodeGetLastStep(cvode, &h) != CV_SUCCESS ||
+      h == 0 || !(std::abs(h) <= std::numeric_limits<double>::epsilon() * std::abs(t_n))) {
+    unresolved_steps_ = 0;
+    return true;
+  }
+  if (unresolved_steps_ == 0) refusals_before_unresolved_ = data_.refusals;
+  if (++unresolved_steps_ < kUnresolvedSteps) return true;
+  std::ostringstream message;
+  message << "event: at t = " << std::setprecision(10) << t_n << std::setprecision(3)
+          << ", CVODE's last " << kUnresolvedSteps << " steps (h = " << h
+          << ") no longer resolve t (within its round-off)";
+  if (data_.refusals > refusals_before_unresolved_) {
+    // The steps shrank against the right-hand side's refusals just ahead.
+    message << ": the right-hand side is refused at t = " << std::setprecision(10)
+            << data_.refused_at << ": " << data_.refused_why;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  if (CVodeGetDky(cvode, t_n, 1, dky_.get()) == CV_SUCCESS)
+    message << ", with |x'| = " << Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size())
+                                       .lpNorm<Eigen::Infinity>();
+  message << ": x' is unbounded there (a singularity of f, where the solution ends) or faster "
+             "than double precision resolves at this t";
+  return Fail(IntegrationStatus::kStepFailure, message.str());
+}
+
+void EventDrivenRun::AddCvodeStats() {
+  long steps = 0, error_test_failures = 0;
+  CVodeGetNumSteps(cvode_.get(), &steps);
+  CVodeGetNumErrTestFails(cvode_.get(), &error_test_failures);
+  trajectory_.stats.steps += steps;
+  trajectory_.stats.rejected_steps += error_test_failures;
+  segment_open_ = false;
+}
+
+// Enters the mode from (t, x) and u, and checks that it holds there: Newton
+// solves its equations, and every root function is non-negative. A reduced
+// mode first moves x onto its original constraints Φ = 0 (consistent initial
+// values: the event state satisfies them only to the VI's tolerance).
+bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const Mode& mode,
+                             const Eigen::VectorXd& u, std::string& why) {
+  system_.Enter(mode, u);
+  if (!system_.Solve(t, x, &why)) return false;
+  if (system_.reduced()) {
+    Eigen::VectorXd correction;
+    system_.Project(t, x, correction, nullptr);
+    x += correction;
+    if (!system_.Solve(t, x, &why)) return false;
+  }
+  return system_.Holds(t, x, &why);
+}
+
+// Selects and enters the mode to follow from (t, x), given the VI solution
+// vi there. A strongly regular u (Sect. 5.3) gives it directly, its
+// degenerate components by their rates or the look-ahead of SelectMode. Otherwise the
+// differentiation procedure of Theorems 5.2/5.3 decides first where it
+// applies (index two and higher: sliding, a diode that clamps a state, a
+// mass resting on the ground): its exact derivatives see what a look-ahead
+// of finite length cannot, a constraint that the flow would violate only
+// at second order. Where it does not apply, u(t, x) may still be Lipschitz
+// along the flow (Proposition 5.1: a bridge of ideal diodes, a Filippov
+// crossing), which the look-ahead finds. Neither: kNotIndexOne with every
+// reason.
+bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode) {
+  IntegrationStats& stats = trajectory_.stats;
+  const double delta = LookAheadLength(t, t0_, t_end_);
+  const MatrixClassVerdict regular =
+      IsStronglyRegular(system_.problem().MultiplierJacobian(t, x, vi.z), vi.index_sets);
+  const Eigen::VectorXd x_event = x;
+  std::string reduced_why;
+  if (!regular.holds) {
+    Eigen::VectorXd u;
+    if (system_.SelectReducedMode(t, x, vi, mode, u, &stats.vi_solves, &stats.solver_iterations,
+                                  &reduced_why) &&
+        TryMode(t, x, mode, u, reduced_why)) {
+      ++reduced_selections_;
+      return true;
+    }
+    x = x_event;
+  }
+  std::string look_ahead_why;
+  const Selection selection =
+      SelectMode(system_.problem(), t, x, vi, delta, !regular.holds, mode,
+                           &stats.vi_solves, &stats.solver_iterations, &look_ahead_why);
+  if (selection == Selection::kChosen &&
+      TryMode(t, x, mode, vi.z, look_ahead_why)) {
+    if (!regular.holds) ++look_ahead_selections_;
+    return true;
+  }
+  std::ostringstream message;
+  message << "event: at t = " << t << ": ";
+  if (regular.holds) {
+    // An unsolved look-ahead VI is a numerical failure, not evidence of
+    // chattering.
+    message << "mode " << ModeLetters(mode) << ": " << look_ahead_why;
+    return Fail(selection == Selection::kViNotSolved
+                    ? IntegrationStatus::kStepFailure
+                    : IntegrationStatus::kEventAccumulation,
+                message.str());
+  }
+  x = x_event;
+  message << "not index one: u is not strongly regular (" << regular.reason
+          << "); " << reduced_why << "; the look-ahead fails (" << look_ahead_why << ")";
+  return Fail(IntegrationStatus::kNotIndexOne, message.str());
+}
+
+bool EventDrivenRun::Start() {
+  IntegrationStats& stats = trajectory_.stats;
+  if (dvi_.m == 0) {
+    index_one_reason_ = "m = 0: an ODE, one mode";
+    std::copy(x0_.data(), x0_.data() + x0_.size(), y_.data());
+    Sample(t0_, x0_, Eigen::VectorXd());
+    return true;
+  }
+  const Eigen::VectorXd warm = Eigen::VectorXd::Zero(dvi_.m);
+  const SolveResult vi = system_.problem().SolveVi(t0_, x0_, warm);
+  ++stats.vi_solves;
+  stats.solver_iterations += vi.iterations;
+  stats.max_residual = std::max(stats.max_residual, vi.residual);
+  if (!vi.solved()) {
+    std::ostringstream message;
+    message << "event: the VI at t = " << t0_ << " is not solved (" << ToString(vi.status)
+            << ", residual " << vi.residual << "): " << vi.message;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  // Index one at (t0, x0, u0): Theorem 5.1 (uniformly P) or Sect. 5.3
+  // (strongly regular); otherwise the mode comes from ChooseMode's look-ahead
+  // or from the differentiation procedure (Theorem 5.3).
+  const Eigen::MatrixXd Fu = system_.problem().MultiplierJacobian(t0_, x0_, vi.z);
+  if (IsPMatrix(Fu).holds)
+    index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + FormatTime(t0_) + " (Theorem 5.1)";
+  else if (IsStronglyRegular(Fu, vi.index_sets).holds)
+    index_one_reason_ = "index one: u0 strongly regular at t = " + FormatTime(t0_) + " (Sect. 5.3)";
+  Mode mode;
+  Eigen::VectorXd x = x0_;
+  if (!ChooseMode(t0_, x, vi, mode)) return false;
+  if (index_one_reason_.empty())
+    index_one_reason_ = reduced_selections_ > 0
+                            ? "u0 not strongly regular at t = " + FormatTime(t0_) +
+                                  "; mode by the differentiation procedure (" +
+                                  reduction_theorem_ + ")"
+                            : "u0 not strongly regular at t = " + FormatTime(t0_) +
+                                  "; mode by look-ahead along the flow";
+  std::copy(x.data(), x.data() + x.size(), y_.data());
+  Sample(t0_, x, system_.u());
+  return true;
+}
+
+// Zeno (events/zeno_prediction.hpp): stop once the predicted accumulation
+// time t* of the switch times is within zeno_window of the horizon.
+bool EventDrivenRun::Accumulating(double t, std::string& why) {
+  switch_times_.push_back(t);
+  const ZenoPrediction zeno = PredictAccumulation(switch_times_);
+  if (!zeno.found || zeno.accumulation_time - t > options_.zeno_window * (t_end_ - t0_))
+    return false;
+  std::ostringstream message;
+  message << "Zeno: " << switch_times_.size() << " mode changes, the last " << zeno.gaps
+          << " gaps shrinking by a ratio of " << zeno.ratio;
+  if (zeno.period > 1) message << " per cycle of " << zeno.period << " modes";
+  message << ", accumulate at t* = " << std::setprecision(10) << zeno.accumulation_time
+          << " (predicted)";
+  why = message.str();
+  return true;
+}
+
+bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
+  IntegrationStats& stats = trajectory_.stats;
+  const Mode old_mode = system_.mode();
+  const Eigen::VectorXd x_root = x;
+  // u of the old mode at the root only warm-starts the VI: no check needed.
+  system_.Solve(t, x);
+  // The root of a reduced mode lies on its constraints Φ = 0 up to the
+  // interpolant's error (CVODE projects steps, not the points between):
+  // put it back, or a VI in u-free rows (an index-three contact) has no
+  // solution at the slightly infeasible state.
+  if (system_.reduced()) {
+    Eigen::VectorXd correction;
+    system_.Project(t, x, correction, nullptr);
+    x += correction;
+  }
+  SolveResult vi = system_.problem().SolveVi(t, x, system_.u());
+  if (!vi.solved()) {
+    // The root's state carries CVODE's error and x' times the root's time
+    // tolerance (100 ε (|t| + |h|)): x crossed a state constraint by up to
+    // that much (x = −1.9e-10 where x ≥ 0, at t = 5e3), and the VI there is
+    // infeasible by as much. To the slack the state's error allows, it is
+    // solved; the mode chosen at it (a reduced one, for a state constraint)
+    // puts x back on its constraints.
+    double h_last = 0;
+    CVodeGetLastStep(cvode_.get(), &h_last);
+    Eigen::VectorXd xdot(x.size());
+    system_.Rhs(t, x, xdot);
+    const double root_time_error = RootTimeTolerance(t, h_last);
+    const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol +
+                               xdot.lpNorm<Eigen::Infinity>() * root_time_error;
+    const double slack = std::min(system_.FSlack(t, x, state_error), kMaxEventSlack);
+    if (slack > options_.solver.tolerance) {
+      ++stats.vi_solves;
+      stats.solver_iterations += vi.iterations;
+      vi = system_.problem().SolveVi(t, x, system_.u(), slack);
+    }
+  }
+  ++stats.vi_solves;
+  stats.solver_iterations += vi.iterations;
+  stats.max_residual = std::max(stats.max_residual, vi.residual);
+  // Messages are formed on failure only: an event is on the hot path.
+  const auto at = [t] { return "event: at t = " + FormatTime(t) + ": "; };
+  if (!vi.solved()) {
+    std::ostringstream message;
+    message << at() << "the VI is not solved (" << ToString(vi.status) << ", residual "
+            << vi.residual << "): " << vi.message;
+    return Fail(IntegrationStatus::kStepFailure, message.str());
+  }
+  Mode mode = old_mode;
+  if (t_end_ - t > 0 && !ChooseMode(t, x, vi, mode)) return false;
+  // A root that leaves mode and state as they are (a grazing contact, a
+  // degenerate component) is no event: CVODE restarts from it and does not
+  // report it again there, so such roots cannot pile up at one time.
+  if (mode == old_mode && x == x_root) return true;
+  // Chattering guards: roots must not pile up (Zeno), and a mode must not be
+  // re-entered at the instant it was left — stop with a status, never loop.
+  const double horizon = t_end_ - t0_;
+  const bool same_time =
+      burst_ > 0 && t - last_event_time_ <= SameTimeWidth(t, horizon);
+  burst_ = burst_ > 0 && t - last_event_time_ < options_.min_event_spacing * horizon ? burst_ + 1
+                                                                                      : 1;
+  last_event_time_ = t;
+  if (burst_ >= options_.max_event_burst) {
+    std::ostringstream message;
+    message << at() << "chattering: " << burst_ << " consecutive events each less than "
+            << options_.min_event_spacing * horizon << " apart (Zeno behaviour or a mode left "
+            << "as soon as entered)";
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
+  }
+  // A root function that only touched zero (or vanishes identically, as F_j
+  // of a degenerate component) leaves the mode as it is: no event.
+  if (mode == old_mode) return true;
+  if (!modes_at_event_time_.Enter(same_time, old_mode, mode)) {
+    std::ostringstream message;
+    message << at() << "chattering: mode " << ModeLetters(mode)
+            << " (f free, l lower, u upper bound) was "
+            << "left at this time and would be re-entered";
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
+  }
+  AppendModeChangeEvents(t, old_mode, mode, trajectory_.events);
+  if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
+    std::ostringstream message;
+    message << at() << "more than max_events = " << options_.max_events << " events";
+    return Fail(IntegrationStatus::kEventAccumulation, message.str());
+  }
+  std::string zeno;
+  if (!same_time && Accumulating(t, zeno))
+    return Fail(IntegrationStatus::kEventAccumulation, at() + zeno);
+  Sample(t, x, system_.u());
+  return true;
+}
+
+// KLU: the Jacobian of the mode just entered, constant for an LCS, formed
+// once; its pattern is new, so KLU's symbolic analysis is redone.
+bool EventDrivenRun::EnterSparseJacobian() {
+  if (!klu_) return true;
+  if (!system_.SparseRhsJacobian(data_.sparse_J))
+    return Fail(IntegrationStatus::kStepFailure, "event: mode " + ModeLetters(system_.mode()) +
+                                                     " at t = " + FormatTime(t_) +
+                                                     ": G_u is singular, no Jacobian for KLU");
+  if (!klu_->Reset(data_.sparse_J.nonZeros()))
+    return Fail(IntegrationStatus::kStepFailure, "event: the KLU matrix cannot be resized");
+  return true;
+}
+
+// CVODE projects every step once a projection function is set, and pays
+// for it in vector updates even when the correction is zero. Only a reduced
+// mode has constraints Φ = 0 to keep (ProjectionCallback): the others run
+// with projection off. Called where a mode starts, after CVodeReInit.
+bool EventDrivenRun::ProjectReducedModesOnly() {
+  if (!ProjectsSteps()) return true;
+  return Check(CVodeSetProjFrequency(cvode_.get(), system_.reduced() ? 1 : 0),
+               "CVodeSetProjFrequency");
+}
+
+bool EventDrivenRun::IntegrateModes() {
+  void* cvode = cvode_.get();
+  data_.system = &system_;
+  data_.x.resize(x0_.size());
+  data_.roots.resize(2 * dvi_.m);
+  t_ = t0_;
+  mode_start_ = t0_;
+  if (!EnterSparseJacobian()) return false;
+  SUNMatrix matrix = klu_ ? klu_->matrix() : dense_->matrix();
+  SUNLinearSolver solver = klu_ ? klu_->solver() : dense_->solver();
+  std::vector<int> directions(2 * dvi_.m, -1);  // the root functions are positive in the mode
+  std::vector<int> roots(2 * dvi_.m);
+  if (!Check(CVodeSetErrHandlerFn(cvode, ModeErrorHandler, &data_), "CVodeSetErrHandlerFn") ||
+      !Check(CVodeInit(cvode, ModeRhsCallback, t0_, y_.get()), "CVodeInit") ||
+      !Check(CVodeSStolerances(cvode, options_.rtol, options_.atol), "CVodeSStolerances") ||
+      !Check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData") ||
+      !Check(CVodeSetLinearSolver(cvode, solver, matrix), "CVodeSetLinearSolver") ||
+      !Check(CVodeSetJacFn(cvode, klu_ ? ModeSparseJacobianCallback : ModeDenseJacobianCallback),
+             "CVodeSetJacFn") ||
+      !Check(CVodeSetMaxStep(cvode, options_.h_max), "CVodeSetMaxStep") ||
+      !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
+      !Check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn"))
+    return false;
+  if (dvi_.m > 0 &&
+      (!Check(CVodeRootInit(cvode, 2 * dvi_.m, ModeRootCallback), "CVodeRootInit") ||
+       !Check(CVodeSetRootDirection(cvode, directions.data()), "CVodeSetRootDirection")))
+    return false;
+  // The error estimate is not projected: in a mode whose constraints fix
+  // the whole state (a diode clamping v to a sine source) the projected
+  // estimate is zero, so steps grew without bound while only their
+  // projected ends stayed right and the interpolant between them was off
+  // by volts (issue 27). Unprojected, error control sees the error that
+  // the interpolant carries.
+  if (ProjectsSteps() &&
+      (!Check(CVodeSetProjFn(cvode, ModeProjectionCallback), "CVodeSetProjFn") ||
+       !Check(CVodeSetProjErrEst(cvode, g_project_error_estimate_for_testing),
+              "CVodeSetProjErrEst") ||
+       !ProjectReducedModesOnly()))
+    return false;
+  segment_open_ = true;
+
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), x0_.size());
+  while (true) {
+    double t_reached = t_;
+    const int flag = CVode(cvode, t_end_, y_.get(), &t_reached, CV_ONE_STEP);
+    taylor_time_ = NAN;
+    if (!Check(flag, "CVode") || !StepsResolveTime()) return false;
+    long steps = 0;
+    CVodeGetNumSteps(cvode, &steps);
+    if (trajectory_.stats.steps + steps > options_.max_steps) {
+      std::ostringstream message;
+      message << "event: max_steps = " << options_.max_steps << " reached at t = " << t_reached;
+      return Fail(IntegrationStatus::kMaxSteps, message.str());
+    }
+    t_ = t_reached;
+    bool event = flag == CV_ROOT_RETURN;
+    if (!event && data_.root_time == t_ && data_.root_undefined) {
+      double last_defined = t_;
+      if (LocateMissedRoot(t_, last_defined) != MissedRoot::kLocated)
+        return FailWhereFIsUndefined(last_defined);
+      event = true;
+    }
+    if (!event) {
+      if (!StillHolds()) return false;
+      if (system_.reduced())
+        trajectory_.stats.max_constraint_drift =
+            std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
+      // The step's check and the samples' may each see a violation the
+      // other misses: the earlier is located first.
+      const double in_step = StepViolation();
+      const double at_sample = SampleOutputs(t_);
+      const double first = std::fmin(in_step, at_sample), second = std::fmax(in_step, at_sample);
+      double last_defined = t_;
+      event = !std::isnan(first) && LocateMissedRoot(first, last_defined) == MissedRoot::kLocated;
+      if (!event && second > first)
+        event = LocateMissedRoot(second, last_defined) == MissedRoot::kLocated;
+      if (event) DropSamplesFrom(t_);
+    }
+    RecordStep(t_);
+    if (event) {
+      SampleOutputs(t_);
+      AddCvodeStats();
+      step_ends_.Forget();  // the next step starts in another mode
+      Eigen::VectorXd x = y;
+      const Eigen::VectorXd x_left = x, u_left = system_.u();
+      if (!HandleEvent(t_, x)) {
+        Sample(t_, x_left, u_left);
+        return false;
+      }
+      std::copy(x.data(), x.data() + x.size(), y_.data());
+      // An event this close to t_end ends the run: CVODE cannot start a
+      // step shorter than its minimum (CV_TOO_CLOSE), and x moves by O(gap).
+      if (t_end_ - t_ <= SameTimeWidth(t_end_, t_end_ - t0_)) {
+        if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
+        return true;
+      }
+      if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
+          !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
+          !ProjectReducedModesOnly())
+        return false;
+      mode_start_ = t_;
+      segment_open_ = true;
+      unresolved_steps_ = 0;
+      continue;
+    }
+    const bool at_end = flag == CV_TSTOP_RETURN || t_ >= t_end_;
+    if (at_end || options_.output_times.empty()) {
+      const Eigen::VectorXd x = y;
+      if (!system_.Solve(t_, x)) {
+        std::ostringstream message;
+        message << "event: mode " << ModeLetters(system_.mode()) << " at t = " << t_
+                << ": Newton on the free components did not converge";
+        return Fail(IntegrationStatus::kStepFailure, message.str());
+      }
+      Sample(t_, x, system_.u());
+    }
+    if (at_end) {
+      AddCvodeStats();
+      return true;
+    }
+  }
+}
+
+Trajectory EventDrivenRun::Run() {
+  const auto start = std::chrono::steady_clock::now();
+  // One sample per output time, the start and the end (events add a few).
+  const std::size_t samples = options_.output_times.size() + 2;
+  trajectory_.times.reserve(samples);
+  trajectory_.states.reserve(samples, x0_.size());
+  trajectory_.multipliers.reserve(samples, dvi_.m);
+  if (Start()) IntegrateModes();
+  if (segment_open_) AddCvodeStats();
+  IntegrationStats& stats = trajectory_.stats;
+  stats.rhs_evals += data_.rhs_evals;
+  stats.jacobian_evals += data_.jacobian_evals;
+  stats.solver_iterations += system_.newton_iterations();
+  stats.reduced_modes += reduced_selections_;
+  if (!trajectory_.times.empty()) {
+    std::string reason = index_one_reason_.empty() ? "index one not established" : index_one_reason_;
+    if (look_ahead_selections_ > 0)
+      reason += "; " + std::to_string(look_ahead_selections_) +
+                " non-strongly-regular point(s) passed by look-ahead";
+    if (reduced_selections_ > 0)
+      reason += "; " + std::to_string(reduced_selections_) +
+                " mode(s) chosen by the differentiation procedure (" + reduction_theorem_ +
+                ")";
+    trajectory_.intervals.push_back({t0_, trajectory_.times.back(), "event", reason});
+  }
+  stats.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return std::move(trajectory_);
+}
+
+}  // namespace dvi::internal

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <cvode/cvode.h>
+
+#include "cvode/cvode_memory.hpp"
+#include "cvode/mode_callbacks.hpp"
+#include "dvi/dvi.hpp"
+#include "dvi/event_driven.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/trajectory.hpp"
+#include "events/mode_changes.hpp"
+#include "events/output_schedule.hpp"
+#include "events/step_ends.hpp"
+#include "modes/box_mode.hpp"
+#include "modes/step_root_check.hpp"
+#include "sundials/handles.hpp"
+#include "sundials/linear_solvers.hpp"
+
+namespace dvi::internal {
+
+/// The event-driven scheme of [Seed] Sect. 5 on CVODE, one run: start in
+/// the mode the VI at (t0, x0) selects (Theorem 5.1 / Sect. 5.3, or the
+/// differentiation procedure of Theorems 5.2/5.3), integrate the mode's ODE
+/// until one of its root functions crosses zero, select the next mode at
+/// that event, and again. Its parts, one file each: the loop (start,
+/// integrate a mode, handle an event: event_driven_run.cpp), the output
+/// (samples, dense output and the certificate's defects: step_output.cpp)
+/// and the checks of each step for roots CVODE cannot see
+/// (step_checks.cpp); what they share with IDA is in events/, the modes in
+/// modes/. @pre dvi validated, K a box (KktLifting otherwise), x0 finite of
+/// size n, t0 < t_end; options validated; dvi, options and x0 outlive the run.
+class EventDrivenRun {
+ public:
+  // lcs: the LCS that dvi is (K a box), for KLU; klu: CVODE's Newton systems
+  // by KLU (options.linear_solver resolved), else dense.
+  EventDrivenRun(const Dvi& dvi, bool affine, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
+                 double t_end, const EventDrivenOptions& options, bool klu)
+      : dvi_(dvi),
+        options_(options),
+        reduction_theorem_(affine ? "Theorem 5.3" : "Theorem 5.2"),
+        t0_(t0),
+        t_end_(t_end),
+        x0_(x0),
+        system_(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver, affine,
+                lcs) {
+    // CVodeGetDky sums the q + 1 Nordsieck columns into dky_ at every output
+    // time: in one fused loop instead of a scale and q axpys, the same sums.
+    N_VEnableLinearCombination_Serial(dky_.get(), SUNTRUE);
+    // Only the chosen solver's matrix: a dense one is n² doubles.
+    if (klu)
+      klu_ = std::make_unique<KluLinearSolver>(y_.get(), x0.size(), 1, context_.get());
+    else
+      dense_ = std::make_unique<DenseLinearSolver>(y_.get(), x0.size(), context_.get());
+  }
+
+  Trajectory Run();
+
+ private:
+  bool Start();
+  bool IntegrateModes();
+  bool TryMode(double t, Eigen::VectorXd& x, const Mode& mode, const Eigen::VectorXd& u,
+               std::string& why);
+  bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode);
+  bool HandleEvent(double t, Eigen::VectorXd& x);
+  bool EnterSparseJacobian();
+  // CVODE projects BDF steps only; under Adams the drift of reduced modes is
+  // measured, not corrected.
+  bool ProjectsSteps() const { return dvi_.m > 0 && options_.method == OdeMethod::kBdf; }
+  bool ProjectReducedModesOnly();
+  bool StillHolds();
+  enum class MissedRoot { kLocated, kNone, kUndefined };
+  MissedRoot LocateMissedRoot(double t_until, double& last_defined);
+  bool FailWhereFIsUndefined(double last_defined);
+  bool StepsResolveTime();
+  bool Accumulating(double t, std::string& why);
+  bool Check(int flag, const char* call);
+  void Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
+              const Eigen::Ref<const Eigen::VectorXd>& u);
+  double SampleOutputs(double before);
+  double StepViolation();
+  bool StepClear(double t_n, double h);
+  void DropSamplesFrom(double t);
+  void RecordStep(double end);
+  void SampleDefects(double t_n, double h, int q, bool by_polynomial,
+                     const Eigen::Ref<const Eigen::ArrayXd>& times,
+                     const Eigen::Ref<const Eigen::MatrixXd>& X,
+                     const Eigen::Ref<const Eigen::MatrixXd>& U);
+  void AddDefect(double t, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& rate,
+                 const Eigen::VectorXd& f);
+  /// CVODE's last step: its end t_n, length h and order q.
+  struct Step {
+    double t_n = 0, h = 0;
+    int q = 0;
+  };
+  Step LastStep() const;
+  /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step (read once per
+  /// step); false if CVODE refuses one.
+  bool ReadTaylor(double t_n, int q);
+  /// Whether taylor_ holds the step ending at t_n, of order q.
+  bool HasTaylor(double t_n, int q) const {
+    return taylor_time_ == t_n && taylor_.cols() == q + 1;
+  }
+  void AddCvodeStats();
+  bool Fail(IntegrationStatus status, const std::string& message);
+
+  const Dvi& dvi_;
+  const EventDrivenOptions& options_;
+  // The differentiation procedure's theorem: 5.3 for an LCS, 5.2 otherwise.
+  const char* const reduction_theorem_;
+  const double t0_;
+  const double t_end_;
+  const Eigen::VectorXd& x0_;
+  BoxModeSystem system_;
+  Trajectory trajectory_;
+  std::string index_one_reason_;
+  OutputSchedule outputs_{options_.output_times, t0_, t_end_};
+  double t_ = 0;
+  double mode_start_ = 0;  // where the current mode was entered
+
+  SunContext context_;
+  SerialVector y_{x0_.size(), context_.get()};
+  SerialVector dky_{x0_.size(), context_.get()};
+  // Which of a step's output times are sampled: kept so that sampling does
+  // not allocate.
+  std::vector<char> step_kept_;
+  Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
+  double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
+  Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
+  // The certificate's scratch: x, u, x' and f where a defect is measured,
+  // the step's scaled Taylor coefficients.
+  Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_;
+  Eigen::MatrixXd scaled_taylor_;
+  double recorded_until_ = -std::numeric_limits<double>::infinity();  // RecordStep's last end
+  // StepClear and StepViolation: the last step's end kept as the next's
+  // start (its root values, x and x' there), whether this step starts
+  // there, how far x moves within it, x at its end; the whole-step check of
+  // a mode whose roots are no polynomials.
+  StepEnds step_ends_;
+  Eigen::VectorXd step_moves_;
+  bool start_known_ = false;
+  Eigen::VectorXd node_x_;
+  StepRootCheck root_check_{system_};
+  std::unique_ptr<DenseLinearSolver> dense_;
+  std::unique_ptr<KluLinearSolver> klu_;
+  CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
+                               context_.get()};
+  ModeCallbackData data_;
+
+  bool segment_open_ = false;  // CVODE's counters hold steps not yet in stats
+  int unresolved_steps_ = 0;   // steps in a row with h within t's round-off
+  long refusals_before_unresolved_ = 0;  // data_.refusals when they began
+  double last_event_time_ = 0;
+  int burst_ = 0;
+  ModesAtOneTime modes_at_event_time_;
+  std::vector<double> switch_times_;  // times of the mode changes, for Zeno detection
+  long reduced_selections_ = 0;       // modes chosen by the differentiation procedure
+  long look_ahead_selections_ = 0;    // non-strongly-regular points passed by look-ahead
+};
+
+}  // namespace dvi::internal
