@@ -5,14 +5,17 @@
 
 namespace dvi::internal {
 
+EventKind ModeChangeKind(MultiplierBound bound) {
+  return bound == MultiplierBound::kLower   ? EventKind::kReachedLower
+         : bound == MultiplierBound::kUpper ? EventKind::kReachedUpper
+                                            : EventKind::kLeftBound;
+}
+
 void AppendModeChangeEvents(double t, const Mode& old_mode, const Mode& mode,
                             std::vector<Event>& events) {
   for (int j = 0; j < static_cast<int>(mode.size()); ++j) {
     if (mode[j] == old_mode[j]) continue;
-    const EventKind kind = mode[j] == MultiplierBound::kLower   ? EventKind::kReachedLower
-                           : mode[j] == MultiplierBound::kUpper ? EventKind::kReachedUpper
-                                                                : EventKind::kLeftBound;
-    events.push_back({t, kind, j});
+    events.push_back({t, ModeChangeKind(mode[j]), j});
   }
 }
 

@@ -14,6 +14,10 @@ namespace dvi::internal {
 /// crossing that is not index one alternate at one time). Shared by the
 /// CVODE and IDA back-ends; each keeps its own limits (burst, count).
 
+/// The kind of the event where u_j's bound becomes `bound`: kReachedLower,
+/// kReachedUpper, or kLeftBound where it became free.
+EventKind ModeChangeKind(MultiplierBound bound);
+
 /// One Event per component whose bound changed from old_mode to mode, at t:
 /// kReachedLower / kReachedUpper where u_j went to a bound, kLeftBound where
 /// it became free. @pre old_mode.size() == mode.size().

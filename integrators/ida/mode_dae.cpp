@@ -490,13 +490,9 @@ bool ModeDaeRun::LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::
     why = step.failure;
     return false;
   }
-  std::vector<int> bounds;
-  look_ahead_->Mode(step, bounds);
-  mode.resize(m_);
-  for (int j = 0; j < m_; ++j)
-    mode[j] = bounds[j] < 0   ? MultiplierBound::kLower
-              : bounds[j] > 0 ? MultiplierBound::kUpper
-                              : MultiplierBound::kFree;
+  internal::StepMode step_mode;
+  look_ahead_->ModeAt(step, step_mode);  // K is a box: its bounds
+  mode = std::move(step_mode.bounds);
   x_ahead = std::move(step.x);
   u_ahead = std::move(step.u);
   return true;

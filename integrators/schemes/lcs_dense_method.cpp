@@ -64,9 +64,9 @@ class DenseLcsMethod : public LcsMethod {
     outcome.u = std::move(result.z);
     outcome.w = std::move(result.w);
     if (shape_.box) {
-      std::vector<int> mode;
-      Mode(outcome, mode);
-      RememberMode(std::move(mode));
+      StepMode mode;
+      ModeAt(outcome, mode);
+      RememberMode(std::move(mode.bounds));
     }
     outcome.x = std::move(y);
     if (h != 0 && gamma_ != 0) outcome.x.noalias() += (h * gamma_) * (matrices->WinvB * outcome.u);
@@ -78,7 +78,7 @@ class DenseLcsMethod : public LcsMethod {
   // their bounds.
   struct ModeFactor {
     explicit ModeFactor(int m) : free_lu(m) {}
-    std::vector<int> mode;  ///< Empty: nothing factored yet.
+    Mode mode;  ///< Empty: nothing factored yet.
     std::vector<int> free;
     DenseLu free_lu;
     bool factored = false;  ///< False when M_FF is singular (a PSD D).
@@ -110,7 +110,7 @@ class DenseLcsMethod : public LcsMethod {
     return false;
   }
 
-  bool TryMode(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const std::vector<int>& mode,
+  bool TryMode(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const Mode& mode,
                StepMatrices& matrices, StepOutcome& outcome) {
     const Eigen::Index m = q.size();
     ModeFactor* factor = nullptr;
@@ -125,7 +125,7 @@ class DenseLcsMethod : public LcsMethod {
           factor = &candidate;
       factor->free.clear();
       for (Eigen::Index j = 0; j < m; ++j)
-        if (mode[static_cast<size_t>(j)] == 0) factor->free.push_back(static_cast<int>(j));
+        if (mode[static_cast<size_t>(j)] == MultiplierBound::kFree) factor->free.push_back(static_cast<int>(j));
       const int size = static_cast<int>(factor->free.size());
       auto block = factor->free_lu.Matrix(size);
       for (int a = 0; a < size; ++a)
@@ -138,8 +138,10 @@ class DenseLcsMethod : public LcsMethod {
     Eigen::VectorXd& u = outcome.u;
     u.resize(m);
     for (Eigen::Index j = 0; j < m; ++j) {
-      const int mode_j = mode[static_cast<size_t>(j)];
-      u[j] = mode_j < 0 ? shape_.lower[j] : (mode_j > 0 ? shape_.upper[j] : 0.0);
+      const MultiplierBound mode_j = mode[static_cast<size_t>(j)];
+      u[j] = mode_j == MultiplierBound::kLower   ? shape_.lower[j]
+             : mode_j == MultiplierBound::kUpper ? shape_.upper[j]
+                                                 : 0.0;
     }
     Eigen::VectorXd w = q + M * u;
     const int size = static_cast<int>(factor->free.size());
@@ -162,7 +164,7 @@ class DenseLcsMethod : public LcsMethod {
   }
 
   // The mode of a step solved by SolveVi becomes the most recent one.
-  void RememberMode(std::vector<int> mode) {
+  void RememberMode(Mode mode) {
     const auto known = std::find(recent_modes_.begin(), recent_modes_.end(), mode);
     if (known != recent_modes_.end()) recent_modes_.erase(known);
     recent_modes_.insert(recent_modes_.begin(), std::move(mode));
@@ -218,7 +220,7 @@ class DenseLcsMethod : public LcsMethod {
   Eigen::MatrixXd D_;
   std::list<StepMatrices> cache_;
   /// Modes of the last steps solved by SolveVi (box K), most recent first.
-  std::vector<std::vector<int>> recent_modes_;
+  std::vector<Mode> recent_modes_;
 };
 
 }  // namespace

@@ -37,8 +37,9 @@ class SparseLcsMethod : public LcsMethod {
     BuildPattern();
     last_mode_.resize(static_cast<size_t>(lcs.m()));
     for (int j = 0; j < lcs.m(); ++j)
-      last_mode_[static_cast<size_t>(j)] =
-          std::isfinite(shape_.lower[j]) ? -1 : (std::isfinite(shape_.upper[j]) ? 1 : 0);
+      last_mode_[static_cast<size_t>(j)] = std::isfinite(shape_.lower[j])   ? MultiplierBound::kLower
+                                           : std::isfinite(shape_.upper[j]) ? MultiplierBound::kUpper
+                                                                            : MultiplierBound::kFree;
   }
 
  protected:
@@ -57,8 +58,8 @@ class SparseLcsMethod : public LcsMethod {
     Factorization& factorization = Cached(h, outcome);
     ++outcome.vi_solves;
     if (factorization.analyzed) {
-      std::vector<int> mode = last_mode_;
-      std::vector<int> next_mode(mode.size());
+      Mode mode = last_mode_;
+      Mode next_mode(mode.size());
       Eigen::VectorXd z(n + m), w(m);
       for (int iteration = 0; iteration < kMaxActiveSetIterations; ++iteration) {
         if (!factorization.factored || factorization.mode != mode) {
@@ -73,8 +74,10 @@ class SparseLcsMethod : public LcsMethod {
         ++outcome.rhs_evals;
         z.head(n) = r;
         for (int j = 0; j < m; ++j) {
-          const int mode_j = mode[static_cast<size_t>(j)];
-          z[n + j] = mode_j < 0 ? shape_.lower[j] : (mode_j > 0 ? shape_.upper[j] : -q_step[j]);
+          const MultiplierBound mode_j = mode[static_cast<size_t>(j)];
+          z[n + j] = mode_j == MultiplierBound::kLower   ? shape_.lower[j]
+                     : mode_j == MultiplierBound::kUpper ? shape_.upper[j]
+                                                         : -q_step[j];
         }
         if (!factorization.klu.Solve(z)) break;
         w = q_step + lcs_.D * z.tail(m);
@@ -99,7 +102,7 @@ class SparseLcsMethod : public LcsMethod {
     double h = 0;
     bool analyzed = false;
     bool factored = false;
-    std::vector<int> mode;  ///< The mode whose matrix is factored.
+    Mode mode;              ///< The mode whose matrix is factored.
     SparseMatrix matrix;    ///< The union pattern with that mode's values.
     KluSolver klu;
   };
@@ -153,7 +156,7 @@ class SparseLcsMethod : public LcsMethod {
 
   // The matrix of the mode: x rows [W, −hγB]; a free u_j's row [C_j, D_j]
   // (w_j = 0); a u_j at a bound gets the row e_jᵀ (u_j = bound).
-  void Assemble(double h, double c_weight, const std::vector<int>& mode,
+  void Assemble(double h, double c_weight, const Mode& mode,
                 SparseMatrix& matrix) const {
     const int n = lcs_.n();
     const double a = -h * (1 - theta_), b = -h * gamma_;
@@ -165,30 +168,31 @@ class SparseLcsMethod : public LcsMethod {
         values[k] = a * slot_A_[k] + b * slot_B_[k];
       else
         values[k] =
-            mode[static_cast<size_t>(row - n)] == 0 ? c_weight * slot_C_[k] + slot_D_[k] : 0.0;
+            mode[static_cast<size_t>(row - n)] == MultiplierBound::kFree ? c_weight * slot_C_[k] + slot_D_[k] : 0.0;
     }
     for (int k = 0; k < n; ++k) values[diagonal_slot_[static_cast<size_t>(k)]] += 1;
     for (size_t j = 0; j < mode.size(); ++j)
-      if (mode[j] != 0) values[diagonal_slot_[static_cast<size_t>(n) + j]] = 1;
+      if (mode[j] != MultiplierBound::kFree) values[diagonal_slot_[static_cast<size_t>(n) + j]] = 1;
   }
 
   // The primal–dual update: a bound is released where w pushes u off it, a
   // free component that crossed a bound is put on it. Returns whether the
   // mode changed.
   bool NextMode(const Eigen::Ref<const Eigen::VectorXd>& u, const Eigen::VectorXd& w,
-                const std::vector<int>& mode, std::vector<int>& next_mode) const {
+                const Mode& mode, Mode& next_mode) const {
     const double tol = solver_.tolerance;
     bool changed = false;
     for (size_t j = 0; j < mode.size(); ++j) {
       const Eigen::Index i = static_cast<Eigen::Index>(j);
-      int next = mode[j];
-      if (mode[j] == 0) {
+      MultiplierBound next = mode[j];
+      if (mode[j] == MultiplierBound::kFree) {
         if (u[i] < shape_.lower[i] - tol)
-          next = -1;
+          next = MultiplierBound::kLower;
         else if (u[i] > shape_.upper[i] + tol)
-          next = 1;
-      } else if ((mode[j] < 0 && w[i] < -tol) || (mode[j] > 0 && w[i] > tol)) {
-        next = 0;
+          next = MultiplierBound::kUpper;
+      } else if ((mode[j] == MultiplierBound::kLower && w[i] < -tol) ||
+                 (mode[j] == MultiplierBound::kUpper && w[i] > tol)) {
+        next = MultiplierBound::kFree;
       }
       next_mode[j] = next;
       changed |= next != mode[j];
@@ -199,7 +203,7 @@ class SparseLcsMethod : public LcsMethod {
   // Accepts z when the natural-map residual of the step's VI in u is within
   // the tolerance, the same measure as the dense path's LCP; the x rows hold
   // to the round-off of the KLU solve. Otherwise outcome.solved stays false.
-  void Finish(Eigen::VectorXd z, Eigen::VectorXd w, const std::vector<int>& mode,
+  void Finish(Eigen::VectorXd z, Eigen::VectorXd w, const Mode& mode,
               StepOutcome& outcome) {
     const int n = lcs_.n(), m = lcs_.m();
     double residual = 0;
@@ -222,7 +226,7 @@ class SparseLcsMethod : public LcsMethod {
                        StepOutcome outcome) {
     const int n = lcs_.n(), m = lcs_.m();
     SparseMatrix M = pattern_;
-    std::vector<int> all_free(static_cast<size_t>(m), 0);
+    const Mode all_free(static_cast<size_t>(m), MultiplierBound::kFree);
     Assemble(h, c_weight, all_free, M);
     Eigen::VectorXd offset(n + m), lower(n + m), upper(n + m);
     offset << -r, q_step;
@@ -246,8 +250,9 @@ class SparseLcsMethod : public LcsMethod {
     outcome.x = result.z.head(n);
     outcome.u = result.z.tail(m);
     outcome.w = result.w.tail(m);
-    last_mode_.assign(static_cast<size_t>(m), 0);
-    Mode(outcome, last_mode_);
+    StepMode step_mode;
+    ModeAt(outcome, step_mode);
+    last_mode_ = std::move(step_mode.bounds);
     return outcome;
   }
 
@@ -263,7 +268,7 @@ class SparseLcsMethod : public LcsMethod {
     Factorization& factorization = cache_.front();
     factorization.h = h;
     factorization.matrix = pattern_;
-    std::vector<int> all_free(static_cast<size_t>(lcs_.m()), 0);
+    const Mode all_free(static_cast<size_t>(lcs_.m()), MultiplierBound::kFree);
     Assemble(h, 1, all_free, factorization.matrix);
     factorization.analyzed = factorization.klu.Analyze(factorization.matrix);
     if (!factorization.analyzed) {
@@ -278,7 +283,7 @@ class SparseLcsMethod : public LcsMethod {
   SparseMatrix pattern_;
   std::vector<double> slot_A_, slot_B_, slot_C_, slot_D_;
   std::vector<size_t> diagonal_slot_;
-  std::vector<int> last_mode_;  ///< The mode of the last solved step.
+  Mode last_mode_;  ///< The mode of the last solved step.
   std::list<Factorization> cache_;
 };
 

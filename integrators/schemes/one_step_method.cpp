@@ -6,16 +6,18 @@
 
 namespace dvi::internal {
 
-void OneStepMethod::Mode(const StepOutcome& outcome, std::vector<int>& mode) const {
+void OneStepMethod::ModeAt(const StepOutcome& outcome, StepMode& mode) const {
   const ConvexSet& set = ModeSet();
   const Eigen::VectorXd& u = outcome.u;
   if (!ModeIsPerComponent()) {
     // Solvers meet active constraints to their tolerance, far below 1e-9.
-    mode = set.Active(u, 1e-9 * (1 + u.lpNorm<Eigen::Infinity>())).indices;
+    mode.active = set.Active(u, 1e-9 * (1 + u.lpNorm<Eigen::Infinity>())).indices;
+    mode.bounds.clear();
     return;
   }
   const auto [lower, upper] = set.BoxBounds();
-  mode.assign(static_cast<size_t>(u.size()), 0);
+  mode.active.clear();
+  mode.bounds.assign(static_cast<size_t>(u.size()), MultiplierBound::kFree);
   const bool has_w = outcome.w.size() == u.size();
   for (Eigen::Index j = 0; j < u.size(); ++j) {
     // Without F at the solution, a bound holds u_j when it is within a
@@ -26,7 +28,9 @@ void OneStepMethod::Mode(const StepOutcome& outcome, std::vector<int>& mode) con
                           (has_w ? u[j] - lower[j] < w : u[j] - lower[j] <= slack_tol);
     const bool at_upper = std::isfinite(upper[j]) &&
                           (has_w ? upper[j] - u[j] < -w : upper[j] - u[j] <= slack_tol);
-    mode[static_cast<size_t>(j)] = at_lower ? -1 : (at_upper ? 1 : 0);
+    mode.bounds[static_cast<size_t>(j)] = at_lower   ? MultiplierBound::kLower
+                                          : at_upper ? MultiplierBound::kUpper
+                                                     : MultiplierBound::kFree;
   }
 }
 

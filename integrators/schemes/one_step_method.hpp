@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/convex_set.hpp"
+#include "dvi/mode.hpp"
 #include "dvi/solve_result.hpp"
 
 namespace dvi::internal {
@@ -26,6 +27,16 @@ struct StepOutcome {
   int jacobian_evals = 0;  ///< Jacobian evaluations and matrix factorizations.
   int vi_solves = 0;
   std::string failure;     ///< When !solved: what failed, with the solver's status and message.
+};
+
+/// The mode of u at a step's end. On a box K (OneStepMethod::
+/// ModeIsPerComponent()): bounds, where each u_j sits ([Seed] Sect. 5's
+/// mode, the encoding of every back-end), active empty. On any other K:
+/// active, the ascending indices of the active inequalities of
+/// OneStepMethod::ModeSet(), bounds empty.
+struct StepMode {
+  Mode bounds;
+  std::vector<int> active;
 };
 
 /// One scheme of [Seed] Sects. 3 and 7 for one problem type: the driver
@@ -56,13 +67,11 @@ class OneStepMethod {
   virtual StepOutcome Step(double t, double h, const Eigen::VectorXd& x,
                            const Eigen::VectorXd& u) = 0;
 
-  /// The mode at a step's end: when ModeIsPerComponent(), one entry per
-  /// component of u (−1 at the lower bound, +1 at the upper, 0 between);
-  /// else the ascending indices of the active inequalities of ModeSet().
-  /// The default reads the box bounds of ModeSet() through the natural map:
-  /// u_j is at l_j when u_j − l_j < w_j, at its upper bound when
-  /// u_j^{up} − u_j < −w_j (the bound the projection picks).
-  virtual void Mode(const StepOutcome& outcome, std::vector<int>& mode) const;
+  /// The mode at a step's end (StepMode). The default reads the box bounds
+  /// of ModeSet() through the natural map: u_j is at l_j when
+  /// u_j − l_j < w_j, at its upper bound when u_j^{up} − u_j < −w_j (the
+  /// bound the projection picks).
+  virtual void ModeAt(const StepOutcome& outcome, StepMode& mode) const;
   virtual bool ModeIsPerComponent() const { return ModeSet().IsBox(); }
   /// The set whose active constraints make the mode (K of the VI).
   virtual const ConvexSet& ModeSet() const = 0;

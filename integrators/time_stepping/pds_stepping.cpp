@@ -24,6 +24,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // more closely.
 constexpr double kActiveTolerance = 1e-9;
 
+using internal::StepMode;
 using internal::StepOutcome;
 
 // (7.3): x^{i+1} ∈ SOL(K, x − x^i + h F(t_{i+1}, x)), whose KKT conditions
@@ -49,11 +50,11 @@ class FullyImplicitPds final : public internal::OneStepMethod {
 
   // The mode is the set of constraints of K active at x (not at ν): read
   // through the natural map with w = the VI's map, as for any VI.
-  void Mode(const StepOutcome& outcome, std::vector<int>& mode) const override {
+  void ModeAt(const StepOutcome& outcome, StepMode& mode) const override {
     StepOutcome at_state;
     at_state.u = outcome.x;
     at_state.w = outcome.w;
-    OneStepMethod::Mode(at_state, mode);
+    OneStepMethod::ModeAt(at_state, mode);
   }
 
   // ν⁰ = Π_{N(x0; K)}(−F(t0, x0)), so that x'(t0⁺) = −F − ν⁰ is the

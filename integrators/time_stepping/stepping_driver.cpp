@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "check.hpp"
+#include "events/mode_changes.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 
@@ -41,7 +43,7 @@ class Recorder {
     last_ = {t0, initial.x, initial.u, nullptr};  // u⁰ solves the VI at x⁰ itself
     Sample(last_);
     if (options_.record_events) {
-      method_.Mode(initial, vi_mode_);
+      method_.ModeAt(initial, vi_mode_);
       mode_ = vi_mode_;
     }
     while (next_output_ < options_.output_times.size() &&
@@ -139,20 +141,22 @@ class Recorder {
     if (gamma_ == 1 || gamma_ == 0) {
       next_mode_ = gamma_ == 1 ? next_vi_mode_ : vi_mode_;
     } else if (method_.ModeIsPerComponent()) {
-      next_mode_.resize(next_vi_mode_.size());
-      for (size_t j = 0; j < next_mode_.size(); ++j)
-        next_mode_[j] = next_vi_mode_[j] == vi_mode_[j] ? vi_mode_[j] : 0;
+      const Mode &vi = vi_mode_.bounds, &next_vi = next_vi_mode_.bounds;
+      next_mode_.bounds.resize(next_vi.size());
+      for (size_t j = 0; j < next_vi.size(); ++j)
+        next_mode_.bounds[j] = next_vi[j] == vi[j] ? vi[j] : MultiplierBound::kFree;
     } else {
-      next_mode_.clear();
-      std::set_intersection(vi_mode_.begin(), vi_mode_.end(), next_vi_mode_.begin(),
-                            next_vi_mode_.end(), std::back_inserter(next_mode_));
+      const std::vector<int> &vi = vi_mode_.active, &next_vi = next_vi_mode_.active;
+      next_mode_.active.clear();
+      std::set_intersection(vi.begin(), vi.end(), next_vi.begin(), next_vi.end(),
+                            std::back_inserter(next_mode_.active));
     }
   }
 
   // Events of the step (t, t_next]: each at t when u^i was already in the new
   // state, else at t_next. Those at t come first, keeping events in time order.
   ModeChange RecordModeChange(double t, double t_next, const StepOutcome& outcome) {
-    method_.Mode(outcome, next_vi_mode_);
+    method_.ModeAt(outcome, next_vi_mode_);
     AppliedMode();
     ModeChange change;
     std::vector<Event> at_end;
@@ -166,28 +170,28 @@ class Recorder {
       }
     };
     if (method_.ModeIsPerComponent()) {
-      for (size_t j = 0; j < next_mode_.size(); ++j) {
-        if (next_mode_[j] == mode_[j]) continue;
-        const EventKind kind = next_mode_[j] < 0   ? EventKind::kReachedLower
-                               : next_mode_[j] > 0 ? EventKind::kReachedUpper
-                                                   : EventKind::kLeftBound;
-        record(vi_mode_[j] == next_mode_[j], kind, static_cast<int>(j));
+      const Mode &next = next_mode_.bounds, &now = mode_.bounds;
+      for (size_t j = 0; j < next.size(); ++j) {
+        if (next[j] == now[j]) continue;
+        record(vi_mode_.bounds[j] == next[j], ModeChangeKind(next[j]), static_cast<int>(j));
       }
     } else {
       const auto has = [](const std::vector<int>& active, int k) {
         return std::binary_search(active.begin(), active.end(), k);
       };
+      const std::vector<int> &next = next_mode_.active, &now = mode_.active;
       std::vector<int> entered, left;
-      std::set_difference(next_mode_.begin(), next_mode_.end(), mode_.begin(), mode_.end(),
+      std::set_difference(next.begin(), next.end(), now.begin(), now.end(),
                           std::back_inserter(entered));
-      std::set_difference(mode_.begin(), mode_.end(), next_mode_.begin(), next_mode_.end(),
+      std::set_difference(now.begin(), now.end(), next.begin(), next.end(),
                           std::back_inserter(left));
-      for (const int k : entered) record(has(vi_mode_, k), EventKind::kConstraintActive, k);
-      for (const int k : left) record(!has(vi_mode_, k), EventKind::kConstraintReleased, k);
+      for (const int k : entered)
+        record(has(vi_mode_.active, k), EventKind::kConstraintActive, k);
+      for (const int k : left) record(!has(vi_mode_.active, k), EventKind::kConstraintReleased, k);
     }
     trajectory_.events.insert(trajectory_.events.end(), at_end.begin(), at_end.end());
-    vi_mode_.swap(next_vi_mode_);
-    mode_.swap(next_mode_);
+    std::swap(vi_mode_, next_vi_mode_);
+    std::swap(mode_, next_mode_);
     return change;
   }
 
@@ -205,7 +209,7 @@ class Recorder {
   Eigen::MatrixXd line_;  // a step's x̂ᴴ as dense output
   size_t next_output_ = 0;
   // Modes of the VI's u^i and of ū^i, and scratch for the next step's.
-  std::vector<int> vi_mode_, next_vi_mode_, mode_, next_mode_;
+  StepMode vi_mode_, next_vi_mode_, mode_, next_mode_;
 };
 
 void Count(const StepOutcome& outcome, IntegrationStats& stats) {
