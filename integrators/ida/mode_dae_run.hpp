@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "dvi/lcs.hpp"
+#include "dvi/mode_dae.hpp"
+#include "dvi/trajectory.hpp"
+#include "events/mode_changes.hpp"
+#include "events/output_schedule.hpp"
+#include "events/step_ends.hpp"
+#include "ida/ida_memory.hpp"
+#include "ida/lcs_mode_dae.hpp"
+#include "ida/mode_dae_callbacks.hpp"
+#include "schemes/one_step_method.hpp"
+#include "sundials/handles.hpp"
+#include "sundials/linear_solvers.hpp"
+
+namespace dvi::internal {
+
+/// The event-driven scheme of [Seed] Sect. 5 for an LCS on a box K with
+/// each mode a DAE on IDA (Sect. 5.4: index-two modes reduced by Theorem
+/// 5.3 on the matrices), one run: the mode the modified LCP proposes at the
+/// start and at each root, integrated until a root function crosses zero.
+/// Its parts, one file each: the loop (start, integrate a mode, handle a
+/// root: mode_dae_run.cpp), mode selection (mode_dae_selection.cpp), the
+/// output and the certificate's defects (mode_dae_output.cpp), the checks
+/// of each step for roots IDA cannot see (mode_dae_checks.cpp); what they
+/// share with CVODE is in events/. @pre lcs validated with a box K, x0
+/// finite of size n, t0 < t_end, options validated; lcs, options and x0
+/// outlive the run.
+class ModeDaeRun {
+ public:
+  // A multiplier within this many tolerances (of the integrator and of the
+  // LCP solve) of a bound is at it.
+  static constexpr double kBoundFactor = 10;
+
+  ModeDaeRun(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+             const ModeDaeOptions& options)
+      : lcs_(lcs),
+        options_(options),
+        t0_(t0),
+        t_end_(t_end),
+        x0_(x0),
+        dae_(lcs),
+        n_(lcs.n()),
+        m_(lcs.m()),
+        u_tolerance_(kBoundFactor * std::max(options.atol, options.solver.tolerance)) {
+    data_.dae = &dae_;
+    data_.sparse = options.sparse;
+    if (options.sparse)
+      klu_ = std::make_unique<KluLinearSolver>(y_.get(), dae_.size(), 1, context_.get());
+    else
+      dense_ = std::make_unique<DenseLinearSolver>(y_.get(), dae_.size(), context_.get());
+  }
+
+  Trajectory Run();
+
+ private:
+  bool Start();
+  bool Integrate();
+  bool HandleRoot(double t, const std::vector<int>& roots);
+  double MissedRoot(std::vector<int>& roots);
+  bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                  const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u);
+  bool ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
+                   const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u);
+  bool ModeHolds(const Mode& mode, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                 std::string& why);
+  bool LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Mode& mode,
+                     Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead, std::string& why);
+  std::string DescribeMode(const Mode& mode) const;
+  bool Restart(double t);
+  bool RestartAtZeroRoot();
+  bool EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
+  bool Check(int flag, const char* call);
+  bool FirstStepOverflows();
+  bool ModeStillHolds();
+  void Sample(double t);
+  void SampleOutputs(double before);
+  void RecordStep(double end);
+  void MeasureDefect(double t);
+  void CollectIdaStats();
+  long Steps() const;
+  bool Fail(IntegrationStatus status, const std::string& message);
+
+  const Lcs& lcs_;
+  const ModeDaeOptions& options_;
+  const double t0_;
+  const double t_end_;
+  const Eigen::VectorXd& x0_;
+  LcsModeDae dae_;
+  const int n_;
+  const int m_;
+  const double u_tolerance_;
+  Trajectory trajectory_;
+  OutputSchedule outputs_{options_.output_times, t0_, t_end_};
+  double t_ = 0;
+  bool initialized_ = false;
+
+  SunContext context_;
+  SerialVector y_{dae_.size(), context_.get()};
+  SerialVector yp_{dae_.size(), context_.get()};
+  SerialVector id_{dae_.size(), context_.get()};
+  SerialVector dky_{dae_.size(), context_.get()};
+  std::unique_ptr<KluLinearSolver> klu_;
+  std::unique_ptr<DenseLinearSolver> dense_;
+  IdaMemory ida_{context_.get()};
+  ModeDaeCallbackData data_;
+
+  double last_event_time_ = 0;
+  int same_time_events_ = 0;
+  ModesAtOneTime modes_at_event_time_;
+  long reduced_modes_ = 0;  // modes entered with rows differentiated
+  long look_ahead_selections_ = 0;  // modes the look-ahead chose
+  std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
+  Eigen::MatrixXd step_taylor_, step_roots_;  // MissedRoot's polynomials
+  // RecordStep and MeasureDefect: where the dense output ends, a step's
+  // scaled Taylor coefficients of x, and y, y', f and the rounding at a
+  // point of the step.
+  double recorded_until_ = -std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd scaled_taylor_;
+  Eigen::VectorXd mid_y_, mid_yp_, mid_f_, mid_rounding_;
+  // MissedRoot's screen: the last step's end, its y, y' and root values
+  // (the next step's start), and how far y and the root functions move.
+  StepEnds step_ends_;
+  Eigen::VectorXd step_moves_, root_moves_;
+  // A root that left the mode unchanged, until a step shows the mode holds.
+  double kept_mode_time_ = 0;
+  Eigen::VectorXd kept_mode_y_;
+  double restarted_at_zero_root_ = NAN;  // RestartAtZeroRoot's last time
+  std::unique_ptr<OneStepMethod> look_ahead_;  // made at its first use
+  // The consistent values of ChooseMode's last check, and whether that
+  // check was of the chosen mode at the event's x. A successful ChooseMode
+  // leaves the DAE in the chosen mode.
+  Eigen::VectorXd checked_x_, checked_u_;
+  bool checked_at_x_ = false;
+};
+
+}  // namespace dvi::internal
