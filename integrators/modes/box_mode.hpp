@@ -42,6 +42,12 @@ namespace dvi::internal {
 /// bound one −F_j (the sign that holds it there); the other slots are 1.
 /// The multiplier of the last evaluation, moved along the mode's tangent
 /// du/dx, starts the next Newton solve.
+///
+/// Three files: the mode equations (Newton on the free components, the
+/// right-hand side and its Jacobians, the tangent start: box_mode.cpp), the
+/// mode roots (root functions, floors, sample and whole-step checks:
+/// box_mode_roots.cpp), a reduced mode's original constraints and the
+/// projection onto them (box_mode_constraints.cpp).
 
 class BoxModeSystem {
  public:

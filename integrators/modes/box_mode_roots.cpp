@@ -1,0 +1,337 @@
+// SPDX-License-Identifier: Apache-2.0
+// BoxModeSystem's mode roots ([Seed] Sect. 5: a mode holds while each u_j
+// stays within its bounds and each bound u_j's F_j keeps its sign): the 2m
+// root functions, their floors, Holds, the checks of samples and of whole
+// steps (FirstViolationInStep: the root functions of an affine LCS mode as
+// polynomials along a step, bounded by Bernstein hulls), the slopes that
+// pass a step clear of its bounds without either, and F's slack from the
+// state's error. The mode equations are box_mode.cpp's.
+#include "modes/box_mode.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "modes/polynomial_floor.hpp"
+
+namespace dvi::internal {
+namespace {
+
+// StepClearOfBounds takes the root functions' slopes this many times as
+// large: CVODE keeps a Jacobian for up to 20 steps, and re-evaluates it
+// once its Newton no longer converges with it, so the slopes it gives
+// have drifted less than this between evaluations.
+constexpr double kSlopeMargin = 2;
+
+}  // namespace
+
+void BoxModeSystem::AffineRootSlopes() {
+  // K and the gradients are dense, (a + 2m)×n at most: a large LCS with
+  // many complementarity pairs goes without (its steps are then checked
+  // exactly, each one).
+  constexpr long kMaxSlopeEntries = 1 << 20;
+  root_slopes_known_ = false;
+  // A small LCS checks every step exactly (StepViolation): no slopes.
+  if (problem_.HasDenseRows()) return;
+  const int a = static_cast<int>(free_.size());
+  if (!(a == 0 || mode_regular_) || static_cast<long>(a + 2 * m()) * n() > kMaxSlopeEntries)
+    return;
+  Eigen::MatrixXd K(a, n());
+  if (map_.size() > 0)
+    K = -map_;
+  else if (a > 0)
+    K = mode_lu_.solve(Eigen::MatrixXd(free_C_));
+  root_gradients_.setZero(2 * m(), n());
+  root_slopes_t_.setZero(2 * m());
+  for (int i = 0; i < a; ++i)
+    root_gradients_.row(2 * free_[i]) = root_gradients_.row(2 * free_[i] + 1) = K.row(i).cwiseAbs();
+  const SparseMatrix C_rows = problem_.lcs_rows().C.transpose();  // row j of C as column j
+  Eigen::RowVectorXd gradient(n());
+  for (int j = 0; j < m(); ++j) {
+    if (mode_[j] == MultiplierBound::kFree) continue;
+    gradient.setZero();
+    for (SparseMatrix::InnerIterator it(C_rows, j); it; ++it) gradient(it.row()) += it.value();
+    for (int i = 0; i < a; ++i) gradient -= problem_.lcs_rows().M.coeff(j, free_[i]) * K.row(i);
+    root_gradients_.row(2 * j) = gradient.cwiseAbs();
+  }
+  root_slopes_known_ = root_gradients_.allFinite();
+}
+
+void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
+                                     const Eigen::MatrixXd& Fu,
+                                     const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
+                                     const Eigen::MatrixXd& K) const {
+  // du_A = −K dx − k dt with k = G_u⁻¹ F_t,A (G = F_A); a bound row's F_j
+  // moves by (F_x,j − F_u,jA K) dx + (F_t,j − F_u,jA k) dt.
+  Eigen::VectorXd Ft;
+  problem_.FTimeDerivative(t, x, u_, Ft);
+  const int a = static_cast<int>(free_.size());
+  Eigen::VectorXd k;
+  if (a > 0) {
+    Eigen::VectorXd Ft_free(a);
+    for (int i = 0; i < a; ++i) Ft_free(i) = Ft(free_[i]);
+    k = lu->solve(Ft_free);
+    tangent_t_ = k;
+  }
+  root_gradients_.setZero(2 * m(), n());
+  root_slopes_t_.setZero(2 * m());
+  for (int i = 0; i < a; ++i) {
+    const int j = free_[i];
+    root_gradients_.row(2 * j) = root_gradients_.row(2 * j + 1) = K.row(i).cwiseAbs();
+    root_slopes_t_(2 * j) = root_slopes_t_(2 * j + 1) = std::abs(k(i));
+  }
+  Eigen::RowVectorXd dx(n());
+  for (int j = 0; j < m(); ++j) {
+    if (mode_[j] == MultiplierBound::kFree) continue;
+    dx = Fx.row(j);
+    double dt = Ft(j);
+    for (int i = 0; i < a; ++i) {
+      dx -= Fu(j, free_[i]) * K.row(i);
+      dt -= Fu(j, free_[i]) * k(i);
+    }
+    root_gradients_.row(2 * j) = dx.cwiseAbs();
+    root_slopes_t_(2 * j) = std::abs(dt);
+  }
+  root_slopes_known_ = root_gradients_.allFinite() && root_slopes_t_.allFinite();
+}
+
+bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end,
+                                      const Eigen::VectorXd& dx, double h) const {
+  if (!root_slopes_known_) return false;
+  const double floor = -problem_.BoundTolerance();
+  Eigen::VectorXd& moves = scratch_root_moves_;
+  moves.noalias() = root_gradients_ * dx;
+  for (int slot = 0; slot < 2 * m(); ++slot) {
+    const double move = kSlopeMargin * (moves(slot) + root_slopes_t_(slot) * h);
+    if (!(std::max(g_start[slot], g_end[slot]) - move > floor) ||
+        !(std::abs(g_end[slot] - g_start[slot]) <= move))
+      return false;
+  }
+  return true;
+}
+
+void BoxModeSystem::Roots(double t, const Eigen::VectorXd& x, double* g) const {
+  Eigen::VectorXd& F = scratch_F_;
+  bool have_F = false;
+  for (int j = 0; j < m(); ++j) {
+    g[2 * j] = 1;
+    g[2 * j + 1] = 1;
+    switch (mode_[j]) {
+      case MultiplierBound::kFree:
+        if (std::isfinite(problem_.lower()(j))) g[2 * j] = u_(j) - problem_.lower()(j);
+        if (std::isfinite(problem_.upper()(j))) g[2 * j + 1] = problem_.upper()(j) - u_(j);
+        break;
+      case MultiplierBound::kLower:
+      case MultiplierBound::kUpper:
+        // lower = upper fixes u_j: F_j is the equality's multiplier, of any sign.
+        if (problem_.lower()(j) == problem_.upper()(j)) break;
+        if (!have_F) {
+          problem_.EvalF(t, x, u_, F);
+          have_F = true;
+        }
+        g[2 * j] = mode_[j] == MultiplierBound::kLower ? F(j) : -F(j);
+        break;
+    }
+  }
+}
+
+double BoxModeSystem::FSlack(double t, const Eigen::VectorXd& x, double state_error) const {
+  if (problem_.affine()) return problem_.dense_rows().max_row_sum * state_error;  // ∂F/∂x = C, fixed
+  Eigen::MatrixXd Fx, Fu;
+  problem_.FJacobians(t, x, u_, Fx, Fu);
+  return Fx.rows() == 0 ? 0.0 : Fx.cwiseAbs().rowwise().sum().maxCoeff() * state_error;
+}
+
+Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorXd>& times,
+                                           const Eigen::Ref<const Eigen::MatrixXd>& X,
+                                           const Eigen::Ref<const Eigen::MatrixXd>& U,
+                                           double f_slack) const {
+  const double tolerance = problem_.BoundTolerance();
+  Eigen::Index first = U.cols();
+  for (const int j : free_) {
+    const double low = problem_.lower()(j) - tolerance, high = problem_.upper()(j) + tolerance;
+    const auto row = U.row(j).array();
+    if (row.minCoeff() >= low && row.maxCoeff() <= high) continue;  // the usual case
+    for (Eigen::Index k = 0; k < first; ++k)
+      if (!(row(k) >= low && row(k) <= high)) first = k;
+  }
+  if (static_cast<int>(free_.size()) == m()) return first == U.cols() ? -1 : first;
+  const double allowed = tolerance + f_slack;
+  // A bound row j holds where sign·F_j ≥ −allowed at every sample.
+  const auto check = [&](int j, const auto& F_j) {
+    const double sign = mode_[j] == MultiplierBound::kLower ? 1.0 : -1.0;
+    for (Eigen::Index k = 0; k < first; ++k)
+      if (!(sign * F_j(k) >= -allowed)) first = k;
+  };
+  if (problem_.affine() && problem_.dense_rows().C.size() > 0) {
+    // F_j = c_j + C_j X + M_j U, row by row: GEMM's set-up costs more than
+    // these few short rows (1000 samples of a 2-state Filippov system).
+    Eigen::RowVectorXd F_j(U.cols());
+    for (int j = 0; j < m(); ++j) {
+      if (mode_[j] == MultiplierBound::kFree) continue;
+      F_j.setConstant(problem_.lcs_rows().c(j));
+      for (int i = 0; i < n(); ++i)
+        if (problem_.dense_rows().C(j, i) != 0) F_j += problem_.dense_rows().C(j, i) * X.row(i);
+      for (int l = 0; l < m(); ++l)
+        if (problem_.dense_rows().M(j, l) != 0) F_j += problem_.dense_rows().M(j, l) * U.row(l);
+      check(j, F_j);
+    }
+    return first == U.cols() ? -1 : first;
+  }
+  // F at the samples: one sparse product for a large LCS, else one call each.
+  Eigen::MatrixXd W(m(), U.cols());
+  if (problem_.affine()) {
+    W.noalias() = problem_.lcs_rows().C * X;
+    W.noalias() += problem_.lcs_rows().M * U;
+    W.colwise() += problem_.lcs_rows().c;
+  } else {
+    Eigen::VectorXd w;
+    for (Eigen::Index k = 0; k < U.cols(); ++k) {
+      problem_.EvalF(times(k), X.col(k), U.col(k), w);
+      W.col(k) = w;
+    }
+  }
+  for (int j = 0; j < m(); ++j)
+    if (mode_[j] != MultiplierBound::kFree) check(j, W.row(j));
+  return first == U.cols() ? -1 : first;
+}
+
+double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double t_n, double h,
+                                           double f_slack) const {
+  // Along the step u = k + K x and F = c + C x + M u are polynomials in t of
+  // x's degree q: their coefficients are the map's and the rows' products
+  // with x's, and FirstTimeBelow bounds each root function over the step.
+  // Plain loops for a small mode: at these sizes Eigen's product set-up
+  // costs more than the products (this runs once per step).
+  const int q = static_cast<int>(taylor.cols()) - 1;
+  const double tolerance = problem_.BoundTolerance();
+  double first = NAN;
+  std::array<double, kMaxFloorDegree + 1> p{};
+  const auto below = [&](double floor) {
+    const double t = FirstTimeBelow(p.data(), q, t_n, h, floor);
+    if (!std::isnan(t) && !(t >= first)) first = t;
+  };
+  // Row-wise dot product of row (stride `stride`, `length` entries) with the
+  // columns of coefficients, added into p.
+  const auto add_product = [&](const double* row, Eigen::Index stride, Eigen::Index length,
+                               const Eigen::MatrixXd& coefficients) {
+    for (int k = 0; k <= q; ++k) {
+      const double* column = coefficients.col(k).data();
+      double sum = 0;
+      for (Eigen::Index i = 0; i < length; ++i) sum += row[i * stride] * column[i];
+      p[k] += sum;
+    }
+  };
+  // u's coefficients, room for the highest order once, so that order
+  // changes do not reallocate.
+  Eigen::MatrixXd& U = scratch_u_taylor_;
+  if (U.rows() != m()) U.resize(m(), kMaxFloorDegree + 1);
+  U.leftCols(q + 1).setZero();
+  for (int j = 0; j < m(); ++j)
+    if (mode_[j] != MultiplierBound::kFree) U(j, 0) = u_(j);
+  if (map_.size() > 0) {
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
+      std::fill(p.begin(), p.end(), 0.0);
+      add_product(map_.data() + i * n(), 1, n(), taylor);
+      p[0] += map_offset_(i);
+      for (int k = 0; k <= q; ++k) U(free_[i], k) = p[k];
+    }
+  } else if (!free_.empty()) {
+    // A large mode keeps the sparse C_α and G_u's LU: u_α's coefficients
+    // are −G_u⁻¹ C_α y⁽ᵏ⁾/k!, the constant one also −G_u⁻¹ (c_α + M_α u at
+    // its bounds).
+    Eigen::MatrixXd W = free_C_ * taylor;
+    W.col(0) += free_c_ + free_M_ * U.col(0);
+    const Eigen::MatrixXd U_free = -mode_lu_.solve(W);
+    for (int i = 0; i < static_cast<int>(free_.size()); ++i)
+      U.row(free_[i]).head(q + 1) = U_free.row(i);
+  }
+  for (const int j : free_) {
+    for (int k = 0; k <= q; ++k) p[k] = U(j, k);
+    if (std::isfinite(problem_.lower()(j))) {
+      p[0] -= problem_.lower()(j);
+      below(-tolerance);
+      p[0] += problem_.lower()(j);
+    }
+    if (std::isfinite(problem_.upper()(j))) {
+      for (int k = 0; k <= q; ++k) p[k] = -p[k];
+      p[0] += problem_.upper()(j);
+      below(-tolerance);
+    }
+  }
+  if (static_cast<int>(free_.size()) == m()) return first;
+  const bool dense = problem_.dense_rows().C.size() > 0;
+  // A large LCS: F's coefficients for all rows at once, by sparse products.
+  Eigen::MatrixXd F_coefficients;
+  if (!dense) {
+    F_coefficients = problem_.lcs_rows().C * taylor;
+    F_coefficients.noalias() += problem_.lcs_rows().M * U.leftCols(q + 1);
+  }
+  for (int j = 0; j < m(); ++j) {
+    // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
+    if (mode_[j] == MultiplierBound::kFree || problem_.lower()(j) == problem_.upper()(j)) continue;
+    std::fill(p.begin(), p.end(), 0.0);
+    if (dense) {
+      add_product(problem_.dense_rows().C.data() + j, problem_.dense_rows().C.rows(), n(), taylor);
+      add_product(problem_.dense_rows().M.data() + j, problem_.dense_rows().M.rows(), m(), U);
+    } else {
+      for (int k = 0; k <= q; ++k) p[k] = F_coefficients(j, k);
+    }
+    p[0] += problem_.lcs_rows().c(j);
+    if (mode_[j] == MultiplierBound::kUpper)
+      for (int k = 0; k <= q; ++k) p[k] = -p[k];
+    below(-tolerance - f_slack);
+  }
+  return first;
+}
+
+void BoxModeSystem::RootFloors(double f_slack, Eigen::VectorXd& floors) const {
+  const double tolerance = problem_.BoundTolerance();
+  floors.setConstant(2 * m(), -std::numeric_limits<double>::infinity());
+  for (int j = 0; j < m(); ++j) {
+    switch (mode_[j]) {
+      case MultiplierBound::kFree:
+        if (std::isfinite(problem_.lower()(j))) floors(2 * j) = -tolerance;
+        if (std::isfinite(problem_.upper()(j))) floors(2 * j + 1) = -tolerance;
+        break;
+      case MultiplierBound::kLower:
+      case MultiplierBound::kUpper:
+        // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
+        if (problem_.lower()(j) != problem_.upper()(j)) floors(2 * j) = -tolerance - f_slack;
+        break;
+    }
+  }
+}
+
+bool BoxModeSystem::Holds(double t, const Eigen::VectorXd& x, std::string* why,
+                          double state_error) const {
+  std::vector<double> g(2 * m());
+  Roots(t, x, g.data());
+  const double tolerance = problem_.BoundTolerance();
+  Eigen::MatrixXd Fx, Fu;
+  if (state_error > 0) problem_.FJacobians(t, x, u_, Fx, Fu);
+  for (int k = 0; k < 2 * m(); ++k) {
+    const int j = k / 2;
+    // A bound row's F moves by up to |∂F_j/∂x|₁ times the state's error.
+    const double slack = state_error > 0 && mode_[j] != MultiplierBound::kFree
+                             ? Fx.row(j).lpNorm<1>() * state_error
+                             : 0.0;
+    if (g[k] >= -tolerance - slack) continue;
+    if (why) {
+      std::ostringstream message;
+      message << "u_" << j
+              << (mode_[j] == MultiplierBound::kFree ? " would leave its bounds ("
+                                                     : " at its bound has F of the wrong sign (")
+              << g[k] << ")";
+      *why = message.str();
+    }
+    return false;
+  }
+  return true;
+}
+
+}  // namespace dvi::internal
