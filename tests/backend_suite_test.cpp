@@ -38,35 +38,30 @@ struct RunSettings {
   bool non_stiff = false;
 };
 
-struct CvodeDense {
-  static constexpr bool kHasAdams = true;
-  static constexpr const char* kIntervalName = "event";
-  static Trajectory Run(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
-                        const RunSettings& settings) {
-    EventDrivenOptions options;
-    options.rtol = settings.rtol;
-    options.atol = settings.atol;
-    options.output_times = settings.output_times;
-    options.linear_solver = LinearSolver::kDense;
-    if (settings.non_stiff) options.method = OdeMethod::kAdams;
-    return IntegrateEventDriven(lcs, x0, 0, t_end, options);
-  }
-};
+// The settings as CVODE's options (also the automatic driver's event-driven
+// intervals').
+EventDrivenOptions CvodeOptions(const RunSettings& settings) {
+  EventDrivenOptions options;
+  options.rtol = settings.rtol;
+  options.atol = settings.atol;
+  options.output_times = settings.output_times;
+  if (settings.non_stiff) options.method = OdeMethod::kAdams;
+  return options;
+}
 
-struct CvodeKlu {
+template <LinearSolver kSolver>
+struct Cvode {
   static constexpr bool kHasAdams = true;
   static constexpr const char* kIntervalName = "event";
   static Trajectory Run(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
                         const RunSettings& settings) {
-    EventDrivenOptions options;
-    options.rtol = settings.rtol;
-    options.atol = settings.atol;
-    options.output_times = settings.output_times;
-    options.linear_solver = LinearSolver::kKlu;
-    if (settings.non_stiff) options.method = OdeMethod::kAdams;
+    EventDrivenOptions options = CvodeOptions(settings);
+    options.linear_solver = kSolver;
     return IntegrateEventDriven(lcs, x0, 0, t_end, options);
   }
 };
+using CvodeDense = Cvode<LinearSolver::kDense>;
+using CvodeKlu = Cvode<LinearSolver::kKlu>;
 
 struct Ida {
   static constexpr bool kHasAdams = false;
@@ -87,10 +82,7 @@ struct Auto {
   static Trajectory Run(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
                         const RunSettings& settings) {
     AutoOptions options;
-    options.event.rtol = settings.rtol;
-    options.event.atol = settings.atol;
-    options.event.output_times = settings.output_times;
-    if (settings.non_stiff) options.event.method = OdeMethod::kAdams;
+    options.event = CvodeOptions(settings);
     return IntegrateAuto(lcs, x0, 0, t_end, options);
   }
 };
