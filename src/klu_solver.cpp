@@ -21,9 +21,9 @@ constexpr double kGivenOrderInitialMemory = 4;
 
 // KLU's C interface takes non-const pointers for inputs it only reads
 // ("inputs, not modified" in klu.h), hence the casts below.
-int* Pointers(const KluSolver::Matrix& A) { return const_cast<int*>(A.outerIndexPtr()); }
-int* Indices(const KluSolver::Matrix& A) { return const_cast<int*>(A.innerIndexPtr()); }
-double* Values(const KluSolver::Matrix& A) { return const_cast<double*>(A.valuePtr()); }
+int* Pointers(const KluSolver::MatrixRef& A) { return const_cast<int*>(A.outerIndexPtr()); }
+int* Indices(const KluSolver::MatrixRef& A) { return const_cast<int*>(A.innerIndexPtr()); }
+double* Values(const KluSolver::MatrixRef& A) { return const_cast<double*>(A.valuePtr()); }
 
 }  // namespace
 
@@ -53,7 +53,7 @@ void KluSolver::Release() {
   if (symbolic_ != nullptr) klu_free_symbolic(&symbolic_, &common_);
 }
 
-bool KluSolver::Analyze(const Matrix& A, bool given_order) {
+bool KluSolver::Analyze(const MatrixRef& A, bool given_order) {
   Release();
   const int n = static_cast<int>(A.rows());
   common_.btf = given_order ? 0 : 1;
@@ -66,7 +66,7 @@ bool KluSolver::Analyze(const Matrix& A, bool given_order) {
   return symbolic_ != nullptr;
 }
 
-bool KluSolver::Factor(const Matrix& A) {
+bool KluSolver::Factor(const MatrixRef& A) {
   if (symbolic_ == nullptr) return false;
   if (numeric_ != nullptr) {
     // With halt_if_singular (KLU's default) a failed refactorization leaves

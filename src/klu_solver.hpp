@@ -9,13 +9,17 @@ namespace dvi::internal {
 
 /// Owns SuiteSparse KLU's symbolic and numeric factorizations of a square
 /// sparse matrix in compressed column form with int indices (Eigen's default
-/// SparseMatrix<double> after makeCompressed()). Call Analyze() once per
-/// sparsity pattern, then Factor() for each matrix with that pattern, then
-/// Solve(). Move-only; frees everything in the destructor. Never aborts:
-/// failures are return values, and status() keeps KLU's Common.status.
+/// SparseMatrix<double> after makeCompressed(), or a Map of such arrays: a
+/// caller whose matrix shares another's pattern passes only its own
+/// values). Call Analyze() once per sparsity pattern, then Factor() for each
+/// matrix with that pattern, then Solve(). Move-only; frees everything in
+/// the destructor. Never aborts: failures are return values, and status()
+/// keeps KLU's Common.status.
 class KluSolver {
  public:
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  /// A compressed Matrix or a Map of one, read in place.
+  using MatrixRef = Eigen::Ref<const Matrix>;
 
   KluSolver();
   ~KluSolver();
@@ -28,7 +32,7 @@ class KluSolver {
   /// given_order, A's own order without BTF) and drops any earlier
   /// factorization. @pre A is square and compressed.
   /// @returns false when KLU rejects the pattern (see status()).
-  bool Analyze(const Matrix& A, bool given_order = false);
+  bool Analyze(const MatrixRef& A, bool given_order = false);
 
   /// Factors A, whose pattern must be the analyzed one. After the first
   /// call, the previous pivot order is reused (klu_refactor, no search);
@@ -37,7 +41,7 @@ class KluSolver {
   /// the matrix is factored afresh with partial pivoting.
   /// @returns false when A is singular or numerically so (pivot ratio below
   /// kSingularPivotRatio); Solve() must not be called then.
-  bool Factor(const Matrix& A);
+  bool Factor(const MatrixRef& A);
 
   /// x ← A⁻¹ x with the last successful factorization.
   /// @returns false on a KLU error (see status()).
