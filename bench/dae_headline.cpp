@@ -592,10 +592,10 @@ Cell Describe(const FailureCase& c, const std::string& method, const std::string
   if (method == "auto") {
     std::string intervals;
     for (const MethodInterval& i : trajectory.intervals) {
-      if (i.name == "event") continue;
-      intervals += "; " + i.name + " [" + Fmt("%.4g", i.from) + ", " + Fmt("%.4g", i.to) +
+      if (i.method == IntegrationMethod::kEventDriven) continue;
+      intervals += "; " + std::string(ToString(i.method)) + " [" + Fmt("%.4g", i.from) + ", " + Fmt("%.4g", i.to) +
                    "]: " + Cut(i.reason);
-      r.message += (r.message.empty() ? "" : "; ") + i.name + " [" + Fmt("%.6g", i.from) + ", " +
+      r.message += (r.message.empty() ? "" : "; ") + std::string(ToString(i.method)) + " [" + Fmt("%.6g", i.from) + ", " +
                    Fmt("%.6g", i.to) + "]: " + i.reason;
     }
     text += ", " + std::to_string(trajectory.intervals.size()) + " intervals" + intervals;

@@ -23,7 +23,7 @@
 
 #include "baseline_runs.hpp"
 #include "dvi/event_driven.hpp"
-#include "dvi/index_one_rhs.hpp"
+#include "dvi/adapters/index_one_rhs.hpp"
 #include "run_command.hpp"
 #include "run_timing.hpp"
 #include "scene_file.hpp"

@@ -263,8 +263,8 @@ std::vector<Point> RunAdaptive(const DaeWorkPrecisionProblem& problem, bool with
               problem, [&] { return IntegrateAuto(problem.lcs, problem.x0, 0, problem.t_end, options); },
               [](const Trajectory& trajectory, RunResult& result) {
                 for (const MethodInterval& i : trajectory.intervals) {
-                  if (i.name == "event") continue;
-                  result.note += (result.note.empty() ? "" : "; ") + i.name + " [" +
+                  if (i.method == IntegrationMethod::kEventDriven) continue;
+                  result.note += (result.note.empty() ? "" : "; ") + std::string(ToString(i.method)) + " [" +
                                  Fmt("%.4g", i.from) + ", " + Fmt("%.4g", i.to) + "]";
                 }
               });

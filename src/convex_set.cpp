@@ -710,4 +710,15 @@ double ConvexSet::radius() const {
   return data_->radius;
 }
 
+std::string_view ToString(ConvexSet::Kind kind) {
+  switch (kind) {
+    case ConvexSet::Kind::kOrthant: return "orthant";
+    case ConvexSet::Kind::kBox: return "box";
+    case ConvexSet::Kind::kPolyhedron: return "polyhedron";
+    case ConvexSet::Kind::kBall: return "ball";
+    case ConvexSet::Kind::kProduct: return "product";
+  }
+  return "unknown";
+}
+
 }  // namespace dvi

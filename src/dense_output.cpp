@@ -102,4 +102,13 @@ Eigen::VectorXd DenseOutput::Derivative(double t) const {
   return dx / piece.h;
 }
 
+std::string_view ToString(DenseOutputPolicy policy) {
+  switch (policy) {
+    case DenseOutputPolicy::kAuto: return "auto";
+    case DenseOutputPolicy::kAlways: return "always";
+    case DenseOutputPolicy::kNever: return "never";
+  }
+  return "unknown";
+}
+
 }  // namespace dvi

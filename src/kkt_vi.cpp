@@ -146,7 +146,7 @@ SolveResult SolveKktVi(const Vi& vi, const SolverOptions& options,
                    "warm_start has " << warm_start.size() << " entries, expected 0 or " << n);
 
   SolveResult result;
-  result.method = "kkt";
+  result.method = SolverMethod::kKkt;
   internal::Decomposition parts = Decompose(vi.K);
   SplitPolyhedron split = Split(parts.rows, n);
   if (!split.empty_reason.empty()) {

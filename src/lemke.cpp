@@ -484,7 +484,7 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
   const auto start = Clock::now();
   const int m = lcp.dim();
   SolveResult result;
-  result.method = "lemke";
+  result.method = SolverMethod::kLemke;
   // The accuracy the residual certifies z and w to.
   double index_set_tolerance = options.tolerance;
   const int max_pivots =

@@ -10,4 +10,13 @@ std::string ModeLetters(const Mode& mode) {
   return text;
 }
 
+std::string_view ToString(MultiplierBound bound) {
+  switch (bound) {
+    case MultiplierBound::kFree: return "free";
+    case MultiplierBound::kLower: return "lower";
+    case MultiplierBound::kUpper: return "upper";
+  }
+  return "unknown";
+}
+
 }  // namespace dvi

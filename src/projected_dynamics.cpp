@@ -257,4 +257,13 @@ void ProjectedDynamics::CheckInitialState(const Eigen::VectorXd& x0) const {
                                                                 << ")");
 }
 
+std::string_view ToString(PdsForm form) {
+  switch (form) {
+    case PdsForm::kConeDcp: return "cone-dcp";
+    case PdsForm::kKkt: return "kkt";
+    case PdsForm::kAuxiliary: return "auxiliary";
+  }
+  return "unknown";
+}
+
 }  // namespace dvi

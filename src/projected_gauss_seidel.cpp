@@ -80,7 +80,7 @@ SolveResult RunPgs(const Matrix& M, const Eigen::VectorXd& q, const SolverOption
   const double omega = options.pgs_relaxation;
 
   SolveResult result;
-  result.method = "pgs";
+  result.method = SolverMethod::kPgs;
   result.z = warm_start.size() == m ? warm_start : Eigen::VectorXd::Zero(m);
   result.w.resize(m);
   const auto diagonal = Diagonal(M);

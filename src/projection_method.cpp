@@ -58,7 +58,7 @@ SolveResult SolveExtragradient(const Vi& vi, const SolverOptions& options,
       options.max_iterations > 0 ? options.max_iterations : kDefaultMaxIterations;
 
   SolveResult result;
-  result.method = "extragradient";
+  result.method = SolverMethod::kExtragradient;
 
   Eigen::VectorXd z;
   try {

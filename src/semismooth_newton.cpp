@@ -737,7 +737,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   std::vector<signed char> active(m), crossed_active(m), next_active(m);
 
   SolveResult result;
-  result.method = "newton";
+  result.method = SolverMethod::kNewton;
   int iterations = 0;
   double rounding_floor = 0;  // set where a stop within it is accepted
   auto finish = [&](SolveStatus status, std::string message) {

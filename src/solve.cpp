@@ -58,7 +58,7 @@ void FinishBoxResult(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
 }
 
 SolveResult Named(SolverMethod method, SolveResult result) {
-  result.method = std::string(ToString(method));
+  result.method = method;
   return result;
 }
 
@@ -69,7 +69,8 @@ SolveResult Named(SolverMethod method, SolveResult result) {
 class AttemptLog {
  public:
   void Add(SolveResult attempt) {
-    text_ += (text_.empty() ? "" : "; ") + attempt.method + ": " + attempt.message;
+    text_ += (text_.empty() ? "" : "; ") + std::string(ToString(attempt.method)) + ": " +
+             attempt.message;
     if (!has_best_ || Badness(attempt) < Badness(best_)) best_ = std::move(attempt);
     has_best_ = true;
   }
@@ -264,7 +265,7 @@ SolveResult ExtragradientAttempt(const Vi& vi, const SolverOptions& options,
     return Named(SolverMethod::kExtragradient, SolveExtragradient(vi, options, start));
   } catch (const std::runtime_error& error) {
     SolveResult failed;
-    failed.method = std::string(ToString(SolverMethod::kExtragradient));
+    failed.method = SolverMethod::kExtragradient;
     failed.message = std::string("projection onto K failed: ") + error.what();
     failed.residual = kInf;
     return failed;
@@ -318,7 +319,7 @@ SolveResult SolveVi(const Vi& vi, const SolverOptions& options,
     const MatrixClassVerdict monotone = IsPositiveSemidefinite(vi.M, kMonotoneTolerance);
     if (!monotone.holds) {
       SolveResult skipped;
-      skipped.method = std::string(ToString(SolverMethod::kExtragradient));
+      skipped.method = SolverMethod::kExtragradient;
       skipped.message = "not tried: F is not monotone, " + monotone.reason;
       log.Add(std::move(skipped));
       return std::move(log).Best();

@@ -60,4 +60,12 @@ void SolverOptions::Validate() const {
                    "SolverOptions::pgs_relaxation = " << pgs_relaxation << " is outside (0, 2)");
 }
 
+std::string_view ToString(SparseOrdering ordering) {
+  switch (ordering) {
+    case SparseOrdering::kAmd: return "amd";
+    case SparseOrdering::kGiven: return "given";
+  }
+  return "unknown";
+}
+
 }  // namespace dvi

@@ -55,4 +55,23 @@ Eigen::VectorXd Trajectory::MultiplierAt(double t) const {
   return multipliers[SampleAtOrAfter(times, t)];
 }
 
+std::string_view ToString(IntegrationMethod method) {
+  switch (method) {
+    case IntegrationMethod::kTimeStepping: return "stepping";
+    case IntegrationMethod::kEventDriven: return "event";
+    case IntegrationMethod::kModeDae: return "event-ida";
+    case IntegrationMethod::kBoundaryValue: return "bvp";
+    case IntegrationMethod::kAuto: return "auto";
+  }
+  return "unknown";
+}
+
+std::string_view ToString(ReportDetail detail) {
+  switch (detail) {
+    case ReportDetail::kBrief: return "brief";
+    case ReportDetail::kFull: return "full";
+  }
+  return "unknown";
+}
+
 }  // namespace dvi

@@ -14,6 +14,7 @@
 
 #include "circuits/half_bridge_inverter.hpp"
 #include "dvi/auto_driver.hpp"
+#include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/lcs.hpp"
 #include "support/convergence.hpp"
@@ -111,12 +112,12 @@ TEST(AutoDriver, SpiralHandsTheZenoIntervalToTimeSteppingAndEndsAtTheOrigin) {
   const Trajectory trajectory = IntegrateAuto(FilippovSpiral(), x0, 0, 2, options);
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 2);
-  EXPECT_EQ(trajectory.intervals.front().name, "event");
+  EXPECT_EQ(trajectory.intervals.front().method, IntegrationMethod::kEventDriven);
   const auto zeno = std::find_if(
       trajectory.intervals.begin(), trajectory.intervals.end(), [](const MethodInterval& i) {
         // The gaps' ratio is c/(c+2) to round-off, so t* comes out to
         // the printed 7 digits.
-        return i.name == "stepping" && Contains(i.reason, "Zeno") &&
+        return i.method == IntegrationMethod::kTimeStepping && Contains(i.reason, "Zeno") &&
                Contains(i.reason, "accumulation predicted at t* = 1.5000000");
       });
   ASSERT_NE(zeno, trajectory.intervals.end());
@@ -125,7 +126,7 @@ TEST(AutoDriver, SpiralHandsTheZenoIntervalToTimeSteppingAndEndsAtTheOrigin) {
   EXPECT_NEAR(zeno->to, kSpiralArrival + options.stepping_window * 2, 1e-9);
   // Then event-driven integration again: the origin is a sliding mode of
   // both switching lines, reduced by Theorem 5.3.
-  EXPECT_EQ(trajectory.intervals.back().name, "event");
+  EXPECT_EQ(trajectory.intervals.back().method, IntegrationMethod::kEventDriven);
   EXPECT_EQ(trajectory.intervals.back().from, zeno->to);
   // Time-stepping records the mode changes it steps through as events.
   const auto stepped_events =
@@ -241,7 +242,8 @@ TEST(AutoDriver, SpiralWithAlternatingGapRatiosIsZenoPerCycleOfTwoModes) {
   ExpectWellFormed(trajectory, 0, horizon);
   const auto zeno = std::find_if(
       trajectory.intervals.begin(), trajectory.intervals.end(), [](const MethodInterval& i) {
-        return i.name == "stepping" && Contains(i.reason, "per cycle of 2 modes");
+        return i.method == IntegrationMethod::kTimeStepping &&
+               Contains(i.reason, "per cycle of 2 modes");
       });
   ASSERT_NE(zeno, trajectory.intervals.end());
   const double predicted = zeno->to - options.stepping_window * horizon;
@@ -266,7 +268,7 @@ TEST(AutoDriver, IndexOneProblemRunsEventDrivenThroughout) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 5);
   ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
   EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "index one"))
       << trajectory.intervals[0].reason;
   ASSERT_EQ(trajectory.events.size(), 1u);
@@ -303,12 +305,12 @@ TEST(AutoDriver, SteppingTakesAnImpactThenTheRestingMassRunsEventDriven) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 2);
   ASSERT_EQ(trajectory.intervals.size(), 3u);
-  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
   EXPECT_NEAR(trajectory.intervals[0].to, 1.0, 1e-9);
-  EXPECT_EQ(trajectory.intervals[1].name, "stepping");
+  EXPECT_EQ(trajectory.intervals[1].method, IntegrationMethod::kTimeStepping);
   EXPECT_TRUE(Contains(trajectory.intervals[1].reason, "not index one"))
       << trajectory.intervals[1].reason;
-  EXPECT_EQ(trajectory.intervals[2].name, "event");
+  EXPECT_EQ(trajectory.intervals[2].method, IntegrationMethod::kEventDriven);
   EXPECT_TRUE(Contains(trajectory.intervals[2].reason, "Theorem 5.3"))
       << trajectory.intervals[2].reason;
   const double resumed = trajectory.intervals[2].from;
@@ -341,7 +343,7 @@ TEST(AutoDriver, RestingMassAsAGeneralDviStaysOnTheGround) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 0.5);
   ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
   EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "differentiation procedure"))
       << trajectory.intervals[0].reason;
   EXPECT_LE(trajectory.states.back().lpNorm<Eigen::Infinity>(), 1e-12);
@@ -372,8 +374,10 @@ TEST(AutoDriver, EachRetryWithoutProgressDoublesTheSteppingWindow) {
   for (std::size_t k = 0; k < trajectory.intervals.size(); ++k) {
     const MethodInterval& interval = trajectory.intervals[k];
     // Event-driven and time-stepping alternate, starting with the former.
-    EXPECT_EQ(interval.name, k % 2 == 0 ? "event" : "stepping") << "interval " << k;
-    if (interval.name != "stepping") continue;
+    EXPECT_EQ(interval.method, k % 2 == 0 ? IntegrationMethod::kEventDriven
+                                          : IntegrationMethod::kTimeStepping)
+        << "interval " << k;
+    if (interval.method != IntegrationMethod::kTimeStepping) continue;
     stepping.push_back(&interval);
     EXPECT_TRUE(Contains(interval.reason, "max_steps = 1 reached")) << interval.reason;
     EXPECT_TRUE(Contains(interval.reason, "scheme (3.3)")) << interval.reason;
@@ -401,7 +405,7 @@ TEST(AutoDriver, MaxHandoversStepsToTheEndAndSaysSo) {
   ExpectWellFormed(trajectory, 0, 5);
   ASSERT_EQ(trajectory.intervals.size(), 4u);
   const MethodInterval& last = trajectory.intervals.back();
-  EXPECT_EQ(last.name, "stepping");
+  EXPECT_EQ(last.method, IntegrationMethod::kTimeStepping);
   EXPECT_TRUE(Contains(last.reason, "max_handovers = 2 reached, so time-stepping to the end"))
       << last.reason;
   EXPECT_FALSE(Contains(trajectory.intervals[1].reason, "max_handovers"));
@@ -426,7 +430,7 @@ TEST(AutoDriver, ARunCostlierThanSteppingToTheEndIsNotRetried) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 1e-2);
   ASSERT_EQ(trajectory.intervals.size(), 2u);
-  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
   EXPECT_NEAR(trajectory.intervals[0].to, 5e-3, 1e-9);  // v reaches 5 V at C V / I₀
   EXPECT_TRUE(Contains(trajectory.intervals[1].reason, "max_steps = 20000 reached"))
       << trajectory.intervals[1].reason;
@@ -515,7 +519,7 @@ TEST(AutoDriver, LargeSparseLcsRunsItsEventIntervalsAsModeDaes) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 2);
   ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
   EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "IDA")) << trajectory.intervals[0].reason;
   // Each arrival is a root of a linear function: located to round-off.
   ASSERT_EQ(trajectory.events.size(), static_cast<std::size_t>(n));
@@ -563,7 +567,7 @@ TEST(AutoDriver, NonBoxSetRunsEventDrivenThroughItsKktSystem) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   ExpectWellFormed(trajectory, 0, 4);
   ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
   ASSERT_EQ(trajectory.events.size(), 1u);
   EXPECT_EQ(trajectory.events[0].kind, EventKind::kConstraintReleased);
   EXPECT_NEAR(trajectory.events[0].time, 2, 1e-9);
@@ -588,7 +592,9 @@ TEST(AutoDriver, SteppingWindowWithoutOutputTimesSamplesOnlyItsEnds) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   const auto stepping =
       std::find_if(trajectory.intervals.begin(), trajectory.intervals.end(),
-                   [](const MethodInterval& interval) { return interval.name == "stepping"; });
+                   [](const MethodInterval& interval) {
+                     return interval.method == IntegrationMethod::kTimeStepping;
+                   });
   ASSERT_NE(stepping, trajectory.intervals.end());
   const auto inside = std::count_if(trajectory.times.begin(), trajectory.times.end(),
                                     [&](double t) { return t > stepping->from && t < stepping->to; });

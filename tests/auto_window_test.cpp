@@ -49,7 +49,7 @@ BridgeRun ChargedBridge(double theta, double tolerance) {
 double SteppedFraction(const Trajectory& trajectory) {
   double stepped = 0;
   for (const MethodInterval& interval : trajectory.intervals)
-    if (interval.name == "stepping") stepped += interval.to - interval.from;
+    if (interval.method == IntegrationMethod::kTimeStepping) stepped += interval.to - interval.from;
   return stepped / trajectory.final_time();
 }
 

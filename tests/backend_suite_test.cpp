@@ -52,7 +52,7 @@ EventDrivenOptions CvodeOptions(const RunSettings& settings) {
 template <LinearSolver kSolver>
 struct Cvode {
   static constexpr bool kHasAdams = true;
-  static constexpr const char* kIntervalName = "event";
+  static constexpr IntegrationMethod kIntervalMethod = IntegrationMethod::kEventDriven;
   static Trajectory Run(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
                         const RunSettings& settings) {
     EventDrivenOptions options = CvodeOptions(settings);
@@ -65,7 +65,7 @@ using CvodeKlu = Cvode<LinearSolver::kKlu>;
 
 struct Ida {
   static constexpr bool kHasAdams = false;
-  static constexpr const char* kIntervalName = "event-ida";
+  static constexpr IntegrationMethod kIntervalMethod = IntegrationMethod::kModeDae;
   static Trajectory Run(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
                         const RunSettings& settings) {
     ModeDaeOptions options;
@@ -78,7 +78,7 @@ struct Ida {
 
 struct Auto {
   static constexpr bool kHasAdams = true;
-  static constexpr const char* kIntervalName = "event";
+  static constexpr IntegrationMethod kIntervalMethod = IntegrationMethod::kEventDriven;
   static Trajectory Run(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
                         const RunSettings& settings) {
     AutoOptions options;
@@ -103,7 +103,7 @@ class EventDrivenBackend : public ::testing::Test {
     Trajectory trajectory = Backend::Run(lcs, x0, t_end, settings);
     EXPECT_TRUE(trajectory.succeeded()) << trajectory.message;
     for (const MethodInterval& interval : trajectory.intervals)
-      EXPECT_EQ(interval.name, Backend::kIntervalName) << interval.reason;
+      EXPECT_EQ(interval.method, Backend::kIntervalMethod) << interval.reason;
     return trajectory;
   }
 };

@@ -67,7 +67,7 @@ TEST_P(EventDrivenMethod, SaturatedDecayMatchesExactSolutionAndEventTime) {
   EXPECT_GT(trajectory.stats.steps, 0);
   EXPECT_GT(trajectory.stats.vi_solves, 0);
   ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].name, "event");
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
   RecordProperty("max_error", Scientific(error));
   RecordProperty("event_time_error", Scientific(std::abs(trajectory.events[0].time - 2)));
 }

@@ -24,12 +24,12 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <gtest/gtest.h>
 
-#include "dvi/cvode_rhs.hpp"
+#include "dvi/adapters/cvode_rhs.hpp"
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
-#include "dvi/index_one_rhs.hpp"
+#include "dvi/adapters/index_one_rhs.hpp"
 #include "dvi/lcs.hpp"
-#include "dvi/odeint_system.hpp"
+#include "dvi/adapters/odeint_system.hpp"
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
 

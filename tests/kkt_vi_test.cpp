@@ -38,7 +38,7 @@ TEST(KktVi, ProjectionOntoTheSimplexMatchesTheSortingFormula) {
   const Eigen::Vector4d a(0.5, 1.2, -0.3, 0.1);
   const SolveResult r = SolveKktVi(ProjectionVi(a, Simplex(4)));
   ASSERT_EQ(r.status, SolveStatus::kSolved) << r.message;
-  EXPECT_EQ(r.method, "kkt");
+  EXPECT_EQ(r.method, SolverMethod::kKkt);
   EXPECT_LE(r.residual, kResidualTolerance);
   EXPECT_LE((r.z - Eigen::Vector4d(0.15, 0.85, 0, 0)).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
   EXPECT_LE((r.w - (r.z - a)).lpNorm<Eigen::Infinity>(), 1e-15);
@@ -243,7 +243,7 @@ TEST(KktVi, ProjectionOntoABallIsExact) {
   const Eigen::Vector3d outside = kCenter + Eigen::Vector3d(3, 0, 4);
   const SolveResult active = SolveKktVi(ProjectionVi(outside, ball));
   ASSERT_EQ(active.status, SolveStatus::kSolved) << active.message;
-  EXPECT_EQ(active.method, "kkt");
+  EXPECT_EQ(active.method, SolverMethod::kKkt);
   EXPECT_LE(active.residual, kBallResidual);
   EXPECT_LE((active.z - (kCenter + Eigen::Vector3d(1.2, 0, 1.6))).lpNorm<Eigen::Infinity>(),
             kBallResidual);

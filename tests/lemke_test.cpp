@@ -92,7 +92,7 @@ TEST(Lemke, SolvesRandomPMatrixLcpsToTheirKnownSolution) {
         SCOPED_TRACE(testing::Message() << "m=" << m << " seed=" << seed
                                         << " triangular=" << triangular);
         ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
-        EXPECT_EQ(result.method, "lemke");
+        EXPECT_EQ(result.method, SolverMethod::kLemke);
         EXPECT_LE(result.residual, kResidualTolerance);
         const double error = (result.z - star.z).cwiseAbs().maxCoeff();
         const double cond = SupportConditionNumber(lcp.M, star.z);

@@ -98,7 +98,7 @@ TEST(ModeDae, SmallLadderDenseAndSparseAgree) {
   options.atol = 1e-13;
   options.output_times = testing::Linspace(0, 5e-3, 51);
   const Trajectory sparse = IntegrateModeDae(lcs, x0, 0, 5e-3, options);
-  options.sparse = false;
+  options.linear_solver = LinearSolver::kDense;
   const Trajectory dense = IntegrateModeDae(lcs, x0, 0, 5e-3, options);
   ASSERT_TRUE(sparse.succeeded()) << sparse.message;
   ASSERT_TRUE(dense.succeeded()) << dense.message;
@@ -217,8 +217,8 @@ TEST(ModeDae, CoupledSingularDHoldsTheStateWithExactTimesAndMultipliers) {
   options.rtol = 1e-10;
   options.atol = 1e-12;
   options.output_times = testing::Linspace(0, 4, 401);
-  for (const bool sparse : {true, false}) {
-    options.sparse = sparse;
+  for (const LinearSolver solver : {LinearSolver::kKlu, LinearSolver::kDense}) {
+    options.linear_solver = solver;
     const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Constant(1, 3.0), 0, 4, options);
     ASSERT_TRUE(result.succeeded()) << result.message;
     ASSERT_EQ(result.events.size(), 2u);
@@ -235,8 +235,8 @@ TEST(ModeDae, CoupledSingularDHoldsTheStateWithExactTimesAndMultipliers) {
         multiplier_error = std::max(
             multiplier_error, (result.multipliers[k] - exact_u(t)).cwiseAbs().maxCoeff());
     }
-    EXPECT_LT(state_error, 1e-9) << "sparse " << sparse;
-    EXPECT_LT(multiplier_error, 1e-8) << "sparse " << sparse;
+    EXPECT_LT(state_error, 1e-9) << solver;
+    EXPECT_LT(multiplier_error, 1e-8) << solver;
     EXPECT_LE(result.stats.max_constraint_drift, 1e-12);
     EXPECT_NE(result.intervals[0].reason.find("1 mode(s) reduced"), std::string::npos)
         << result.intervals[0].reason;
@@ -326,9 +326,9 @@ TEST(ModeDae, OverflowingFirstStepIsNamed) {
   const Lcs lcs = Lcs::Dense(-Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
                              Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Constant(1, 1, 0.5),
                              Eigen::VectorXd::Constant(1, -1e300));
-  for (const bool sparse : {true, false}) {
+  for (const LinearSolver solver : {LinearSolver::kKlu, LinearSolver::kDense}) {
     ModeDaeOptions options;
-    options.sparse = sparse;
+    options.linear_solver = solver;
     const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Ones(1), 0, 1, options);
     EXPECT_EQ(result.status, IntegrationStatus::kStepFailure);
     EXPECT_NE(result.message.find("at t = 0 IDA cannot choose a first step: x'/(rtol |x| + atol) "

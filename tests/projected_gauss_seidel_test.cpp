@@ -44,7 +44,7 @@ TEST(Pgs, SolvesDenseSpdLcpsToTheirKnownSolution) {
     const Lcp lcp = KnownSolutionLcp(RandomSpd(m, rng), star);
     const SolveResult result = SolvePgs(lcp);
     ASSERT_EQ(result.status, SolveStatus::kSolved) << "seed=" << seed << ": " << result.message;
-    EXPECT_EQ(result.method, "pgs");
+    EXPECT_EQ(result.method, SolverMethod::kPgs);
     EXPECT_LE(result.residual, kResidualTolerance);
     EXPECT_LE((result.z - star.z).cwiseAbs().maxCoeff(), kSolutionTolerance);
     EXPECT_LE((result.w - (lcp.M * result.z + lcp.q)).cwiseAbs().maxCoeff(), kRecomputedW);

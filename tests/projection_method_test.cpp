@@ -58,7 +58,7 @@ TEST(Extragradient, DistanceMapOnBallConvergesToTheProjection) {
   const Vi vi = MakeVi(ball, [a](const Eigen::VectorXd& z, Eigen::VectorXd& w) { w = z - a; });
   const SolveResult result = SolveExtragradient(vi, Options());
   ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
-  EXPECT_EQ(result.method, "extragradient");
+  EXPECT_EQ(result.method, SolverMethod::kExtragradient);
   EXPECT_LE(result.residual, kTolerance);
   EXPECT_LE((result.z - ball.Project(a)).norm(), kSolutionError);
   EXPECT_LE((result.w - (result.z - a)).norm(), 1e-15);

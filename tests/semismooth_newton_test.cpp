@@ -69,7 +69,7 @@ TEST(SemismoothNewton, RandomPMatrixLcpsRecoverTheConstructedSolution) {
         SCOPED_TRACE(testing::Message() << "m=" << m << " seed=" << seed
                                         << " triangular=" << triangular << ": " << r.message);
         ASSERT_EQ(r.status, SolveStatus::kSolved);
-        EXPECT_EQ(r.method, "newton");
+        EXPECT_EQ(r.method, SolverMethod::kNewton);
         EXPECT_LE(r.residual, kResidualTolerance);
         EXPECT_LE((r.z - star.z).lpNorm<Eigen::Infinity>(), kSolutionTolerance);
         EXPECT_LE((r.w - (M * r.z + star.w - M * star.z)).lpNorm<Eigen::Infinity>(), 1e-12);

@@ -58,7 +58,7 @@ class SiconosFeasibleLcp : public testing::TestWithParam<std::string> {};
 TEST_P(SiconosFeasibleLcp, AutoSolvesToTolerance) {
   const test::SiconosLcpInstance instance = test::ReadSiconosLcp(GetParam());
   const SolveResult result = Solve(instance.lcp);
-  RecordProperty("method", result.method);
+  RecordProperty("method", std::string(ToString(result.method)));
   RecordProperty("residual", std::to_string(result.residual));
   ASSERT_EQ(result.status, SolveStatus::kSolved) << result.method << ": " << result.message;
   EXPECT_LE(result.residual, kResidualTolerance);
@@ -91,7 +91,7 @@ class SiconosMlcp : public testing::TestWithParam<std::string> {};
 TEST_P(SiconosMlcp, SolvedThroughTheMcpPath) {
   const test::SiconosMcpInstance instance = test::ReadSiconosMlcp(GetParam());
   const SolveResult result = Solve(instance.mcp);
-  EXPECT_EQ(result.method, "newton");
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
   RecordProperty("residual", std::to_string(result.residual));
   ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
   EXPECT_LE(result.residual, kResidualTolerance);
@@ -111,7 +111,7 @@ class SiconosRelay : public testing::TestWithParam<std::string> {};
 TEST_P(SiconosRelay, SolvedThroughTheMcpPath) {
   const test::SiconosMcpInstance instance = test::ReadSiconosRelay(GetParam());
   const SolveResult result = Solve(instance.mcp);
-  EXPECT_EQ(result.method, "newton");
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
   RecordProperty("residual", std::to_string(result.residual));
   ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
   EXPECT_LE(result.residual, kResidualTolerance);

@@ -62,7 +62,7 @@ void ExpectSolvedNear(const SolveResult& result, const Eigen::VectorXd& z) {
 TEST(Solve, DenseLcpAutoUsesNewtonAndFillsIndexSets) {
   const KnownLcp known = ThreeByThree();
   const SolveResult result = Solve(known.lcp);
-  EXPECT_EQ(result.method, "newton");
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
   ExpectSolvedNear(result, known.z);
   EXPECT_LE((result.w - (known.lcp.M * result.z + known.lcp.q)).cwiseAbs().maxCoeff(),
             kSolutionTolerance);
@@ -76,7 +76,7 @@ TEST(Solve, DenseLcpAutoUsesNewtonAndFillsIndexSets) {
 TEST(Solve, DenseLcpAutoTakesTheWarmStart) {
   const KnownLcp known = ThreeByThree();
   const SolveResult result = Solve(known.lcp, {}, known.z);
-  EXPECT_EQ(result.method, "newton");
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
   ExpectSolvedNear(result, known.z);
   EXPECT_EQ(result.iterations, 0);
 }
@@ -93,7 +93,7 @@ TEST(Solve, DenseLcpAutoFallsBackToLemkeWhereNewtonStalls) {
   lcp.M = (Eigen::Matrix2d() << 2, -3, 2, -2).finished();
   lcp.q = Eigen::Vector2d(3, -1);
   const SolveResult result = Solve(lcp);
-  EXPECT_EQ(result.method, "lemke");
+  EXPECT_EQ(result.method, SolverMethod::kLemke);
   ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
   EXPECT_LE(result.residual, kResidualTolerance);
   // The basis solve on integer data of a 2×2 system: exact up to round-off.
@@ -111,7 +111,7 @@ TEST(Solve, DenseLcpAutoReportsInfeasibleWithCertificate) {
   lcp.M = (Eigen::Matrix2d() << 1, -1, -1, 1).finished();
   lcp.q = Eigen::Vector2d(-1, -1);
   const SolveResult result = Solve(lcp);
-  EXPECT_EQ(result.method, "lemke");
+  EXPECT_EQ(result.method, SolverMethod::kLemke);
   ASSERT_EQ(result.status, SolveStatus::kInfeasible) << result.message;
   const Eigen::VectorXd& y = result.certificate;
   ASSERT_EQ(y.size(), 2);
@@ -154,7 +154,7 @@ TEST(Solve, DenseLcpExplicitMethodsAreDispatched) {
     SolverOptions options;
     options.method = method;
     const SolveResult result = Solve(known.lcp, options);
-    EXPECT_EQ(result.method, ToString(method));
+    EXPECT_EQ(result.method, method);
     ExpectSolvedNear(result, known.z);
     EXPECT_TRUE(result.has_index_sets) << ToString(method);
   }
@@ -167,7 +167,7 @@ TEST(Solve, ExplicitPgsOnZeroDiagonalFails) {
   SolverOptions options;
   options.method = SolverMethod::kPgs;
   const SolveResult result = Solve(lcp, options);
-  EXPECT_EQ(result.method, "pgs");
+  EXPECT_EQ(result.method, SolverMethod::kPgs);
   EXPECT_EQ(result.status, SolveStatus::kFailed);
 }
 
@@ -175,7 +175,7 @@ TEST(Solve, SparseSymmetricLcpAutoUsesPgs) {
   const KnownLcp known = ThreeByThree();
   const SparseLcp lcp{known.lcp.M.sparseView(), known.lcp.q};
   const SolveResult result = Solve(lcp);
-  EXPECT_EQ(result.method, "pgs");
+  EXPECT_EQ(result.method, SolverMethod::kPgs);
   ExpectSolvedNear(result, known.z);
   EXPECT_TRUE(result.has_index_sets);
 }
@@ -186,7 +186,7 @@ TEST(Solve, SparseNonsymmetricLcpAutoUsesNewton) {
   known.lcp.q = Eigen::Vector3d(0.0, 2.0, 0.0) - known.lcp.M * known.z;
   const SparseLcp lcp{known.lcp.M.sparseView(), known.lcp.q};
   const SolveResult result = Solve(lcp);
-  EXPECT_EQ(result.method, "newton");
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
   ExpectSolvedNear(result, known.z);
 }
 
@@ -195,7 +195,7 @@ TEST(Solve, SparseLcpExplicitLemkeDensifies) {
   SolverOptions options;
   options.method = SolverMethod::kLemke;
   const SolveResult result = Solve(SparseLcp{known.lcp.M.sparseView(), known.lcp.q}, options);
-  EXPECT_EQ(result.method, "lemke");
+  EXPECT_EQ(result.method, SolverMethod::kLemke);
   ExpectSolvedNear(result, known.z);
 }
 
@@ -246,7 +246,7 @@ TEST(Solve, BoxMcpAutoUsesNewton) {
   const Eigen::Vector3d upper(1.0, kInf, 1.0);
   const BoxMcp mcp = BoxMcp::Affine(Eigen::MatrixXd::Identity(3, 3), -c, lower, upper);
   const SolveResult result = Solve(mcp);
-  EXPECT_EQ(result.method, "newton");
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
   ExpectSolvedNear(result, Eigen::Vector3d(1.0, -0.5, -1.0));
   ASSERT_TRUE(result.has_index_sets);
   EXPECT_EQ(result.index_sets.alpha, (std::vector<int>{1}));
@@ -260,7 +260,7 @@ TEST(Solve, BoxMcpExplicitExtragradient) {
   SolverOptions options;
   options.method = SolverMethod::kExtragradient;
   const SolveResult result = Solve(mcp, options);
-  EXPECT_EQ(result.method, "extragradient");
+  EXPECT_EQ(result.method, SolverMethod::kExtragradient);
   ExpectSolvedNear(result, Eigen::Vector2d(1.0, 0.25));
   EXPECT_TRUE(result.has_index_sets);
 }
@@ -270,7 +270,7 @@ TEST(Solve, BoxLikeViAutoBecomesBoxMcp) {
   const Vi vi = Vi::Affine(Eigen::MatrixXd::Identity(2, 2), -c,
                            ConvexSet::Box(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1)));
   const SolveResult result = Solve(vi);
-  EXPECT_EQ(result.method, "newton");
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
   ExpectSolvedNear(result, Eigen::Vector2d(-1.0, 0.5));
   ASSERT_TRUE(result.has_index_sets);
   EXPECT_EQ(result.index_sets.alpha, (std::vector<int>{1}));
@@ -283,7 +283,7 @@ TEST(Solve, AffineViOnOrthantAcceptsLemke) {
   options.method = SolverMethod::kLemke;
   const SolveResult result =
       Solve(Vi::Affine(known.lcp.M, known.lcp.q, ConvexSet::Orthant(3)), options);
-  EXPECT_EQ(result.method, "lemke");
+  EXPECT_EQ(result.method, SolverMethod::kLemke);
   ExpectSolvedNear(result, known.z);
 }
 
@@ -294,7 +294,7 @@ TEST(Solve, PolyhedralViAutoUsesKkt) {
                                             Eigen::VectorXd(0));
   const SolveResult result =
       Solve(Vi::Affine(Eigen::MatrixXd::Identity(2, 2), -Eigen::Vector2d(1, 1), K));
-  EXPECT_EQ(result.method, "kkt");
+  EXPECT_EQ(result.method, SolverMethod::kKkt);
   ExpectSolvedNear(result, Eigen::Vector2d(0.5, 0.5));
   EXPECT_FALSE(result.has_index_sets);
 }
@@ -307,7 +307,7 @@ Vi BallProjection() {
 
 TEST(Solve, BallViAutoUsesKkt) {
   const SolveResult result = Solve(BallProjection());
-  EXPECT_EQ(result.method, "kkt");
+  EXPECT_EQ(result.method, SolverMethod::kKkt);
   ASSERT_TRUE(result.solved()) << result.message;
   // Newton on the KKT system ends at round-off, not at the tolerance.
   EXPECT_LE(result.residual, 1e-12);
@@ -319,7 +319,7 @@ TEST(Solve, BallViExplicitExtragradient) {
   SolverOptions options;
   options.method = SolverMethod::kExtragradient;
   const SolveResult result = Solve(BallProjection(), options);
-  EXPECT_EQ(result.method, "extragradient");
+  EXPECT_EQ(result.method, SolverMethod::kExtragradient);
   ExpectSolvedNear(result, Eigen::Vector2d(0.6, 0.8));
 }
 
@@ -332,7 +332,7 @@ TEST(Solve, BallViAutoFallsBackToExtragradientWhenKktFails) {
   vi.F = [](const Eigen::VectorXd& z, Eigen::VectorXd& w) { w = z - Eigen::Vector2d(3, 4); };
   vi.jacobian = [](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J.setZero(2, 2); };
   const SolveResult result = Solve(vi);
-  EXPECT_EQ(result.method, "extragradient");
+  EXPECT_EQ(result.method, SolverMethod::kExtragradient);
   ExpectSolvedNear(result, Eigen::Vector2d(0.6, 0.8));
   EXPECT_TRUE(Contains(result.message, "(after kkt: KKT system not solved")) << result.message;
 }
@@ -348,7 +348,7 @@ TEST(Solve, NonMonotoneAffineViIsNotHandedToTheProjectionMethod) {
   const SolveResult result =
       Solve(Vi::Affine(-Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(0.1, -0.2), K));
   EXPECT_FALSE(result.solved());
-  EXPECT_EQ(result.method, "kkt");
+  EXPECT_EQ(result.method, SolverMethod::kKkt);
   EXPECT_TRUE(Contains(result.message,
                        "extragradient: not tried: F is not monotone, smallest eigenvalue of "
                        "(M + Mᵀ)/2 is -1 <"))

@@ -78,7 +78,7 @@ TEST_P(HalfWaveRectifier, AutoRunsItEventDriven) {
   const Trajectory trajectory =
       IntegrateAuto(RectifierDvi(c, true), Eigen::VectorXd::Zero(1), 0, Horizon(c), options);
   ExpectExact(c, trajectory, "auto");
-  for (const MethodInterval& interval : trajectory.intervals) EXPECT_EQ(interval.name, "event");
+  for (const MethodInterval& interval : trajectory.intervals) EXPECT_EQ(interval.method, IntegrationMethod::kEventDriven);
 }
 
 // Every run above carries a certificate that it passes: its rows solve the

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/dvi_problem.hpp"
+#include "dvi/enum_output.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/solver_options.hpp"
 #include "dvi/trajectory.hpp"

@@ -3,10 +3,12 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Dense>
 
+#include "dvi/enum_output.hpp"
 #include "dvi/error.hpp"
 
 namespace dvi {
@@ -105,5 +107,7 @@ class ConvexSet {
   explicit ConvexSet(std::shared_ptr<const Data> data);
   std::shared_ptr<const Data> data_;
 };
+/// "orthant", "box", "polyhedron", "ball", "product".
+std::string_view ToString(ConvexSet::Kind kind);
 
 }  // namespace dvi

@@ -2,9 +2,12 @@
 #pragma once
 
 #include <cstddef>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Dense>
+
+#include "dvi/enum_output.hpp"
 
 namespace dvi {
 
@@ -20,6 +23,8 @@ enum class DenseOutputPolicy {
   kAlways,
   kNever,
 };
+/// "auto", "always", "never".
+std::string_view ToString(DenseOutputPolicy policy);
 /// Whether `policy` keeps the dense output of a run with these output times.
 inline bool KeepsDenseOutput(DenseOutputPolicy policy, const std::vector<double>& output_times) {
   return policy == DenseOutputPolicy::kAlways ||

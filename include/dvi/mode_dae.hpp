@@ -1,12 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Dense>
 
 #include "dvi/lcs.hpp"
-#include "dvi/solver_options.hpp"
+#include "dvi/mode_dae_options.hpp"
 #include "dvi/trajectory.hpp"
 
 namespace dvi {
@@ -23,33 +21,12 @@ namespace dvi {
 /// whose u-block is the matrix (5.8). P_αα comes from a rank-revealing QR of
 /// each block of D_αα (rows joined by shared columns), so a coupled D costs
 /// its largest block; the pass repeats while rows stay dependent (Sect.
-/// 5.4), and x is put back on every Φ = 0 at each mode change. The Jacobian is sparse and factored by
-/// KLU (SUNLinSol_KLU), so circuits with 10⁴–10⁵ nodes cost O(n) per step;
-/// small systems use a dense solver. Root functions watch the mode as in
+/// 5.4), and x is put back on every Φ = 0 at each mode change. The Jacobian
+/// is sparse and factored by KLU (SUNLinSol_KLU), so circuits with 10⁴–10⁵
+/// nodes cost O(n) per step; small systems may use a dense solver
+/// (ModeDaeOptions::linear_solver). Root functions watch the mode as in
 /// event_driven.hpp; at an event the new mode solves the modified LCP of
 /// Sect. 5.4 and consistent (x, u) are computed from the reduced system.
-struct ModeDaeOptions {
-  /// IDA's local error test, finite and ≥ 0, not both zero.
-  double rtol = 1e-8;
-  double atol = 1e-10;
-  long max_steps = 10'000'000;  ///< Accepted steps over the run, > 0.
-  double h_max = 0;             ///< Largest step; 0 means no limit.
-  /// Times to sample (ascending, within [t0, t_end]) from IDA's dense output;
-  /// empty samples every accepted step. t0, t_end and events are sampled too.
-  std::vector<double> output_times;
-  long max_events = 100'000;  ///< Mode changes over the run, > 0.
-  /// Every step's interpolant in Trajectory::dense ((q + 1)·(n + m)
-  /// doubles per step, of which x is kept): by default when output_times
-  /// is empty.
-  DenseOutputPolicy dense_output = DenseOutputPolicy::kAuto;
-  /// Sparse KLU linear solver; false uses a dense one (small systems).
-  bool sparse = true;
-  /// Options of the LCP solves at t0 and at events.
-  SolverOptions solver;
-
-  /// @throws InvalidInputError naming the field out of range.
-  void Validate() const;
-};
 
 /// Whether IntegrateModeDae takes the LCS: K a box.
 bool ModeDaeApplies(const Lcs& lcs);

@@ -5,6 +5,7 @@
 
 #include "dvi/convex_set.hpp"
 #include "dvi/dvi_problem.hpp"
+#include "dvi/enum_output.hpp"
 #include "dvi/lcs.hpp"
 
 namespace dvi {
@@ -48,6 +49,8 @@ Dvi ProjectedDynamicsAsAuxiliary(const ProjectedDynamics& pds);
 /// The normal-cone element ν(t) ∈ N(x(t); K) from the multiplier u of the
 /// formulation `form` produced by the functions above.
 enum class PdsForm { kConeDcp, kKkt, kAuxiliary };
+/// "cone-dcp", "kkt", "auxiliary": (2.9), (2.10), (2.11).
+std::string_view ToString(PdsForm form);
 Eigen::VectorXd NormalConeElement(const ProjectedDynamics& pds, PdsForm form,
                                   const Eigen::VectorXd& x, const Eigen::VectorXd& u);
 

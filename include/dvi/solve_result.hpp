@@ -7,6 +7,9 @@
 
 #include <Eigen/Dense>
 
+#include "dvi/enum_output.hpp"
+#include "dvi/solver_options.hpp"
+
 namespace dvi {
 
 /// Outcome of a VI / complementarity solve. Only kSolved leaves a usable z.
@@ -35,7 +38,7 @@ struct IndexSets {
 struct SolveResult {
   SolveStatus status = SolveStatus::kFailed;
   std::string message = "not solved";
-  std::string method;    ///< The solver that produced z ("lemke", "newton", ...).
+  SolverMethod method = SolverMethod::kAuto;  ///< The solver that produced z (never kAuto once solved).
   Eigen::VectorXd z;     ///< The solution (or last iterate).
   Eigen::VectorXd w;     ///< F(z).
   int iterations = 0;    ///< Pivots (Lemke), sweeps (PGS), Newton or projection steps.

@@ -3,6 +3,8 @@
 
 #include <string_view>
 
+#include "dvi/enum_output.hpp"
+
 namespace dvi {
 
 enum class SolverMethod {
@@ -26,6 +28,8 @@ enum class SparseOrdering {
 
 /// "auto", "lemke", "pgs", "newton", "extragradient", "kkt".
 std::string_view ToString(SolverMethod method);
+/// "amd", "given".
+std::string_view ToString(SparseOrdering ordering);
 /// Inverse of ToString. @throws InvalidInputError naming the unknown word.
 SolverMethod ParseSolverMethod(std::string_view name);
 

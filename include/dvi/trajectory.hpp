@@ -9,6 +9,7 @@
 
 #include "dvi/certificate.hpp"
 #include "dvi/dense_output.hpp"
+#include "dvi/enum_output.hpp"
 #include "dvi/vector_samples.hpp"
 
 namespace dvi {
@@ -55,11 +56,24 @@ struct Event {
   int index = 0;    ///< Zero-based component of u, or constraint of K.
 };
 
+/// The methods that advance time.
+enum class IntegrationMethod {
+  kTimeStepping,   ///< θ time-stepping (time_stepping.hpp).
+  kEventDriven,    ///< Modes as ODEs on CVODE (event_driven.hpp).
+  kModeDae,        ///< Modes of an LCS as DAEs on IDA (mode_dae.hpp).
+  kBoundaryValue,  ///< One aggregate VI over all steps (boundary_value.hpp).
+  /// The automatic driver (auto_driver.hpp): never an interval's method, it
+  /// records the method of each interval it ran.
+  kAuto,
+};
+/// "stepping", "event", "event-ida", "bvp", "auto".
+std::string_view ToString(IntegrationMethod method);
+
 /// The method that produced [from, to] and why it was chosen.
 struct MethodInterval {
   double from = 0;
   double to = 0;
-  std::string name;    ///< "stepping", ...
+  IntegrationMethod method = IntegrationMethod::kTimeStepping;
   std::string reason;
 };
 
@@ -89,6 +103,11 @@ struct StepRecord {
   int iterations = 0;   ///< Iterations of its VI solve.
   double residual = 0;  ///< Natural-map residual of its VI.
 };
+
+/// How much Trajectory::Report says.
+enum class ReportDetail { kBrief, kFull };
+/// "brief", "full".
+std::string_view ToString(ReportDetail detail);
 
 /// The result of an integration: samples of x and u, events, the method per
 /// interval, statistics, the dense state between samples, and the run's
@@ -127,6 +146,13 @@ struct Trajectory {
   /// u at time t: at a sample time its value there, between samples the
   /// value of the next sample (ûᴴ). @throws InvalidInputError as StateAt.
   Eigen::VectorXd MultiplierAt(double t) const;
+
+  /// The run in words, as Ceres' Solver::Summary reports a solve. kBrief: one
+  /// line (status, span, steps, events, certificate, wall time). kFull: a
+  /// line each for the status and its message, the span and sizes, every
+  /// interval's method and reason, the work counters, the events by kind,
+  /// index reduction, the certificate's measures and bounds, the wall time.
+  std::string Report(ReportDetail detail = ReportDetail::kBrief) const;
 };
 
 }  // namespace dvi

@@ -21,30 +21,6 @@
 
 namespace dvi {
 
-void AutoOptions::Validate() const {
-  // The nested options name their own fields; the prefix says which set.
-  try {
-    event.Validate();
-  } catch (const InvalidInputError& error) {
-    throw InvalidInputError(std::string("AutoOptions.event.") + error.what());
-  }
-  TimeSteppingOptions stepping_checked = stepping;
-  stepping_checked.output_times.clear();  // ignored: event.output_times serve both
-  stepping_checked.initial_guess.resize(0);  // ignored: each interval's is set
-  try {
-    stepping_checked.Validate();
-  } catch (const InvalidInputError& error) {
-    throw InvalidInputError(std::string("AutoOptions.stepping.") + error.what());
-  }
-  DVI_THROW_UNLESS(std::isfinite(stepping_window) && stepping_window > 0 && stepping_window <= 1,
-                   "AutoOptions.stepping_window: " << stepping_window << " is outside (0, 1]");
-  for (const auto& [name, value] : {std::pair{"window_rtol", window_rtol}, {"window_atol", window_atol}})
-    DVI_THROW_UNLESS(std::isfinite(value) && value >= 0 && value < 1,
-                     "AutoOptions." << name << ": " << value << " is outside [0, 1)");
-  DVI_THROW_UNLESS(max_handovers > 0,
-                   "AutoOptions.max_handovers: " << max_handovers << " is not positive");
-}
-
 namespace {
 
 // An LCS this large (n + m) runs its event-driven intervals as mode DAEs on
@@ -299,7 +275,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
                                 : !whole.times.empty() ? Eigen::VectorXd(whole.multipliers.back())
                                                        : Eigen::VectorXd();
     if (t_a > t) {
-      whole.intervals.push_back({t, t_a, "event",
+      whole.intervals.push_back({t, t_a, IntegrationMethod::kEventDriven,
                                  (t > t0 ? "back to event-driven after time-stepping; " : "") +
                                      OwnReason(run, "event-driven")});
     }
@@ -355,8 +331,8 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
                       "): " + steps.message;
     const double t_stepped = steps.times.empty() ? t_a : steps.times.back();
     x = steps.times.empty() ? x_a : Eigen::VectorXd(steps.states.back());
-    whole.intervals.push_back(
-        {t_a, t_stepped, "stepping", reason + "; " + OwnReason(steps, "time-stepping")});
+    whole.intervals.push_back({t_a, t_stepped, IntegrationMethod::kTimeStepping,
+                               reason + "; " + OwnReason(steps, "time-stepping")});
     Append(whole, std::move(steps));
     if (!stepped || t_b >= t_end) return whole;
     t = t_b;
@@ -440,14 +416,8 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
     // Each interval's options are the validated ones, or a clipped copy.
     const auto dae_options = [](const EventDrivenOptions& run) {
       ModeDaeOptions dae;
-      dae.rtol = run.rtol;
-      dae.atol = run.atol;
-      dae.max_steps = run.max_steps;
-      dae.h_max = run.h_max;
-      dae.output_times = run.output_times;
+      static_cast<IntegrationOptions&>(dae) = run;
       dae.max_events = run.max_events;
-      dae.solver = run.solver;
-      dae.dense_output = run.dense_output;
       return dae;
     };
     const EventMethod event{

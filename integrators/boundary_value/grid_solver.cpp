@@ -427,7 +427,7 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
              << " iterations in all)";
     if (options.refine && trajectory.succeeded())
       reason << "; refined to an estimated error of " << Format(stats.grids.back().error_estimate);
-    trajectory.intervals.push_back({0, problem.horizon, "bvp", reason.str()});
+    trajectory.intervals.push_back({0, problem.horizon, IntegrationMethod::kBoundaryValue, reason.str()});
   }
   if (problem.certifier) {
     std::ostringstream basis;

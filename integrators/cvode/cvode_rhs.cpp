@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "dvi/cvode_rhs.hpp"
+#include "dvi/adapters/cvode_rhs.hpp"
 
 #include <cmath>
 #include <exception>
@@ -12,7 +12,8 @@
 #include <nvector/nvector_serial.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
-#include "dvi/index_one_rhs.hpp"
+#include "cvode/index_one_rhs_access.hpp"
+#include "dvi/adapters/index_one_rhs.hpp"
 
 namespace dvi {
 

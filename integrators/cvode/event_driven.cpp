@@ -17,49 +17,6 @@
 
 namespace dvi {
 
-std::string_view ToString(OdeMethod method) {
-  switch (method) {
-    case OdeMethod::kBdf: return "bdf";
-    case OdeMethod::kAdams: return "adams";
-  }
-  return "unknown";
-}
-
-std::string_view ToString(LinearSolver solver) {
-  switch (solver) {
-    case LinearSolver::kAuto: return "auto";
-    case LinearSolver::kDense: return "dense";
-    case LinearSolver::kKlu: return "klu";
-  }
-  return "unknown";
-}
-
-void EventDrivenOptions::Validate() const {
-  DVI_THROW_UNLESS(std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 &&
-                       rtol + atol > 0,
-                   "rtol, atol: " << rtol << ", " << atol
-                                  << " must be finite, non-negative and not both zero");
-  DVI_THROW_UNLESS(method == OdeMethod::kBdf || method == OdeMethod::kAdams,
-                   "method: " << static_cast<int>(method) << " is not an OdeMethod");
-  DVI_THROW_UNLESS(linear_solver == LinearSolver::kAuto || linear_solver == LinearSolver::kDense ||
-                       linear_solver == LinearSolver::kKlu,
-                   "linear_solver: " << static_cast<int>(linear_solver)
-                                     << " is not a LinearSolver");
-  DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
-  DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
-                   "h_max: " << h_max << " is negative or not finite");
-  internal::CheckOutputTimes(output_times, false);
-  DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
-  DVI_THROW_UNLESS(max_event_burst >= 2,
-                   "max_event_burst: " << max_event_burst << " is below 2");
-  DVI_THROW_UNLESS(std::isfinite(min_event_spacing) && min_event_spacing >= 0 &&
-                       min_event_spacing < 1,
-                   "min_event_spacing: " << min_event_spacing << " is outside [0, 1)");
-  DVI_THROW_UNLESS(std::isfinite(zeno_window) && zeno_window >= 0 && zeno_window <= 1,
-                   "zeno_window: " << zeno_window << " is outside [0, 1]");
-  solver.Validate();
-}
-
 namespace internal {
 
 bool g_project_error_estimate_for_testing = false;

@@ -481,7 +481,7 @@ Trajectory EventDrivenRun::Run() {
       reason += "; " + std::to_string(reduced_selections_) +
                 " mode(s) chosen by the differentiation procedure (" + reduction_theorem_ +
                 ")";
-    trajectory_.intervals.push_back({t0_, trajectory_.times.back(), "event", reason});
+    trajectory_.intervals.push_back({t0_, trajectory_.times.back(), IntegrationMethod::kEventDriven, reason});
   }
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

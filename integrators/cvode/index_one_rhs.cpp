@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "dvi/index_one_rhs.hpp"
+#include "dvi/adapters/index_one_rhs.hpp"
 
 #include <cmath>
 #include <sstream>
 #include <utility>
 
 #include "check.hpp"
+#include "cvode/index_one_rhs_access.hpp"
 #include "modes/box_mode.hpp"
 #include "modes/kkt_lifting.hpp"
 

@@ -13,18 +13,6 @@
 
 namespace dvi {
 
-void ModeDaeOptions::Validate() const {
-  DVI_THROW_UNLESS(
-      std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 && rtol + atol > 0,
-      "rtol, atol: " << rtol << ", " << atol << " must be finite, non-negative and not both zero");
-  DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
-  DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
-                   "h_max: " << h_max << " is negative or not finite");
-  internal::CheckOutputTimes(output_times, false);
-  DVI_THROW_UNLESS(max_events > 0, "max_events: " << max_events << " is not positive");
-  solver.Validate();
-}
-
 bool ModeDaeApplies(const Lcs& lcs) {
   return lcs.K.IsBox();
 }

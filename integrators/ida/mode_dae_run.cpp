@@ -278,12 +278,12 @@ Trajectory ModeDaeRun::Run() {
   stats.reduced_modes = reduced_modes_;
   if (started) {
     std::ostringstream reason;
-    reason << "LCS modes as DAEs on IDA (" << (options_.sparse ? "sparse KLU" : "dense")
+    reason << "LCS modes as DAEs on IDA (" << (data_.sparse ? "sparse KLU" : "dense")
            << " Jacobian), n = " << n_ << ", m = " << m_ << "; " << reduced_modes_
            << " mode(s) reduced by differentiating dependent rows (Theorem 5.3)";
     if (look_ahead_selections_ > 0)
       reason << "; " << look_ahead_selections_ << " mode(s) chosen by look-ahead along the flow";
-    trajectory_.intervals.push_back({t0_, trajectory_.final_time(), "event-ida", reason.str()});
+    trajectory_.intervals.push_back({t0_, trajectory_.final_time(), IntegrationMethod::kModeDae, reason.str()});
   }
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

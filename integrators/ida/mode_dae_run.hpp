@@ -54,8 +54,8 @@ class ModeDaeRun {
         m_(lcs.m()),
         u_tolerance_(kBoundFactor * std::max(options.atol, options.solver.tolerance)) {
     data_.dae = &dae_;
-    data_.sparse = options.sparse;
-    if (options.sparse)
+    data_.sparse = options.linear_solver != LinearSolver::kDense;
+    if (data_.sparse)
       klu_ = std::make_unique<KluLinearSolver>(y_.get(), dae_.size(), 1, context_.get());
     else
       dense_ = std::make_unique<DenseLinearSolver>(y_.get(), dae_.size(), context_.get());

@@ -63,8 +63,9 @@ bool ModeDaeRun::LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::
   if (!look_ahead_) {
     TimeSteppingOptions stepping;
     stepping.solver = options_.solver;
-    look_ahead_ = options_.sparse ? MakeSparseLcsMethod(lcs_, stepping)
-                                  : MakeDenseLcsMethod(lcs_, stepping);
+    look_ahead_ = options_.linear_solver != LinearSolver::kDense
+                      ? MakeSparseLcsMethod(lcs_, stepping)
+                      : MakeDenseLcsMethod(lcs_, stepping);
   }
   StepOutcome step = look_ahead_->Step(t, delta, x, u);
   trajectory_.stats.vi_solves += step.vi_solves;

@@ -278,7 +278,7 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
   DVI_THROW_UNLESS(guess.allFinite(), "initial_guess: an entry is not finite");
   const auto started = std::chrono::steady_clock::now();
   Trajectory trajectory;
-  trajectory.intervals.push_back({t0, t_end, "stepping", method.Describe()});
+  trajectory.intervals.push_back({t0, t_end, IntegrationMethod::kTimeStepping, method.Describe()});
   IntegrationStats& stats = trajectory.stats;
   Recorder recorder(method, options, certifier, trajectory);
   const auto finish = [&](IntegrationStatus status, std::string message, double t) {

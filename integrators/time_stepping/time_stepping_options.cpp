@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
+// TimeSteppingOptions: scheme names and validation, apart from the stepping.
 #include <cmath>
 
 #include "check.hpp"
-#include "dvi/time_stepping.hpp"
+#include "dvi/time_stepping_options.hpp"
 #include "output_times_check.hpp"
 
 namespace dvi {
@@ -28,21 +29,16 @@ SteppingScheme ParseSteppingScheme(std::string_view name) {
 }
 
 void TimeSteppingOptions::Validate() const {
+  // Strictly ascending output times first: the common check allows repeats.
+  internal::CheckOutputTimes(output_times, true);
+  IntegrationOptions::Validate();
   DVI_THROW_UNLESS(std::isfinite(h) && h > 0, "h: " << h << " is not a positive step size");
   DVI_THROW_UNLESS(ToString(scheme) != "unknown",
                    "scheme: " << static_cast<int>(scheme) << " is not a SteppingScheme");
   DVI_THROW_UNLESS(theta >= 0 && theta <= 1, "theta: " << theta << " is outside [0, 1]");
   DVI_THROW_UNLESS(gamma >= 0 && gamma <= 1, "gamma: " << gamma << " is outside [0, 1]");
-  DVI_THROW_UNLESS(std::isfinite(rtol) && rtol >= 0 && std::isfinite(atol) && atol >= 0 &&
-                       rtol + atol > 0,
-                   "rtol, atol: " << rtol << ", " << atol
-                                  << " must be finite, non-negative and not both zero");
   DVI_THROW_UNLESS(std::isfinite(h_min) && h_min >= 0, "h_min: " << h_min << " is negative or not finite");
-  DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0, "h_max: " << h_max << " is negative or not finite");
   DVI_THROW_UNLESS(h_max == 0 || h_max >= h_min, "h_max: " << h_max << " is below h_min = " << h_min);
-  DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
-  internal::CheckOutputTimes(output_times, true);
-  solver.Validate();
 }
 
 }  // namespace dvi

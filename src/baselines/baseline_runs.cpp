@@ -16,9 +16,9 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <boost/numeric/odeint.hpp>
 
-#include "dvi/cvode_rhs.hpp"
-#include "dvi/index_one_rhs.hpp"
-#include "dvi/odeint_system.hpp"
+#include "dvi/adapters/cvode_rhs.hpp"
+#include "dvi/adapters/index_one_rhs.hpp"
+#include "dvi/adapters/odeint_system.hpp"
 
 namespace dvi::baselines {
 namespace {

@@ -15,7 +15,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/dvi_problem.hpp"
-#include "dvi/index_one_rhs.hpp"
+#include "dvi/adapters/index_one_rhs.hpp"
 #include "dvi/lcs.hpp"
 
 namespace dvi::baselines {

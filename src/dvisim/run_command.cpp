@@ -157,16 +157,16 @@ void RefuseOutputOverScene(const Scene& scene, const std::string& scene_path) {
   }
 }
 
-bool UsedMethod(const Trajectory& trajectory, const std::string& name) {
+bool UsedMethod(const Trajectory& trajectory, IntegrationMethod method) {
   return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
-                     [&](const MethodInterval& interval) { return interval.name == name; });
+                     [&](const MethodInterval& interval) { return interval.method == method; });
 }
 
 // "2 intervals" / "1 interval" of the method.
-std::string IntervalCount(const Trajectory& trajectory, const std::string& name) {
+std::string IntervalCount(const Trajectory& trajectory, IntegrationMethod method) {
   const auto count = std::count_if(
       trajectory.intervals.begin(), trajectory.intervals.end(),
-      [&](const MethodInterval& interval) { return interval.name == name; });
+      [&](const MethodInterval& interval) { return interval.method == method; });
   return std::to_string(count) + (count == 1 ? " interval" : " intervals");
 }
 
@@ -177,16 +177,17 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
       << ", n = " << scene.n << ", " << scene.output_multipliers
       << " multiplier columns): " << ToString(trajectory.status) << " to t = "
       << Short(trajectory.final_time()) << "\n";
-  if (UsedMethod(trajectory, "event"))
+  if (UsedMethod(trajectory, IntegrationMethod::kEventDriven))
     out << "  event-driven (" << ToString(scene.event.method) << ") on "
-        << IntervalCount(trajectory, "event") << " with rtol = " << Short(scene.event.rtol)
-        << ", atol = " << Short(scene.event.atol) << "\n";
-  if (UsedMethod(trajectory, "stepping"))
-    out << "  time-stepping on " << IntervalCount(trajectory, "stepping")
+        << IntervalCount(trajectory, IntegrationMethod::kEventDriven)
+        << " with rtol = " << Short(scene.event.rtol) << ", atol = " << Short(scene.event.atol)
+        << "\n";
+  if (UsedMethod(trajectory, IntegrationMethod::kTimeStepping))
+    out << "  time-stepping on " << IntervalCount(trajectory, IntegrationMethod::kTimeStepping)
         << (scene.method == "auto" ? " from h = " : " with h = ") << Short(scene.stepping.h)
         << ", theta = " << Short(scene.stepping.theta)
         << ", gamma = " << Short(scene.stepping.gamma) << "\n";
-  if (UsedMethod(trajectory, "bvp"))
+  if (UsedMethod(trajectory, IntegrationMethod::kBoundaryValue))
     out << "  bvp: aggregate VI on " << stats.steps << " steps, " << stats.solver_iterations
         << " Newton iterations on " << stats.vi_solves << (stats.vi_solves == 1 ? " grid" : " grids")
         << ", residual " << Short(stats.max_residual) << "\n";
@@ -394,17 +395,17 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
   for (const MethodInterval& interval : trajectory.intervals)
     intervals.push_back({{"from", interval.from},
                          {"to", interval.to},
-                         {"name", interval.name},
+                         {"name", std::string(ToString(interval.method))},
                          {"reason", interval.reason}});
   summary["method"] = intervals;
   summary["requested_method"] = scene.method;
   // The parameters of the integrator that ran.
-  if (UsedMethod(trajectory, "stepping")) {
+  if (UsedMethod(trajectory, IntegrationMethod::kTimeStepping)) {
     summary["h"] = scene.stepping.h;
     summary["theta"] = scene.stepping.theta;
     summary["gamma"] = scene.stepping.gamma;
   }
-  if (UsedMethod(trajectory, "event")) {
+  if (UsedMethod(trajectory, IntegrationMethod::kEventDriven)) {
     summary["rtol"] = scene.event.rtol;
     summary["atol"] = scene.event.atol;
     summary["ode"] = std::string(ToString(scene.event.method));

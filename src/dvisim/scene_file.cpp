@@ -260,6 +260,24 @@ void ReadProblem(const json& problem, Scene& scene) {
   }
 }
 
+}  // namespace
+
+TimeSteppingOptions SceneSteppingDefaults() {
+  TimeSteppingOptions stepping;
+  stepping.rtol = 1e-6;
+  stepping.atol = 1e-9;
+  stepping.max_steps = 100'000'000;
+  return stepping;
+}
+
+EventDrivenOptions SceneEventDefaults() {
+  EventDrivenOptions event;
+  event.max_steps = 1'000'000;
+  return event;
+}
+
+namespace {
+
 OdeMethod ReadOdeMethod(const json& value, const std::string& path) {
   for (const OdeMethod method : {OdeMethod::kBdf, OdeMethod::kAdams})
     if (value.is_string() && value.get<std::string>() == ToString(method)) return method;

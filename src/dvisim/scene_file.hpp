@@ -44,6 +44,16 @@ struct SceneOutput {
   bool plot = false;
 };
 
+/// The scene format's defaults (docs/scenes.md), which differ by method
+/// where the library's one set (IntegrationOptions) does not fit a scene:
+/// stepping's error control at rtol 1e-6, atol 1e-9 (an adaptive step-doubling
+/// run is first order; the event-driven answer is meant to be the accurate
+/// one) and a step limit of 10⁸, as many fixed steps as a scene's h may ask
+/// for; event-driven integration's limit 10⁶ accepted steps, which a runaway
+/// reaches within seconds.
+TimeSteppingOptions SceneSteppingDefaults();
+EventDrivenOptions SceneEventDefaults();
+
 struct Scene {
   std::string name;
   std::string type;  ///< problem.type as written.
@@ -65,8 +75,10 @@ struct Scene {
   /// (IntegrateTimeStepping), "event" (IntegrateEventDriven) or "bvp"
   /// (SolveBoundaryValue / SolveNashGame).
   std::string method = "auto";
-  TimeSteppingOptions stepping;  ///< h, θ, γ and the extras, defaults resolved.
-  EventDrivenOptions event;      ///< rtol, atol and the extras, defaults resolved.
+  /// h, θ, γ and the extras, defaults resolved (SceneSteppingDefaults).
+  TimeSteppingOptions stepping = SceneSteppingDefaults();
+  /// rtol, atol and the extras, defaults resolved (SceneEventDefaults).
+  EventDrivenOptions event = SceneEventDefaults();
   BoundaryValueOptions bvp;      ///< h or steps, θ, scheme, tol, refinement (method bvp).
   /// auto's own options (AutoOptions): the time-stepping window relative
   /// to the horizon, and the limit on hand-overs to time-stepping.

@@ -44,7 +44,7 @@ nlohmann::ordered_json AnswerJson(const ProblemFile& file, const SolveResult& re
   answer["problem"] = ToString(file.type);
   answer["status"] = std::string(ToString(result.status));
   answer["message"] = result.message;
-  answer["method"] = result.method;
+  answer["method"] = std::string(ToString(result.method));
   answer["residual"] = NumberToJson(result.residual);
   answer["iterations"] = result.iterations;
   answer["seconds"] = result.seconds;

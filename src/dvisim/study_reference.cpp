@@ -30,7 +30,7 @@ std::string RunText(const PlannedRun& run) {
 
 bool SteppedAnywhere(const Trajectory& trajectory) {
   return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
-                     [](const MethodInterval& interval) { return interval.name == "stepping"; });
+                     [](const MethodInterval& interval) { return interval.method == IntegrationMethod::kTimeStepping; });
 }
 
 // Richardson extrapolation of a stepping family of order p at the grid,

@@ -128,7 +128,7 @@ Eigen::VectorXd SteppingError(const Trajectory& run, double h_auto,
   const std::vector<double>& switches = reference.levels.back().switch_times;
   long switches_stepped = 0;
   for (const MethodInterval& interval : run.intervals) {
-    if (interval.name != "stepping") continue;
+    if (interval.method != IntegrationMethod::kTimeStepping) continue;
     switches_stepped += std::count_if(switches.begin(), switches.end(), [&](double s) {
       return s >= interval.from && s <= interval.to;
     });
@@ -139,7 +139,7 @@ Eigen::VectorXd SteppingError(const Trajectory& run, double h_auto,
 
 bool SteppedPartOfTheWay(const Trajectory& trajectory) {
   return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
-                     [](const MethodInterval& interval) { return interval.name == "stepping"; });
+                     [](const MethodInterval& interval) { return interval.method == IntegrationMethod::kTimeStepping; });
 }
 
 // The first event of the run with no switch of the reference's finest level

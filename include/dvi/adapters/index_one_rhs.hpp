@@ -17,11 +17,9 @@ namespace dvi {
 class IndexOneRhs;
 
 namespace internal {
-/// For the C callbacks of cvode_rhs.hpp, which cannot let an exception cross
-/// CVODE's frames: they record its text as the rhs's message().
-struct IndexOneRhsAccess {
-  static void SetMessage(IndexOneRhs& rhs, std::string message);
-};
+/// Private access for the C callbacks of cvode_rhs.hpp (defined in
+/// integrators/cvode/index_one_rhs_access.hpp).
+struct IndexOneRhsAccess;
 }  // namespace internal
 
 /// Work done by an IndexOneRhs since construction.

@@ -9,7 +9,7 @@
 
 #include <Eigen/Dense>
 
-#include "dvi/index_one_rhs.hpp"
+#include "dvi/adapters/index_one_rhs.hpp"
 
 namespace dvi {
 

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include "dvi/event_driven_options.hpp"
+#include "dvi/time_stepping_options.hpp"
+
+namespace dvi {
+
+/// Options of IntegrateAuto (auto_driver.hpp).
+struct AutoOptions {
+  /// Options of the event-driven intervals; its event limits are the Zeno
+  /// and chattering detectors.
+  EventDrivenOptions event;
+  /// Options of the time-stepping intervals (step size, θ, γ, ...). Its
+  /// output_times are ignored: `event.output_times` (within [t0, t_end];
+  /// a repeated time is sampled once) serve both. So is its initial_guess:
+  /// each interval starts from the multiplier where the one before stopped.
+  TimeSteppingOptions stepping;
+  /// Length of a time-stepping interval, relative to the horizon; an
+  /// interval covers at least the predicted accumulation time of a Zeno
+  /// sequence plus this length. Each immediate new failure of event-driven
+  /// integration after an interval doubles it. In (0, 1].
+  double stepping_window = 0.01;
+  /// Limit on hand-overs to time-stepping over the run, > 0. The last one
+  /// steps to the end, as does a hand-over after an event-driven run that
+  /// took more steps than time-stepping at stepping.h needs to the end.
+  int max_handovers = 64;
+  /// The accuracy a time-stepping window is held to (Certificate, window:
+  /// its error estimated against the same window at h/2, h halved up to 5
+  /// times): 0 takes event.rtol / event.atol. A looser value lets a run
+  /// whose windows step over what event-driven integration cannot resolve
+  /// (a Zeno accumulation) be certified to what the windows reach, and says
+  /// so in the certificate; the event-driven intervals keep event.rtol.
+  double window_rtol = 0;
+  double window_atol = 0;
+
+  /// @throws InvalidInputError naming the field out of range.
+  void Validate() const;
+};
+
+}  // namespace dvi

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include "dvi/dense_output.hpp"
+#include "dvi/enum_output.hpp"
+#include "dvi/solver_options.hpp"
+
+namespace dvi {
+
+/// What every integrator that advances time from an initial state reads:
+/// event-driven (event_driven_options.hpp), mode DAEs (mode_dae_options.hpp)
+/// and θ time-stepping (time_stepping_options.hpp) derive their options from
+/// it, so the fields below have one meaning and one set of defaults. The
+/// automatic driver holds one event-driven and one time-stepping set.
+struct IntegrationOptions {
+  /// The local error test ‖err_i‖ ≤ rtol·|x_i| + atol: CVODE's and IDA's own,
+  /// and time-stepping's step doubling when it is adaptive. Finite and ≥ 0,
+  /// not both zero.
+  double rtol = 1e-8;
+  double atol = 1e-10;
+  /// Limit on accepted steps over the whole run, > 0. A fixed-step run that
+  /// needs more is refused before its first step.
+  long max_steps = 10'000'000;
+  /// Largest step size; 0 means no limit below the horizon.
+  double h_max = 0;
+  /// Times to sample (ascending, within [t0, t_end]), from the method's own
+  /// interpolant; empty samples every accepted step. Either way t0, t_end and
+  /// the events are sampled too.
+  std::vector<double> output_times;
+  /// Every step's interpolant in Trajectory::dense: by default when
+  /// output_times is empty (dense_output.hpp).
+  DenseOutputPolicy dense_output = DenseOutputPolicy::kAuto;
+  /// Options of the VI solves (at the start and at events; time-stepping:
+  /// every step's, warm-started from the step before).
+  SolverOptions solver;
+
+  /// @throws InvalidInputError naming the field out of range (output_times:
+  /// the first entry that is not finite or below its predecessor).
+  void Validate() const;
+};
+
+/// The linear solver of the Newton iterations inside a mode.
+enum class LinearSolver {
+  /// The integrator's choice: CVODE takes kKlu for an Lcs on a box K with
+  /// n ≥ kKluMinStates, else kDense; a mode DAE on IDA always kKlu.
+  kAuto,
+  kDense,  ///< Dense LU of the iteration matrix: any DVI.
+  kKlu,    ///< Sparse LU (KLU) of it: an Lcs on a box K only.
+};
+/// "auto", "dense", "klu".
+std::string_view ToString(LinearSolver solver);
+/// Where kAuto takes KLU on CVODE: at n = 100 an RC ladder with three diodes
+/// already runs 2.8× faster on KLU than dense (bench/event_klu_scaling).
+inline constexpr int kKluMinStates = 100;
+
+}  // namespace dvi
