@@ -578,7 +578,7 @@ TEST(LcsStepping, FilippovSignSystemSlidesWithTheEquivalentControl) {
   EXPECT_LT(order, 1.05);
 }
 
-// The RC–diode circuit of the README, C v' = −v/R − I + u, 0 ≤ u ⊥ v ≥ 0,
+// The RC–diode circuit (README's example before issue 29), C v' = −v/R − I + u, 0 ≤ u ⊥ v ≥ 0,
 // with C = 1 µF, R = 1 kΩ, I = 1 mA from v0 = 1 V: the diode clamps v at 0
 // from t* = RC ln 2 on and carries u = I exactly.
 TEST(LcsStepping, HalfWeightsReportTheClampedDiodeCurrentExactly) {

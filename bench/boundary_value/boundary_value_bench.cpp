@@ -20,6 +20,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_problems.hpp"
+#include "timing.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app("dvi's aggregate-VI solve of a boundary-value benchmark problem");
@@ -50,8 +51,7 @@ int main(int argc, char** argv) {
                    ? dvi::SolveNashGame(problem.game, problem.horizon, options).solution
                    : dvi::SolveBoundaryValue(problem.lcs, problem.conditions, problem.horizon,
                                              options);
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-                              .count());
+    best = std::min(best, dvi::bench::SecondsSince(start));
     best_cpu = std::min(best_cpu, cpu_seconds() - cpu_start);
   }
   rusage usage{};

@@ -21,6 +21,7 @@
 
 #include "support/differential_check.hpp"
 #include "support/random_dvis.hpp"
+#include "timing.hpp"
 
 namespace {
 
@@ -130,8 +131,7 @@ int main(int argc, char** argv) {
       } catch (const std::exception& error) {
         instance.error = error.what();
       }
-      instance.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      instance.seconds = dvi::bench::SecondsSince(start);
       if (settings.verbose && instance.error.empty()) {
         const std::lock_guard<std::mutex> lock(print);
         Print(instance.result, std::cerr);

@@ -6,7 +6,7 @@
 // circuit examples) at the model's customary step h_c and at h_c/4, h_c/16,
 // … Each run: the error against the exact reference (reference_error.hpp)
 // at up to 2000 of its step ends, its own wall time (initialize() and the
-// steps, bench/siconos_stepping.hpp), and its LCP failures. Its own
+// steps, bench/common/siconos_stepping.hpp), and its LCP failures. Its own
 // executable, so that Siconos stays a bench-only dependency (run.sh).
 //   zoo_siconos --csv PATH [--model KEY]... [--refinements N]
 #include <algorithm>

@@ -53,7 +53,7 @@ enum class LinearSolver {
 /// "auto", "dense", "klu".
 std::string_view ToString(LinearSolver solver);
 /// Where kAuto takes KLU on CVODE: at n = 100 an RC ladder with three diodes
-/// already runs 2.8× faster on KLU than dense (bench/event_klu_scaling).
+/// already runs 2.8× faster on KLU than dense (bench/scaling/README.md, event_klu_scaling).
 inline constexpr int kKluMinStates = 100;
 
 }  // namespace dvi

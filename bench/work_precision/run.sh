@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # Builds work_precision in Release (with -j1: the machine is shared) and runs
-# it: a `dvisim study` of each scene in bench/scenes plus the oracle and the
+# it: a `dvisim study` of each scene in bench/work_precision/scenes plus the oracle and the
 # goals of the issue.
-#   bench/work_precision.sh OUT_DIR [work_precision options...]
-# e.g. bench/work_precision.sh /tmp/wp --problem clamp
+#   bench/work_precision/run.sh OUT_DIR [work_precision options...]
+# e.g. bench/work_precision/run.sh /tmp/wp --problem clamp
 # writes OUT_DIR/work_precision.{csv,md} (the table on stdout too) and each
 # problem's study (index.html, study.csv, work_precision.png, ...) in
 # OUT_DIR/NAME/. BUILD_DIR (default /tmp/build-wp) selects the build tree.
@@ -13,7 +13,7 @@ if [[ $# -lt 1 ]]; then
   echo "usage: $0 OUT_DIR [work_precision options...]" >&2
   exit 2
 fi
-src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build_dir=${BUILD_DIR:-/tmp/build-wp}
 out_dir=$1
 shift

@@ -3,7 +3,7 @@
 """Writes the `exact` blocks of clamp.json and forced.json, whose switch
 times solve transcendental equations, to 17 significant digits (mpmath at
 50 digits: Newton from brackets found by scanning the closed forms).
-  python3 bench/scenes/exact_blocks.py   (rewrites both files in place)
+  python3 bench/work_precision/scenes/exact_blocks.py   (rewrites both files in place)
 """
 import json
 import os

@@ -3,13 +3,13 @@
 # Builds dae_headline in Release (with -j1: the machine is shared) and prints
 # the diode-bridge headline (event-driven / auto against Siconos' kernel) and
 # the "where methods fail" table of issue 5.
-#   bench/dae_headline.sh [CSV_PATH]
+#   bench/dae_headline/run.sh [CSV_PATH]
 # BUILD_DIR (default /tmp/build-daeheadline) selects the build tree. Progress
 # and Siconos' own diagnostics (stderr) go to $BUILD_DIR/dae_headline.log.
 set -euo pipefail
 # Siconos calls OpenBLAS (pthread build); one thread, as our integrators use.
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
-src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build_dir=${BUILD_DIR:-/tmp/build-daeheadline}
 csv=${1:-$build_dir/dae_headline.csv}
 # The anchor: Siconos' kernel (and numerics) from Debian, for this benchmark only.
@@ -18,7 +18,7 @@ cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS
   -DDVI_BUILD_TOOLS=OFF >/dev/null
 cmake --build "$build_dir" --target dae_headline -j1 >/dev/null
 if [[ ! -x "$build_dir/bench/dae_headline" ]]; then
-  echo "dae_headline was not built: Siconos kernel not found (see bench/README.md)" >&2
+  echo "dae_headline was not built: Siconos kernel not found (see bench/dae_headline/README.md)" >&2
   exit 1
 fi
 cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The four LCSs of issue 5's work-precision chart (bench/README.md), each
+// The four LCSs of issue 5's work-precision chart (bench/work_precision_dae/README.md), each
 // with its exact solution: an index-two wall contact (the issue's "2-D
 // index-two LCS with non-trivial A"), scalar and planar Filippov sliding, and
 // Siconos' diode bridge.

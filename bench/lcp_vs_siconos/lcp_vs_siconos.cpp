@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Side-by-side timing of our LCP solvers and Siconos numerics 4.4.0 on the
 // same instances with the same tolerance; prints a markdown table and writes
-// every timed run to a CSV file. Usage and method: bench/README.md.
+// every timed run to a CSV file. Usage and method: bench/lcp_vs_siconos/README.md.
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -25,6 +25,8 @@
 #include "dvi/semismooth_newton.hpp"
 #include "lcp_instances.hpp"
 #include "siconos_lcp.hpp"
+#include "statistics.hpp"
+#include "timing.hpp"
 #include "support/siconos_data.hpp"
 
 namespace dvi::bench {
@@ -104,13 +106,6 @@ struct CsvRow {
   bool solved = false;
 };
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const size_t k = v.size() / 2;
-  return v.size() % 2 == 1 ? v[k] : 0.5 * (v[k - 1] + v[k]);
-}
-
 double MedianInt(const std::vector<int>& v) {
   return Median(std::vector<double>(v.begin(), v.end()));
 }
@@ -124,11 +119,6 @@ double TimePerCall(const Solver& solve) {
     ++calls;
   } while (total < kMinSampleSeconds && calls < kMaxCallsPerSample);
   return total / calls;
-}
-
-template <class Clock = std::chrono::steady_clock>
-double SecondsSince(typename Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
 template <class Call>

@@ -2,14 +2,14 @@
 # SPDX-License-Identifier: Apache-2.0
 # Builds stepping_vs_siconos in Release (with -j1: the machine is shared) and
 # prints the side-by-side tables of our LCS time-stepping and Siconos' kernel.
-#   bench/stepping_vs_siconos.sh [CSV_PATH] [stepping_vs_siconos options...]
-# e.g. bench/stepping_vs_siconos.sh /tmp/stepping.csv --quick
+#   bench/stepping_vs_siconos/run.sh [CSV_PATH] [stepping_vs_siconos options...]
+# e.g. bench/stepping_vs_siconos/run.sh /tmp/stepping.csv --quick
 # BUILD_DIR (default /tmp/build-benchstep) selects the build tree. Siconos'
 # own diagnostics (stderr) go to $BUILD_DIR/stepping_vs_siconos.log.
 set -euo pipefail
 # Siconos calls OpenBLAS (pthread build); one thread, as our integrator uses.
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
-src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build_dir=${BUILD_DIR:-/tmp/build-benchstep}
 csv=${1:-$build_dir/stepping_vs_siconos.csv}
 shift $(( $# > 0 ? 1 : 0 ))
@@ -19,7 +19,7 @@ cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS
   -DDVI_BUILD_TOOLS=OFF >/dev/null
 cmake --build "$build_dir" --target stepping_vs_siconos -j1 >/dev/null
 if [[ ! -x "$build_dir/bench/stepping_vs_siconos" ]]; then
-  echo "stepping_vs_siconos was not built: Siconos kernel not found (see bench/README.md)" >&2
+  echo "stepping_vs_siconos was not built: Siconos kernel not found (see bench/stepping_vs_siconos/README.md)" >&2
   exit 1
 fi
 cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)

@@ -21,12 +21,13 @@
 #include "circuits/rc_diode_ladder.hpp"
 #include "dvi/mode_dae.hpp"
 #include "dvi/time_stepping.hpp"
-#include "scaling_report.hpp"
+#include "statistics.hpp"
+#include "table_format.hpp"
 
 namespace {
 
 using dvi::bench::FittedExponent;
-using dvi::bench::Number;
+using dvi::bench::Fmt;
 
 struct Settings {
   int max_n = 100'000;
@@ -157,14 +158,14 @@ int main(int argc, char** argv) {
             << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const Row& row = rows[k];
-    std::cout << "| " << row.n << " | " << Number(row.seconds, "%.3f") << " | "
-              << Number(per_unit[k], "%.1f") << " | " << row.steps << " | " << row.rejected << " | "
-              << row.jacobian_evals << " | " << row.events << " | " << Number(row.drift, "%.1e")
-              << " | " << Number(row.difference, "%.2e") << " | "
-              << Number(row.stepping_seconds, "%.2f") << " |\n";
+    std::cout << "| " << row.n << " | " << Fmt("%.3f", row.seconds, "n/a") << " | "
+              << Fmt("%.1f", per_unit[k], "n/a") << " | " << row.steps << " | " << row.rejected << " | "
+              << row.jacobian_evals << " | " << row.events << " | " << Fmt("%.1e", row.drift, "n/a")
+              << " | " << Fmt("%.2e", row.difference, "n/a") << " | "
+              << Fmt("%.2f", row.stepping_seconds, "n/a") << " |\n";
   }
-  std::cout << "\nfitted exponent of time against n: " << Number(exponent, "%.3f")
-            << " over all n, " << Number(last_exponent, "%.3f") << " between the two largest"
+  std::cout << "\nfitted exponent of time against n: " << Fmt("%.3f", exponent, "n/a")
+            << " over all n, " << Fmt("%.3f", last_exponent, "n/a") << " between the two largest"
             << " (goal ≤ 1.2)\n\n";
 
   std::ostringstream csv;

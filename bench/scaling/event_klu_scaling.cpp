@@ -22,12 +22,13 @@
 
 #include "circuits/rc_diode_ladder.hpp"
 #include "dvi/event_driven.hpp"
-#include "scaling_report.hpp"
+#include "statistics.hpp"
+#include "table_format.hpp"
 
 namespace {
 
 using dvi::bench::FittedExponent;
-using dvi::bench::Number;
+using dvi::bench::Fmt;
 
 struct Settings {
   int max_n = 10'000;
@@ -125,17 +126,17 @@ int main(int argc, char** argv) {
       n_previous = n;
     }
     const dvi::IntegrationStats& stats = klu.trajectory.stats;
-    std::cout << "| " << n << " | " << Number(klu.seconds, "%.3f") << " | "
+    std::cout << "| " << n << " | " << Fmt("%.3f", klu.seconds, "n/a") << " | "
               << (std::isnan(dense.seconds)
-                      ? "skipped (~" + Number(predicted, "%.0f") + " s predicted)"
-                      : Number(dense.seconds, "%.3f"))
-              << " | " << Number(dense.seconds / klu.seconds, "%.1f") << " | " << stats.steps
+                      ? "skipped (~" + Fmt("%.0f", predicted, "n/a") + " s predicted)"
+                      : Fmt("%.3f", dense.seconds, "n/a"))
+              << " | " << Fmt("%.1f", dense.seconds / klu.seconds, "n/a") << " | " << stats.steps
               << " | " << stats.jacobian_evals << " | " << klu.trajectory.events.size() << " | "
-              << Number(difference, "%.1e") << " |" << std::endl;
+              << Fmt("%.1e", difference, "n/a") << " |" << std::endl;
     ns.push_back(n);
     klu_seconds.push_back(klu.seconds);
   }
   std::cout << "\nfitted exponent of KLU's time against n: "
-            << Number(FittedExponent(ns, klu_seconds), "%.3f") << "\n";
+            << Fmt("%.3f", FittedExponent(ns, klu_seconds), "n/a") << "\n";
   return 0;
 }

@@ -4,7 +4,7 @@
 // LCP + TimeStepping) on the same discrete equations: the diode bridge
 // against its exact solution, and the RC–diode ladder from n = 10 to 10⁵.
 // Prints markdown tables and writes one CSV row per run. Usage and method:
-// bench/README.md.
+// bench/stepping_vs_siconos/README.md.
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +22,8 @@
 #include "circuits/rc_diode_ladder.hpp"
 #include "dvi/time_stepping.hpp"
 #include "siconos_stepping.hpp"
+#include "table_format.hpp"
+#include "timing.hpp"
 
 namespace dvi::bench {
 namespace {
@@ -79,10 +81,6 @@ bool RepeatAgain(int runs, double total_seconds) {
   return total_seconds < kMinTimedSeconds && runs < kMaxRepeats;
 }
 
-double Seconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // One row of the tables and of the CSV.
 struct Row {
   std::string circuit;
@@ -113,7 +111,7 @@ OursRun RunOurs(const Lcs& lcs, const Eigen::VectorXd& x0, double t_end,
   while (RepeatAgain(static_cast<int>(per_step.size()), total)) {
     const auto start = std::chrono::steady_clock::now();
     run.trajectory = IntegrateTimeStepping(lcs, x0, 0.0, t_end, options);
-    const double s = Seconds(start);
+    const double s = SecondsSince(start);
     total += s;
     if (!run.trajectory.succeeded()) break;
     per_step.push_back(1e6 * s / static_cast<double>(run.trajectory.stats.steps));
@@ -196,13 +194,6 @@ Row DiodeBridgeRow(double h, double gamma) {
   }
   row.max_diff = MaxDiff(traj, siconos, h);
   return row;
-}
-
-std::string Fmt(const char* format, double value) {
-  if (std::isnan(value)) return "–";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
 }
 
 // Siconos recomputes its LCP matrix D + hγ C W⁻¹ B with dense ublas products

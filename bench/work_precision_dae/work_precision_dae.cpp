@@ -11,7 +11,7 @@
 // smallest error any time-stepping run reaches within the budget (errors
 // within round-off equal), `auto` is ≥ 100× faster than the cheapest
 // stepping run there, both timed side by side. Usage and method:
-// bench/README.md.
+// bench/work_precision_dae/README.md.
 //   work_precision_dae --csv PATH --goals PATH [--budget SECONDS] [--problem NAME]...
 // --problem (repeatable) limits the run to the named problems.
 #include <fcntl.h>
@@ -51,7 +51,10 @@
 #include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/time_stepping.hpp"
+#include "error_norms.hpp"
 #include "siconos_stepping.hpp"
+#include "statistics.hpp"
+#include "table_format.hpp"
 #include "work_precision_dae_problems.hpp"
 
 namespace dvi::bench {
@@ -121,12 +124,6 @@ struct Point {
   std::function<RunResult()> run;
 };
 
-std::string Fmt(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
-
 std::vector<double> Grid(double t_end) {
   std::vector<double> grid(kGridPoints);
   for (int k = 0; k < kGridPoints; ++k) grid[k] = t_end * k / (kGridPoints - 1);
@@ -144,14 +141,7 @@ std::vector<double> OutputTimes(const DaeWorkPrecisionProblem& problem) {
 
 double MaxError(const DaeWorkPrecisionProblem& problem, const Trajectory& trajectory,
                 const std::vector<double>& times) {
-  double error = 0;
-  for (const double t : times) {
-    const Eigen::VectorXd difference = trajectory.StateAt(t) - problem.exact(t);
-    error = std::max(error, problem.error_component < 0
-                                ? difference.lpNorm<Eigen::Infinity>()
-                                : std::abs(difference(problem.error_component)));
-  }
-  return error;
+  return MaxErrorAt(trajectory, times, problem.exact, problem.error_component);
 }
 
 // The max errors (component or ‖·‖∞) on the grid and at the switch times;
@@ -592,12 +582,6 @@ Goal Judge(const std::vector<Point>& points, const std::string& problem,
   return goal;
 }
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t middle = values.size() / 2;
-  return values.size() % 2 == 1 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
-}
-
 // The goal's two costs timed again side by side: in each round the stepping
 // run and the fast method's points that its time is interpolated between
 // are timed in turn (each as in the sweep), and the medians over the
@@ -605,7 +589,7 @@ double Median(std::vector<double> values) {
 // sweep times each point once, minutes apart: this machine's speed drifts
 // by up to 1.5× between periods, which moved filippov2d's ratio of a 5 ms
 // stepping run to a 0.05 ms auto run between 67× and 151× from one run of
-// the same code to the next (bench/README.md).
+// the same code to the next (bench/work_precision_dae/README.md).
 void PairTiming(Goal& goal) {
   if (goal.stepping == nullptr || goal.fast_below == nullptr) return;
   std::vector<const Point*> fast{goal.fast_below};

@@ -3,10 +3,10 @@
 # Builds work_precision_dae in Release (with -j1: the machine is shared), runs
 # it and draws issue 5's work-precision chart (max error against wall time,
 # one panel per problem) with gnuplot.
-#   bench/work_precision_dae.sh OUT_DIR [work_precision_dae options...]
+#   bench/work_precision_dae/run.sh OUT_DIR [work_precision_dae options...]
 # options: --budget SECONDS (default 10), --problem NAME (repeatable; wall,
 # sliding, filippov2d, bridge; default all), e.g.
-#   bench/work_precision_dae.sh /tmp/wpdae --budget 2 --problem wall
+#   bench/work_precision_dae/run.sh /tmp/wpdae --budget 2 --problem wall
 # writes OUT_DIR/work_precision_dae.{csv,md,png,svg} and goals.csv (the
 # tables on stdout too). BUILD_DIR (default /tmp/build-wpdae) selects the
 # build tree; progress and Siconos' own diagnostics (stderr) go to
@@ -18,7 +18,7 @@ if [[ $# -lt 1 ]]; then
 fi
 # Siconos calls OpenBLAS (pthread build); one thread, as our integrators use.
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
-src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build_dir=${BUILD_DIR:-/tmp/build-wpdae}
 out_dir=$1
 shift
@@ -29,7 +29,7 @@ cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS
   -DDVI_BUILD_TOOLS=OFF >/dev/null
 cmake --build "$build_dir" --target work_precision_dae -j1 >/dev/null
 if [[ ! -x "$build_dir/bench/work_precision_dae" ]]; then
-  echo "work_precision_dae was not built: Siconos kernel not found (see bench/README.md)" >&2
+  echo "work_precision_dae was not built: Siconos kernel not found (see bench/work_precision_dae/README.md)" >&2
   exit 1
 fi
 cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)

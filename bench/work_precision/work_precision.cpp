@@ -2,7 +2,7 @@
 // Work-precision of the event-driven integrator ([Seed] Sect. 5) against the
 // same implicit right-hand side (5.2) in plain CVODE, Boost.Odeint
 // (runge_kutta_dopri5, rosenbrock4) and θ time-stepping (Sects. 3, 7): a
-// `dvisim study` of each scene in bench/scenes (README, last section), plus
+// `dvisim study` of each scene in bench/work_precision/scenes (work_precision/README.md), plus
 // what only C++ can do here: the oracle, which integrates each mode between
 // the reference's switch times with the mode frozen, and the goals of the
 // issue judged on the points. Error = the study's max over its grid and
@@ -31,6 +31,7 @@
 #include "study_command.hpp"
 #include "study_runs.hpp"
 #include "work_precision_front.hpp"
+#include "timing.hpp"
 
 namespace dvi::bench {
 namespace {
@@ -40,7 +41,7 @@ using dvisim::StudyMethod;
 using dvisim::StudyResult;
 using dvisim::StudyRun;
 
-// The problems in the order of the tables (bench/scenes/NAME.json).
+// The problems in the order of the tables (bench/work_precision/scenes/NAME.json).
 const char* const kProblems[] = {"decay", "diode", "oscillator", "ball", "rectifier", "clamp",
                                  "forced"};
 // The issue's 1e-3 … 1e-10, extended to 1e-13 so that the event curve can
@@ -172,7 +173,7 @@ std::vector<Point> OraclePoints(const dvisim::Scene& scene, const StudyResult& s
     };
     const auto start = std::chrono::steady_clock::now();
     const baselines::BaselineRun result = run();
-    const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double first = SecondsSince(start);
     Point point;
     point.problem = scene.name;
     point.method = "oracle";
@@ -439,7 +440,7 @@ int Main(int argc, char** argv) {
     }
   }
   for (std::size_t k = 0; k < problems.size(); ++k) {
-    std::cout << "\n### " << problems[k] << " (bench/scenes/" << problems[k]
+    std::cout << "\n### " << problems[k] << " (bench/work_precision/scenes/" << problems[k]
               << ".json)\n\nreference: " << references[k] << "\n\n";
     PrintPoints(Select(points, problems[k], ""));
   }

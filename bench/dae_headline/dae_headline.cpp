@@ -7,7 +7,7 @@
 // a non-strongly-regular start, a mode that Theorem 5.3 cannot reduce, an
 // inconsistent initial state) run by event-driven, time-stepping, auto and
 // Siconos. Prints markdown tables and writes one CSV row per run. Usage and
-// method: bench/README.md.
+// method: bench/dae_headline/README.md.
 
 #include <algorithm>
 #include <chrono>
@@ -28,7 +28,11 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/time_stepping.hpp"
+#include "error_norms.hpp"
 #include "siconos_stepping.hpp"
+#include "statistics.hpp"
+#include "table_format.hpp"
+#include "timing.hpp"
 
 namespace dvi::bench {
 namespace {
@@ -73,55 +77,6 @@ std::vector<double> Grid(double t0, double t_end) {
   return grid;
 }
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-// Wall and CPU time of one run. The CPU time (std::clock: this process; every
-// method here runs on one thread) leaves out the time slices that other
-// processes take on a shared machine: those add whole scheduler quanta (about
-// 4 ms here) to runs that take a few ms, so wall-time medians of short runs
-// come out bimodal when the machine is loaded.
-struct Sample {
-  double wall = 0;
-  double cpu = 0;
-};
-
-Sample Measure(const std::function<void()>& run) {
-  const std::clock_t cpu_start = std::clock();
-  const auto start = std::chrono::steady_clock::now();
-  run();
-  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-          static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC};
-}
-
-struct Timing {
-  double median = NAN;  ///< Wall time, the figure of record on a quiet machine.
-  double fastest = NAN;
-  double cpu_median = NAN;
-};
-
-// Runs `run` once untimed (first-call allocations and page faults), then
-// `runs` times timed.
-Timing TimeRuns(int runs, const std::function<Sample()>& run) {
-  run();
-  std::vector<double> wall, cpu;
-  for (int k = 0; k < runs; ++k) {
-    const Sample sample = run();
-    wall.push_back(sample.wall);
-    cpu.push_back(sample.cpu);
-  }
-  return {Median(wall), *std::min_element(wall.begin(), wall.end()), Median(cpu)};
-}
-
-std::string Fmt(const char* format, double value) {
-  if (std::isnan(value)) return "–";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
 
 std::string Cut(const std::string& text) {
   std::string flat = text;
@@ -158,15 +113,11 @@ Trajectory FromSiconos(const SiconosSteppingResult& result, const Eigen::VectorX
 // (component < 0: ‖x − exact‖∞).
 double MaxError(const Trajectory& trajectory, const std::vector<double>& grid, double from,
                 const std::function<Eigen::VectorXd(double)>& exact, int component) {
-  double error = 0;
   if (trajectory.times.empty()) return NAN;
-  for (const double t : grid) {
-    if (t < from || t > trajectory.final_time()) continue;
-    const Eigen::VectorXd difference = trajectory.StateAt(t) - exact(t);
-    error = std::max(error, component < 0 ? difference.lpNorm<Eigen::Infinity>()
-                                          : std::abs(difference(component)));
-  }
-  return error;
+  std::vector<double> within;
+  for (const double t : grid)
+    if (t >= from && t <= trajectory.final_time()) within.push_back(t);
+  return MaxErrorAt(trajectory, within, exact, component);
 }
 
 // One CSV row: a run of one method on one problem.
