@@ -6,6 +6,7 @@
 #include <string>
 
 #include "check.hpp"
+#include "source_breakpoints.hpp"
 #include "jacobian_check.hpp"
 
 namespace dvi {
@@ -66,6 +67,7 @@ void Dvi::Validate() const {
   DVI_THROW_UNLESS(m == 0 || static_cast<bool>(F), "Dvi.F: missing (m = " << m << ")");
   DVI_THROW_UNLESS(K.dim() == m, "Dvi.K: " << K.Describe() << " has dimension " << K.dim()
                                            << ", expected m = " << m);
+  internal::ValidateBreakpoints(breakpoints, "Dvi.breakpoints");
 }
 
 void Dvi::CheckShapes(double t, const Eigen::VectorXd& x) const {

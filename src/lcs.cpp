@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "check.hpp"
+#include "source_breakpoints.hpp"
 
 namespace dvi {
 namespace {
@@ -30,20 +31,44 @@ void CheckVector(const Eigen::VectorXd& v, const char* name, Eigen::Index size) 
                      "Lcs." << name << "[" << k << "] = " << v[k] << " is not finite");
 }
 
-// c + X x + U u: f of an LCS (p, A, B) or F (q, C, D).
+// c + c_source(t) + X x + U u: f of an LCS (p, A, B) or F (q, C, D).
 struct AffinePart {
   Eigen::VectorXd c;
   SparseMatrix X, U;
+  TimeSource c_source;
 };
 
 // The products write into `out` without temporaries: this runs once per
 // right-hand side.
 TimeStateFunction ValueOf(std::shared_ptr<const AffinePart> part) {
-  return [part](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = part->c;
+  return [part](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    if (part->c_source) {
+      part->c_source(t, out);
+      out += part->c;
+    } else {
+      out = part->c;
+    }
     out.noalias() += part->X * x;
     out.noalias() += part->U * u;
   };
+}
+
+void AddSource(const TimeSource& source, double t, Eigen::VectorXd& out) {
+  if (!source) return;
+  Eigen::VectorXd value(out.size());
+  source(t, value);
+  out += value;
+}
+
+void CheckSource(const TimeSource& source, const char* name, double t, Eigen::Index size) {
+  if (!source) return;
+  Eigen::VectorXd value(size);
+  source(t, value);
+  DVI_THROW_UNLESS(value.size() == size, "Lcs." << name << ": wrote " << value.size()
+                                                << " entries at t = " << t << ", expected " << size);
+  for (Eigen::Index k = 0; k < size; ++k)
+    DVI_THROW_UNLESS(std::isfinite(value[k]), "Lcs." << name << " at t = " << t << ": entry " << k
+                                                     << " is " << value[k] << ", not finite");
 }
 
 TimeStateJacobian JacobianOf(std::shared_ptr<const AffinePart> part) {
@@ -93,6 +118,25 @@ void Lcs::Validate() const {
   CheckVector(q, "q", rows_m);
   DVI_THROW_UNLESS(K.dim() == rows_m, "Lcs.K: dimension " << K.dim() << " (" << K.Describe()
                                                           << "), expected m = " << rows_m);
+  DVI_THROW_UNLESS(!q_source_rate || q_source,
+                   "Lcs.q_source_rate: given without q_source, whose rate it is");
+  internal::ValidateBreakpoints(breakpoints, "Lcs.breakpoints");
+}
+
+void Lcs::PAt(double t, Eigen::VectorXd& out) const {
+  out = p;
+  AddSource(p_source, t, out);
+}
+
+void Lcs::QAt(double t, Eigen::VectorXd& out) const {
+  out = q;
+  AddSource(q_source, t, out);
+}
+
+void Lcs::CheckSources(double t) const {
+  CheckSource(p_source, "p_source", t, n());
+  CheckSource(q_source, "q_source", t, m());
+  CheckSource(q_source_rate, "q_source_rate", t, m());
 }
 
 Dvi Lcs::ToDvi() const {
@@ -103,17 +147,25 @@ Dvi Lcs::ToDvi() const {
   dvi.K = K;
   // One shared copy of each affine part keeps the Dvi valid after this Lcs
   // is gone; copies of the Dvi share it.
-  const auto flow = std::make_shared<const AffinePart>(AffinePart{p, A, B});
-  const auto vi = std::make_shared<const AffinePart>(AffinePart{q, C, D});
+  const auto flow = std::make_shared<const AffinePart>(AffinePart{p, A, B, p_source});
+  const auto vi = std::make_shared<const AffinePart>(AffinePart{q, C, D, q_source});
   dvi.f = ValueOf(flow);
   dvi.f_jacobian = JacobianOf(flow);
   dvi.F = ValueOf(vi);
   dvi.F_jacobian = JacobianOf(vi);
-  // Autonomous: the differentiation procedure (Theorem 5.3) needs no
-  // differences in t.
-  dvi.F_time_derivative = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                             Eigen::VectorXd& out) { out.setZero(); };
-  return dvi;
+  if (!q_source) {
+    // Autonomous F: the differentiation procedure (Theorem 5.3) needs no
+    // differences in t.
+    dvi.F_time_derivative = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                               Eigen::VectorXd& out) { out.setZero(); };
+  } else if (q_source_rate) {
+    dvi.F_time_derivative = [rate = q_source_rate](double t, const Eigen::VectorXd&,
+                                                   const Eigen::VectorXd&, Eigen::VectorXd& out) {
+      rate(t, out);
+    };
+  }  // else central differences of F in t (ModeProblem::FTimeDerivative)
+  dvi.breakpoints = breakpoints;
+  return internal::RightContinuous(dvi);
 }
 
 }  // namespace dvi

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -44,9 +45,16 @@ struct Dvi {
   /// (exact, zero, for an autonomous F).
   TimeStateFunction F_time_derivative;
   ConvexSet K = ConvexSet::Orthant(0);
+  /// Times (finite, strictly ascending) where f or F may be discontinuous in
+  /// t (a square wave, a ramp's reset): every integrator stops exactly there
+  /// and takes the left limit on a step ending there, the right limit from
+  /// there on (Lcs::breakpoints). Those outside a run's [t0, t_end] are
+  /// ignored.
+  std::vector<double> breakpoints;
 
-  /// @throws InvalidInputError on n < 1, a missing f or F (m > 0), or
-  /// K.dim() != m, naming the field.
+  /// @throws InvalidInputError on n < 1, a missing f or F (m > 0),
+  /// K.dim() != m, or breakpoints not finite and strictly ascending, naming
+  /// the field.
   void Validate() const;
   /// Evaluates f, F and the optional functions once at (t, x) with u the
   /// box-clipped origin, and compares a given f_jacobian or F_jacobian with

@@ -28,7 +28,8 @@ namespace dvi {
 /// event_driven.hpp; at an event the new mode solves the modified LCP of
 /// Sect. 5.4 and consistent (x, u) are computed from the reduced system.
 
-/// Whether IntegrateModeDae takes the LCS: K a box.
+/// Whether IntegrateModeDae takes the LCS: K a box, no sources (p_source,
+/// q_source; its modes' rows are built once from the constant q).
 bool ModeDaeApplies(const Lcs& lcs);
 
 /// Integrates the LCS from (t0, x0) to t_end; ModeDaeApplies(lcs). Numerical

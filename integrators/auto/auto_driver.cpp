@@ -14,6 +14,7 @@
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/mode_dae.hpp"
 #include "events/event_times.hpp"
+#include "events/trajectory_parts.hpp"
 #include "events/zeno_prediction.hpp"
 #include "ida/mode_dae_validated.hpp"
 #include "output_times_check.hpp"
@@ -87,48 +88,6 @@ std::vector<double> DistinctEventTimes(const std::vector<Event>& events, double 
   for (const Event& event : events)
     if (times.empty() || event.time - times.back() > same_time) times.push_back(event.time);
   return times;
-}
-
-// Appends a part of the run: samples (a junction sample at the same time is
-// replaced by the part's, whose u is the right limit), dense output, the
-// certificate, events, step records and statistics.
-void Append(Trajectory& whole, Trajectory&& part) {
-  if (whole.times.empty()) {
-    // The first part (the whole run when event-driven succeeds): its
-    // samples are taken over, not copied.
-    whole.times = std::move(part.times);
-    whole.states = std::move(part.states);
-    whole.multipliers = std::move(part.multipliers);
-  } else if (!part.times.empty()) {
-    while (!whole.times.empty() && whole.times.back() >= part.times.front()) {
-      whole.times.pop_back();
-      whole.states.pop_back();
-      whole.multipliers.pop_back();
-    }
-    whole.times.insert(whole.times.end(), part.times.begin(), part.times.end());
-    whole.states.append(part.states);
-    whole.multipliers.append(part.multipliers);
-  }
-  if (!part.dense.empty()) {
-    whole.dense.TruncateAfter(part.dense.begin());
-    whole.dense.Append(part.dense);
-  }
-  whole.certificate.Merge(part.certificate);
-  whole.events.insert(whole.events.end(), part.events.begin(), part.events.end());
-  whole.step_log.insert(whole.step_log.end(), part.step_log.begin(), part.step_log.end());
-  IntegrationStats& sum = whole.stats;
-  const IntegrationStats& add = part.stats;
-  sum.steps += add.steps;
-  sum.rejected_steps += add.rejected_steps;
-  sum.rhs_evals += add.rhs_evals;
-  sum.jacobian_evals += add.jacobian_evals;
-  sum.vi_solves += add.vi_solves;
-  sum.solver_iterations += add.solver_iterations;
-  sum.max_residual = std::max(sum.max_residual, add.max_residual);
-  sum.max_constraint_drift = std::max(sum.max_constraint_drift, add.max_constraint_drift);
-  sum.reduced_modes += add.reduced_modes;
-  whole.status = part.status;
-  whole.message = std::move(part.message);
 }
 
 // Adds the work of `earlier` to `later`'s statistics.
@@ -292,7 +251,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     // A retry that fails again before covering the window made no progress:
     // the trouble is wider than the window, so the next one doubles.
     if (t > t0) window = t_a - t < window ? 2 * window : base_window;
-    Append(whole, std::move(run));
+    internal::AppendPart(whole, std::move(run));
     if (succeeded || t_end - t_a <= same_time) return whole;
 
     ++handovers;
@@ -333,7 +292,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     x = steps.times.empty() ? x_a : Eigen::VectorXd(steps.states.back());
     whole.intervals.push_back({t_a, t_stepped, IntegrationMethod::kTimeStepping,
                                reason + "; " + OwnReason(steps, "time-stepping")});
-    Append(whole, std::move(steps));
+    internal::AppendPart(whole, std::move(steps));
     if (!stepped || t_b >= t_end) return whole;
     t = t_b;
   }
@@ -405,6 +364,7 @@ Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, d
 Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
                          const AutoOptions& options) {
   lcs.Validate();
+  lcs.CheckSources(t0);
   options.Validate();
   CheckStart(lcs.n(), x0, t0, t_end, options);
   return Timed([&] {

@@ -11,9 +11,11 @@
 #include "cvode/event_driven_run.hpp"
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/error.hpp"
+#include "events/breakpoint_pieces.hpp"
 #include "modes/kkt_lifting.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
+#include "source_breakpoints.hpp"
 
 namespace dvi {
 
@@ -21,23 +23,12 @@ namespace internal {
 
 bool g_project_error_estimate_for_testing = false;
 
-// lcs: the LCS that dvi is (F affine, see BoxModeSystem), or null.
-Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
-                                         double t0, double t_end,
-                                         const EventDrivenOptions& options) {
-  DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || lcs,
-                   "linear_solver: kKlu needs an Lcs, whose sparse matrices give the mode's "
-                   "Jacobian; a general Dvi gives no sparsity (use kDense)");
-  DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || dvi.K.IsBox(),
-                   "linear_solver: kKlu needs an Lcs on a box K, not " << dvi.K.Describe()
-                                                                      << " (its KKT lifting is "
-                                                                         "dense; use kDense)");
-  DVI_THROW_UNLESS(x0.size() == dvi.n, "x0 has " << x0.size() << " entries, expected " << dvi.n);
-  for (int i = 0; i < x0.size(); ++i)
-    DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
-  DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
-                   "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
-  internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
+namespace {
+
+// One run from (t0, x0) to t_end, CVODE's stop time. lcs: the LCS that dvi
+// is (F affine, see BoxModeSystem), or null.
+Trajectory IntegrateOnePiece(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
+                             double t_end, const EventDrivenOptions& options) {
   if (dvi.K.IsBox()) {
     const LinearSolver solver = options.linear_solver;
     const bool klu = solver == LinearSolver::kKlu ||
@@ -68,10 +59,53 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
   return trajectory;
 }
 
+}  // namespace
+
+// lcs: the LCS that dvi is, or null; an LCS with sources is integrated as
+// the general DVI it is (its F moves with t, so its modes are not the
+// time-invariant ones BoxModeSystem reduces by matrices).
+Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
+                                         double t0, double t_end,
+                                         const EventDrivenOptions& options) {
+  DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || !lcs || lcs->time_invariant(),
+                   "linear_solver: kKlu needs a time-invariant Lcs; one with p_source or q_source "
+                   "runs its modes as a general DVI's (use kDense, or time-stepping, whose KLU "
+                   "path takes sources)");
+  DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || lcs,
+                   "linear_solver: kKlu needs an Lcs, whose sparse matrices give the mode's "
+                   "Jacobian; a general Dvi gives no sparsity (use kDense)");
+  DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || dvi.K.IsBox(),
+                   "linear_solver: kKlu needs an Lcs on a box K, not " << dvi.K.Describe()
+                                                                      << " (its KKT lifting is "
+                                                                         "dense; use kDense)");
+  DVI_THROW_UNLESS(x0.size() == dvi.n, "x0 has " << x0.size() << " entries, expected " << dvi.n);
+  for (int i = 0; i < x0.size(); ++i)
+    DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");
+  DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
+                   "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
+  internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
+  const Lcs* affine = lcs && lcs->time_invariant() ? lcs : nullptr;
+  const Dvi problem = RightContinuous(dvi);
+  return AcrossBreakpoints(
+      problem.breakpoints, problem.K, 1e3 * options.solver.tolerance, x0, t0, t_end, options,
+      [&](double a, bool a_is_breakpoint, const Eigen::VectorXd& x_a, double b,
+          bool b_is_breakpoint, const EventDrivenOptions& piece) {
+        if (!a_is_breakpoint && !b_is_breakpoint)
+          return IntegrateOnePiece(problem, affine, x_a, a, b, piece);
+        return IntegrateOnePiece(OnPiece(problem, a, a_is_breakpoint, b, b_is_breakpoint), affine,
+                                 x_a, a, b, piece);
+      });
+}
+
 void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options,
                         std::size_t rows, Trajectory& trajectory) {
+  // Sources with breakpoints: rows at them certified at the sides they were
+  // integrated with (the final row at a breakpoint at its end, the left).
   RowCertifier certifier =
-      lcs ? RowCertifier(*lcs, options.solver) : RowCertifier(dvi, options.solver);
+      !dvi.breakpoints.empty()
+          ? RowCertifier(RightContinuous(dvi, trajectory.final_time()), options.solver)
+      : lcs ? RowCertifier(*lcs, options.solver)
+            : RowCertifier(dvi, options.solver);
   CertifyRows(certifier, options.rtol, options.atol, rows, trajectory);
   std::ostringstream basis;
   basis << "event-driven: VI residual <= " << Certificate::kViSafety << "·(solver tolerance "
@@ -98,6 +132,7 @@ Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, doubl
 Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const EventDrivenOptions& options) {
   lcs.Validate();
+  lcs.CheckSources(t0);
   const Dvi dvi = lcs.ToDvi();
   dvi.Validate();
   options.Validate();

@@ -14,7 +14,7 @@
 namespace dvi {
 
 bool ModeDaeApplies(const Lcs& lcs) {
-  return lcs.K.IsBox();
+  return lcs.K.IsBox() && lcs.time_invariant();
 }
 
 namespace internal {
@@ -26,6 +26,9 @@ Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0
   DVI_THROW_UNLESS(lcs.K.IsBox(),
                    "K: IntegrateModeDae needs a box K (orthant, box, whole "
                    "space or products of them)");
+  DVI_THROW_UNLESS(lcs.time_invariant(),
+                   "Lcs.p_source, q_source: IntegrateModeDae takes a time-invariant LCS only "
+                   "(IntegrateEventDriven and IntegrateTimeStepping take sources)");
   DVI_THROW_UNLESS(x0.size() == lcs.n(),
                    "x0 has " << x0.size() << " entries, expected " << lcs.n());
   for (int i = 0; i < x0.size(); ++i)

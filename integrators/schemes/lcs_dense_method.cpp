@@ -38,7 +38,7 @@ class DenseLcsMethod : public LcsMethod {
     matrices->W_lu.Solve(y);
     ++outcome.rhs_evals;
     // (3.4) solves the VI at x^i with D itself; (7.2) at x^{i+1} with Dʰ.
-    const Eigen::VectorXd q_step = lcs_.q + lcs_.C * (vi_at_old_state_ ? x : y);
+    const Eigen::VectorXd q_step = q_step_ + lcs_.C * (vi_at_old_state_ ? x : y);
     const Eigen::MatrixXd& M = vi_at_old_state_ ? D_ : matrices->Dh;
     if (shape_.box && TryRecentModes(M, q_step, *matrices, outcome)) {
       outcome.x = std::move(y);

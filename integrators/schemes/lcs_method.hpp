@@ -12,6 +12,7 @@
 #include "dvi/solve_result.hpp"
 #include "dvi/time_stepping.hpp"
 #include "schemes/one_step_method.hpp"
+#include "source_breakpoints.hpp"
 
 namespace dvi::internal {
 
@@ -22,6 +23,11 @@ namespace dvi::internal {
 // Scheme (3.4) puts x^i in the VI instead: u^{i+1} ∈ SOL(K, q + C x^i + D ·).
 // The initial VI u⁰ ∈ SOL(K, q + C x⁰ + D ·) is the same step with h = 0
 // (W = I, r = x⁰), so both paths reuse their step machinery for it.
+// Sources p(t), q(t) (Lcs::p_source, q_source): the step's p is weighted as
+// x is, θ p(t_i) + (1−θ) p(t_{i+1}) (p(t_{i+1}) for backward Euler, as
+// (7.2)'s f(t_{i+1}, ·); the trapezoidal rule at θ = ½, second order), and
+// its VI takes q(t_{i+1}). The driver ends a step at each breakpoint, where
+// the step sees the sources' left limits and the next one their right ones.
 
 // Step sizes whose factorizations stay cached. Step doubling walks the
 // ladder h·2ᵏ down to a switch and back up, so every level it used should
@@ -58,7 +64,10 @@ class LcsMethod : public OneStepMethod {
                      : options.scheme == SteppingScheme::kViAtNewState ? "(3.3)"
                                                                        : "(7.2)"),
         solver_(options.solver),
-        shape_(Shape(lcs.K)) {}
+        shape_(Shape(lcs.K)),
+        breakpoints_(lcs.breakpoints),
+        p_step_(lcs.p),
+        q_step_(lcs.q) {}
 
   int state_dim() const override { return lcs_.n(); }
   int multiplier_dim() const override { return lcs_.m(); }
@@ -74,11 +83,21 @@ class LcsMethod : public OneStepMethod {
     return text.str();
   }
 
-  StepOutcome Initial(double, const Eigen::VectorXd& x0, const Eigen::VectorXd& guess) override {
+  StepOutcome Initial(double t0, const Eigen::VectorXd& x0, const Eigen::VectorXd& guess) override {
+    if (lcs_.q_source) lcs_.QAt(breakpoints_.SidedTime(t0), q_step_);
     return Advance(0, x0, Eigen::VectorXd::Zero(lcs_.m()), guess);
   }
 
-  StepOutcome Step(double, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u) override {
+  StepOutcome Step(double t, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u) override {
+    const double t_end = breakpoints_.LeftLimitTime(t + h);
+    if (lcs_.q_source) lcs_.QAt(t_end, q_step_);
+    if (lcs_.p_source) {
+      lcs_.PAt(t_end, p_step_);
+      if (theta_ != 0) {
+        lcs_.PAt(breakpoints_.RightLimitTime(t), p_start_);
+        p_step_ = theta_ * p_start_ + (1 - theta_) * p_step_;
+      }
+    }
     return Advance(h, x, u, u);
   }
 
@@ -93,7 +112,7 @@ class LcsMethod : public OneStepMethod {
     Eigen::VectorXd r = x;
     if (h == 0) return r;
     if (theta_ != 0) r += (h * theta_) * (lcs_.A * x);
-    r += h * lcs_.p;
+    r += h * p_step_;
     if (gamma_ != 1) r += (h * (1 - gamma_)) * (lcs_.B * u);
     return r;
   }
@@ -105,6 +124,10 @@ class LcsMethod : public OneStepMethod {
   const char* const scheme_name_;
   const SolverOptions solver_;
   const SetShape shape_;
+  const SourceBreakpoints breakpoints_;
+  /// The step's p (weighted over its ends) and q (at its end, or at t0 for
+  /// the initial VI): the constant p and q without sources.
+  Eigen::VectorXd p_step_, q_step_, p_start_;
 };
 
 /// Sect. 9.2's transfer matrix, dense LU (small systems, any K).

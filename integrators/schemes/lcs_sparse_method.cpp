@@ -53,7 +53,7 @@ class SparseLcsMethod : public LcsMethod {
     const int n = lcs_.n(), m = lcs_.m();
     const Eigen::VectorXd r = KnownTerms(h, x, u);
     // (3.4): the VI sees x^i, so C x^i moves into q and C leaves the matrix.
-    const Eigen::VectorXd q_step = vi_at_old_state_ ? Eigen::VectorXd(lcs_.q + lcs_.C * x) : lcs_.q;
+    const Eigen::VectorXd q_step = vi_at_old_state_ ? Eigen::VectorXd(q_step_ + lcs_.C * x) : q_step_;
     const double c_weight = vi_at_old_state_ ? 0 : 1;
     Factorization& factorization = Cached(h, outcome);
     ++outcome.vi_solves;

@@ -11,6 +11,7 @@
 #include "dvi/solve.hpp"
 #include "dvi/time_stepping.hpp"
 #include "schemes/one_step_method.hpp"
+#include "source_breakpoints.hpp"
 #include "time_stepping/stepping_driver.hpp"
 
 namespace dvi {
@@ -127,7 +128,8 @@ class DviMethod : public internal::OneStepMethod {
         theta_(options.theta),
         solver_(options.solver),
         exact_(static_cast<bool>(dvi.f_jacobian) && (dvi.m == 0 || dvi.F_jacobian)),
-        u_vi_(0, dvi.K) {}
+        u_vi_(0, dvi.K),
+        breakpoints_(dvi.breakpoints) {}
 
   int state_dim() const override { return dvi_.n; }
   int multiplier_dim() const override { return dvi_.m; }
@@ -182,6 +184,8 @@ class DviMethod : public internal::OneStepMethod {
   const SolverOptions solver_;
   const bool exact_;
   const StackedVi u_vi_;
+  // A step ending at a breakpoint takes f and F there as left limits.
+  const internal::SourceBreakpoints breakpoints_;
 };
 
 // (3.3): one VI in (x^{i+1}, u^{i+1}) on ℝⁿ × K with
@@ -198,7 +202,7 @@ class ViAtNewState final : public DviMethod {
   StepOutcome Step(double t, double h, const Eigen::VectorXd& x_old,
                    const Eigen::VectorXd& u_old) override {
     const int n = dvi_.n, m = dvi_.m;
-    const double t1 = t + h, theta = theta_;
+    const double t1 = breakpoints_.LeftLimitTime(t + h), theta = theta_;
     StepOutcome outcome;
     int& evals = outcome.rhs_evals;
     int& jacobian_evals = outcome.jacobian_evals;
@@ -255,7 +259,7 @@ class ViAtOldState final : public DviMethod {
   StepOutcome Step(double t, double h, const Eigen::VectorXd& x_old,
                    const Eigen::VectorXd& u_old) override {
     const int n = dvi_.n, m = dvi_.m;
-    const double t1 = t + h, theta = theta_;
+    const double t1 = breakpoints_.LeftLimitTime(t + h), theta = theta_;
     StepOutcome outcome;
     Eigen::VectorXd u = u_old;
     double vi_residual = 0;
@@ -434,12 +438,16 @@ Trajectory IntegrateGeneral(const Dvi& dvi, const Eigen::VectorXd& x0, double t0
                             const TimeSteppingOptions& options) {
   if (options.scheme == SteppingScheme::kViAtOldState) {
     ViAtOldState method(dvi, options);
-    return internal::RunTimeStepping(method, x0, t0, t_end, options,
-                                     internal::RowCertifier(dvi, options.solver));
+    return internal::RunTimeStepping(
+        method, x0, t0, t_end, options,
+        internal::RowCertifier(internal::RightContinuous(dvi, t_end), options.solver),
+        dvi.breakpoints);
   }
   ViAtNewState method(dvi, options);
-  return internal::RunTimeStepping(method, x0, t0, t_end, options,
-                                   internal::RowCertifier(dvi, options.solver));
+  return internal::RunTimeStepping(
+      method, x0, t0, t_end, options,
+      internal::RowCertifier(internal::RightContinuous(dvi, t_end), options.solver),
+      dvi.breakpoints);
 }
 
 }  // namespace
@@ -456,7 +464,7 @@ Trajectory IntegrateTimeStepping(const Dvi& dvi, const Eigen::VectorXd& x0, doub
                               << " does not apply to a general Dvi (use 3.3 or 3.4; 7.2 needs a "
                                  "SeparableDvi, 7.3 projected dynamics)");
   CheckRun(dvi.n, x0, t0, t_end);
-  return IntegrateGeneral(dvi, x0, t0, t_end, options);
+  return IntegrateGeneral(internal::RightContinuous(dvi), x0, t0, t_end, options);
 }
 
 Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd& x0, double t0,
@@ -472,7 +480,7 @@ Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd&
     return IntegrateGeneral(dvi.ToDvi(), x0, t0, t_end, options);
   SeparableMethod method(dvi, options);
   return internal::RunTimeStepping(method, x0, t0, t_end, options,
-                                   internal::RowCertifier(dvi.ToDvi(), options.solver));
+                                   internal::RowCertifier(dvi.ToDvi(), options.solver), {});
 }
 
 }  // namespace dvi

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include "check.hpp"
 #include "dvi/time_stepping.hpp"
 #include "schemes/lcs_method.hpp"
+#include "source_breakpoints.hpp"
 #include "time_stepping/stepping_driver.hpp"
 
 namespace dvi {
@@ -40,6 +42,7 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
     DVI_THROW_UNLESS(std::isfinite(x0[k]), "x0[" << k << "] = " << x0[k] << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t_end = " << t_end << " must be finite and exceed t0 = " << t0);
+  lcs.CheckSources(t0);
   DVI_THROW_UNLESS(options.scheme != SteppingScheme::kFullyImplicit,
                    "scheme: 7.3 (fully implicit) is for projected dynamics, not an LCS; use "
                    "auto, 7.2, 3.3 or 3.4");
@@ -54,8 +57,13 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
                      : "takes only a box K, and Lcs.K is " + lcs.K.Describe() + ", not a box"));
   const std::unique_ptr<internal::OneStepMethod> method =
       sparse ? internal::MakeSparseLcsMethod(lcs, options) : internal::MakeDenseLcsMethod(lcs, options);
-  return internal::RunTimeStepping(*method, x0, t0, t_end, options,
-                                   internal::RowCertifier(lcs, options.solver));
+  // Rows at breakpoints are certified at the sides the steps took there.
+  internal::RowCertifier certifier =
+      lcs.breakpoints.empty()
+          ? internal::RowCertifier(lcs, options.solver)
+          : internal::RowCertifier(internal::RightContinuous(lcs.ToDvi(), t_end), options.solver);
+  return internal::RunTimeStepping(*method, x0, t0, t_end, options, std::move(certifier),
+                                   lcs.breakpoints);
 }
 
 }  // namespace dvi

@@ -196,7 +196,7 @@ Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::Vect
   pds.CheckInitialState(x0);
   FullyImplicitPds method(pds, options);
   return internal::RunTimeStepping(method, x0, t0, t_end, options,
-                                   internal::RowCertifier(pds, options.solver));
+                                   internal::RowCertifier(pds, options.solver), {});
 }
 
 }  // namespace dvi

@@ -12,6 +12,7 @@
 #include "events/mode_changes.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
+#include "source_breakpoints.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -264,7 +265,7 @@ double ScaledError(const Eigen::VectorXd& coarse, const Eigen::VectorXd& fine, i
 
 Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
                            double t_end, const TimeSteppingOptions& options,
-                           RowCertifier certifier) {
+                           RowCertifier certifier, const std::vector<double>& breakpoints) {
   // The run arrives within 1e-12 |t_end| of t_end (end_slack below): a
   // shorter span would end before its first step (t0 = 1e16, t_end = t0 + 2).
   DVI_THROW_UNLESS(t_end - t0 > 1e-12 * std::abs(t_end),
@@ -337,6 +338,19 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
     t_run = t;
     steps_run = 0;
   };
+  // A step that would pass a breakpoint b ends at b: `step` is clipped to
+  // b − t unless the step already ends within SourceBreakpoints::Near(b)
+  // (the method, seeing t + step at b, takes the sources' left limits
+  // there, and keeps the factorization of h), and one that would end within
+  // a sliver before b reaches it. The grid goes on from b.
+  const SourceBreakpoints source_breakpoints(breakpoints);
+  const auto to_breakpoint = [&](double& step, double& b) {
+    b = source_breakpoints.NextAfter(t);
+    if (!(t_end - b > end_slack)) return false;  // at or past the end
+    if (t + step < b - 1e-12 * std::max(std::abs(b), span)) return false;
+    if (std::abs(t + step - b) > SourceBreakpoints::Near(b)) step = b - t;
+    return true;
+  };
 
   // A fixed step (or an adaptive one of at most h_max, recorded as two
   // halves) that cannot reach t_end within max_steps fails now, not after
@@ -358,7 +372,8 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
                     "reached max_steps = " + std::to_string(options.max_steps) +
                         " at t = " + TimeText(t),
                     t);
-    const double step = std::min(h, t_end - t);
+    double step = std::min(h, t_end - t), breakpoint = 0;
+    const bool ends_at_breakpoint = to_breakpoint(step, breakpoint);
     if (!(t + step / 2 > t)) {
       std::ostringstream message;
       message.precision(10);
@@ -371,9 +386,10 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
       Count(next, stats);
       if (!next.solved)
         return finish(IntegrationStatus::kStepFailure, FailureMessage(stats.steps + 1, t, step, next), t);
-      const double t_next = advance(step);
+      const double t_next = ends_at_breakpoint ? breakpoint : advance(step);
       recorder.Accept(t, t_next - t, current.x, current.u, next);
       t = t_next;
+      if (ends_at_breakpoint) change_h(h);
       current = std::move(next);
     } else {
       // Step doubling: one step of size `step` against two of step/2.
@@ -401,11 +417,12 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
         }
         continue;
       }
-      const double t_next = advance(step);
+      const double t_next = ends_at_breakpoint ? breakpoint : advance(step);
       const double t_half = t + (t_next - t) / 2;
       recorder.Accept(t, t_half - t, current.x, current.u, first);
       recorder.Accept(t_half, t_next - t_half, first.x, first.u, second);
       t = t_next;
+      if (ends_at_breakpoint) change_h(h);
       current = std::move(second);
       // Climb the ladder when the error leaves room for a doubled step
       // (local error ∝ h^{p+1}).

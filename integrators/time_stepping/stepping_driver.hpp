@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Dense>
 
 #include "certify.hpp"
@@ -17,9 +19,11 @@ namespace dvi::internal {
 /// message naming the step and time. Every sampled row is checked by
 /// `certifier`, allowed its step's change |x^{i+1} − x^i| as error, and a
 /// run that reaches t_end with rows beyond their bounds ends kUncertified
-/// (Certificate). @pre options validated, x0 sized.
+/// (Certificate). A step that would pass one of `breakpoints` (the
+/// problem's, validated) ends there exactly, and the step grid goes on from
+/// it. @pre options validated, x0 sized.
 Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
                            double t_end, const TimeSteppingOptions& options,
-                           RowCertifier certifier);
+                           RowCertifier certifier, const std::vector<double>& breakpoints);
 
 }  // namespace dvi::internal

@@ -36,7 +36,7 @@ std::vector<Method> MethodsFor(const RandomDvi& problem, const DifferentialOptio
     methods.push_back({"event", [&problem, &lcs, event, t_end] {
                          return IntegrateEventDriven(lcs, problem.x0, 0, t_end, event);
                        }});
-    if (lcs.K.IsBox()) {
+    if (lcs.K.IsBox() && lcs.time_invariant()) {  // kKlu refuses sources
       event.linear_solver = LinearSolver::kKlu;
       methods.push_back({"event-klu", [&problem, &lcs, event, t_end] {
                            return IntegrateEventDriven(lcs, problem.x0, 0, t_end, event);

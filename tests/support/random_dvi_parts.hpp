@@ -60,5 +60,6 @@ RandomDvi LcsIndexOne(unsigned seed);
 RandomDvi LcsIndexTwo(unsigned seed);
 RandomDvi LcsSourcesIndexOne(unsigned seed);
 RandomDvi LcsSourcesIndexTwo(unsigned seed);
+RandomDvi LcsSourcesAsLcs(unsigned seed);
 
 }  // namespace dvi::testing::random_parts

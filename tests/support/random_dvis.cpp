@@ -247,6 +247,8 @@ const std::vector<RandomDviClass>& RandomDviClasses() {
       {"lcs-index2", "LCS, D = 0, C B positive definite (index two)", LcsIndexTwo},
       {"sources-p", "LCS with sources p(t), q(t), D a P-matrix, as a Dvi", LcsSourcesIndexOne},
       {"sources-index2", "LCS with sources p(t), q(t), D = 0, as a Dvi", LcsSourcesIndexTwo},
+      {"lcs-sources", "LCS with sources p(t) (a square wave at breakpoints), q(t), D a P-matrix",
+       LcsSourcesAsLcs},
       {"box-dvi", "box DVI, nonlinear F(t, x, u) uniformly P in u", BoxDvi},
       {"filippov-sign", "Filippov x' = p + E sgn(x) as the LCS (4.2)", FilippovSign},
       {"filippov-relay", "Filippov x' = f0(t, x) + f1 sgn(h(t, x))", FilippovRelay},

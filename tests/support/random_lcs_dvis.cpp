@@ -2,7 +2,9 @@
 // The LCS classes of random_dvis.hpp: index one (D a P-matrix) and index
 // two (D = 0), autonomous and with sources p(t), q(t).
 #include <algorithm>
+#include <cmath>
 #include <memory>
+#include <sstream>
 #include <vector>
 
 #include "support/random_dvi_parts.hpp"
@@ -85,7 +87,7 @@ Eigen::VectorXd ConsistentOffset(const Eigen::MatrixXd& C, const Eigen::VectorXd
 }
 
 // The LCS with sources, x' = p(t) + A x + B u, u ∈ SOL(ℝᵐ₊, q(t) + C x + D u),
-// as a general Dvi (the Lcs type has constant p and q). The sources do not
+// as a general Dvi (the class of the DVI path; lcs-sources takes the Lcs). The sources do not
 // enter the difference of two solutions, so the contraction of the
 // autonomous data carries over. With probability 1/2 without the optional
 // Jacobians and ∂F/∂t (forward differences in the integrators).
@@ -124,6 +126,11 @@ RandomDvi LcsWithSources(std::mt19937& rng, int n, int m, const LcsData& data,
   return instance;
 }
 
+// A square wave ±1 of half-period τ: +1 on [2kτ, (2k+1)τ).
+double SquareWave(double t, double tau) {
+  return static_cast<long>(std::floor(t / tau)) % 2 == 0 ? 1.0 : -1.0;
+}
+
 }  // namespace
 
 RandomDvi LcsIndexOne(unsigned seed) {
@@ -154,6 +161,37 @@ RandomDvi LcsSourcesIndexOne(unsigned seed) {
   const Source p = RandomSource(n, rng, 1), q = RandomSource(m, rng, 1);
   Eigen::VectorXd x0 = test::RandomVector(n, rng, -2, 2);
   return LcsWithSources(rng, n, m, data, p, q, std::move(x0));
+}
+
+// The index-one LCS with sources as the Lcs itself (p_source, q_source):
+// sines in p and q plus a square wave of half-period τ in p whose jumps are
+// declared breakpoints, so every method stops there (and the stepping
+// reference, whose pieces between them are smooth, keeps its order). The
+// sources do not enter the difference of two solutions: the contraction of
+// NonExpandingForEveryMode carries over.
+RandomDvi LcsSourcesAsLcs(unsigned seed) {
+  std::mt19937 rng(seed);
+  const int n = UniformInt(rng, 1, 6), m = UniformInt(rng, 1, 4);
+  const LcsData data = IndexOneData(n, m, rng);
+  const Source p = RandomSource(n, rng, 1), q = RandomSource(m, rng, 1);
+  const Eigen::VectorXd square = test::RandomVector(n, rng);
+  // τ a multiple of 0.05, the spacing of the differential tests' 201 output
+  // times over [0, 10]: the reference's fixed-step levels keep their grid
+  // (a step ends at each breakpoint, and the grid goes on from it).
+  const double t_end = 10, tau = 0.05 * UniformInt(rng, 20, 60);
+  Eigen::VectorXd x0 = test::RandomVector(n, rng, -2, 2);
+  Lcs lcs = Lcs::Dense(data.A, data.B, data.C, data.D);
+  lcs.p_source = [p, square, tau](double t, Eigen::VectorXd& out) {
+    out = p(t) + SquareWave(t, tau) * square;
+  };
+  lcs.q_source = [q](double t, Eigen::VectorXd& out) { out = q(t); };
+  if (Coin(rng)) lcs.q_source_rate = [q](double t, Eigen::VectorXd& out) { out = q.Rate(t); };
+  for (int k = 1; k * tau < t_end; ++k) lcs.breakpoints.push_back(k * tau);
+  std::ostringstream structure;
+  structure << data.structure << ", sources p(t) with a square wave of half-period " << tau
+            << " (" << lcs.breakpoints.size() << " breakpoints), q(t), q'(t) "
+            << (lcs.q_source_rate ? "given" : "by differences");
+  return FromLcs(std::move(lcs), std::move(x0), t_end, Describe(structure.str(), n, m));
 }
 
 // The index-two LCS driven by a time-dependent constraint q(t), the class of

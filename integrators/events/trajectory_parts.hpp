@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include "dvi/trajectory.hpp"
+
+namespace dvi::internal {
+
+/// Appends a part of a run that starts where `whole` ends: samples (a
+/// junction sample at the same time is replaced by the part's, whose u is
+/// the right limit), dense output, the certificate, events, step records and
+/// statistics; the status and message become the part's. Intervals are the
+/// caller's to merge.
+void AppendPart(Trajectory& whole, Trajectory&& part);
+
+}  // namespace dvi::internal
