@@ -232,7 +232,8 @@ TEST(SceneFile, ErrorsNameTheField) {
             "problem.B: is 1x2, expected 1x1");
   EXPECT_EQ(ParseError(R"({"problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]],
     "D": [[1]], "E": [[1]]}, "x0": [1], "horizon": 1})"),
-            "problem: unknown field \"E\" for type lcs (expected type, A, B, C, D, p, q, set)");
+            "problem: unknown field \"E\" for type lcs (expected type, A, B, C, D, p, q, set, params, "
+            "breakpoints)");
   EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["u1"], "F": ["u1 + y"]},
     "x0": [1], "horizon": 1})"),
             "problem.F[0]: unknown symbol \"y\" (expected t, x1, u1, pi or a parameter)");

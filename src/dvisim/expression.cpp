@@ -42,6 +42,7 @@ enum class Op : std::uint8_t {
   kCosh,
   kTanh,
   kSign,
+  kFloor,
   kMin,
   kMax,
 };
@@ -51,6 +52,7 @@ const std::map<std::string, Op>& UnaryFunctions() {
       {"exp", Op::kExp},   {"log", Op::kLog},   {"sin", Op::kSin},   {"cos", Op::kCos},
       {"tan", Op::kTan},   {"asin", Op::kAsin}, {"acos", Op::kAcos}, {"atan", Op::kAtan},
       {"sinh", Op::kSinh}, {"cosh", Op::kCosh}, {"tanh", Op::kTanh}, {"sign", Op::kSign},
+      {"floor", Op::kFloor},
   };
   return functions;
 }
@@ -409,6 +411,7 @@ void ExpressionTape::Evaluate(double t, const Eigen::VectorXd& x, const Eigen::V
       case Op::kCosh: d = std::cosh(a); break;
       case Op::kTanh: d = std::tanh(a); break;
       case Op::kSign: d = Sign(a); break;
+      case Op::kFloor: d = std::floor(a); break;
       case Op::kMin: d = std::fmin(a, r[in.b]); break;
       case Op::kMax: d = std::fmax(a, r[in.b]); break;
     }

@@ -23,9 +23,10 @@ namespace dvi::dvisim {
 ///
 /// Syntax (ParseExpression): numbers, + − * / ^, parentheses, pi, and the
 /// functions sqrt, exp, log, sin, cos, tan, asin, acos, atan, sinh, cosh,
-/// tanh, abs, sign, min(a, b), max(a, b). sign(0) = 0; at a kink the
-/// derivative taken is one element of the generalized gradient (d|a| =
-/// sign(a) da, dmin = dmax = ½ at a tie).
+/// tanh, abs, sign, floor, min(a, b), max(a, b). sign(0) = 0; d floor = 0
+/// (declare its jumps as breakpoints); at a kink the derivative taken is one
+/// element of the generalized gradient (d|a| = sign(a) da, dmin = dmax = ½
+/// at a tie).
 
 /// The variables and parameters an expression may use.
 class ExpressionVariables {

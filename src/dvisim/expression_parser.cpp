@@ -29,7 +29,7 @@ struct FunctionSignature {
 constexpr FunctionSignature kFunctions[] = {
     {"sqrt", 1}, {"exp", 1},  {"log", 1},  {"sin", 1},  {"cos", 1},  {"tan", 1},
     {"asin", 1}, {"acos", 1}, {"atan", 1}, {"sinh", 1}, {"cosh", 1}, {"tanh", 1},
-    {"abs", 1},  {"sign", 1}, {"min", 2},  {"max", 2},
+    {"abs", 1},  {"sign", 1}, {"floor", 1}, {"min", 2},  {"max", 2},
 };
 
 int Arity(const std::string& name) {
@@ -389,6 +389,7 @@ class Parser {
     if (name == "tanh") return std::tanh(a[0]);
     if (name == "abs") return std::abs(a[0]);
     if (name == "sign") return a[0] > 0 ? 1.0 : (a[0] < 0 ? -1.0 : 0.0);
+    if (name == "floor") return std::floor(a[0]);
     if (name == "min") return std::fmin(a[0], a[1]);
     return std::fmax(a[0], a[1]);  // max: Arity admits nothing else
   }
@@ -410,6 +411,7 @@ class Parser {
     // defined at a = 0 (GiNaC's abs differentiates to a·a'/|a|).
     if (name == "abs") return a[0] * scene_functions::sign(a[0]);
     if (name == "sign") return scene_functions::sign(a[0]);
+    if (name == "floor") return scene_functions::floor(a[0]);
     if (name == "min") return scene_functions::min(a[0], a[1]);
     return scene_functions::max(a[0], a[1]);
   }

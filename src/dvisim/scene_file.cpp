@@ -12,6 +12,7 @@
 #include "expression.hpp"
 #include "problem_file.hpp"
 #include "scene_fields.hpp"
+#include "scene_sources.hpp"
 
 namespace dvi::dvisim {
 namespace {
@@ -50,9 +51,8 @@ std::vector<std::string> ReadExpressions(const json& value, const std::string& p
   return texts;
 }
 
-std::vector<std::pair<std::string, double>> ReadParams(const json& problem,
-                                                       const std::string& path) {
-  std::vector<std::pair<std::string, double>> params;
+SceneParams ReadParams(const json& problem, const std::string& path) {
+  SceneParams params;
   const json* value = FindField(problem, "params");
   if (!value) return params;
   RequireObject(*value, path);
@@ -67,7 +67,8 @@ ConvexSet ReadOptionalSet(const json& problem, const std::string& path, int dim)
 }
 
 void ReadLcs(const json& problem, const std::string& path, Scene& scene) {
-  RejectUnknownFields(problem, path, {"type", "A", "B", "C", "D", "p", "q", "set"},
+  RejectUnknownFields(problem, path,
+                      {"type", "A", "B", "C", "D", "p", "q", "set", "params", "breakpoints"},
                       " for type lcs");
   const MatrixField A = ReadMatrix(RequireField(problem, "A", path), Field(path, "A"));
   const MatrixField D = ReadMatrix(RequireField(problem, "D", path), Field(path, "D"));
@@ -80,16 +81,23 @@ void ReadLcs(const json& problem, const std::string& path, Scene& scene) {
   const MatrixField C = ReadMatrix(RequireField(problem, "C", path), Field(path, "C"));
   CheckShape(B, Field(path, "B"), n, m);
   CheckShape(C, Field(path, "C"), m, n);
-  const json* p = FindField(problem, "p");
-  const json* q = FindField(problem, "q");
-  Eigen::VectorXd p_value =
-      p ? ReadVector(*p, Field(path, "p"), false, static_cast<int>(n)) : Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd q_value =
-      q ? ReadVector(*q, Field(path, "q"), false, static_cast<int>(m)) : Eigen::VectorXd::Zero(m);
+  // p and q: numbers, or expressions in t (sources).
+  const SceneParams params = ReadParams(problem, Field(path, "params"));
+  Eigen::VectorXd p_value = Eigen::VectorXd::Zero(n), q_value = Eigen::VectorXd::Zero(m);
+  TimeSource p_source, q_source, q_rate;
+  if (const json* p = FindField(problem, "p"))
+    ReadSourceVector(*p, Field(path, "p"), static_cast<int>(n), params, Field(path, "params"),
+                     p_value, p_source, nullptr);
+  if (const json* q = FindField(problem, "q"))
+    ReadSourceVector(*q, Field(path, "q"), static_cast<int>(m), params, Field(path, "params"),
+                     q_value, q_source, &q_rate);
   Lcs lcs = WithPath(path, [&] {
     return Lcs::Sparse(ToSparse(A), ToSparse(B), ToSparse(C), ToSparse(D), p_value, q_value);
   });
   lcs.K = ReadOptionalSet(problem, path, static_cast<int>(m));
+  lcs.p_source = std::move(p_source);
+  lcs.q_source = std::move(q_source);
+  lcs.q_source_rate = std::move(q_rate);
   WithPath(path, [&] { lcs.Validate(); });
   scene.n = static_cast<int>(n);
   scene.output_multipliers = static_cast<int>(m);
@@ -97,7 +105,7 @@ void ReadLcs(const json& problem, const std::string& path, Scene& scene) {
 }
 
 void ReadDvi(const json& problem, const std::string& path, Scene& scene, bool box) {
-  RejectUnknownFields(problem, path, {"type", "f", "F", "set", "params"},
+  RejectUnknownFields(problem, path, {"type", "f", "F", "set", "params", "breakpoints"},
                       std::string(" for type ") + (box ? "box-dvi" : "dvi"));
   const json& f_json = RequireField(problem, "f", path);
   const json* F_json = FindField(problem, "F");
@@ -277,6 +285,18 @@ EventDrivenOptions SceneEventDefaults() {
 }
 
 namespace {
+
+// problem.breakpoints of an lcs, dvi or box-dvi scene (the other types
+// refuse the field), read once the horizon is known.
+void ReadProblemBreakpoints(const json& problem, Scene& scene) {
+  const json* value = FindField(problem, "breakpoints");
+  if (!value) return;
+  std::vector<double> times =
+      ReadBreakpoints(*value, "problem.breakpoints", ReadParams(problem, "problem.params"),
+                      "problem.params", scene.horizon);
+  if (Lcs* lcs = std::get_if<Lcs>(&scene.problem)) lcs->breakpoints = std::move(times);
+  if (Dvi* dvi = std::get_if<Dvi>(&scene.problem)) dvi->breakpoints = std::move(times);
+}
 
 OdeMethod ReadOdeMethod(const json& value, const std::string& path) {
   for (const OdeMethod method : {OdeMethod::kBdf, OdeMethod::kAdams})
@@ -511,6 +531,7 @@ Scene ParseScene(const std::string& text) {
     Fail("horizon", "is " + Describe(root["horizon"]) +
                         ", below 1e-100: CVODE's first-step estimate underflows near 1e-160, "
                         "so rescale time");
+  ReadProblemBreakpoints(root["problem"], scene);
   ReadMethod(FindField(root, "method"), scene);
   ReadOutput(FindField(root, "output"), scene);
   if (const json* exact = FindField(root, "exact"))
