@@ -218,7 +218,7 @@ TEST_P(ZooReference, SceneWritesTheSameModel) {
   ASSERT_TRUE(dvi.f) << "unexpected problem type " << scene.type;
 
   // The model as the scene writes it: the orthant form for `filippov` E
-  // scenes, the sources as extra states for the rectifiers.
+  // scenes.
   Lcs lcs = model_.lcs;
   Eigen::MatrixXd q_map = Eigen::MatrixXd::Identity(model_.m(), model_.m());
   if (model_.scene_u_orthant) {
@@ -226,16 +226,20 @@ TEST_P(ZooReference, SceneWritesTheSameModel) {
     lcs = orthant.lcs;
     q_map = orthant.q_source_map;
   }
-  const int extra = model_.scene_source_states
-                        ? static_cast<int>(model_.scene_source_states(0).value.size())
-                        : 0;
-  ASSERT_EQ(dvi.n, model_.n() + extra);
+  ASSERT_EQ(dvi.n, model_.n());
   ASSERT_EQ(dvi.m, lcs.m());
+  // The sources' jumps are declared where the model has them (k·T and
+  // (k + ½)·T computed in either order: within an ulp), and at the horizon
+  // where one falls there.
+  std::vector<double> breakpoints = dvi.breakpoints;
+  if (!breakpoints.empty() && std::abs(breakpoints.back() - model_.horizon) <= 1e-15 * model_.horizon)
+    breakpoints.pop_back();
+  ASSERT_EQ(breakpoints.size(), model_.source_breaks.size());
+  for (std::size_t k = 0; k < breakpoints.size(); ++k)
+    EXPECT_NEAR(breakpoints[k], model_.source_breaks[k], 1e-15 * model_.horizon) << k;
   EXPECT_DOUBLE_EQ(scene.horizon, model_.horizon);
-  Eigen::VectorXd x0(dvi.n);
-  x0.head(model_.n()) = model_.x0;
-  if (extra > 0) x0.tail(extra) = model_.scene_source_states(0).value;
-  EXPECT_LE((scene.x0 - x0).lpNorm<Eigen::Infinity>(), 1e-15 * (1 + x0.lpNorm<Eigen::Infinity>()));
+  EXPECT_LE((scene.x0 - model_.x0).lpNorm<Eigen::Infinity>(),
+            1e-15 * (1 + model_.x0.lpNorm<Eigen::Infinity>()));
   const auto [lower, upper] = lcs.K.BoxBounds();
   const auto [scene_lower, scene_upper] = dvi.K.BoxBounds();
   EXPECT_EQ(scene_lower, lower);
@@ -255,15 +259,9 @@ TEST_P(ZooReference, SceneWritesTheSameModel) {
     Eigen::VectorXd x(model_.n()), u(lcs.m());
     for (int i = 0; i < x.size(); ++i) x(i) = model_.x0.lpNorm<Eigen::Infinity>() * unit(rng) + unit(rng);
     for (int j = 0; j < u.size(); ++j) u(j) = 3 * unit(rng);
-    Eigen::VectorXd x_scene(dvi.n), f_scene(dvi.n), F_scene(dvi.m);
-    x_scene.head(model_.n()) = x;
-    SourceStates sources;
-    if (extra > 0) {
-      sources = model_.scene_source_states(t);
-      x_scene.tail(extra) = sources.value;
-    }
-    dvi.f(t, x_scene, u, f_scene);
-    dvi.F(t, x_scene, u, F_scene);
+    Eigen::VectorXd f_scene(dvi.n), F_scene(dvi.m);
+    dvi.f(t, x, u, f_scene);
+    dvi.F(t, x, u, F_scene);
     Eigen::VectorXd f = lcs.A * x + lcs.B * u + lcs.p, F = lcs.C * x + lcs.D * u + lcs.q;
     if (model_.p_source) f += model_.p_source(t);
     if (model_.q_source) F += q_map * model_.q_source(t);
@@ -275,10 +273,6 @@ TEST_P(ZooReference, SceneWritesTheSameModel) {
     constexpr double kSameArithmetic = 1e-13;
     for (int i = 0; i < model_.n(); ++i) {
       EXPECT_NEAR(f_scene(i), f(i), kSameArithmetic * (1 + f_size(i))) << "f" << i + 1 << " at t = " << t;
-    }
-    for (int i = 0; i < extra; ++i) {
-      EXPECT_NEAR(f_scene(model_.n() + i), sources.rate(i), kSameArithmetic * sources.rate.norm())
-          << "source state " << i + 1 << " at t = " << t;
     }
     for (int j = 0; j < dvi.m; ++j) {
       EXPECT_NEAR(F_scene(j), F(j), kSameArithmetic * (1 + F_size(j))) << "F" << j + 1 << " at t = " << t;

@@ -43,7 +43,6 @@ ZooModel BridgeRectifier() {
   model.x0 = Eigen::VectorXd::Zero(1);
   model.horizon = 0.2;        // ten periods
   model.customary_h = 1e-4;  // 200 steps per period
-  model.scene_source_states = [c](double t) { return SineOscillatorStates(c.omega, c.phase, t); };
   const double e0 = c.Source(0);  // > 0: D1 and D4 take the impulse
   model.jump_impulse = Eigen::Vector4d(c.C * (e0 - model.x0(0)), 0, 0, 0);
 

@@ -31,7 +31,6 @@ ZooModel HalfWaveRectifier() {
   model.x0 = Eigen::VectorXd::Zero(1);
   model.horizon = 0.2;        // ten periods
   model.customary_h = 1e-4;  // 200 steps per period
-  model.scene_source_states = [c](double t) { return SineOscillatorStates(c.omega, c.phase, t); };
   const double e0 = c.Source(0);
   model.jump_impulse = Eigen::VectorXd::Constant(1, c.C * (e0 - model.x0(0)));
 

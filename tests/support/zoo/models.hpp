@@ -34,9 +34,6 @@ struct RectifierValues {
   double Source(double t) const { return Vs * std::sin(omega * t + phase); }
 };
 
-/// A sine source e(t) = amplitude·sin(ωt + φ) written as the oscillator
-/// states (sin(ωt + φ), cos(ωt + φ)), as the rectifier scenes do today.
-SourceStates SineOscillatorStates(double omega, double phase, double t);
 /// The flow of z = (v, sin(ωt + φ), cos(ωt + φ), 1) with v' = 0, for the
 /// rectifiers' modes to fill in v's row.
 Eigen::MatrixXd SineOscillatorFlow(double omega);

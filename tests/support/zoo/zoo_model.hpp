@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The circuit and controller zoo (issue 30): each model in the physical
 // variables its scene (examples/scenes/zoo/<key>.json) uses, as an LCS with
-// time-dependent sources — the form the scene should take once `lcs` scenes
-// accept sources — and its exact reference (piecewise_linear_reference.hpp).
+// time-dependent sources — the form the source-driven scenes take — and its
+// exact reference (piecewise_linear_reference.hpp).
 #pragma once
 
 #include <functional>
@@ -19,13 +19,6 @@ namespace dvi::zoo {
 
 /// t ↦ a vector added to p (n entries) or to q (m entries).
 using Source = std::function<Eigen::VectorXd(double t)>;
-
-/// The states a scene adds to write a source as an oscillator (sin, cos of
-/// the phase), at time t: their values and their rates.
-struct SourceStates {
-  Eigen::VectorXd value;
-  Eigen::VectorXd rate;
-};
 
 struct ZooModel {
   std::string key;    ///< Scene file stem and table key.
@@ -44,9 +37,6 @@ struct ZooModel {
   /// oscillation, or per switching period.
   double customary_h = 0;
 
-  /// The scene's extra states after x (the sources as oscillators); empty
-  /// when the scene has none.
-  std::function<SourceStates(double t)> scene_source_states;
   /// The scene's u is ToOrthant(lcs)'s (the `filippov` matrix form).
   bool scene_u_orthant = false;
 
