@@ -38,8 +38,12 @@ Dvi Retimed(const Dvi& dvi, Clock time) {
 
 }  // namespace
 
-SourceBreakpoints::SourceBreakpoints(std::vector<double> times, double end)
-    : times_(std::move(times)), end_(end) {}
+SourceBreakpoints::SourceBreakpoints(std::vector<double> times, double end,
+                                     bool left_at_breakpoints, double start)
+    : times_(std::move(times)),
+      end_(end),
+      left_at_breakpoints_(left_at_breakpoints),
+      start_(start) {}
 
 double SourceBreakpoints::Near(double b) { return 32 * kEpsilon * std::abs(b); }
 
@@ -76,7 +80,10 @@ double SourceBreakpoints::RightLimitTime(double t) const {
 double SourceBreakpoints::SidedTime(double t) const {
   double b;
   if (!At(t, b)) return t;
-  return t < b || std::abs(end_ - b) <= Near(b) ? b - Nudge(b) : b + Nudge(b);
+  const bool at_start = std::abs(start_ - b) <= Near(b);
+  const bool left = t < b || (t == b && left_at_breakpoints_ && !at_start) ||
+                    std::abs(end_ - b) <= Near(b);
+  return left ? b - Nudge(b) : b + Nudge(b);
 }
 
 void ValidateBreakpoints(const std::vector<double>& times, const std::string& field) {
@@ -93,6 +100,13 @@ void ValidateBreakpoints(const std::vector<double>& times, const std::string& fi
 Dvi RightContinuous(const Dvi& dvi, double end) {
   if (dvi.breakpoints.empty()) return dvi;
   const auto breakpoints = std::make_shared<const SourceBreakpoints>(dvi.breakpoints, end);
+  return Retimed(dvi, [breakpoints](double t) { return breakpoints->SidedTime(t); });
+}
+
+Dvi LeftContinuous(const Dvi& dvi, double t0) {
+  if (dvi.breakpoints.empty()) return dvi;
+  const auto breakpoints = std::make_shared<const SourceBreakpoints>(
+      dvi.breakpoints, std::numeric_limits<double>::infinity(), true, t0);
   return Retimed(dvi, [breakpoints](double t) { return breakpoints->SidedTime(t); });
 }
 

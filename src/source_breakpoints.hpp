@@ -23,9 +23,13 @@ class SourceBreakpoints {
   SourceBreakpoints() = default;
   /// @pre times finite, strictly ascending (ValidateBreakpoints). `end`:
   /// the run's final time, whose row is the left limit of its last piece
-  /// when a breakpoint lies there.
+  /// when a breakpoint lies there. `left_at_breakpoints`: SidedTime takes
+  /// the left limit at a breakpoint itself (time-stepping's rows, below),
+  /// but at `start`, the run's first row (its initial VI), the right one.
   explicit SourceBreakpoints(std::vector<double> times,
-                             double end = std::numeric_limits<double>::infinity());
+                             double end = std::numeric_limits<double>::infinity(),
+                             bool left_at_breakpoints = false,
+                             double start = -std::numeric_limits<double>::infinity());
 
   bool empty() const { return times_.empty(); }
   const std::vector<double>& times() const { return times_; }
@@ -38,9 +42,9 @@ class SourceBreakpoints {
   double LeftLimitTime(double t) const;
   double RightLimitTime(double t) const;
   /// Where a function is evaluated for its value at t: the right limit at
-  /// a breakpoint b and within Near(b) after it, the left limit within
-  /// Near(b) before it (a sample of the piece that ends at b) and at a
-  /// breakpoint at the end, else t.
+  /// a breakpoint b (the left one when left_at_breakpoints) and within
+  /// Near(b) after it, the left limit within Near(b) before it (a sample of
+  /// the piece that ends at b) and at a breakpoint at the end, else t.
   double SidedTime(double t) const;
 
   /// How far off b a time still counts as b: 32 ulps of b (a step grid
@@ -52,6 +56,8 @@ class SourceBreakpoints {
  private:
   std::vector<double> times_;
   double end_ = std::numeric_limits<double>::infinity();
+  bool left_at_breakpoints_ = false;
+  double start_ = -std::numeric_limits<double>::infinity();
 };
 
 /// @throws InvalidInputError "FIELD[k] = v is not finite" or "FIELD[k] = v
@@ -64,6 +70,12 @@ void ValidateBreakpoints(const std::vector<double>& times, const std::string& fi
 /// the final row of a run ending at a breakpoint is checked against the
 /// left limit it was integrated with.
 Dvi RightContinuous(const Dvi& dvi, double end = std::numeric_limits<double>::infinity());
+
+/// The same, left-continuous at the breakpoints: the certifier of
+/// time-stepping's rows, whose u at a step's end t_{i+1} is that step's,
+/// ûᴴ = u^{i+1} on (t_i, t_{i+1}] (Sect. 7), solved at the left limits;
+/// a breakpoint at the run's start t0 keeps its right limit (u⁰ there).
+Dvi LeftContinuous(const Dvi& dvi, double t0);
 
 /// The Dvi on the piece [a, b] between consecutive breakpoints (either end
 /// may be the run's own instead, say the flags): its functions at times

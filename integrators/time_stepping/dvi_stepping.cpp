@@ -440,13 +440,13 @@ Trajectory IntegrateGeneral(const Dvi& dvi, const Eigen::VectorXd& x0, double t0
     ViAtOldState method(dvi, options);
     return internal::RunTimeStepping(
         method, x0, t0, t_end, options,
-        internal::RowCertifier(internal::RightContinuous(dvi, t_end), options.solver),
+        internal::RowCertifier(internal::LeftContinuous(dvi, t0), options.solver),
         dvi.breakpoints);
   }
   ViAtNewState method(dvi, options);
   return internal::RunTimeStepping(
       method, x0, t0, t_end, options,
-      internal::RowCertifier(internal::RightContinuous(dvi, t_end), options.solver),
+      internal::RowCertifier(internal::LeftContinuous(dvi, t0), options.solver),
       dvi.breakpoints);
 }
 

@@ -57,11 +57,11 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
                      : "takes only a box K, and Lcs.K is " + lcs.K.Describe() + ", not a box"));
   const std::unique_ptr<internal::OneStepMethod> method =
       sparse ? internal::MakeSparseLcsMethod(lcs, options) : internal::MakeDenseLcsMethod(lcs, options);
-  // Rows at breakpoints are certified at the sides the steps took there.
+  // A row at a breakpoint ends the step to it, solved at the left limits.
   internal::RowCertifier certifier =
       lcs.breakpoints.empty()
           ? internal::RowCertifier(lcs, options.solver)
-          : internal::RowCertifier(internal::RightContinuous(lcs.ToDvi(), t_end), options.solver);
+          : internal::RowCertifier(internal::LeftContinuous(lcs.ToDvi(), t0), options.solver);
   return internal::RunTimeStepping(*method, x0, t0, t_end, options, std::move(certifier),
                                    lcs.breakpoints);
 }
