@@ -78,6 +78,29 @@ struct RcDiode {
   }
 };
 
+// Issue 30's pivoting fallback: where semismooth Newton leaves a step's box
+// MCP unsolved (here cut off after one iteration, from the guess and from
+// the cold start it retries), Lemke on its equivalent LCP solves it before
+// the step gives up. With C = 0 and A = B = 0 every step's VI is the box
+// MCP u ∈ [l, ū] ⊥ D u + q itself, whose solution (0, 1, 0) is derived in
+// internal/box_lemke_test.
+TEST(LcsStepping, BoxMcpNewtonLeavesUnsolvedFallsBackToLemke) {
+  Eigen::MatrixXd D(3, 3);
+  D << 1, 3, 0, -3, 1, 0, 0, 0, 1;
+  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 3),
+                       Eigen::MatrixXd::Zero(3, 1), D, Eigen::VectorXd::Zero(1),
+                       Eigen::Vector3d(-1, -1.5, 0));
+  lcs.K = ConvexSet::Box(Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(1, 1, 1));
+  TimeSteppingOptions options;
+  options.h = 0.25;
+  options.solver.max_iterations = 1;
+  const Trajectory run = IntegrateTimeStepping(lcs, Eigen::VectorXd::Zero(1), 0, 1, options);
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    EXPECT_LE((run.multipliers[k] - Eigen::Vector3d(0, 1, 0)).lpNorm<Eigen::Infinity>(), 1e-13)
+        << "t = " << run.times[k] << ": " << run.multipliers[k].transpose();
+}
+
 TEST(LcsStepping, IdealDiodeRcIsFirstOrderWithBackwardEuler) {
   const RcDiode circuit;
   TimeSteppingOptions options;

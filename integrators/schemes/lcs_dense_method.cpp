@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "box_lemke.hpp"
 #include "dense_lu.hpp"
 #include "dvi/solve.hpp"
 #include "schemes/lcs_method.hpp"
@@ -209,12 +210,19 @@ class DenseLcsMethod : public LcsMethod {
     return &cache_.front();
   }
 
+  // An LCP's solve has its own Lemke fallback; a box MCP's Newton gets one
+  // here, Lemke on the equivalent LCP, before the step gives up.
   SolveResult SolveVi(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
                       const Eigen::VectorXd& warm_start) const {
     if (shape_.orthant) return Solve(Lcp{M, q}, solver_, warm_start);
-    if (shape_.box)
-      return Solve(BoxMcp::Affine(M, q, shape_.lower, shape_.upper), solver_, warm_start);
-    return Solve(Vi::Affine(M, q, lcs_.K), solver_, warm_start);
+    if (!shape_.box) return Solve(Vi::Affine(M, q, lcs_.K), solver_, warm_start);
+    SolveResult newton =
+        Solve(BoxMcp::Affine(M, q, shape_.lower, shape_.upper), solver_, warm_start);
+    if (newton.solved() || solver_.method != SolverMethod::kAuto) return newton;
+    SolveResult lemke = SolveBoxMcpByLemke(M, q, shape_.lower, shape_.upper, solver_);
+    if (!lemke.solved()) return newton;
+    lemke.message += " (after newton: " + newton.message + ")";
+    return lemke;
   }
 
   Eigen::MatrixXd D_;
