@@ -53,8 +53,8 @@ double SteppedFraction(const Trajectory& trajectory) {
   return stepped / trajectory.final_time();
 }
 
-// Backward Euler damps the scene's source oscillator by (1 + (ωh)²)^(-1/2)
-// a step: no halving of h reaches rtol 1e-10, and the run says so.
+// Backward Euler's windows are first order (the source is exact, q(t) of
+// the scene): no halving of h reaches rtol 1e-10, and the run says so.
 TEST(AutoWindow, BackwardEulerWindowsOfTheChargedBridgeAreNotCertifiedAtRtol1e10) {
   const BridgeRun run = ChargedBridge(0, 1e-10);
   EXPECT_EQ(run.trajectory.status, IntegrationStatus::kUncertified) << run.trajectory.message;
@@ -74,8 +74,9 @@ TEST(AutoWindow, CertifiedWindowsOfTheChargedBridgeHoldVWithinTheirBound) {
     EXPECT_LE(run.trajectory.certificate.window.ratio, 1);
     const double bound = Certificate::kWindowSafety * (tolerance + tolerance * kVs);
     EXPECT_LE(run.max_error, bound) << "rtol = atol = " << tolerance;
-    // The windows do reach about their budget, or this would not test it.
-    EXPECT_GT(run.max_error, bound / 100) << "rtol = atol = " << tolerance;
+    // The windows do reach within a few decades of their budget, or this
+    // would not test it (with the source exact in q(t), 1/105 of it at 1e-4).
+    EXPECT_GT(run.max_error, bound / 1000) << "rtol = atol = " << tolerance;
   }
 }
 
