@@ -83,7 +83,7 @@ SolveResult SolveBoxMcpByLemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& 
   result.residual = residual;
   result.has_index_sets = false;
   result.certificate.resize(0);
-  result.method = "lemke (box MCP as an LCP)";
+  result.method = SolverMethod::kLemke;  // on the box MCP's equivalent LCP
   return result;
 }
 

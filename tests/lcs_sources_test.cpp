@@ -119,7 +119,7 @@ TEST(LcsSources, SquareWaveAutoIsEventDrivenThroughout) {
       IntegrateAuto(SquareWaveLcs(true), Eigen::VectorXd::Zero(1), 0, kHorizon, options);
   ASSERT_TRUE(run.succeeded()) << run.message;
   EXPECT_LE(WorstError(run), kEventBound);
-  for (const MethodInterval& interval : run.intervals) EXPECT_EQ(interval.name, "event");
+  for (const MethodInterval& interval : run.intervals) EXPECT_EQ(interval.method, IntegrationMethod::kEventDriven);
 }
 
 // Backward Euler from x = 0 at h = 0.3: the steps end at 0.3, 0.6, 0.9, then
