@@ -9,6 +9,7 @@
 
 #include <ida/ida.h>
 
+#include "events/event_times.hpp"
 #include "events/missed_root.hpp"
 #include "modes/polynomial_floor.hpp"
 
@@ -66,6 +67,52 @@ double ModeDaeRun::MissedRoot(std::vector<int>& roots) {
   roots.assign(2 * static_cast<std::size_t>(m_), 0);
   roots[first_slot] = -1;
   return first;
+}
+
+// IDA holds the algebraic u only to its Newton tolerance, about
+// rtol |u| + atol, so a root function of small scale can cross zero on that
+// error alone before the state reaches the event: the diode bridge's current
+// u_2 = v/R (R = 1 kΩ) fell through zero at rtol 1e-8 while v was still
+// 4.1e-8 V, and the next mode started with u_1 = −v, 40 tolerances beyond
+// its bound. The root functions at the mode's consistent u for IDA's x,
+// which (5.8) fixes, decide instead. At the root t, roots as IDA reported
+// them: kAtRoot when one of them has crossed there too; kLater moves t, y_
+// and roots to where the first consistent one crosses later in IDA's last
+// step (scanned and bisected to the root finder's tolerance,
+// BracketFirstFailure); kNone when none does within it (no event: IDA goes
+// on, and MissedRoot and ModeStillHolds watch the steps after).
+// @pre y_ the interpolant at t, t within IDA's last step.
+ModeDaeRun::ConsistentRoot ModeDaeRun::LocateConsistentRoot(double& t, std::vector<int>& roots) {
+  void* ida = ida_.get();
+  double t_n = 0, h = 0;
+  if (IDAGetCurrentTime(ida, &t_n) != IDA_SUCCESS || IDAGetLastStep(ida, &h) != IDA_SUCCESS)
+    return ConsistentRoot::kAtRoot;
+  Eigen::VectorXd x(n_), u(m_);
+  std::string why;
+  // Whether every root function IDA reported is still positive at the
+  // consistent values on the interpolant at time.
+  const auto holds_at = [&](double time) {
+    if (IDAGetDky(ida, time, 0, dky_.get()) != IDA_SUCCESS) return false;
+    const Eigen::Map<const Eigen::VectorXd> y(dky_.data(), dae_.size());
+    x = y.head(n_);
+    u = y.tail(m_);
+    if (!dae_.MakeConsistent(x, u, why)) return false;
+    consistent_y_.resize(dae_.size());
+    consistent_y_ << x, u;
+    consistent_roots_.resize(2 * m_);
+    dae_.Roots(consistent_y_.data(), consistent_roots_.data());
+    for (int slot = 0; slot < 2 * m_; ++slot)
+      if (roots[slot] != 0 && !(consistent_roots_(slot) > 0)) return false;
+    return true;
+  };
+  if (!holds_at(t)) return ConsistentRoot::kAtRoot;
+  const auto [good, bad] = BracketFirstFailure(t, t_n, RootTimeTolerance(t_n, h), holds_at);
+  if (good == t_n || holds_at(bad)) return ConsistentRoot::kNone;
+  t = bad;
+  std::copy(consistent_y_.data(), consistent_y_.data() + dae_.size(), y_.data());
+  for (int slot = 0; slot < 2 * m_; ++slot)
+    roots[slot] = roots[slot] != 0 && !(consistent_roots_(slot) > 0) ? -1 : 0;
+  return ConsistentRoot::kLater;
 }
 
 // The root functions only see crossings in their watched direction: a mode

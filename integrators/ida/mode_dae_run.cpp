@@ -251,15 +251,21 @@ bool ModeDaeRun::Integrate() {
     SampleOutputs(t_return);
     RecordStep(t_return);
     const bool done = flag == IDA_TSTOP_RETURN || t_return >= t_end_;
+    bool root = false;
     if (flag == IDA_ROOT_RETURN) {
       std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
-      if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo") ||
-          !HandleRoot(t_return, roots))
-        return false;
-
-    } else if (options_.output_times.empty() && !done) {
-      Sample(t_return);
+      if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo")) return false;
+      double t_root = t_return;
+      const ConsistentRoot located = LocateConsistentRoot(t_root, roots);
+      if (located == ConsistentRoot::kLater) {
+        SampleOutputs(t_root);
+        RecordStep(t_root);
+        t_ = t_root;
+      }
+      root = located != ConsistentRoot::kNone;
+      if (root && !HandleRoot(t_root, roots)) return false;
     }
+    if (!root && options_.output_times.empty() && !done) Sample(t_return);
     if (done) {
       Sample(t_end_);
       return true;

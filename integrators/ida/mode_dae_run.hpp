@@ -68,6 +68,8 @@ class ModeDaeRun {
   bool Integrate();
   bool HandleRoot(double t, const std::vector<int>& roots);
   double MissedRoot(std::vector<int>& roots);
+  enum class ConsistentRoot { kAtRoot, kLater, kNone };
+  ConsistentRoot LocateConsistentRoot(double& t, std::vector<int>& roots);
   bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
                   const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u);
   bool ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
@@ -121,6 +123,7 @@ class ModeDaeRun {
   long reduced_modes_ = 0;  // modes entered with rows differentiated
   long look_ahead_selections_ = 0;  // modes the look-ahead chose
   std::vector<double> roots_;  // ModeStillHolds' root values, kept allocated
+  Eigen::VectorXd consistent_y_, consistent_roots_;  // LocateConsistentRoot's
   Eigen::MatrixXd step_taylor_, step_roots_;  // MissedRoot's polynomials
   // RecordStep and MeasureDefect: where the dense output ends, a step's
   // scaled Taylor coefficients of x, and y, y', f and the rounding at a
