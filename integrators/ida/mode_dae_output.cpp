@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include <ida/ida.h>
 
@@ -17,7 +18,21 @@ void ModeDaeRun::Sample(double t) {
   const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
   trajectory_.times.push_back(t);
   trajectory_.states.push_back(y.head(n_));
-  trajectory_.multipliers.push_back(y.tail(m_));
+  trajectory_.multipliers.push_back(ConsistentMultiplier(y));
+}
+
+// IDA's u is algebraic and held by Newton only to about rtol |u| + atol:
+// the mode's free rows w = C x + D u + q = 0 would then be off by |D| times
+// that (the diode bridge at rtol 1e-6, atol 1e-8: 2.3e-8, past the VI
+// certificate's 100 × solver tolerance). Outputs carry u solved from x by
+// (5.8) instead, as CVODE's do: the mode's multiplier at the reported x.
+// IDA's own where (5.8) is singular (MakeConsistent failed at the mode's
+// entry already, so only a defensive fallback).
+Eigen::VectorXd ModeDaeRun::ConsistentMultiplier(const Eigen::Ref<const Eigen::VectorXd>& y) {
+  Eigen::VectorXd x = y.head(n_), u = y.tail(m_);
+  std::string why;
+  if (m_ == 0 || !dae_.MakeConsistent(x, u, why)) return y.tail(m_);
+  return u;
 }
 
 // Requested times before `before` from IDA's interpolant of the last step
@@ -36,7 +51,7 @@ void ModeDaeRun::SampleOutputs(double before) {
     const Eigen::Map<const Eigen::VectorXd> y(dky_.data(), dae_.size());
     trajectory_.times.push_back(t);
     trajectory_.states.push_back(y.head(n_));
-    trajectory_.multipliers.push_back(y.tail(m_));
+    trajectory_.multipliers.push_back(ConsistentMultiplier(y));
     if (!(std::abs(t - middle) >= std::abs(nearest - middle))) nearest = t;
   }
   if (!std::isnan(nearest)) MeasureDefect(nearest);

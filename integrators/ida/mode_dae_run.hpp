@@ -68,6 +68,7 @@ class ModeDaeRun {
   bool Integrate();
   bool HandleRoot(double t, const std::vector<int>& roots);
   double MissedRoot(std::vector<int>& roots);
+  Eigen::VectorXd ConsistentMultiplier(const Eigen::Ref<const Eigen::VectorXd>& y);
   enum class ConsistentRoot { kAtRoot, kLater, kNone };
   ConsistentRoot LocateConsistentRoot(double& t, std::vector<int>& roots);
   bool ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
