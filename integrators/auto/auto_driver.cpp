@@ -90,16 +90,6 @@ std::vector<double> DistinctEventTimes(const std::vector<Event>& events, double 
   return times;
 }
 
-// Adds the work of `earlier` to `later`'s statistics.
-void AddWork(const IntegrationStats& earlier, IntegrationStats& later) {
-  later.steps += earlier.steps;
-  later.rejected_steps += earlier.rejected_steps;
-  later.rhs_evals += earlier.rhs_evals;
-  later.jacobian_evals += earlier.jacobian_evals;
-  later.vi_solves += earlier.vi_solves;
-  later.solver_iterations += earlier.solver_iterations;
-}
-
 // A time-stepping window held to the run's tolerances (Certificate, window).
 // It runs at h, h/2 and h/4: the distances d₁ (h to h/2) and d₂ (h/2 to h/4)
 // measure the order the scheme reaches here, 2ᵖ = d₁/d₂, and the error of
@@ -131,10 +121,10 @@ Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eig
                     Short(options.stepping.h * run_refinement) + ": " + run.message;
       return std::move(run);
     };
-    AddWork(coarse.stats, fine.stats);
+    internal::AddWork(coarse.stats, fine.stats);
     if (!fine.succeeded()) return failed(fine, refinement / 2);
     Trajectory finest = stepping(t_a, x_a, u_a, t_b, outputs, refinement / 4);
-    AddWork(fine.stats, finest.stats);
+    internal::AddWork(fine.stats, finest.stats);
     if (!finest.succeeded()) return failed(finest, refinement / 4);
     const CertifiedMeasure d1 = internal::WindowError(coarse, fine, rtol, atol);
     CertifiedMeasure error = internal::WindowError(fine, finest, rtol, atol);

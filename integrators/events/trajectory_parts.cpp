@@ -32,17 +32,21 @@ void AppendPart(Trajectory& whole, Trajectory&& part) {
   whole.step_log.insert(whole.step_log.end(), part.step_log.begin(), part.step_log.end());
   IntegrationStats& sum = whole.stats;
   const IntegrationStats& add = part.stats;
-  sum.steps += add.steps;
-  sum.rejected_steps += add.rejected_steps;
-  sum.rhs_evals += add.rhs_evals;
-  sum.jacobian_evals += add.jacobian_evals;
-  sum.vi_solves += add.vi_solves;
-  sum.solver_iterations += add.solver_iterations;
+  AddWork(add, sum);
   sum.max_residual = std::max(sum.max_residual, add.max_residual);
   sum.max_constraint_drift = std::max(sum.max_constraint_drift, add.max_constraint_drift);
   sum.reduced_modes += add.reduced_modes;
   whole.status = part.status;
   whole.message = std::move(part.message);
+}
+
+void AddWork(const IntegrationStats& part, IntegrationStats& sum) {
+  sum.steps += part.steps;
+  sum.rejected_steps += part.rejected_steps;
+  sum.rhs_evals += part.rhs_evals;
+  sum.jacobian_evals += part.jacobian_evals;
+  sum.vi_solves += part.vi_solves;
+  sum.solver_iterations += part.solver_iterations;
 }
 
 }  // namespace dvi::internal

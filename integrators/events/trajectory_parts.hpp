@@ -12,4 +12,9 @@ namespace dvi::internal {
 /// caller's to merge.
 void AppendPart(Trajectory& whole, Trajectory&& part);
 
+/// Adds the work counters of `part` (steps, rejections, evaluations, VI
+/// solves, iterations) to `sum`: a run repeated at a finer step (the
+/// automatic driver's window check) reports the work of every attempt.
+void AddWork(const IntegrationStats& part, IntegrationStats& sum);
+
 }  // namespace dvi::internal
