@@ -3,7 +3,6 @@
 // state allows it, time-stepping over Zeno and chattering intervals, the
 // intervals and their reasons, and the merge of the parts.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -92,16 +91,15 @@ AutoOptions SpiralOptions() {
 }
 
 TEST(AutoDriver, EventDrivenAloneStopsBeforeTheSpiralsAccumulationWithAMessage) {
-  const auto start = std::chrono::steady_clock::now();
   const Trajectory trajectory =
       IntegrateEventDriven(FilippovSpiral(), Eigen::Vector2d(3, 3), 0, 2, SpiralOptions().event);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(trajectory.status, IntegrationStatus::kEventAccumulation) << trajectory.message;
   EXPECT_FALSE(trajectory.message.empty());
   EXPECT_LT(trajectory.final_time(), kSpiralArrival);
   EXPECT_GT(trajectory.events.size(), 20u);
-  EXPECT_LT(seconds, 1.0);
+  // It stops at the detected accumulation (569 steps measured), not by
+  // creeping towards t* with ever smaller steps: work, not wall time.
+  EXPECT_LT(trajectory.stats.steps, 5 * 569);
   RecordProperty("message", trajectory.message);
   RecordProperty("stopped_at", std::to_string(trajectory.final_time()));
 }

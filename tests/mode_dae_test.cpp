@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -127,10 +126,7 @@ TEST(ModeDae, LargeLadderMatchesTimeSteppingToItsFirstOrderError) {
   const double t_end = 1e-2;
   ModeDaeOptions options;
   options.output_times = testing::Linspace(0, t_end, 21);
-  const auto start = std::chrono::steady_clock::now();
   const Trajectory ida = IntegrateModeDae(lcs, x0, 0, t_end, options);
-  const double ida_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_TRUE(ida.succeeded()) << ida.message;
   // The node at the current source clamps (x reaches 0 at 1.63688 ms for any
   // n ≥ 100: the far nodes do not feel the source that soon) and stays
@@ -142,7 +138,10 @@ TEST(ModeDae, LargeLadderMatchesTimeSteppingToItsFirstOrderError) {
   // w = x > 0 places every u at t0 without an LCP; the event solves one, of
   // size one (the clamped node's (C B)_jj).
   EXPECT_EQ(ida.stats.vi_solves, 1);
-  EXPECT_LT(ida_seconds, 10.0);  // 0.44 s measured in Release
+  // The work the run needs (151 steps, 37 Jacobians measured), so that a
+  // change that multiplies it shows here; its time is bench/scaling's.
+  EXPECT_LT(ida.stats.steps, 5 * 151);
+  EXPECT_LT(ida.stats.jacobian_evals, 5 * 37);
 
   std::vector<double> step_sizes, differences;
   for (const double h : {2e-5, 1e-5, 5e-6}) {
