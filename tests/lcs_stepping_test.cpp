@@ -101,6 +101,40 @@ TEST(LcsStepping, BoxMcpNewtonLeavesUnsolvedFallsBackToLemke) {
         << "t = " << run.times[k] << ": " << run.multipliers[k].transpose();
 }
 
+// The same fallback on the sparse (KLU) path, which a system of
+// n + m ≥ 24 takes: 21 decaying states x' = −x beside a monotone box MCP
+// (B = C = 0, so every step's VI is that MCP: D = 0.1 I + skew, u ∈ [0, 1]³).
+// The primal–dual active-set iteration cycles on it from every start (not
+// a P-matrix; found by enumerating the iteration in a script) and semismooth
+// Newton is cut off after one iteration: the x rows are eliminated by KLU
+// and Lemke solves the 3 × 3 box MCP that is left. Its solution, by the
+// enumeration of the 27 modes (only one is consistent): u2 at its lower
+// bound, u1 and u3 free with [0.1 −1.22; 1.22 0.1] (u1, u3) = (−0.51, 0.6).
+TEST(LcsStepping, SparseBoxMcpActiveSetAndNewtonFailFallsBackToLemke) {
+  constexpr int n = 21;
+  Eigen::Matrix3d D;
+  D << 0.1, 1.38, -1.22, -1.38, 0.1, -1.23, 1.22, 1.23, 0.1;
+  Lcs lcs = Lcs::Dense(-Eigen::MatrixXd::Identity(n, n), Eigen::MatrixXd::Zero(n, 3),
+                       Eigen::MatrixXd::Zero(3, n), D, Eigen::VectorXd::Zero(n),
+                       Eigen::Vector3d(0.51, 2.45, -0.6));
+  lcs.K = ConvexSet::Box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
+  const double det = 0.1 * 0.1 + 1.22 * 1.22;
+  const Eigen::Vector3d u_exact((1.22 * 0.6 - 0.1 * 0.51) / det, 0,  // Cramer
+                                (0.1 * 0.6 + 1.22 * 0.51) / det);
+  TimeSteppingOptions options;
+  options.h = 0.25;
+  options.solver.max_iterations = 1;
+  const Trajectory run = IntegrateTimeStepping(lcs, Eigen::VectorXd::Ones(n), 0, 1, options);
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  for (std::size_t k = 1; k < run.times.size(); ++k) {
+    EXPECT_LE((run.multipliers[k] - u_exact).lpNorm<Eigen::Infinity>(), 1e-13)
+        << "t = " << run.times[k] << ": " << run.multipliers[k].transpose();
+    // Backward Euler on x' = −x: x_k = (1 + h)^(−k).
+    const double steps = std::round(run.times[k] / options.h);
+    EXPECT_NEAR(run.states[k][0], std::pow(1 + options.h, -steps), 1e-14);
+  }
+}
+
 TEST(LcsStepping, IdealDiodeRcIsFirstOrderWithBackwardEuler) {
   const RcDiode circuit;
   TimeSteppingOptions options;

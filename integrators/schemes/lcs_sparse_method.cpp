@@ -9,6 +9,7 @@
 
 #include "dvi/solve.hpp"
 #include "klu_solver.hpp"
+#include "box_lemke.hpp"
 #include "schemes/lcs_method.hpp"
 
 namespace dvi::internal {
@@ -97,6 +98,9 @@ class SparseLcsMethod : public LcsMethod {
   // Far above the handful of sweeps a mode change takes on circuits; past it
   // the iteration is cycling and Newton takes over.
   static constexpr int kMaxActiveSetIterations = 50;
+  // Dʰ's m² doubles and Lemke's O(m³) stay a fallback's cost up to here
+  // (the dense path's own limit is 4000 in n and m).
+  static constexpr int kMaxPivotingMultipliers = 2000;
 
   struct Factorization {
     double h = 0;
@@ -242,6 +246,11 @@ class SparseLcsMethod : public LcsMethod {
     outcome.iterations += result.iterations;
     outcome.jacobian_evals += result.iterations;
     outcome.residual = result.residual;
+    if (!result.solved() && solver_.method == SolverMethod::kAuto) {
+      std::string why;
+      if (Pivot(h, r, q_step, c_weight, outcome, why)) return outcome;
+      result.message += "; the pivoting fallback: " + why;
+    }
     if (!result.solved()) {
       outcome.failure = SolveFailureText("the step's mixed (x, u) MCP", result);
       return outcome;
@@ -254,6 +263,62 @@ class SparseLcsMethod : public LcsMethod {
     ModeAt(outcome, step_mode);
     last_mode_ = std::move(step_mode.bounds);
     return outcome;
+  }
+
+  // Issue 30's pivoting fallback on the sparse path: the x rows
+  // W x − hγ B u = r (W = I − h(1−θ)A, as Assemble) are eliminated by KLU,
+  // x = W⁻¹(r + hγ B u), which leaves the box MCP in u alone with the
+  // transfer matrix Dʰ = D + c·hγ C W⁻¹B and q + c·C W⁻¹r (c = 0 for
+  // (3.4)), solved by Lemke on its equivalent LCP (SolveBoxMcpByLemke) —
+  // the dense path's fallback on the same reduced problem. Dʰ is dense:
+  // m is bounded so that it stays a fallback, not a second dense path.
+  bool Pivot(double h, const Eigen::VectorXd& r, const Eigen::VectorXd& q_step, double c_weight,
+             StepOutcome& outcome, std::string& why) {
+    const int n = lcs_.n(), m = lcs_.m();
+    if (m > kMaxPivotingMultipliers) {
+      why = "not tried: m = " + std::to_string(m) + " > " +
+            std::to_string(kMaxPivotingMultipliers) + " (its dense transfer matrix)";
+      return false;
+    }
+    SparseMatrix W = (-h * (1 - theta_)) * lcs_.A;
+    W += Eigen::MatrixXd::Identity(n, n).sparseView();
+    W.makeCompressed();
+    KluSolver klu;
+    if (!klu.Analyze(W) || !klu.Factor(W)) {
+      why = "I − h(1−θ)A is singular (KLU status " + std::to_string(klu.status()) + ")";
+      return false;
+    }
+    Eigen::MatrixXd WinvB = Eigen::MatrixXd(lcs_.B);
+    Eigen::VectorXd Winv_r = r;
+    bool solved = klu.Solve(Winv_r);
+    for (int j = 0; solved && j < m; ++j) {
+      Eigen::VectorXd column = WinvB.col(j);
+      solved = klu.Solve(column);
+      WinvB.col(j) = column;
+    }
+    if (!solved) {
+      why = "KLU could not solve with I − h(1−θ)A (status " + std::to_string(klu.status()) + ")";
+      return false;
+    }
+    const double hg = h * gamma_;
+    const Eigen::MatrixXd Dh = Eigen::MatrixXd(lcs_.D) + (c_weight * hg) * (lcs_.C * WinvB);
+    const Eigen::VectorXd qh = q_step + c_weight * (lcs_.C * Winv_r);
+    SolveResult lemke = SolveBoxMcpByLemke(Dh, qh, shape_.lower, shape_.upper, solver_);
+    ++outcome.vi_solves;
+    outcome.iterations += lemke.iterations;
+    if (!lemke.solved()) {
+      why = lemke.message;
+      return false;
+    }
+    outcome.solved = true;
+    outcome.residual = lemke.residual;
+    outcome.x = Winv_r + hg * (WinvB * lemke.z);
+    outcome.u = lemke.z;
+    outcome.w = qh + Dh * lemke.z;
+    StepMode step_mode;
+    ModeAt(outcome, step_mode);
+    last_mode_ = std::move(step_mode.bounds);
+    return true;
   }
 
   // The factorization slot for h (most recently used first); analyzed once.
