@@ -20,6 +20,7 @@
 #include "dvi/projected_dynamics.hpp"
 #include "boundary_run.hpp"
 #include "boundary_scene.hpp"
+#include "csv_text.hpp"
 #include "plot.hpp"
 #include "scene_limits.hpp"
 #include "solve_command.hpp"
@@ -31,13 +32,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kProgressBarWidth = 40;
-
-// Enough digits to read back the same double (files).
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.17g", value);
-  return text;
-}
 
 // Six significant digits (messages for people).
 std::string Short(double value) {
@@ -372,13 +366,13 @@ std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory,
     // time), the last: the right limit.
     if (k + 1 < times.size() && times[k + 1] - times[k] <= kSameRowFraction * scene.horizon)
       continue;
-    csv += Number(times[k]);
+    csv += ExactNumber(times[k]);
     for (Eigen::Index i = 0; i < trajectory.states[k].size(); ++i)
-      csv += "," + Number(trajectory.states[k](i));
+      csv += "," + ExactNumber(trajectory.states[k](i));
     if (adjoints)
-      for (Eigen::Index i = 0; i < (*adjoints)[k].size(); ++i) csv += "," + Number((*adjoints)[k](i));
+      for (Eigen::Index i = 0; i < (*adjoints)[k].size(); ++i) csv += "," + ExactNumber((*adjoints)[k](i));
     const Eigen::VectorXd u = OutputMultiplier(scene, trajectory.multipliers[k]);
-    for (Eigen::Index j = 0; j < u.size(); ++j) csv += "," + Number(u(j));
+    for (Eigen::Index j = 0; j < u.size(); ++j) csv += "," + ExactNumber(u(j));
     csv += "\n";
   }
   return csv;

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "csv_text.hpp"
 #include "json_reading.hpp"
 #include "work_precision_front.hpp"
 
@@ -40,13 +41,6 @@ std::string Escape(const std::string& text) {
     }
   }
   return escaped;
-}
-
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
 }
 
 // RFC 4648 base64, for the chart inlined in the page.
