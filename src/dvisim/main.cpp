@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // dvisim: the command-line front end of dvi. One subcommand per task; `solve`
 // answers a static VI / complementarity problem (scene-format.md, "Static
-// problems"), `run` integrates a scene (docs/scenes.md).
+// problems"), `run` integrates a scene (docs/scenes.md), `study` charts one,
+// `sweep` runs one over many overrides (docs/sweeps.md).
 #include <unistd.h>
 
 #include <iostream>
@@ -12,6 +13,8 @@
 #include "run_command.hpp"
 #include "solve_command.hpp"
 #include "study_command.hpp"
+#include "sweep_command.hpp"
+#include "dvi/ensemble.hpp"
 
 namespace {
 
@@ -65,6 +68,21 @@ CLI::App* AddStudyCommand(CLI::App& app, dvi::dvisim::StudyCommand& command) {
   return study;
 }
 
+// Registers `dvisim sweep` with its options; returns the subcommand.
+CLI::App* AddSweepCommand(CLI::App& app, dvi::dvisim::SweepCommand& command,
+                          std::string& out_dir) {
+  CLI::App* sweep = app.add_subcommand(
+      "sweep", "Integrate a scene over a grid or list of overrides (parameters, x0, "
+               "tolerances) and write one row per member to sweep.csv; under mpiexec the "
+               "members are split over the ranks (docs/sweeps.md)");
+  sweep->add_option("sweep", command.sweep_path, "The sweep file (JSON)")->required();
+  sweep->add_option("--out", out_dir,
+                    "The folder to create (must not exist; overrides output.dir)");
+  sweep->add_flag("--trajectories", command.trajectories,
+                  "Also write members/<k>/trajectory.csv and summary.json");
+  return sweep;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,6 +98,9 @@ int main(int argc, char** argv) {
   CLI::App* run = AddRunCommand(app, run_command, method, out_dir, h, theta, gamma, max_wall);
   dvi::dvisim::StudyCommand study_command;
   CLI::App* study = AddStudyCommand(app, study_command);
+  dvi::dvisim::SweepCommand sweep_command;
+  std::string sweep_out;
+  CLI::App* sweep = AddSweepCommand(app, sweep_command, sweep_out);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -105,6 +126,11 @@ int main(int argc, char** argv) {
   if (study->parsed()) {
     if (::isatty(STDERR_FILENO) != 0) study_command.progress_bar = true;
     return dvi::dvisim::RunStudyCommand(study_command, std::cout, std::cerr);
+  }
+  if (sweep->parsed()) {
+    if (sweep->count("--out") > 0) sweep_command.out_dir = sweep_out;
+    const dvi::EnsembleMpiSession mpi(&argc, &argv);
+    return dvi::dvisim::RunSweepCommand(sweep_command, std::cout, std::cerr);
   }
   return dvi::dvisim::kExitBadInput;
 }
