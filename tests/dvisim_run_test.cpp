@@ -62,7 +62,7 @@ TEST(SceneFile, ReadsLcsWithDefaults) {
   ASSERT_TRUE(std::holds_alternative<Lcs>(scene.problem));
   EXPECT_EQ(scene.n, 2);
   EXPECT_EQ(scene.output_multipliers, 1);
-  EXPECT_EQ(scene.method, "auto");
+  EXPECT_EQ(scene.method, IntegrationMethod::kAuto);
   // Documented defaults (docs/scenes.md): h = horizon/1000, θ = 0, γ = 1,
   // 501 samples, dir out/<name>, no plot.
   EXPECT_EQ(scene.stepping.h, 2.0 / 1000);
@@ -88,7 +88,7 @@ TEST(SceneFile, ReadsMethodFieldsAndExtras) {
     "x0": [1], "horizon": 1, "method": {"name": "stepping", "h": 0.01, "theta": 0.5,
     "gamma": 0.5, "rtol": 1e-4, "atol": 1e-6, "scheme": "3.4", "adaptive": true,
     "h_max": 0.1, "max_steps": 1000, "solver": "newton", "tol": 1e-9}})");
-  EXPECT_EQ(scene.method, "stepping");
+  EXPECT_EQ(scene.method, IntegrationMethod::kTimeStepping);
   EXPECT_EQ(scene.stepping.h, 0.01);
   EXPECT_EQ(scene.stepping.theta, 0.5);
   EXPECT_EQ(scene.stepping.gamma, 0.5);
@@ -106,7 +106,7 @@ TEST(SceneFile, ReadsAutoFieldsWithTheLibraryDefaults) {
   const std::string problem = R"("problem": {"type": "filippov", "E": [[-1]]}, "x0": [1],
     "horizon": 2)";
   const Scene plain = ParseScene("{" + problem + "}");
-  EXPECT_EQ(plain.method, "auto");
+  EXPECT_EQ(plain.method, IntegrationMethod::kAuto);
   EXPECT_EQ(plain.stepping_window, AutoOptions().stepping_window);
   EXPECT_EQ(plain.max_handovers, AutoOptions().max_handovers);
   const Scene scene = ParseScene("{" + problem + R"(, "method": {"stepping_window": 0.25,
@@ -122,7 +122,7 @@ TEST(SceneFile, ReadsEventFieldsAndSharedFieldsReachBothIntegrators) {
     "set": {"box": {"lower": [-1], "upper": [1]}}}, "x0": [3], "horizon": 4)";
   // Documented defaults: rtol 1e-8, atol 1e-10, bdf, as EventDrivenOptions.
   const Scene plain = ParseScene("{" + problem + R"(, "method": "event"})");
-  EXPECT_EQ(plain.method, "event");
+  EXPECT_EQ(plain.method, IntegrationMethod::kEventDriven);
   EXPECT_EQ(plain.event.rtol, 1e-8);
   EXPECT_EQ(plain.event.atol, 1e-10);
   EXPECT_EQ(plain.event.method, OdeMethod::kBdf);
@@ -156,7 +156,7 @@ TEST(SceneFile, ReadsEventFieldsAndSharedFieldsReachBothIntegrators) {
 TEST(SceneFile, MethodMayBeJustItsName) {
   const Scene scene = ParseScene(R"({"problem": {"type": "dvi", "f": ["-x1"]},
     "x0": [1], "horizon": 1, "method": "stepping"})");
-  EXPECT_EQ(scene.method, "stepping");
+  EXPECT_EQ(scene.method, IntegrationMethod::kTimeStepping);
   EXPECT_EQ(scene.stepping.h, 1e-3);
   EXPECT_EQ(ParseError(R"({"problem": {"type": "dvi", "f": ["-x1"]},
     "x0": [1], "horizon": 1, "method": "euler"})"),
@@ -1107,7 +1107,7 @@ TEST(SceneFile, ReadsBoundaryAndNashScenesForBvp) {
   ASSERT_TRUE(boundary.boundary.has_value());
   EXPECT_EQ(boundary.boundary->N, Eigen::Matrix2d::Identity());
   EXPECT_EQ(boundary.x0.size(), 0);
-  EXPECT_EQ(boundary.method, "auto");
+  EXPECT_EQ(boundary.method, IntegrationMethod::kAuto);
   EXPECT_TRUE(RunsBoundaryValue(boundary));
   // Documented defaults: h = T/1000, θ = 0, scheme (9.3), refinement off.
   EXPECT_EQ(boundary.bvp.h, 2.0 / 1000);

@@ -148,7 +148,10 @@ const std::vector<HostileCase>& Cases() {
        {"horizon: expected a number"}},
       // --- method --------------------------------------------------------------
       {"MethodUnknown", Dvi("-x1", "", R"("method": "rk4")"), "run input.json", 2,
-       {"method: unknown method \"rk4\""}},
+       {"method: unknown method \"rk4\" (expected auto, stepping, event or bvp)"}},
+      // event-ida names an interval's method (IntegrationMethod::kModeDae), not a scene's.
+      {"MethodNameModeDae", Dvi("-x1", "", R"("method": {"name": "event-ida"})"), "run input.json",
+       2, {"method.name: unknown method \"event-ida\" (expected auto, stepping, event or bvp)"}},
       {"MethodBvp", Dvi("-x1", "", R"("method": "bvp")"), "run input.json", 0, {}},
       {"StepNegative", Dvi("-x1", "", R"("method": {"name": "stepping", "h": -1})"),
        "run input.json", 2, {"method.h: expected a number > 0"}},
@@ -460,7 +463,7 @@ const std::vector<HostileCase>& Cases() {
       {"RunMissingFile", "", "run missing.json", 2, {"missing.json: cannot open"}},
       {"RunDirectory", "", "run .", 2, {"is a directory"}},
       {"MethodOptionUnknown", Dvi("-x1"), "run input.json --method rk4", 2,
-       {"--method: unknown method \"rk4\""}},
+       {"--method: unknown method \"rk4\" (expected auto, stepping, event or bvp)"}},
       {"MethodOptionBvp", Dvi("-x1"), "run input.json --method bvp", 0, {}},
       {"GammaOptionBvp", Boundary("[[1]]", "[[1]]", "[1]"), "run input.json --gamma 0.5", 2,
        {"--gamma", "not used by bvp"}},

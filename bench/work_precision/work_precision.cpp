@@ -105,7 +105,7 @@ Point FromStudyRun(const std::string& problem, const StudyRun& run) {
 std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
                                              const baselines::BaselineProblem& problem) {
   dvisim::Scene tight = scene;
-  tight.method = "event";
+  tight.method = IntegrationMethod::kEventDriven;
   tight.event.rtol = kScheduleRtol;
   tight.event.atol = kScheduleRtol * scene.event.atol / scene.event.rtol;
   tight.output.samples = 2;

@@ -160,17 +160,19 @@ bool IsBoundaryValue(const Scene& scene) {
 }
 
 bool RunsBoundaryValue(const Scene& scene) {
-  return scene.method == "bvp" || (scene.method == "auto" && IsBoundaryValue(scene));
+  return scene.method == IntegrationMethod::kBoundaryValue ||
+         (scene.method == IntegrationMethod::kAuto && IsBoundaryValue(scene));
 }
 
-std::string WhyNotMethod(const Scene& scene, const std::string& method) {
-  if (method == "bvp") {
+std::string WhyNotMethod(const Scene& scene, IntegrationMethod method) {
+  if (method == IntegrationMethod::kBoundaryValue) {
     if (std::holds_alternative<ProjectedDynamics>(scene.problem))
       return "\"bvp\" takes lcs, dvi, box-dvi, filippov and nash scenes, not pds";
     return "";
   }
-  if ((method == "stepping" || method == "event") && IsBoundaryValue(scene))
-    return "\"" + method + "\" integrates from x0, but a " +
+  if ((method == IntegrationMethod::kTimeStepping || method == IntegrationMethod::kEventDriven) &&
+      IsBoundaryValue(scene))
+    return "\"" + std::string(ToString(method)) + "\" integrates from x0, but a " +
            (scene.boundary ? std::string("boundary") : std::string("nash")) +
            " scene fixes its states at both ends: use \"bvp\" (or \"auto\")";
   return "";

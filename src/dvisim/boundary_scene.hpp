@@ -35,7 +35,7 @@ bool RunsBoundaryValue(const Scene& scene);
 /// Why `method` cannot run the scene, "" when it can: stepping and event
 /// need x0 (not a boundary or nash scene); bvp takes lcs, dvi, box-dvi,
 /// filippov and nash scenes (with x0 as the condition x(0) = x0).
-std::string WhyNotMethod(const Scene& scene, const std::string& method);
+std::string WhyNotMethod(const Scene& scene, IntegrationMethod method);
 
 /// The method object's fields for bvp: h or steps, theta, scheme ("9.3",
 /// "9.11"), tol, max_iterations, refine, rtol, atol, max_steps, max_wall.

@@ -22,6 +22,7 @@
 #include "boundary_scene.hpp"
 #include "csv_text.hpp"
 #include "plot.hpp"
+#include "scene_fields.hpp"
 #include "scene_limits.hpp"
 #include "solve_command.hpp"
 #include "wall_limit.hpp"
@@ -178,7 +179,8 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
         << "\n";
   if (UsedMethod(trajectory, IntegrationMethod::kTimeStepping))
     out << "  time-stepping on " << IntervalCount(trajectory, IntegrationMethod::kTimeStepping)
-        << (scene.method == "auto" ? " from h = " : " with h = ") << Short(scene.stepping.h)
+        << (scene.method == IntegrationMethod::kAuto ? " from h = " : " with h = ")
+        << Short(scene.stepping.h)
         << ", theta = " << Short(scene.stepping.theta)
         << ", gamma = " << Short(scene.stepping.gamma) << "\n";
   if (UsedMethod(trajectory, IntegrationMethod::kBoundaryValue))
@@ -212,7 +214,7 @@ Trajectory IntegrateStepping(const Scene& scene, std::function<void(double t)> p
           return IntegrateTimeStepping(problem.ToSeparable(), scene.x0, 0.0, scene.horizon,
                                        options);
         } else if constexpr (std::is_same_v<Problem, LqNashGame>) {
-          throw InputError(WhyNotMethod(scene, "stepping"));
+          throw InputError(WhyNotMethod(scene, IntegrationMethod::kTimeStepping));
         } else {
           return IntegrateTimeStepping(problem, scene.x0, 0.0, scene.horizon, options);
         }
@@ -233,7 +235,7 @@ Trajectory WithEventDrivenForm(const Scene& scene, Integrate integrate) {
         if constexpr (std::is_same_v<Problem, FilippovSystem>) {
           return integrate(problem.ToSeparable().ToDvi());
         } else if constexpr (std::is_same_v<Problem, LqNashGame>) {
-          throw InputError(WhyNotMethod(scene, "event"));
+          throw InputError(WhyNotMethod(scene, IntegrationMethod::kEventDriven));
         } else if constexpr (std::is_same_v<Problem, ProjectedDynamics>) {
           problem.CheckInitialState(scene.x0);  // (2.10) itself does not need x0 ∈ K
           Trajectory trajectory = integrate(ProjectedDynamicsAsKkt(problem));
@@ -291,17 +293,14 @@ Trajectory IntegrateAutomatically(const Scene& scene, std::function<void(double 
 
 void ApplyOverrides(const RunCommand& command, Scene& scene) {
   if (command.method) {
-    const std::string& name = *command.method;
-    if (name != "auto" && name != "stepping" && name != "event" && name != "bvp")
-      throw InputError("--method: unknown method \"" + name +
-                       "\" (expected auto, stepping, event or bvp)");
-    if (const std::string why = WhyNotMethod(scene, name); !why.empty())
+    const IntegrationMethod method = ReadSceneMethod(*command.method, "--method");
+    if (const std::string why = WhyNotMethod(scene, method); !why.empty())
       throw InputError("--method: " + why);
-    if (name == "event") {
+    if (method == IntegrationMethod::kEventDriven) {
       const std::string why = WhyNotEventDriven(scene);
       if (!why.empty()) throw InputError("--method: " + EventDrivenMismatch(why));
     }
-    scene.method = name;
+    scene.method = method;
   }
   if (command.out_dir) {
     if (command.out_dir->empty()) throw InputError("--out: expected a directory");
@@ -346,8 +345,9 @@ Trajectory IntegrateScene(const Scene& scene, std::function<void(double t)> prog
     BoundaryValueReport report;
     return SolveBoundaryValueScene(scene, report);
   }
-  if (scene.method == "stepping") return IntegrateStepping(scene, std::move(progress));
-  if (scene.method == "event") return IntegrateEvent(scene);
+  if (scene.method == IntegrationMethod::kTimeStepping)
+    return IntegrateStepping(scene, std::move(progress));
+  if (scene.method == IntegrationMethod::kEventDriven) return IntegrateEvent(scene);
   return IntegrateAutomatically(scene, std::move(progress));
 }
 
@@ -392,7 +392,7 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
                          {"name", std::string(ToString(interval.method))},
                          {"reason", interval.reason}});
   summary["method"] = intervals;
-  summary["requested_method"] = scene.method;
+  summary["requested_method"] = std::string(ToString(scene.method));
   // The parameters of the integrator that ran.
   if (UsedMethod(trajectory, IntegrationMethod::kTimeStepping)) {
     summary["h"] = scene.stepping.h;

@@ -38,6 +38,15 @@ void RequireObject(const json& value, const std::string& path) {
   if (!value.is_object()) Fail(path, "expected an object, got " + Describe(value));
 }
 
+IntegrationMethod ReadSceneMethod(const std::string& name, const std::string& path) {
+  for (const IntegrationMethod method :
+       {IntegrationMethod::kAuto, IntegrationMethod::kTimeStepping, IntegrationMethod::kEventDriven,
+        IntegrationMethod::kBoundaryValue})
+    if (name == ToString(method)) return method;
+  Fail(path, "unknown method " + Describe(nlohmann::json(name)) +
+                 " (expected auto, stepping, event or bvp)");
+}
+
 double ReadUnitInterval(const json& value, const std::string& path) {
   const double x = ReadNumber(value, path, false);
   if (!(x >= 0 && x <= 1)) Fail(path, "expected a number in [0, 1], got " + Describe(value));

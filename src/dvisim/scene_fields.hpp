@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dvi/error.hpp"
+#include "dvi/trajectory.hpp"
 #include "json_reading.hpp"
 
 namespace dvi::dvisim {
@@ -30,6 +31,11 @@ void RejectUnknownFields(const nlohmann::json& object, const std::string& path,
                          const std::vector<std::string>& known, const std::string& context = "");
 /// @throws InputError unless value is an object.
 void RequireObject(const nlohmann::json& value, const std::string& path);
+
+/// The method named `name` ("auto", "stepping", "event" or "bvp": the
+/// ToString of the scene's IntegrationMethod values). @throws InputError
+/// "path: unknown method ... (expected auto, stepping, event or bvp)".
+IntegrationMethod ReadSceneMethod(const std::string& name, const std::string& path);
 
 /// A number in [0, 1]. @throws InputError naming path otherwise.
 double ReadUnitInterval(const nlohmann::json& value, const std::string& path);

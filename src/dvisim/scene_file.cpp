@@ -385,13 +385,13 @@ void ReadMethod(const json* method, Scene& scene) {
   scene.bvp.h = scene.stepping.h;
   if (!method) return;
   if (method->is_string()) {
-    scene.method = method->get<std::string>();
+    scene.method = ReadSceneMethod(method->get<std::string>(), path);
   } else {
     RequireObject(*method, path);
     if (const json* name = FindField(*method, "name")) {
       if (!name->is_string())
         Fail(Field(path, "name"), "expected a string, got " + Describe(*name));
-      scene.method = name->get<std::string>();
+      scene.method = ReadSceneMethod(name->get<std::string>(), Field(path, "name"));
     }
     if (!RunsBoundaryValue(scene))
       RejectUnknownFields(*method, path,
@@ -401,12 +401,8 @@ void ReadMethod(const json* method, Scene& scene) {
                            "window_rtol", "window_atol"});
   }
   const std::string name_path = method->is_string() ? path : Field(path, "name");
-  if (scene.method != "auto" && scene.method != "stepping" && scene.method != "event" &&
-      scene.method != "bvp")
-    Fail(name_path,
-         "unknown method " + Describe(scene.method) + " (expected auto, stepping, event or bvp)");
   if (const std::string why = WhyNotMethod(scene, scene.method); !why.empty()) Fail(name_path, why);
-  if (scene.method == "event") {
+  if (scene.method == IntegrationMethod::kEventDriven) {
     const std::string why = WhyNotEventDriven(scene);
     if (!why.empty()) Fail(name_path, EventDrivenMismatch(why));
   }

@@ -69,12 +69,13 @@ struct Scene {
   /// A boundary scene's b = M x(0) + N x(T), given in place of x0.
   std::optional<BoundaryConditions> boundary;
   double horizon = 0;
-  /// "auto" (IntegrateAuto: event-driven where the state allows it,
+  /// kAuto (IntegrateAuto: event-driven where the state allows it,
   /// time-stepping over the intervals where it does not; pds scenes are
-  /// stepped throughout; boundary and nash scenes solved by bvp), "stepping"
-  /// (IntegrateTimeStepping), "event" (IntegrateEventDriven) or "bvp"
-  /// (SolveBoundaryValue / SolveNashGame).
-  std::string method = "auto";
+  /// stepped throughout; boundary and nash scenes solved by bvp),
+  /// kTimeStepping (IntegrateTimeStepping), kEventDriven
+  /// (IntegrateEventDriven) or kBoundaryValue (SolveBoundaryValue /
+  /// SolveNashGame); never kModeDae. Read by ReadSceneMethod.
+  IntegrationMethod method = IntegrationMethod::kAuto;
   /// h, θ, γ and the extras, defaults resolved (SceneSteppingDefaults).
   TimeSteppingOptions stepping = SceneSteppingDefaults();
   /// rtol, atol and the extras, defaults resolved (SceneEventDefaults).

@@ -54,7 +54,7 @@ void CheckBoundaryValueGrid(const Scene& scene) {
 void CheckSceneLimits(const Scene& scene) {
   const double T = scene.horizon;
   if (RunsBoundaryValue(scene)) CheckBoundaryValueGrid(scene);
-  const bool stepping = scene.method == "stepping";
+  const bool stepping = scene.method == IntegrationMethod::kTimeStepping;
   if (stepping && !scene.stepping.adaptive)
     CheckSteps(std::ceil(T / scene.stepping.h), "h", scene.stepping.h, T,
                scene.stepping.max_steps);

@@ -39,7 +39,7 @@ Scene SceneOfRun(const Scene& scene, const PlannedRun& run,
     case StudyMethod::kSteppingTheta0:
     case StudyMethod::kSteppingHalf:
     case StudyMethod::kSteppingTheta1:
-      copy.method = "stepping";
+      copy.method = IntegrationMethod::kTimeStepping;
       copy.stepping.h = run.parameter;
       // A fixed h: what the convergence results of Sect. 7 are about.
       copy.stepping.adaptive = false;
@@ -50,7 +50,8 @@ Scene SceneOfRun(const Scene& scene, const PlannedRun& run,
       copy.output.times = output_times;
       break;
     default:
-      copy.method = run.method == StudyMethod::kAuto ? "auto" : "event";
+      copy.method = run.method == StudyMethod::kAuto ? IntegrationMethod::kAuto
+                                                     : IntegrationMethod::kEventDriven;
       copy.event.rtol = run.parameter;
       copy.event.atol = run.atol;
       copy.event.dense_output = DenseOutputPolicy::kAlways;
