@@ -11,6 +11,7 @@
 # installed here (Debian petsc-dev), never by the default build.
 set -euo pipefail
 src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+source "$src_dir/bench/common/run_common.sh"
 build_dir=${BUILD_DIR:-/tmp/build-bvp-bench}
 out_dir=${1:-$build_dir/boundary_value}
 shift $(( $# > 0 ? 1 : 0 ))
@@ -21,8 +22,7 @@ mkdir -p "$out_dir"
 cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS=OFF \
   -DDVI_BENCH_PETSC=ON >/dev/null
 cmake --build "$build_dir" --target boundary_value_bench petsc_snesvi -j2 >/dev/null
-cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)
-header="# $(date -u +%F), $(nproc) cores ($cpu), Release build, commit $(git -C "$src_dir" rev-parse --short HEAD 2>/dev/null || echo '?'), load $(cut -d' ' -f1-3 /proc/loadavg) at the start"
+header="# $(bench_machine) at the start"
 # PETSc and OpenBLAS on one thread, as dvi's solve.
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 results="$out_dir/results.jsonl"

@@ -8,6 +8,7 @@
 # BUILD_DIR (default /tmp/build-ensemble) selects the build tree.
 set -euo pipefail
 src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+source "$src_dir/bench/common/run_common.sh"
 build_dir=${BUILD_DIR:-/tmp/build-ensemble}
 out_dir=${1:-$build_dir/ensemble}
 "$src_dir/scripts/install-deps.sh"
@@ -43,8 +44,7 @@ PY
 }
 
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)
-echo "# $(date -u +%F), $(nproc) cores ($cpu), Release, commit $(git -C "$src_dir" rev-parse --short HEAD 2>/dev/null || echo '?')"
+echo "# $(bench_machine)"
 echo "# load before: $(uptime | sed 's/.*load average/load average/')"
 results=$out_dir/results.csv
 echo "sweep,launch,ranks,members,seconds" >"$results"

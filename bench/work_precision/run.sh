@@ -14,6 +14,7 @@ if [[ $# -lt 1 ]]; then
   exit 2
 fi
 src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+source "$src_dir/bench/common/run_common.sh"
 build_dir=${BUILD_DIR:-/tmp/build-wp}
 out_dir=$1
 shift
@@ -21,9 +22,8 @@ mkdir -p "$out_dir"
 cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS=OFF \
   -DDVI_BUILD_TOOLS=ON >/dev/null
 cmake --build "$build_dir" --target work_precision -j1 >/dev/null
-cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)
 {
-  echo "# $(date -u +%F), $(nproc) cores ($cpu), load $(cut -d' ' -f1-3 /proc/loadavg), Release build, commit $(git -C "$src_dir" rev-parse --short HEAD 2>/dev/null || echo '?')"
+  echo "# $(bench_machine)"
   "$build_dir/bench/work_precision" --out "$out_dir" "$@"
 } | tee "$out_dir/work_precision.md"
 echo "pages: $out_dir/*/index.html"

@@ -16,27 +16,19 @@ if [[ $# -lt 1 ]]; then
   echo "usage: $0 OUT_DIR [work_precision_dae options...]" >&2
   exit 2
 fi
-# Siconos calls OpenBLAS (pthread build); one thread, as our integrators use.
-export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+source "$src_dir/bench/common/run_common.sh"
 build_dir=${BUILD_DIR:-/tmp/build-wpdae}
 out_dir=$1
 shift
 mkdir -p "$out_dir"
-# The anchor: Siconos' kernel (and numerics) from Debian, for this benchmark only.
-"$src_dir/scripts/install-deps.sh" libsiconos-kernel-dev libsiconos-numerics-dev
-cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS=OFF \
-  -DDVI_BUILD_TOOLS=OFF >/dev/null
-cmake --build "$build_dir" --target work_precision_dae -j1 >/dev/null
-if [[ ! -x "$build_dir/bench/work_precision_dae" ]]; then
-  echo "work_precision_dae was not built: Siconos kernel not found (see bench/work_precision_dae/README.md)" >&2
-  exit 1
-fi
-cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)
+# The anchor: Siconos' kernel (and numerics) from Debian.
+bench_build "$build_dir" work_precision_dae "Siconos kernel" libsiconos-kernel-dev \
+  libsiconos-numerics-dev
 csv="$out_dir/work_precision_dae.csv"
 goals="$out_dir/goals.csv"
 {
-  echo "# $(date -u +%F), $(nproc) cores ($cpu), Release build, commit $(git -C "$src_dir" rev-parse --short HEAD 2>/dev/null || echo '?'), load average at start $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "# $(bench_machine) at start"
   "$build_dir/bench/work_precision_dae" --csv "$csv" --goals "$goals" "$@" \
     2>"$out_dir/work_precision_dae.log"
   echo "load average at end $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -9,9 +9,8 @@
 # (default $BUILD_DIR/zoo) receives zoo.csv, siconos.csv, every run's
 # outputs under runs/ and dvisim's plot of each model under pictures/.
 set -euo pipefail
-# Siconos calls OpenBLAS (pthread build); one thread, as our integrators use.
-export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+source "$src_dir/bench/common/run_common.sh"
 build_dir=${BUILD_DIR:-/tmp/build-zoo}
 out_dir=${1:-$build_dir/zoo}
 shift $(( $# > 0 ? 1 : 0 ))
@@ -24,8 +23,7 @@ cmake -S "$src_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DDVI_BUILD_TESTS
   "${launcher[@]}" >/dev/null
 cmake --build "$build_dir" --target dvisim zoo_bench zoo_siconos -j2 >/dev/null
 mkdir -p "$out_dir"
-cpu=$(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2 | xargs)
-echo "# $(date -u +%F), $(nproc) cores ($cpu), Release build, commit $(git -C "$src_dir" rev-parse --short HEAD 2>/dev/null || echo '?')"
+echo "# $(bench_machine)"
 echo "# load before: $(uptime | sed 's/.*load average/load average/')"
 start=$(date +%s)
 # Siconos' own diagnostics (stderr) go to siconos.log.
