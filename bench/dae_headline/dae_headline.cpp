@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "circuits/diode_bridge.hpp"
+#include "command_line.hpp"
 #include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/filippov.hpp"
@@ -58,14 +59,7 @@ struct Args {
 
 Args ParseArgs(int argc, char** argv) {
   Args args;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--csv" && i + 1 < argc) {
-      args.csv = argv[++i];
-    } else {
-      throw std::invalid_argument("unknown argument " + a);
-    }
-  }
+  CommandLine().Value("--csv", [&](const std::string& value) { args.csv = value; }).Parse(argc, argv);
   if (args.csv.empty()) throw std::invalid_argument("--csv PATH is required");
   return args;
 }
@@ -646,10 +640,7 @@ int Run(const Args& args) {
 }  // namespace dvi::bench
 
 int main(int argc, char** argv) {
-  try {
+  return dvi::bench::BenchMain("dae_headline", "dae_headline --csv PATH", [&] {
     return dvi::bench::Run(dvi::bench::ParseArgs(argc, argv));
-  } catch (const std::exception& e) {
-    std::cerr << "dae_headline: " << e.what() << "\nusage: dae_headline --csv PATH\n";
-    return 2;
-  }
+  });
 }

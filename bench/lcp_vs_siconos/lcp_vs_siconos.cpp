@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "dvi/lemke.hpp"
 #include "dvi/projected_gauss_seidel.hpp"
 #include "dvi/semismooth_newton.hpp"
@@ -482,20 +483,14 @@ struct Config {
 
 Config ParseArgs(int argc, char** argv) {
   Config c;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error("missing value after " + a);
-      return argv[++i];
-    };
-    if (a == "--csv") c.csv_path = value();
-    else if (a == "--no-suite") c.suite = false;
-    else if (a == "--matched") c.matched = true;
-    else if (a == "--quick") c.quick = true;
-    else if (a == "--instances") c.instances = std::stoi(value());
-    else if (a == "--repeats") c.repeats = std::stoi(value());
-    else throw std::runtime_error("unknown argument " + a);
-  }
+  CommandLine()
+      .Value("--csv", [&](const std::string& value) { c.csv_path = value; })
+      .Switch("--no-suite", [&] { c.suite = false; })
+      .Switch("--matched", [&] { c.matched = true; })
+      .Switch("--quick", [&] { c.quick = true; })
+      .Value("--instances", [&](const std::string& value) { c.instances = std::stoi(value); })
+      .Value("--repeats", [&](const std::string& value) { c.repeats = std::stoi(value); })
+      .Parse(argc, argv);
   if (c.csv_path.empty()) throw std::runtime_error("--csv PATH is required");
   if (c.instances < 1 || c.repeats < 1)
     throw std::runtime_error("--instances and --repeats must be >= 1");
@@ -598,12 +593,8 @@ int Run(const Config& config) {
 }  // namespace dvi::bench
 
 int main(int argc, char** argv) {
-  try {
-    return dvi::bench::Run(dvi::bench::ParseArgs(argc, argv));
-  } catch (const std::exception& e) {
-    std::cerr << "lcp_vs_siconos: " << e.what() << "\n"
-              << "usage: lcp_vs_siconos --csv PATH [--no-suite] [--matched] [--quick] "
-                 "[--instances N] [--repeats N]\n";
-    return 2;
-  }
+  return dvi::bench::BenchMain(
+      "lcp_vs_siconos",
+      "lcp_vs_siconos --csv PATH [--no-suite] [--matched] [--quick] [--instances N] [--repeats N]",
+      [&] { return dvi::bench::Run(dvi::bench::ParseArgs(argc, argv)); });
 }

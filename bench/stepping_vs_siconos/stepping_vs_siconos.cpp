@@ -20,6 +20,7 @@
 
 #include "circuits/diode_bridge.hpp"
 #include "circuits/rc_diode_ladder.hpp"
+#include "command_line.hpp"
 #include "dvi/time_stepping.hpp"
 #include "siconos_stepping.hpp"
 #include "table_format.hpp"
@@ -52,24 +53,13 @@ struct Args {
 
 Args ParseArgs(int argc, char** argv) {
   Args args;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--csv") {
-      args.csv = value();
-    } else if (a == "--steps") {
-      args.ladder_steps = std::stol(value());
-    } else if (a == "--siconos-budget") {
-      args.siconos_budget = std::stod(value());
-    } else if (a == "--quick") {
-      args.quick = true;
-    } else {
-      throw std::invalid_argument("unknown argument " + a);
-    }
-  }
+  CommandLine()
+      .Value("--csv", [&](const std::string& value) { args.csv = value; })
+      .Value("--steps", [&](const std::string& value) { args.ladder_steps = std::stol(value); })
+      .Value("--siconos-budget",
+             [&](const std::string& value) { args.siconos_budget = std::stod(value); })
+      .Switch("--quick", [&] { args.quick = true; })
+      .Parse(argc, argv);
   if (args.csv.empty()) throw std::invalid_argument("--csv PATH is required");
   if (args.ladder_steps < kLadderSamples) throw std::invalid_argument("--steps must be ≥ 10");
   return args;
@@ -363,12 +353,8 @@ int Run(const Args& args) {
 }  // namespace dvi::bench
 
 int main(int argc, char** argv) {
-  try {
-    return dvi::bench::Run(dvi::bench::ParseArgs(argc, argv));
-  } catch (const std::exception& e) {
-    std::cerr << "stepping_vs_siconos: " << e.what() << "\n"
-              << "usage: stepping_vs_siconos --csv PATH [--steps N] [--siconos-budget S] "
-                 "[--quick]\n";
-    return 2;
-  }
+  return dvi::bench::BenchMain(
+      "stepping_vs_siconos",
+      "stepping_vs_siconos --csv PATH [--steps N] [--siconos-budget S] [--quick]",
+      [&] { return dvi::bench::Run(dvi::bench::ParseArgs(argc, argv)); });
 }

@@ -48,6 +48,7 @@
 #include <SimpleMatrix.hpp>
 #include <TimeDiscretisation.hpp>
 
+#include "command_line.hpp"
 #include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/time_stepping.hpp"
@@ -711,20 +712,12 @@ int Main(int argc, char** argv) {
   std::string csv_path, goals_path;
   double budget = 10;
   std::vector<std::string> names;
-  for (int k = 1; k < argc; ++k) {
-    const std::string arg = argv[k];
-    if (arg == "--csv" && k + 1 < argc) {
-      csv_path = argv[++k];
-    } else if (arg == "--goals" && k + 1 < argc) {
-      goals_path = argv[++k];
-    } else if (arg == "--budget" && k + 1 < argc) {
-      budget = std::stod(argv[++k]);
-    } else if (arg == "--problem" && k + 1 < argc) {
-      names.push_back(argv[++k]);
-    } else {
-      throw std::invalid_argument("unknown argument " + arg);
-    }
-  }
+  CommandLine()
+      .Value("--csv", [&](const std::string& value) { csv_path = value; })
+      .Value("--goals", [&](const std::string& value) { goals_path = value; })
+      .Value("--budget", [&](const std::string& value) { budget = std::stod(value); })
+      .Value("--problem", [&](const std::string& value) { names.push_back(value); })
+      .Parse(argc, argv);
   if (csv_path.empty() || goals_path.empty()) {
     throw std::invalid_argument("--csv and --goals are required");
   }
@@ -817,12 +810,8 @@ int Main(int argc, char** argv) {
 }  // namespace dvi::bench
 
 int main(int argc, char** argv) {
-  try {
-    return dvi::bench::Main(argc, argv);
-  } catch (const std::exception& error) {
-    std::cerr << "work_precision_dae: " << error.what()
-              << "\nusage: work_precision_dae --csv PATH --goals PATH [--budget SECONDS] "
-                 "[--problem NAME]...\n";
-    return 2;
-  }
+  return dvi::bench::BenchMain(
+      "work_precision_dae",
+      "work_precision_dae --csv PATH --goals PATH [--budget SECONDS] [--problem NAME]...",
+      [&] { return dvi::bench::Main(argc, argv); });
 }
