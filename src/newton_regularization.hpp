@@ -5,6 +5,10 @@
 
 namespace dvi::internal {
 
+/// The Levenberg–Marquardt parameter both linear algebras of semismooth
+/// Newton share (newton_dense_algebra.hpp, newton_sparse_algebra.hpp).
+/// Owns: nothing. Preconditions: phi_norm ≥ 0. Source: [Fan–Yuan 2005].
+
 // Levenberg–Marquardt parameter for (HᵀH + μI) d = −HᵀΦ: μ = s·clamp(‖Φ‖₂,
 // 1e-10, 1) with s the largest diagonal entry of HᵀH. Proportional to ‖Φ‖
 // keeps fast local convergence [Fan–Yuan 2005]; the scale s and the floor

@@ -5,6 +5,9 @@
 
 namespace dvi::internal {
 
+/// The checks every integrator makes of its requested output times. Owns:
+/// nothing. Preconditions: none (any input is reported, never assumed).
+
 /// Throws InvalidInputError naming the first entry of `times` that is not
 /// finite or breaks the order: non-decreasing, or strictly increasing when
 /// `strictly` (time-stepping's).

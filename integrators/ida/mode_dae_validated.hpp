@@ -11,6 +11,10 @@
 
 namespace dvi::internal {
 
+/// The mode-DAE run split from its certificate, for the automatic driver.
+/// Owns: nothing. Preconditions: as IntegrateModeDae's. Source: [Seed]
+/// Sect. 5.4.
+
 /// IntegrateModeDae without checking its rows against the VI
 /// (CertifyModeDae): the automatic driver drops the row where a failed run
 /// stops before it is output. Validates as IntegrateModeDae.

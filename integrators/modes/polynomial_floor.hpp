@@ -3,6 +3,11 @@
 
 namespace dvi::internal {
 
+/// Certifies that a step's polynomial stays above a floor, or finds where it
+/// first dips below. Owns: nothing (pure functions). Preconditions: degree
+/// ≤ kMaxFloorDegree, h > 0. Source: the Bernstein form's convex-hull
+/// bound and de Casteljau subdivision [Farouki 2012].
+
 /// The highest degree FirstTimeBelow takes: CVODE's Adams order limit (BDF
 /// stops at 5).
 inline constexpr int kMaxFloorDegree = 12;

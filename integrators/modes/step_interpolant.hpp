@@ -7,6 +7,13 @@
 
 namespace dvi::internal {
 
+/// Interpolation of a step's root functions at Chebyshev–Lobatto nodes and
+/// the certified bound of each row over a piece of the step. Owns: each
+/// degree's nodes and interpolation matrix, built once. Preconditions:
+/// 1 ≤ degree ≤ kMaxInterpolantDegree; the sampled functions smooth over
+/// the piece. Source: Chebyshev–Lobatto interpolation and its error
+/// [Trefethen 2013, Ch. 2 and 11]; the bound by polynomial_floor.hpp.
+
 /// The highest degree a StepInterpolant takes: a BDF step's (order 5), and
 /// the cap for Adams' higher orders (each node costs a solve of u).
 inline constexpr int kMaxInterpolantDegree = 5;

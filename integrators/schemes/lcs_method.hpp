@@ -16,6 +16,10 @@
 
 namespace dvi::internal {
 
+/// The θ-scheme (7.2) for an LCS, dense and sparse. Owns: the step matrices
+/// and their factorizations for the current h. Preconditions: a validated
+/// Lcs and TimeSteppingOptions. Source: [Seed] (2.8), (7.2), Sect. 9.2.
+
 // Notation of [Seed] (2.8): x' = p + A x + B u, u ∈ SOL(K, q + C x + D ·).
 // Step i → i+1 of scheme (7.2) for an LCS, with r the known part
 //   r = (I + hθA) x^i + h p + h(1−γ) B u^i,   W = I − h(1−θ)A,

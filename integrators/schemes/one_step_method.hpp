@@ -12,6 +12,12 @@
 
 namespace dvi::internal {
 
+/// The interface of one time-stepping scheme (LCS, DVI, projected dynamics)
+/// to the stepping driver: a step, its outcome and the mode it reads. Owns:
+/// nothing here (each scheme owns its solver storage). Preconditions: the
+/// problem and options validated by the public entry point. Source: [Seed]
+/// (7.2), (3.3), (3.4), (7.3).
+
 /// What one time step (or the initial VI) produced.
 struct StepOutcome {
   bool solved = false;
