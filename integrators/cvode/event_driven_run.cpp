@@ -19,10 +19,19 @@
 #include "events/event_times.hpp"
 #include "events/zeno_prediction.hpp"
 #include "modes/mode_selection.hpp"
+#include "modes/rate_selection.hpp"
 #include "sundials/callbacks.hpp"
 
 namespace dvi::internal {
 
+// The difference step of SelectModeByRates, relative to the look-ahead's:
+// 1e-8 of the horizon, exact for an LCS mode's affine root functions and
+// short enough that a source's curvature does not enter the rates.
+constexpr double kRateStepFraction = 1e-3;
+// How far, in local error tolerances rtol·|x| + atol, SelectModeByRates may
+// project an event's state onto a reduced mode's constraints: the root's
+// state is off them by its error, a few tolerances; farther is a jump.
+constexpr double kProjectionErrors = 100;
 // Steps in a row within the round-off of t that end a run (StepsResolveTime).
 constexpr int kUnresolvedSteps = 10;
 // The largest tolerance an event's VI is solved to when the state's error
@@ -156,8 +165,25 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
                 message.str());
   }
   x = x_event;
+  // u is not unique, but B·u may be (Proposition 5.1): every mode the VI
+  // allows, by its rates (modes/rate_selection.hpp).
+  std::string rates_why;
+  const double state_tolerance =
+      kProjectionErrors * (options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol);
+  const RateSelection by_rates = SelectModeByRates(
+      system_, t, x, vi, kRateStepFraction * delta, state_tolerance, mode, &rates_why);
+  if (by_rates == RateSelection::kChosen && TryMode(t, x, mode, vi.z, rates_why)) {
+    ++rate_selections_;
+    return true;
+  }
+  x = x_event;
+  if (by_rates == RateSelection::kFlowNotUnique) {
+    message << "u is not strongly regular (" << regular.reason << "), and " << rates_why;
+    return Fail(IntegrationStatus::kNotIndexOne, message.str());
+  }
   message << "not index one: u is not strongly regular (" << regular.reason
-          << "); " << reduced_why << "; the look-ahead fails (" << look_ahead_why << ")";
+          << "); " << reduced_why << "; the look-ahead fails (" << look_ahead_why << "); "
+          << rates_why;
   return Fail(IntegrationStatus::kNotIndexOne, message.str());
 }
 
@@ -196,6 +222,9 @@ bool EventDrivenRun::Start() {
                             ? "u0 not strongly regular at t = " + FormatTime(t0_) +
                                   "; mode by the differentiation procedure (" +
                                   reduction_theorem_ + ")"
+                        : rate_selections_ > 0
+                            ? "u0 not strongly regular at t = " + FormatTime(t0_) +
+                                  "; mode by the rates (Proposition 5.1)"
                             : "u0 not strongly regular at t = " + FormatTime(t0_) +
                                   "; mode by look-ahead along the flow";
   std::copy(x.data(), x.data() + x.size(), y_.data());
@@ -481,6 +510,9 @@ Trajectory EventDrivenRun::Run() {
       reason += "; " + std::to_string(reduced_selections_) +
                 " mode(s) chosen by the differentiation procedure (" + reduction_theorem_ +
                 ")";
+    if (rate_selections_ > 0)
+      reason += "; " + std::to_string(rate_selections_) +
+                " mode(s) chosen by the rates where u is not unique (Proposition 5.1)";
     trajectory_.intervals.push_back({t0_, trajectory_.times.back(), IntegrationMethod::kEventDriven, reason});
   }
   stats.wall_seconds =

@@ -163,6 +163,7 @@ class EventDrivenRun {
   std::vector<double> switch_times_;  // times of the mode changes, for Zeno detection
   long reduced_selections_ = 0;       // modes chosen by the differentiation procedure
   long look_ahead_selections_ = 0;    // non-strongly-regular points passed by look-ahead
+  long rate_selections_ = 0;          // modes chosen by the rates (modes/rate_selection.hpp)
 };
 
 }  // namespace dvi::internal

@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "modes/rate_selection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+namespace dvi::internal {
+namespace {
+
+// A rate below this, relative to the largest rate of the candidate's root
+// functions, is zero: the candidate's rates are exact differences of affine
+// functions for an LCS, and carry the √ε ≈ 1.5e-8 of forward-difference
+// Jacobians otherwise (as ResolveByRates' kRateTolerance).
+constexpr double kRateTolerance = 1e-6;
+// Two flows agree when their derivatives differ by less than this relative
+// to their size: the same √ε margin, on J's entries.
+constexpr double kFlowTolerance = 1e-6;
+// Round-off of a root function's difference quotient, in ulps of its values.
+constexpr double kDifferenceUlps = 64;
+
+// A candidate that continues the solution: its mode and its flow's
+// derivatives x', J x', …, Jⁿ x' at (t, x) (columns).
+struct Continuation {
+  Mode mode;
+  Eigen::MatrixXd derivatives;
+};
+
+// The options of each component: free or at a bound where F vanishes,
+// the bound its w's sign holds otherwise.
+std::vector<std::vector<MultiplierBound>> ComponentOptions(const ModeProblem& problem,
+                                                           const SolveResult& vi) {
+  const double tolerance = problem.BoundTolerance();
+  std::vector<std::vector<MultiplierBound>> options(problem.m());
+  for (int j = 0; j < problem.m(); ++j) {
+    const double lower = problem.lower()(j), upper = problem.upper()(j);
+    if (lower == upper) {
+      options[j] = {MultiplierBound::kLower};  // fixed: no mode to decide
+    } else if (std::abs(vi.w(j)) > tolerance) {
+      options[j] = {vi.w(j) > 0 ? MultiplierBound::kLower : MultiplierBound::kUpper};
+    } else {
+      if (std::isfinite(lower)) options[j].push_back(MultiplierBound::kLower);
+      if (std::isfinite(upper)) options[j].push_back(MultiplierBound::kUpper);
+      options[j].push_back(MultiplierBound::kFree);
+    }
+  }
+  return options;
+}
+
+// Whether mode continues the solution from (t, x) (see the header); its
+// flow's derivatives in *continuation.
+bool Continues(BoxModeSystem& system, double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u0,
+               const Mode& mode, double rate_step, double state_tolerance,
+               Continuation& continuation) {
+  const int slots = 2 * system.m();
+  system.Enter(mode, u0);
+  Eigen::VectorXd x_mode = x;
+  if (!system.Solve(t, x_mode)) return false;
+  if (system.reduced()) {  // onto the reduced mode's constraints, as TryMode
+    Eigen::VectorXd correction;
+    system.Project(t, x_mode, correction, nullptr);
+    // More than the state's error: the mode needs a jump of x, no continuation.
+    if (correction.lpNorm<Eigen::Infinity>() > state_tolerance) return false;
+    x_mode += correction;
+    if (!system.Solve(t, x_mode)) return false;
+  }
+  if (!system.Holds(t, x_mode, nullptr)) return false;
+  Eigen::VectorXd g0(slots), g1(slots), xdot;
+  system.Roots(t, x_mode, g0.data());
+  system.Rhs(t, x_mode, xdot);
+  Eigen::MatrixXd J;
+  if (!system.RhsJacobian(t, x_mode, J)) return false;
+  const Eigen::VectorXd x_ahead = x_mode + rate_step * xdot;
+  if (!system.Solve(t + rate_step, x_ahead)) return false;
+  system.Roots(t + rate_step, x_ahead, g1.data());
+  const Eigen::VectorXd rates = (g1 - g0) / rate_step;
+  const double tolerance = system.problem().BoundTolerance();
+  const double rate_scale = kRateTolerance * (1 + rates.lpNorm<Eigen::Infinity>());
+  for (int k = 0; k < slots; ++k) {
+    if (g0(k) > tolerance) continue;  // not at its zero: Holds decided
+    const double round_off = kDifferenceUlps * std::numeric_limits<double>::epsilon() *
+                             (std::abs(g0(k)) + std::abs(g1(k))) / rate_step;
+    if (rates(k) < -rate_scale - round_off) return false;
+  }
+  const int n = system.n();
+  continuation.mode = mode;
+  continuation.derivatives.resize(n, n + 1);
+  continuation.derivatives.col(0) = xdot;
+  for (int k = 1; k <= n; ++k)
+    continuation.derivatives.col(k) = J * continuation.derivatives.col(k - 1);
+  return true;
+}
+
+// The first derivative order where two continuations differ beyond
+// kFlowTolerance, or −1; its relative difference in *difference.
+int FirstDifference(const Continuation& a, const Continuation& b, double* difference) {
+  for (int k = 0; k < a.derivatives.cols(); ++k) {
+    const double scale = std::max(a.derivatives.col(k).lpNorm<Eigen::Infinity>(),
+                                  b.derivatives.col(k).lpNorm<Eigen::Infinity>());
+    const double gap = (a.derivatives.col(k) - b.derivatives.col(k)).lpNorm<Eigen::Infinity>();
+    if (gap > kFlowTolerance * scale + std::numeric_limits<double>::min()) {
+      *difference = gap / scale;
+      return k;
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+RateSelection SelectModeByRates(BoxModeSystem& system, double t, const Eigen::VectorXd& x,
+                                const SolveResult& vi, double rate_step, double state_tolerance,
+                                Mode& mode, std::string* why) {
+  const std::vector<std::vector<MultiplierBound>> options =
+      ComponentOptions(system.problem(), vi);
+  long candidates = 1;
+  int open = 0;
+  for (const auto& choices : options) {
+    if (choices.size() > 1) ++open;
+    candidates *= static_cast<long>(choices.size());
+    if (candidates > kMaxRateCandidates) {
+      if (why)
+        *why = "mode selection by the rates: more than " + std::to_string(kMaxRateCandidates) +
+               " candidate modes (components where F vanishes: more than " +
+               std::to_string(open) + ")";
+      return RateSelection::kTooMany;
+    }
+  }
+  // Candidates in mixed radix over the components' options, bounds first.
+  std::vector<Continuation> continuing;
+  Mode candidate(system.m());
+  for (long index = 0; index < candidates; ++index) {
+    long rest = index;
+    for (int j = 0; j < system.m(); ++j) {
+      const long radix = static_cast<long>(options[j].size());
+      candidate[j] = options[j][rest % radix];
+      rest /= radix;
+    }
+    Continuation continuation;
+    if (!Continues(system, t, x, vi.z, candidate, rate_step, state_tolerance, continuation))
+      continue;
+    for (const Continuation& other : continuing) {
+      double difference = 0;
+      const int order = FirstDifference(other, continuation, &difference);
+      if (order < 0) continue;
+      if (why) {
+        std::ostringstream message;
+        message << "the flow is not unique: modes " << ModeLetters(other.mode) << " and "
+                << ModeLetters(continuation.mode)
+                << " both continue from this state (every root function at zero non-decreasing) "
+                   "and their x"
+                << (order == 0 ? "'" : "^(" + std::to_string(order + 1) + ")") << " differ by "
+                << difference
+                << " relative: B·SOL(K, F(t, x, ·)) is not a singleton near x (Proposition 5.1)";
+        *why = message.str();
+      }
+      return RateSelection::kFlowNotUnique;
+    }
+    continuing.push_back(std::move(continuation));
+  }
+  if (continuing.empty()) {
+    if (why)
+      *why = "mode selection by the rates: none of the " + std::to_string(candidates) +
+             " candidate modes continues (holds, with every root function at zero "
+             "non-decreasing)";
+    return RateSelection::kNoMode;
+  }
+  mode = continuing.front().mode;
+  return RateSelection::kChosen;
+}
+
+}  // namespace dvi::internal
