@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: Apache-2.0
+// Mode selection by the rates where u is not unique (issue 30;
+// integrators/modes/rate_selection.hpp): event-driven integration goes on
+// where B·SOL is a singleton although SOL is not (Proposition 5.1), and
+// refuses, naming the condition, where the flow itself is not unique.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "dvi/auto_driver.hpp"
+#include "dvi/event_driven.hpp"
+#include "dvi/lcs.hpp"
+#include "scene_file.hpp"
+#include "support/zoo/models.hpp"
+
+namespace dvi {
+namespace {
+
+// x' = −x + B u, w = x − 1 + D u ⊥ u ≥ 0 (both rows), D = E^T E with
+// E = [1 1]: positive semidefinite, not P. For x ≥ 1, u = 0; for x < 1
+// every u ≥ 0 with u1 + u2 = 1 − x solves the LCP, so u is never strongly
+// regular there. With B = [1 1] = E, B·u = 1 − x is unique (Proposition
+// 5.1's remark: D = Eᵀ G E, B = H E): x' = 1 − 2x below 1. From x0 = 2,
+// x = 2 e^{−t} reaches 1 at t1 = ln 2 and then x = ½ + ½ e^{−2(t − t1)}.
+// With B = [1 0], x' = −x + u1 with u1 anywhere in [0, 1 − x]: the flow
+// itself is not unique below x = 1.
+Lcs PsdLcs(const Eigen::RowVector2d& B) {
+  Eigen::Matrix2d D;
+  D << 1, 1, 1, 1;
+  return Lcs::Dense(Eigen::MatrixXd::Constant(1, 1, -1), B, Eigen::Vector2d::Ones(), D,
+                    Eigen::VectorXd::Zero(1), Eigen::Vector2d::Constant(-1));
+}
+
+double PsdExact(double t) {
+  const double t1 = std::log(2.0);
+  return t <= t1 ? 2 * std::exp(-t) : 0.5 + 0.5 * std::exp(-2 * (t - t1));
+}
+
+// The local error test at rtol = 1e-10, atol = 1e-14 on |x| ≤ 2 leaves
+// about 1e-10 per step; 100 times that covers the global error of ~50 steps
+// and the event time's (measured 3.6e-10 at t = 0.8).
+constexpr double kPsdTolerance = 1e-8;
+
+EventDrivenOptions Tight() {
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-14;
+  for (int k = 0; k <= 40; ++k) options.output_times.push_back(2.0 * k / 40);
+  return options;
+}
+
+TEST(RateSelection, PsdNotPWithUniqueBuRunsEventDrivenToTheExactSolution) {
+  const Trajectory run = IntegrateEventDriven(PsdLcs(Eigen::RowVector2d(1, 1)),
+                                              Eigen::VectorXd::Constant(1, 2), 0, 2, Tight());
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    EXPECT_NEAR(run.states[k](0), PsdExact(run.times[k]), kPsdTolerance) << "t = " << run.times[k];
+  ASSERT_FALSE(run.events.empty());
+  EXPECT_NEAR(run.events.front().time, std::log(2.0), kPsdTolerance);
+  ASSERT_EQ(run.intervals.size(), 1u);
+  EXPECT_NE(run.intervals[0].reason.find("chosen by the rates"), std::string::npos)
+      << run.intervals[0].reason;
+}
+
+TEST(RateSelection, PsdNotPStartBelowTheKinkIsSelectedByTheRates) {
+  // From x0 = ½ + ½ e^{−2·0.3} (on the lower branch, t1 = ln 2 − 0.3 ago).
+  const double t_shift = std::log(2.0) + 0.3;
+  EventDrivenOptions options = Tight();
+  options.output_times = {0, 0.5, 1};
+  const Trajectory run = IntegrateEventDriven(PsdLcs(Eigen::RowVector2d(1, 1)),
+                                              Eigen::VectorXd::Constant(1, PsdExact(t_shift)), 0,
+                                              1, options);
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    EXPECT_NEAR(run.states[k](0), PsdExact(t_shift + run.times[k]), kPsdTolerance);
+}
+
+TEST(RateSelection, NonUniqueFlowIsRefusedNamingTheCondition) {
+  const Trajectory run = IntegrateEventDriven(PsdLcs(Eigen::RowVector2d(1, 0)),
+                                              Eigen::VectorXd::Constant(1, 2), 0, 2, Tight());
+  EXPECT_EQ(run.status, IntegrationStatus::kNotIndexOne) << run.message;
+  EXPECT_NE(run.message.find("at t = 0.693147"), std::string::npos) << run.message;
+  EXPECT_NE(run.message.find("the flow is not unique"), std::string::npos) << run.message;
+  EXPECT_NE(run.message.find("B·SOL(K, F(t, x, ·)) is not a singleton"), std::string::npos)
+      << run.message;
+  // Up to the kink the run is exact and kept.
+  EXPECT_NEAR(run.times.back(), std::log(2.0), kPsdTolerance);
+}
+
+// The zoo's boost converter (tests/support/zoo/boost_converter.cpp) at the
+// scene's rtol 1e-10: the onset of discontinuous conduction (i reaches 0
+// with the switch open, the diode's pair degenerate, D skew) was refused.
+// The issue's goal: error ≤ 1e-6 of each state's range, every switch, ≥ 95 %
+// event-driven.
+constexpr double kZooGoal = 1e-6;
+// Switch times: a root located to the dense output's accuracy at rtol 1e-10
+// on a period of 1e-4 s; 1e-9 s is 1e-5 of the period.
+constexpr double kSwitchTolerance = 1e-9;
+
+struct BoostRun {
+  Trajectory trajectory;
+  double error = 0;  // max over rows and states of |x − x_ref| / max |x_ref|
+};
+
+BoostRun Boost(bool automatic) {
+  const dvisim::Scene scene =
+      dvisim::ReadScene(std::string(DVI_EXAMPLES_DIR) + "/scenes/zoo/boost_converter.json");
+  const Lcs& lcs = std::get<Lcs>(scene.problem);
+  const zoo::ZooModel model = zoo::BoostConverter();
+  EventDrivenOptions event = scene.event;
+  for (int k = 0; k <= 1000; ++k) event.output_times.push_back(model.horizon * k / 1000);
+  BoostRun run;
+  if (automatic) {
+    AutoOptions options;
+    options.event = event;
+    options.stepping = scene.stepping;
+    run.trajectory = IntegrateAuto(lcs, scene.x0, 0, model.horizon, options);
+  } else {
+    run.trajectory = IntegrateEventDriven(lcs, scene.x0, 0, model.horizon, event);
+  }
+  const zoo::PiecewiseLinearReference reference = model.reference();
+  Eigen::VectorXd range = Eigen::VectorXd::Zero(model.n());
+  for (int k = 0; k <= 1000; ++k)
+    range = range.cwiseMax(reference.X(model.horizon * k / 1000).cwiseAbs());
+  for (std::size_t k = 0; k < run.trajectory.times.size(); ++k) {
+    const Eigen::VectorXd error =
+        (run.trajectory.states[k] - reference.X(run.trajectory.times[k])).cwiseAbs();
+    run.error = std::max(run.error, error.cwiseQuotient(range).maxCoeff());
+  }
+  // Every mode change of the reference is an event of the run.
+  for (const zoo::Segment& segment : reference.segments()) {
+    if (segment.end_guard < 0) continue;  // a source break or the horizon
+    const auto near = std::find_if(
+        run.trajectory.events.begin(), run.trajectory.events.end(),
+        [&](const Event& e) { return std::abs(e.time - segment.t1) <= kSwitchTolerance; });
+    EXPECT_NE(near, run.trajectory.events.end()) << "no event at the switch t = " << segment.t1;
+  }
+  return run;
+}
+
+double EventDrivenFraction(const Trajectory& trajectory) {
+  double driven = 0;
+  for (const MethodInterval& interval : trajectory.intervals)
+    if (interval.method == IntegrationMethod::kEventDriven) driven += interval.to - interval.from;
+  return driven / trajectory.final_time();
+}
+
+TEST(RateSelection, BoostConverterRunsEventDrivenThroughDiscontinuousConduction) {
+  const BoostRun run = Boost(false);
+  ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
+  EXPECT_LE(run.error, kZooGoal);
+}
+
+TEST(RateSelection, BoostConverterUnderAutoIsEventDrivenAndExact) {
+  const BoostRun run = Boost(true);
+  ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
+  EXPECT_LE(run.error, kZooGoal);
+  EXPECT_GE(EventDrivenFraction(run.trajectory), 0.95);
+}
+
+}  // namespace
+}  // namespace dvi
