@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "dvi/integration_options.hpp"
 #include "boundary_scene.hpp"
 #include "plot.hpp"
 #include "scene_file.hpp"
@@ -586,6 +587,29 @@ TEST_F(DvisimRun, CommandLineOverridesReachTheSummary) {
   EXPECT_EQ(summary["gamma"], 0.75);
   EXPECT_EQ(summary["requested_method"], "stepping");
   EXPECT_EQ(summary["stats"]["steps"], 400);
+}
+
+// --rtol alone sets atol by AtolFollowingRtol (rtol·1e-6), as method.rtol
+// alone does; --atol and --h-max override the scene.
+TEST_F(DvisimRun, ToleranceFlagsOverrideTheSceneAndAtolFollowsRtol) {
+  RunOutcome run = RunExample("dvi_saturation.json", "out", "--method event --rtol 1e-9");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  nlohmann::json summary = ReadSummary("out");
+  EXPECT_EQ(summary["rtol"], 1e-9);
+  EXPECT_EQ(summary["atol"], 1e-9 * kAtolPerRtol);
+  run = RunExample("dvi_saturation.json", "out2", "--method event --rtol 1e-9 --atol 1e-12");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  summary = ReadSummary("out2");
+  EXPECT_EQ(summary["atol"], 1e-12);
+  // A step limit of a hundredth of the horizon: at least 100 steps.
+  run = RunExample("dvi_saturation.json", "out3", "--method event --h-max 0.04");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  summary = ReadSummary("out3");
+  EXPECT_GE(summary["stats"]["steps"].get<long>(), 100);
+  // method.rtol alone in a scene: the zoo's scenes give rtol 1e-10 only.
+  const Scene scene = ReadScene(std::string(DVI_EXAMPLES_DIR) + "/scenes/zoo/relay_chattering.json");
+  EXPECT_EQ(scene.event.atol, 1e-10 * kAtolPerRtol);
+  EXPECT_EQ(scene.stepping.atol, 1e-10 * kAtolPerRtol);
 }
 
 TEST_F(DvisimRun, BadScenesExitTwoNamingTheFieldAndWriteNothing) {

@@ -36,7 +36,7 @@ CLI::App* AddSolveCommand(CLI::App& app, dvi::dvisim::SolveCommand& command,
 // Registers `dvisim run` with its options; returns the subcommand.
 CLI::App* AddRunCommand(CLI::App& app, dvi::dvisim::RunCommand& command, std::string& method,
                         std::string& out_dir, double& h, double& theta, double& gamma,
-                        double& max_wall) {
+                        double& max_wall, double& rtol, double& atol, double& h_max) {
   CLI::App* run = app.add_subcommand(
       "run", "Integrate a scene and write trajectory.csv, summary.json and plots");
   run->add_option("scene", command.scene_path, "The scene file (JSON)")->required();
@@ -45,6 +45,11 @@ CLI::App* AddRunCommand(CLI::App& app, dvi::dvisim::RunCommand& command, std::st
   run->add_option("--h", h, "Step size (overrides method.h)");
   run->add_option("--theta", theta, "Weight of the old state in f, in [0, 1] (0: backward Euler)");
   run->add_option("--gamma", gamma, "Weight of the new multiplier, in [0, 1]");
+  run->add_option("--rtol", rtol,
+                  "Relative tolerance, in (0, 1) (overrides method.rtol; alone, it sets atol "
+                  "to rtol * 1e-6)");
+  run->add_option("--atol", atol, "Absolute tolerance, in (0, 1) (overrides method.atol)");
+  run->add_option("--h-max", h_max, "Largest step size, > 0 (overrides method.h_max)");
   run->add_option("--max-wall", max_wall,
                   "End the run (exit 1, no files) after this many seconds (overrides "
                   "method.max_wall)");
@@ -94,8 +99,9 @@ int main(int argc, char** argv) {
   CLI::App* solve = AddSolveCommand(app, solve_command, solver, tolerance);
   dvi::dvisim::RunCommand run_command;
   std::string method, out_dir;
-  double h = 0.0, theta = 0.0, gamma = 0.0, max_wall = 0.0;
-  CLI::App* run = AddRunCommand(app, run_command, method, out_dir, h, theta, gamma, max_wall);
+  double h = 0.0, theta = 0.0, gamma = 0.0, max_wall = 0.0, rtol = 0.0, atol = 0.0, h_max = 0.0;
+  CLI::App* run = AddRunCommand(app, run_command, method, out_dir, h, theta, gamma, max_wall, rtol,
+                                atol, h_max);
   dvi::dvisim::StudyCommand study_command;
   CLI::App* study = AddStudyCommand(app, study_command);
   dvi::dvisim::SweepCommand sweep_command;
@@ -120,6 +126,9 @@ int main(int argc, char** argv) {
     if (run->count("--theta") > 0) run_command.theta = theta;
     if (run->count("--gamma") > 0) run_command.gamma = gamma;
     if (run->count("--max-wall") > 0) run_command.max_wall = max_wall;
+    if (run->count("--rtol") > 0) run_command.rtol = rtol;
+    if (run->count("--atol") > 0) run_command.atol = atol;
+    if (run->count("--h-max") > 0) run_command.h_max = h_max;
     run_command.progress_bar = ::isatty(STDERR_FILENO) != 0;
     return dvi::dvisim::RunScene(run_command, std::cout, std::cerr);
   }

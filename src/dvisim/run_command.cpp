@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <string_view>
 #include <system_error>
 #include <tuple>
 #include <type_traits>
+#include <utility>
 #include <variant>
 
 #include "dvi/auto_driver.hpp"
@@ -291,6 +293,30 @@ Trajectory IntegrateAutomatically(const Scene& scene, std::function<void(double 
 
 }  // namespace
 
+// --rtol, --atol and --h-max, checked as method.rtol, method.atol and
+// method.h_max are.
+void ApplyToleranceOverrides(const RunCommand& command, Scene& scene) {
+  for (const auto& [name, value] : {std::pair{"--rtol", command.rtol},
+                                    std::pair{"--atol", command.atol},
+                                    std::pair{"--h-max", command.h_max}}) {
+    if (!value) continue;
+    if (RunsBoundaryValue(scene))
+      throw InputError(std::string(name) + ": not used by bvp (its refinement takes method.rtol "
+                       "and method.atol from the scene)");
+    const bool tolerance = std::string_view(name) != "--h-max";
+    if (tolerance && !(*value > 0 && *value < 1))
+      throw InputError(std::string(name) + ": expected a tolerance in (0, 1), got " + Short(*value));
+    if (!tolerance && !(*value > 0 && std::isfinite(*value)))
+      throw InputError(std::string(name) + ": expected a step size > 0, got " + Short(*value));
+  }
+  if (command.rtol) {
+    scene.stepping.rtol = scene.event.rtol = *command.rtol;
+    scene.stepping.atol = scene.event.atol = AtolFollowingRtol(*command.rtol);
+  }
+  if (command.atol) scene.stepping.atol = scene.event.atol = *command.atol;
+  if (command.h_max) scene.stepping.h_max = scene.event.h_max = *command.h_max;
+}
+
 void ApplyOverrides(const RunCommand& command, Scene& scene) {
   if (command.method) {
     const IntegrationMethod method = ReadSceneMethod(*command.method, "--method");
@@ -322,6 +348,7 @@ void ApplyOverrides(const RunCommand& command, Scene& scene) {
     scene.bvp.steps = 0;
   }
   if (command.max_wall) scene.max_wall = *command.max_wall;  // checked by RunScene
+  ApplyToleranceOverrides(command, scene);
   if (command.gamma && RunsBoundaryValue(scene))
     throw InputError("--gamma: not used by bvp (its schemes (9.3), (9.11) have no gamma)");
   for (const auto& [name, value, field] :

@@ -22,6 +22,11 @@ struct RunCommand {
   std::optional<double> h;
   std::optional<double> theta;
   std::optional<double> gamma;
+  /// --rtol, --atol, --h-max: override method.rtol, method.atol and
+  /// method.h_max; --rtol alone sets atol by AtolFollowingRtol.
+  std::optional<double> rtol;
+  std::optional<double> atol;
+  std::optional<double> h_max;
   /// --max-wall: the run's wall-clock budget in seconds; overrides
   /// method.max_wall.
   std::optional<double> max_wall;

@@ -323,10 +323,12 @@ void ReadMethodFields(const json& method, Scene& scene) {
     stepping.theta = ReadUnitInterval(*theta, Field(path, "theta"));
   if (const json* gamma = FindField(method, "gamma"))
     stepping.gamma = ReadUnitInterval(*gamma, Field(path, "gamma"));
-  if (const json* rtol = FindField(method, "rtol"))
-    stepping.rtol = event.rtol = ReadTolerance(*rtol, Field(path, "rtol"));
+  const json* rtol = FindField(method, "rtol");
+  if (rtol) stepping.rtol = event.rtol = ReadTolerance(*rtol, Field(path, "rtol"));
   if (const json* atol = FindField(method, "atol"))
     stepping.atol = event.atol = ReadTolerance(*atol, Field(path, "atol"));
+  else if (rtol)  // rtol alone: atol follows it (docs/scenes.md)
+    stepping.atol = event.atol = AtolFollowingRtol(event.rtol);
   if (const json* scheme = FindField(method, "scheme")) {
     if (!scheme->is_string())
       Fail(Field(path, "scheme"), "expected a string, got " + Describe(*scheme));
