@@ -141,7 +141,7 @@ void RowCertifier::Check(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
                          ? std::max(tolerance_, RoundingFloor(x_, u_.cwiseAbs()))
                          : std::max(tolerance_, RoundingFloor(u_, F_value_.cwiseAbs()));
   resolution_ = (allowed.rtol + kRoundingUlps * kEpsilon) * x_.cwiseAbs();
-  resolution_.array() += allowed.atol;
+  if (allowed.atol) resolution_ += *allowed.atol;
   const RowCertifier::Step* step = allowed.step;
   if (projected_dynamics_) {
     moved_ = resolution_;
@@ -222,9 +222,9 @@ void RowCertifier::StepMovement(double t, const Step& step) {
   }
 }
 
-void CertifyRows(RowCertifier& certifier, double rtol, double atol, std::size_t rows,
-                 Trajectory& trajectory) {
-  const RowCertifier::AllowedError allowed{rtol, atol, nullptr};
+void CertifyRows(RowCertifier& certifier, double rtol, const Eigen::VectorXd& atol,
+                 std::size_t rows, Trajectory& trajectory) {
+  const RowCertifier::AllowedError allowed{rtol, &atol, nullptr};
   for (std::size_t k = 0; k < std::min(rows, trajectory.times.size()); ++k)
     certifier.Check(trajectory.times[k], trajectory.states[k], trajectory.multipliers[k], allowed,
                     trajectory.certificate.vi);
@@ -232,7 +232,8 @@ void CertifyRows(RowCertifier& certifier, double rtol, double atol, std::size_t 
 
 void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
                   const Eigen::VectorXd& f, const Eigen::VectorXd& x,
-                  const Eigen::VectorXd& rounding, double rtol, double atol,
+                  const Eigen::VectorXd& rounding, double rtol,
+                  const Eigen::Ref<const Eigen::VectorXd>& atol,
                   CertifiedMeasure& ode) {
   ++ode.checked;
   // The local error a defect d makes over the step, h·|d|, in the
@@ -242,7 +243,7 @@ void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
   double sum = 0, largest = -1;
   int component = 0;
   for (Eigen::Index i = 0; i < x.size(); ++i) {
-    const double weight = rtol * std::abs(x(i)) + atol + rounding(i);
+    const double weight = rtol * std::abs(x(i)) + atol(i) + rounding(i);
     const double scaled = h * std::abs(dense_derivative(i) - f(i)) / weight;
     sum += scaled * scaled;
     if (!(scaled <= largest)) {

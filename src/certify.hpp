@@ -56,7 +56,7 @@ class RowCertifier {
   /// |x^{i+1} − x^i|.
   struct AllowedError {
     double rtol = 0;
-    double atol = 0;
+    const Eigen::VectorXd* atol = nullptr;  ///< one per state; null: 0
     const Step* step = nullptr;
   };
   /// Adds the row (t, x, u) to `measure`.
@@ -95,8 +95,8 @@ class RowCertifier {
 /// Checks the first `rows` rows of `trajectory` (the ones its caller keeps)
 /// with the error an error-controlled integrator allows, e = rtol·|x| +
 /// atol (its local error test).
-void CertifyRows(RowCertifier& certifier, double rtol, double atol, std::size_t rows,
-                 Trajectory& trajectory);
+void CertifyRows(RowCertifier& certifier, double rtol, const Eigen::VectorXd& atol,
+                 std::size_t rows, Trajectory& trajectory);
 
 /// Adds the ODE defect at one step's midpoint t (Certificate: ODE) to
 /// `ode`: dense_derivative = x̂'(t), f = f(t, x̂(t), u(t)), x = x̂(t), h the
@@ -105,7 +105,8 @@ void CertifyRows(RowCertifier& certifier, double rtol, double atol, std::size_t 
 /// its component the largest term.
 void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
                   const Eigen::VectorXd& f, const Eigen::VectorXd& x,
-                  const Eigen::VectorXd& rounding, double rtol, double atol,
+                  const Eigen::VectorXd& rounding, double rtol,
+                  const Eigen::Ref<const Eigen::VectorXd>& atol,
                   CertifiedMeasure& ode);
 
 /// Completes trajectory.certificate (evaluated, basis) and turns a

@@ -2,6 +2,7 @@
 #include "dvi/integration_options.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "check.hpp"
 #include "output_times_check.hpp"
@@ -13,6 +14,11 @@ void IntegrationOptions::Validate() const {
                        rtol + atol > 0,
                    "rtol, atol: " << rtol << ", " << atol
                                   << " must be finite, non-negative and not both zero");
+  for (Eigen::Index i = 0; i < atol_per_state.size(); ++i)
+    DVI_THROW_UNLESS(std::isfinite(atol_per_state(i)) && atol_per_state(i) >= 0 &&
+                         rtol + atol_per_state(i) > 0,
+                     "atol_per_state[" << i << "]: " << atol_per_state(i)
+                                       << " must be finite, non-negative and not zero with rtol");
   DVI_THROW_UNLESS(max_steps > 0, "max_steps: " << max_steps << " is not positive");
   DVI_THROW_UNLESS(std::isfinite(h_max) && h_max >= 0,
                    "h_max: " << h_max << " is negative or not finite");
@@ -23,6 +29,32 @@ void IntegrationOptions::Validate() const {
                    "dense_output: " << static_cast<int>(dense_output)
                                     << " is not a DenseOutputPolicy");
   solver.Validate();
+}
+
+void IntegrationOptions::CheckStates(Eigen::Index n) const {
+  DVI_THROW_UNLESS(atol_per_state.size() == 0 || atol_per_state.size() == n,
+                   "atol_per_state: " << atol_per_state.size() << " entries for " << n
+                                      << " states");
+}
+
+Eigen::VectorXd IntegrationOptions::AbsoluteTolerances(Eigen::Index n) const {
+  return atol_per_state.size() > 0 ? atol_per_state : Eigen::VectorXd::Constant(n, atol);
+}
+
+double IntegrationOptions::LargestAtol() const {
+  return atol_per_state.size() > 0 ? atol_per_state.maxCoeff() : atol;
+}
+
+std::string IntegrationOptions::AtolText() const {
+  std::ostringstream text;
+  if (atol_per_state.size() == 0) {
+    text << atol;
+    return text.str();
+  }
+  text << "[";
+  for (Eigen::Index i = 0; i < atol_per_state.size(); ++i) text << (i ? ", " : "") << atol_per_state(i);
+  text << "]";
+  return text.str();
 }
 
 std::string_view ToString(LinearSolver solver) {

@@ -606,6 +606,18 @@ TEST_F(DvisimRun, ToleranceFlagsOverrideTheSceneAndAtolFollowsRtol) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   summary = ReadSummary("out3");
   EXPECT_GE(summary["stats"]["steps"].get<long>(), 100);
+  // method.atol as an array: one per state, in the summary as given; --atol
+  // replaces it by one number.
+  const std::string two_scales = Path("two_scales.json");
+  std::ofstream(two_scales) << R"({"problem": {"type": "dvi", "f": ["0", "-x2"]}, "x0": [1, 1e-8],
+    "horizon": 1, "method": {"name": "event", "rtol": 1e-6, "atol": [1e-6, 1e-18]}})";
+  RunOutcome arrays = Dvisim("run '" + two_scales + "' --out '" + Path("out4") + "'");
+  ASSERT_EQ(arrays.exit_code, 0) << arrays.err;
+  summary = ReadSummary("out4");
+  EXPECT_EQ(summary["atol"], nlohmann::json::array({1e-6, 1e-18}));
+  arrays = Dvisim("run '" + two_scales + "' --atol 1e-9 --out '" + Path("out5") + "'");
+  ASSERT_EQ(arrays.exit_code, 0) << arrays.err;
+  EXPECT_EQ(ReadSummary("out5")["atol"], 1e-9);
   // method.rtol alone in a scene: the zoo's scenes give rtol 1e-10 only.
   const Scene scene = ReadScene(std::string(DVI_EXAMPLES_DIR) + "/scenes/zoo/relay_chattering.json");
   EXPECT_EQ(scene.event.atol, 1e-10 * kAtolPerRtol);

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <string>
 #include <string_view>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "dvi/dense_output.hpp"
 #include "dvi/enum_output.hpp"
@@ -21,6 +24,17 @@ struct IntegrationOptions {
   /// not both zero.
   double rtol = 1e-8;
   double atol = 1e-10;
+  /// One atol per state (CVodeSVtolerances, IDASVtolerances), for states of
+  /// different scales; empty: atol for every state. Each entry finite and
+  /// ≥ 0, all > 0 when rtol = 0; n entries (checked by the integrator).
+  /// The certificate's bounds and auto's window budget use it too.
+  Eigen::VectorXd atol_per_state;
+  /// atol of each of n states: atol_per_state, or atol n times.
+  Eigen::VectorXd AbsoluteTolerances(Eigen::Index n) const;
+  /// The largest atol of any state (a bound in the ∞-norm).
+  double LargestAtol() const;
+  /// atol as a message shows it: "1e-10", or per state "[1e-10, 1e-14]".
+  std::string AtolText() const;
   /// Limit on accepted steps over the whole run, > 0. A fixed-step run that
   /// needs more is refused before its first step.
   long max_steps = 10'000'000;
@@ -40,6 +54,9 @@ struct IntegrationOptions {
   /// @throws InvalidInputError naming the field out of range (output_times:
   /// the first entry that is not finite or below its predecessor).
   void Validate() const;
+  /// @throws InvalidInputError unless atol_per_state is empty or has n
+  /// entries (n: the states of the problem integrated).
+  void CheckStates(Eigen::Index n) const;
 };
 
 /// The atol that follows rtol where only rtol is given (dvisim's scenes and

@@ -110,7 +110,9 @@ Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eig
                            const std::vector<double>& outputs, double spent,
                            const AutoOptions& options) {
   const double rtol = options.window_rtol > 0 ? options.window_rtol : options.event.rtol;
-  const double atol = options.window_atol > 0 ? options.window_atol : options.event.atol;
+  const Eigen::VectorXd atol =
+      options.window_atol > 0 ? Eigen::VectorXd::Constant(x_a.size(), options.window_atol)
+                              : options.event.AbsoluteTolerances(x_a.size());
   double refinement = 1;
   Trajectory coarse = stepping(t_a, x_a, u_a, t_b, outputs, refinement);
   if (!coarse.succeeded()) return coarse;
@@ -312,6 +314,7 @@ SteppingMethod SteppingOf(const Problem& problem, const AutoOptions& options) {
     if (stepping.adaptive) {
       stepping.rtol *= refinement;
       stepping.atol *= refinement;
+      stepping.atol_per_state *= refinement;
     }
     stepping.output_times = outputs;
     stepping.initial_guess = u_a;
@@ -335,6 +338,8 @@ Trajectory IntegrateAuto(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, d
                          const AutoOptions& options) {
   dvi.Validate();
   options.Validate();
+  options.event.CheckStates(x0.size());
+  options.stepping.CheckStates(x0.size());
   CheckStart(dvi.n, x0, t0, t_end, options);
   dvi.CheckShapes(t0, x0);
   return Timed([&] {
@@ -356,6 +361,8 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
   lcs.Validate();
   lcs.CheckSources(t0);
   options.Validate();
+  options.event.CheckStates(x0.size());
+  options.stepping.CheckStates(x0.size());
   CheckStart(lcs.n(), x0, t0, t_end, options);
   return Timed([&] {
     const SteppingMethod stepping = SteppingOf(lcs, options);

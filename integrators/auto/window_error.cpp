@@ -9,13 +9,13 @@
 namespace dvi::internal {
 
 CertifiedMeasure WindowError(const Trajectory& coarse, const Trajectory& fine, double rtol,
-                             double atol) {
+                             const Eigen::VectorXd& atol) {
   CertifiedMeasure measure;
   if (fine.states.empty()) return measure;
   Eigen::VectorXd scale = Eigen::VectorXd::Zero(fine.states.dim());
   for (const auto& x : fine.states) scale = scale.cwiseMax(x.cwiseAbs());
   const Eigen::VectorXd bound =
-      Certificate::kWindowSafety * (Eigen::VectorXd::Constant(scale.size(), atol) + rtol * scale);
+      Certificate::kWindowSafety * (atol + rtol * scale);
   // Both runs sample the requested times and t_b; their step ends at h are
   // step ends at h/2 too (t_a + k·h on both grids, h/2 being exact).
   std::size_t j = 0;

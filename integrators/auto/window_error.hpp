@@ -15,6 +15,6 @@ namespace dvi::internal {
 /// the distance (Richardson with p = 1; where the scheme is of order 2 the
 /// estimate is three times too large). `checked` counts the rows compared.
 CertifiedMeasure WindowError(const Trajectory& coarse, const Trajectory& fine, double rtol,
-                             double atol);
+                             const Eigen::VectorXd& atol);
 
 }  // namespace dvi::internal

@@ -106,13 +106,13 @@ void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions
           ? RowCertifier(RightContinuous(dvi, trajectory.final_time()), options.solver)
       : lcs ? RowCertifier(*lcs, options.solver)
             : RowCertifier(dvi, options.solver);
-  CertifyRows(certifier, options.rtol, options.atol, rows, trajectory);
+  CertifyRows(certifier, options.rtol, options.AbsoluteTolerances(dvi.n), rows, trajectory);
   std::ostringstream basis;
   basis << "event-driven: VI residual <= " << Certificate::kViSafety << "·(solver tolerance "
         << options.solver.tolerance << " + |F_x|·(rtol·|x| + atol)), ODE defect h·|x' - f| <= "
         << Certificate::kOdeSafety
         << "·(rtol·|x| + atol) in the weighted RMS norm at each step's midpoint, rtol = "
-        << options.rtol << ", atol = " << options.atol;
+        << options.rtol << ", atol = " << options.AtolText();
   ConcludeCertificate(basis.str(), trajectory);
 }
 
@@ -123,6 +123,7 @@ Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, doubl
   dvi.Validate();
   dvi.CheckShapes(t0, x0);
   options.Validate();
+  options.CheckStates(x0.size());
   Trajectory trajectory =
       internal::IntegrateEventDrivenValidated(dvi, nullptr, x0, t0, t_end, options);
   internal::CertifyEventDriven(dvi, nullptr, options, trajectory.times.size(), trajectory);
@@ -136,6 +137,7 @@ Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, doubl
   const Dvi dvi = lcs.ToDvi();
   dvi.Validate();
   options.Validate();
+  options.CheckStates(x0.size());
   Trajectory trajectory = internal::IntegrateEventDrivenValidated(dvi, &lcs, x0, t0, t_end, options);
   internal::CertifyEventDriven(dvi, &lcs, options, trajectory.times.size(), trajectory);
   return trajectory;

@@ -169,7 +169,7 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   // allows, by its rates (modes/rate_selection.hpp).
   std::string rates_why;
   const double state_tolerance =
-      kProjectionErrors * (options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol);
+      kProjectionErrors * (options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.LargestAtol());
   const RateSelection by_rates = SelectModeByRates(
       system_, t, x, vi, kRateStepFraction * delta, state_tolerance, mode, &rates_why);
   if (by_rates == RateSelection::kChosen && TryMode(t, x, mode, vi.z, rates_why)) {
@@ -277,7 +277,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     Eigen::VectorXd xdot(x.size());
     system_.Rhs(t, x, xdot);
     const double root_time_error = RootTimeTolerance(t, h_last);
-    const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol +
+    const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.LargestAtol() +
                                xdot.lpNorm<Eigen::Infinity>() * root_time_error;
     const double slack = std::min(system_.FSlack(t, x, state_error), kMaxEventSlack);
     if (slack > options_.solver.tolerance) {
@@ -376,9 +376,10 @@ bool EventDrivenRun::IntegrateModes() {
   SUNLinearSolver solver = klu_ ? klu_->solver() : dense_->solver();
   std::vector<int> directions(2 * dvi_.m, -1);  // the root functions are positive in the mode
   std::vector<int> roots(2 * dvi_.m);
+  Eigen::Map<Eigen::VectorXd>(atol_.data(), x0_.size()) = atol_per_state_;
   if (!Check(CVodeSetErrHandlerFn(cvode, ModeErrorHandler, &data_), "CVodeSetErrHandlerFn") ||
       !Check(CVodeInit(cvode, ModeRhsCallback, t0_, y_.get()), "CVodeInit") ||
-      !Check(CVodeSStolerances(cvode, options_.rtol, options_.atol), "CVodeSStolerances") ||
+      !Check(CVodeSVtolerances(cvode, options_.rtol, atol_.get()), "CVodeSVtolerances") ||
       !Check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData") ||
       !Check(CVodeSetLinearSolver(cvode, solver, matrix), "CVodeSetLinearSolver") ||
       !Check(CVodeSetJacFn(cvode, klu_ ? ModeSparseJacobianCallback : ModeDenseJacobianCallback),

@@ -128,6 +128,8 @@ class EventDrivenRun {
   SunContext context_;
   SerialVector y_{x0_.size(), context_.get()};
   SerialVector dky_{x0_.size(), context_.get()};
+  SerialVector atol_{x0_.size(), context_.get()};  // CVodeSVtolerances' (CVODE copies it)
+  const Eigen::VectorXd atol_per_state_ = options_.AbsoluteTolerances(x0_.size());
   // Which of a step's output times are sampled: kept so that sampling does
   // not allocate.
   std::vector<char> step_kept_;

@@ -40,7 +40,7 @@ double EventDrivenRun::StepViolation() {
       if (!root_check_.RootsAt(taylor_, t_n, q, t_n - h, start_roots.data())) return t_n - h;
     }
     return root_check_.FirstViolation(taylor_, t_n, h, q, start_roots, end_roots, options_.rtol,
-                                      options_.atol);
+                                      options_.LargestAtol());
   }
   // A bound row's F may be off by what the state's error moves it (Holds),
   // the state's size taken at the step's ends.
@@ -51,7 +51,7 @@ double EventDrivenRun::StepViolation() {
     size = std::max({size, std::abs(start), std::abs(taylor_(i, 0))});
   }
   step_end_ = taylor_.col(0);
-  const double state_error = options_.rtol * size + options_.atol;
+  const double state_error = options_.rtol * size + options_.LargestAtol();
   return system_.FirstViolationInStep(taylor_, t_n, h,
                                       system_.FSlack(t_n, step_end_, state_error));
 }
@@ -100,7 +100,7 @@ bool EventDrivenRun::StillHolds() {
   // A bound row that only grazes its constraint (leaving a curved surface
   // tangentially) sits within the integration error of it: that much of
   // the wrong sign is the tolerance CVODE was given, not a wrong mode.
-  const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.atol;
+  const double state_error = options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.LargestAtol();
   if (system_.Solve(t_, x, &why) && system_.Holds(t_, x, &why, state_error)) return true;
   const auto kept = std::upper_bound(trajectory_.times.begin(), trajectory_.times.end(),
                                      mode_start_) -

@@ -101,7 +101,7 @@ double EventDrivenRun::SampleOutputs(double before) {
     out = system_.FirstViolation(times_in_step, X.leftCols(samples), U.leftCols(samples), 0);
     if (out >= 0) {
       const double state_error =
-          options_.rtol * X.leftCols(samples).lpNorm<Eigen::Infinity>() + options_.atol;
+          options_.rtol * X.leftCols(samples).lpNorm<Eigen::Infinity>() + options_.LargestAtol();
       out = system_.FirstViolation(
           times_in_step, X.leftCols(samples), U.leftCols(samples),
           system_.FSlack(t_n, Eigen::VectorXd(X.col(samples - 1)), state_error));
@@ -148,8 +148,8 @@ void EventDrivenRun::AddDefect(double t, double h, const Eigen::VectorXd& x,
   Eigen::VectorXd& rounding = defect_rounding_;
   rounding = kRoundingUlps * std::numeric_limits<double>::epsilon() *
              (h * (f.cwiseAbs() + rate.cwiseAbs()) + x.cwiseAbs());
-  AddOdeDefect(t, h, rate, f, x, rounding, options_.rtol, options_.atol,
-                         trajectory_.certificate.ode);
+  AddOdeDefect(t, h, rate, f, x, rounding, options_.rtol, atol_per_state_,
+               trajectory_.certificate.ode);
 }
 
 // Drops the samples at t and later, to be taken again after an event there.

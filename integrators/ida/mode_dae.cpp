@@ -23,6 +23,7 @@ Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0
                                        double t_end, const ModeDaeOptions& options) {
   lcs.Validate();
   options.Validate();
+  options.CheckStates(x0.size());
   DVI_THROW_UNLESS(lcs.K.IsBox(),
                    "K: IntegrateModeDae needs a box K (orthant, box, whole "
                    "space or products of them)");
@@ -45,13 +46,13 @@ Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0
 void CertifyModeDae(const Lcs& lcs, const ModeDaeOptions& options, std::size_t rows,
                     Trajectory& trajectory) {
   RowCertifier certifier(lcs, options.solver);
-  CertifyRows(certifier, options.rtol, options.atol, rows, trajectory);
+  CertifyRows(certifier, options.rtol, options.AbsoluteTolerances(lcs.n()), rows, trajectory);
   std::ostringstream basis;
   basis << "event-driven (IDA): VI residual <= " << Certificate::kViSafety
         << "·(solver tolerance " << options.solver.tolerance
         << " + |C|·(rtol·|x| + atol)), ODE defect h·|x' - f| <= " << Certificate::kOdeSafety
         << "·(rtol·|x| + atol) in the weighted RMS norm at each step's midpoint, rtol = "
-        << options.rtol << ", atol = " << options.atol;
+        << options.rtol << ", atol = " << options.AtolText();
   ConcludeCertificate(basis.str(), trajectory);
 }
 

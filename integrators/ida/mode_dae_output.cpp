@@ -76,7 +76,8 @@ void ModeDaeRun::MeasureDefect(double t) {
   // step, f sums terms of its own size: a few ulps of each.
   mid_rounding_ = kRoundingUlps * std::numeric_limits<double>::epsilon() *
                   (h * (mid_f_.cwiseAbs() + rate.cwiseAbs()) + x.cwiseAbs());
-  AddOdeDefect(t, h, rate, mid_f_, x, mid_rounding_, options_.rtol, options_.atol,
+  AddOdeDefect(t, h, rate, mid_f_, x, mid_rounding_, options_.rtol,
+               Eigen::Map<const Eigen::VectorXd>(atol_.data(), n_),
                          trajectory_.certificate.ode);
 }
 

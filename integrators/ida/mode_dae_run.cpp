@@ -122,10 +122,12 @@ bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen
   Eigen::Map<Eigen::VectorXd> id(id_.data(), dae_.size());
   id << Eigen::VectorXd::Ones(n_), Eigen::VectorXd::Zero(m_);
   std::vector<int> directions(2 * static_cast<std::size_t>(m_), -1);
+  Eigen::Map<Eigen::VectorXd> atol(atol_.data(), dae_.size());
+  atol << options_.AbsoluteTolerances(n_), Eigen::VectorXd::Constant(m_, options_.atol);
   return Check(IDAInit(ida, ModeDaeResidualCallback, t, y_.get(), yp_.get()), "IDAInit") &&
          Check(IDASetUserData(ida, &data_), "IDASetUserData") &&
          Check(IDASetErrHandlerFn(ida, ModeDaeErrorHandler, &data_), "IDASetErrHandlerFn") &&
-         Check(IDASStolerances(ida, options_.rtol, options_.atol), "IDASStolerances") &&
+         Check(IDASVtolerances(ida, options_.rtol, atol_.get()), "IDASVtolerances") &&
          Check(IDASetLinearSolver(ida, solver, matrix), "IDASetLinearSolver") &&
          Check(IDASetJacFn(ida, ModeDaeJacobianCallback), "IDASetJacFn") &&
          Check(IDASetId(ida, id_.get()), "IDASetId") &&
@@ -202,10 +204,11 @@ bool ModeDaeRun::FirstStepOverflows() {
   long steps = 0;
   IDAGetNumSteps(ida_.get(), &steps);
   if (steps > 0) return false;
-  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), n_), yp(yp_.data(), n_);
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), n_), yp(yp_.data(), n_),
+      atol(atol_.data(), n_);
   double scaled = 0;
   for (int i = 0; i < n_; ++i)
-    scaled = std::max(scaled, std::abs(yp(i)) / (options_.rtol * std::abs(y(i)) + options_.atol));
+    scaled = std::max(scaled, std::abs(yp(i)) / (options_.rtol * std::abs(y(i)) + atol(i)));
   if (!(scaled > kOverflowingScaledRate)) return false;
   std::ostringstream message;
   message << "mode-dae: at t = " << t_ << " IDA cannot choose a first step: x'/(rtol |x| + atol) "

@@ -113,6 +113,7 @@ class ModeDaeRun {
   SerialVector yp_{dae_.size(), context_.get()};
   SerialVector id_{dae_.size(), context_.get()};
   SerialVector dky_{dae_.size(), context_.get()};
+  SerialVector atol_{dae_.size(), context_.get()};  // IDASVtolerances' (IDA copies it)
   std::unique_ptr<KluLinearSolver> klu_;
   std::unique_ptr<DenseLinearSolver> dense_;
   IdaMemory ida_{context_.get()};

@@ -51,7 +51,7 @@ bool ModeDaeRun::ModeHolds(const Mode& mode, const Eigen::VectorXd& x, const Eig
   checked_x_ = x;
   checked_u_ = u;
   return dae_.MakeConsistent(checked_x_, checked_u_, why) &&
-         dae_.Holds(checked_x_, checked_u_, options_.atol, options_.rtol, u_tolerance_, why);
+         dae_.Holds(checked_x_, checked_u_, options_.LargestAtol(), options_.rtol, u_tolerance_, why);
 }
 
 // One backward-Euler step ((7.2), θ = 0, γ = 1) of length δ from (t, x) to
@@ -98,7 +98,7 @@ bool ModeDaeRun::ProposeMode(double t, const Eigen::VectorXd& x, const Eigen::Ve
   std::vector<bool> degenerate;
   std::string why;
   const IntegrationStatus selected =
-      dae_.SelectMode(x, warm, leaving, options_.atol, options_.rtol, u_tolerance_,
+      dae_.SelectMode(x, warm, leaving, options_.LargestAtol(), options_.rtol, u_tolerance_,
                       options_.solver, mode, u, degenerate, trajectory_.stats, why);
   if (selected != IntegrationStatus::kSuccess) {
     std::ostringstream message;

@@ -455,6 +455,7 @@ Trajectory IntegrateGeneral(const Dvi& dvi, const Eigen::VectorXd& x0, double t0
 Trajectory IntegrateTimeStepping(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
                                  const TimeSteppingOptions& options) {
   options.Validate();
+  options.CheckStates(x0.size());
   dvi.Validate();
   dvi.CheckShapes(t0, x0);
   DVI_THROW_UNLESS(options.scheme == SteppingScheme::kAuto ||
@@ -470,6 +471,7 @@ Trajectory IntegrateTimeStepping(const Dvi& dvi, const Eigen::VectorXd& x0, doub
 Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd& x0, double t0,
                                  double t_end, const TimeSteppingOptions& options) {
   options.Validate();
+  options.CheckStates(x0.size());
   dvi.Validate();
   DVI_THROW_UNLESS(options.scheme != SteppingScheme::kFullyImplicit,
                    "scheme: 7.3 applies to projected dynamics only, not to a SeparableDvi");

@@ -36,6 +36,7 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
                                  const TimeSteppingOptions& options) {
   lcs.Validate();
   options.Validate();
+  options.CheckStates(x0.size());
   DVI_THROW_UNLESS(x0.size() == lcs.n(),
                    "x0 has " << x0.size() << " entries, expected n = " << lcs.n());
   for (Eigen::Index k = 0; k < x0.size(); ++k)

@@ -180,6 +180,7 @@ class FullyImplicitPds final : public internal::OneStepMethod {
 Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::VectorXd& x0, double t0,
                                  double t_end, const TimeSteppingOptions& options) {
   options.Validate();
+  options.CheckStates(x0.size());
   pds.Validate();
   DVI_THROW_UNLESS(
       options.scheme == SteppingScheme::kAuto || options.scheme == SteppingScheme::kFullyImplicit,

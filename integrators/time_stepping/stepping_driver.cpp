@@ -255,7 +255,8 @@ double ScaledError(const Eigen::VectorXd& coarse, const Eigen::VectorXd& fine, i
   const double richardson = std::pow(2.0, order) - 1;
   double error = 0;
   for (Eigen::Index k = 0; k < fine.size(); ++k) {
-    const double scale = options.atol + options.rtol * std::max(std::abs(fine[k]), std::abs(coarse[k]));
+    const double atol = options.atol_per_state.size() > 0 ? options.atol_per_state(k) : options.atol;
+    const double scale = atol + options.rtol * std::max(std::abs(fine[k]), std::abs(coarse[k]));
     error = std::max(error, std::abs(fine[k] - coarse[k]) / richardson / scale);
   }
   return std::isfinite(error) ? error : 1e300;

@@ -177,7 +177,7 @@ void PrintSummary(const Scene& scene, const Trajectory& trajectory,
   if (UsedMethod(trajectory, IntegrationMethod::kEventDriven))
     out << "  event-driven (" << ToString(scene.event.method) << ") on "
         << IntervalCount(trajectory, IntegrationMethod::kEventDriven)
-        << " with rtol = " << Short(scene.event.rtol) << ", atol = " << Short(scene.event.atol)
+        << " with rtol = " << Short(scene.event.rtol) << ", atol = " << scene.event.AtolText()
         << "\n";
   if (UsedMethod(trajectory, IntegrationMethod::kTimeStepping))
     out << "  time-stepping on " << IntervalCount(trajectory, IntegrationMethod::kTimeStepping)
@@ -312,8 +312,12 @@ void ApplyToleranceOverrides(const RunCommand& command, Scene& scene) {
   if (command.rtol) {
     scene.stepping.rtol = scene.event.rtol = *command.rtol;
     scene.stepping.atol = scene.event.atol = AtolFollowingRtol(*command.rtol);
+    scene.stepping.atol_per_state = scene.event.atol_per_state = Eigen::VectorXd();
   }
-  if (command.atol) scene.stepping.atol = scene.event.atol = *command.atol;
+  if (command.atol) {
+    scene.stepping.atol = scene.event.atol = *command.atol;
+    scene.stepping.atol_per_state = scene.event.atol_per_state = Eigen::VectorXd();
+  }
   if (command.h_max) scene.stepping.h_max = scene.event.h_max = *command.h_max;
 }
 
@@ -428,7 +432,11 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
   }
   if (UsedMethod(trajectory, IntegrationMethod::kEventDriven)) {
     summary["rtol"] = scene.event.rtol;
-    summary["atol"] = scene.event.atol;
+    const Eigen::VectorXd& per_state = scene.event.atol_per_state;
+    if (per_state.size() > 0)
+      summary["atol"] = std::vector<double>(per_state.data(), per_state.data() + per_state.size());
+    else
+      summary["atol"] = scene.event.atol;
     summary["ode"] = std::string(ToString(scene.event.method));
     summary["linear_solver"] = std::string(ToString(scene.event.linear_solver));
   }

@@ -325,9 +325,22 @@ void ReadMethodFields(const json& method, Scene& scene) {
     stepping.gamma = ReadUnitInterval(*gamma, Field(path, "gamma"));
   const json* rtol = FindField(method, "rtol");
   if (rtol) stepping.rtol = event.rtol = ReadTolerance(*rtol, Field(path, "rtol"));
-  if (const json* atol = FindField(method, "atol"))
+  if (const json* atol = FindField(method, "atol"); atol && atol->is_array()) {
+    // One per state (CVodeSVtolerances); the scalar atol, for what takes one
+    // number (bvp, messages), is their largest.
+    if (atol->size() != static_cast<std::size_t>(scene.x0.size()))
+      Fail(Field(path, "atol"), "expected a number or an array of " +
+                                    std::to_string(scene.x0.size()) + " tolerances (one per state), got " +
+                                    std::to_string(atol->size()) + " entries");
+    Eigen::VectorXd per_state(scene.x0.size());
+    for (std::size_t i = 0; i < atol->size(); ++i)
+      per_state(static_cast<Eigen::Index>(i)) =
+          ReadTolerance((*atol)[i], Field(path, "atol") + "[" + std::to_string(i) + "]");
+    stepping.atol_per_state = event.atol_per_state = per_state;
+    stepping.atol = event.atol = per_state.maxCoeff();
+  } else if (atol) {
     stepping.atol = event.atol = ReadTolerance(*atol, Field(path, "atol"));
-  else if (rtol)  // rtol alone: atol follows it (docs/scenes.md)
+  } else if (rtol)  // rtol alone: atol follows it (docs/scenes.md)
     stepping.atol = event.atol = AtolFollowingRtol(event.rtol);
   if (const json* scheme = FindField(method, "scheme")) {
     if (!scheme->is_string())

@@ -56,8 +56,10 @@ TEST(Certificate, RowsAreHeldToTheirAllowedError) {
   const Eigen::VectorXd u = Eigen::VectorXd::Constant(1, 0.01);  // conducting
   Eigen::VectorXd x = Eigen::VectorXd::Constant(1, kRectifier.Source(t) + 1e-3);
   CertifiedMeasure tight, loose;
-  certifier.Check(t, x, u, {0, 1e-8, nullptr}, tight);
-  certifier.Check(t, x, u, {0, 1e-4, nullptr}, loose);
+  const Eigen::VectorXd tight_atol = Eigen::VectorXd::Constant(1, 1e-8),
+                        loose_atol = Eigen::VectorXd::Constant(1, 1e-4);
+  certifier.Check(t, x, u, {0, &tight_atol, nullptr}, tight);
+  certifier.Check(t, x, u, {0, &loose_atol, nullptr}, loose);
   EXPECT_NEAR(tight.value, 1e-3, 1e-12);  // |F| = 1e-3 with u > 0
   EXPECT_GT(tight.ratio, 1);
   EXPECT_LE(loose.ratio, 1);  // 100·(1e-10 + |F_x|·1e-4) = 1e-2 ≥ 1e-3
@@ -141,9 +143,14 @@ TEST(Certificate, OdeDefectIsScaledAsTheErrorTest) {
   Eigen::VectorXd dense(2), f(2);
   dense << 1 + 1e-3, 1;
   f << 1, 1;
-  internal::AddOdeDefect(0.5, 0.1, dense, f, x, zero, 1e-6, 0, ode);
+  internal::AddOdeDefect(0.5, 0.1, dense, f, x, zero, 1e-6, zero, ode);
   // h·|d|/w = 0.1·1e-3/1e-6 = 100 in one of two components: RMS 100/√2.
   EXPECT_NEAR(ode.value, 100 / std::sqrt(2.0), 1e-9);
+  // A per-state atol weighs each component by its own (CVodeSVtolerances):
+  // 1e-3 on the defective one, w = 1e-6 + 1e-3.
+  CertifiedMeasure per_state;
+  internal::AddOdeDefect(0.5, 0.1, dense, f, x, zero, 1e-6, Eigen::Vector2d(1e-3, 0), per_state);
+  EXPECT_NEAR(per_state.value, 0.1 * 1e-3 / (1e-6 + 1e-3) / std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(ode.ratio, ode.value / Certificate::kOdeSafety, 1e-12);
   EXPECT_EQ(ode.component, 0);
 }
