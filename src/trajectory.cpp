@@ -39,6 +39,7 @@ std::string_view ToString(EventKind kind) {
     case EventKind::kLeftBound: return "left-bound";
     case EventKind::kConstraintActive: return "constraint-active";
     case EventKind::kConstraintReleased: return "constraint-released";
+    case EventKind::kJump: return "jump";
   }
   return "unknown";
 }

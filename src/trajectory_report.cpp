@@ -63,6 +63,10 @@ std::string Trajectory::Report(ReportDetail detail) const {
     separator = ", ";
   }
   out << (by_kind.empty() ? "" : ")") << "\n";
+  for (const Event& event : events)
+    if (event.kind == EventKind::kJump)
+      out << "  state jump at t = " << event.time << ": x⁺ = x⁻ + B η, impulse η = ("
+          << event.impulse.transpose() << ")\n";
   if (stats.reduced_modes > 0)
     out << "Reduced modes (Theorems 5.2/5.3): " << stats.reduced_modes
         << ", largest constraint drift " << stats.max_constraint_drift << "\n";

@@ -37,23 +37,30 @@ enum class IntegrationStatus {
 /// "event-accumulation", "not-index-one", "uncertified".
 std::string_view ToString(IntegrationStatus status);
 
-/// A change of the active set (the mode) of u.
+/// A change of the active set (the mode) of u, or a jump of the state.
 enum class EventKind {
   kReachedLower,        ///< u_j reached its lower bound (index: component j).
   kReachedUpper,        ///< u_j reached its upper bound.
   kLeftBound,           ///< u_j left the bound it was at.
   kConstraintActive,    ///< A constraint of a non-box K became active (index: constraint).
   kConstraintReleased,  ///< A constraint of a non-box K became inactive.
+  /// The state jumped: x⁻ admitted no u (an LCS started with a capacitor
+  /// below its diode's source), x⁺ = x⁻ + B η with the impulse η (index −1).
+  /// The rows at its time: x⁻ first, then x⁺.
+  kJump,
 };
 /// "reached-lower", "reached-upper", "left-bound", "constraint-active",
-/// "constraint-released".
+/// "constraint-released", "jump".
 std::string_view ToString(EventKind kind);
 
 struct Event {
   /// For time-stepping: the end of the step where the VI's u took the new mode.
   double time = 0;
   EventKind kind = EventKind::kLeftBound;
-  int index = 0;    ///< Zero-based component of u, or constraint of K.
+  int index = 0;    ///< Zero-based component of u, or constraint of K; −1 for kJump.
+  /// kJump: the impulse η (m entries; η = lim h·u of backward Euler's first
+  /// step as h → 0); empty for the other kinds.
+  Eigen::VectorXd impulse{};
 };
 
 /// The methods that advance time.

@@ -18,6 +18,7 @@
 #include "events/zeno_prediction.hpp"
 #include "ida/mode_dae_validated.hpp"
 #include "output_times_check.hpp"
+#include "state_jump.hpp"
 #include "window_error.hpp"
 
 namespace dvi {
@@ -389,7 +390,10 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
           else
             internal::CertifyEventDriven(dvi, &lcs, run, rows, part);
         }};
-    return Drive(event, stepping, x0, t0, t_end, options);
+    return internal::WithStartJump(lcs, t0, x0, options.event.solver,
+                                   [&](const Eigen::VectorXd& x_start) {
+                                     return Drive(event, stepping, x_start, t0, t_end, options);
+                                   });
   });
 }
 

@@ -16,6 +16,7 @@
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 #include "source_breakpoints.hpp"
+#include "state_jump.hpp"
 
 namespace dvi {
 
@@ -138,9 +139,12 @@ Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, doubl
   dvi.Validate();
   options.Validate();
   options.CheckStates(x0.size());
-  Trajectory trajectory = internal::IntegrateEventDrivenValidated(dvi, &lcs, x0, t0, t_end, options);
-  internal::CertifyEventDriven(dvi, &lcs, options, trajectory.times.size(), trajectory);
-  return trajectory;
+  return internal::WithStartJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
+    Trajectory trajectory =
+        internal::IntegrateEventDrivenValidated(dvi, &lcs, x_start, t0, t_end, options);
+    internal::CertifyEventDriven(dvi, &lcs, options, trajectory.times.size(), trajectory);
+    return trajectory;
+  });
 }
 
 }  // namespace dvi

@@ -10,6 +10,7 @@
 #include "ida/mode_dae_validated.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
+#include "state_jump.hpp"
 
 namespace dvi {
 
@@ -60,9 +61,11 @@ void CertifyModeDae(const Lcs& lcs, const ModeDaeOptions& options, std::size_t r
 
 Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
                             const ModeDaeOptions& options) {
-  Trajectory trajectory = internal::IntegrateModeDaeUncertified(lcs, x0, t0, t_end, options);
-  internal::CertifyModeDae(lcs, options, trajectory.times.size(), trajectory);
-  return trajectory;
+  return internal::WithStartJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
+    Trajectory trajectory = internal::IntegrateModeDaeUncertified(lcs, x_start, t0, t_end, options);
+    internal::CertifyModeDae(lcs, options, trajectory.times.size(), trajectory);
+    return trajectory;
+  });
 }
 
 }  // namespace dvi

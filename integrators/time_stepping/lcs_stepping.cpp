@@ -10,6 +10,7 @@
 #include "dvi/time_stepping.hpp"
 #include "schemes/lcs_method.hpp"
 #include "source_breakpoints.hpp"
+#include "state_jump.hpp"
 #include "time_stepping/stepping_driver.hpp"
 
 namespace dvi {
@@ -63,8 +64,12 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
       lcs.breakpoints.empty()
           ? internal::RowCertifier(lcs, options.solver)
           : internal::RowCertifier(internal::LeftContinuous(lcs.ToDvi(), t0), options.solver);
-  return internal::RunTimeStepping(*method, x0, t0, t_end, options, std::move(certifier),
-                                   lcs.breakpoints);
+  // An inconsistent x0 jumps first (the limit of the first backward-Euler
+  // step as h → 0), so that the scheme starts from x⁺ at its own order.
+  return internal::WithStartJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
+    return internal::RunTimeStepping(*method, x_start, t0, t_end, options, std::move(certifier),
+                                     lcs.breakpoints);
+  });
 }
 
 }  // namespace dvi

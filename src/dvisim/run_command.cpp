@@ -392,10 +392,16 @@ std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory,
   for (int j = 1; j <= scene.output_multipliers; ++j) csv += ",u" + std::to_string(j);
   csv += "\n";
   const auto& times = trajectory.times;
+  std::vector<double> jumps;
+  for (const Event& event : trajectory.events)
+    if (event.kind == EventKind::kJump) jumps.push_back(event.time);
   for (std::size_t k = 0; k < times.size(); ++k) {
     // Of rows at the same time (an event at a step's end or an output
-    // time), the last: the right limit.
-    if (k + 1 < times.size() && times[k + 1] - times[k] <= kSameRowFraction * scene.horizon)
+    // time), the last: the right limit; at a state jump the first too, x⁻.
+    const bool before_jump = (k == 0 || times[k - 1] != times[k]) &&
+                             std::find(jumps.begin(), jumps.end(), times[k]) != jumps.end();
+    if (!before_jump && k + 1 < times.size() &&
+        times[k + 1] - times[k] <= kSameRowFraction * scene.horizon)
       continue;
     csv += ExactNumber(times[k]);
     for (Eigen::Index i = 0; i < trajectory.states[k].size(); ++i)
@@ -441,10 +447,13 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
     summary["linear_solver"] = std::string(ToString(scene.event.linear_solver));
   }
   nlohmann::ordered_json events = nlohmann::ordered_json::array();
-  for (const Event& event : trajectory.events)
+  for (const Event& event : trajectory.events) {
     events.push_back({{"time", event.time},
                       {"kind", std::string(ToString(event.kind))},
                       {"index", event.index}});
+    if (event.kind == EventKind::kJump)
+      events.back()["impulse"] = std::vector<double>(event.impulse.begin(), event.impulse.end());
+  }
   if (report) AddBoundaryValueSummary(scene, *report, summary);
   summary["events"] = events;
   const IntegrationStats& stats = trajectory.stats;
