@@ -118,6 +118,18 @@ StateJump LcsJumpAt(const Lcs& lcs, double t, const Eigen::VectorXd& x_minus,
         << "): the jump rule does not decide a unique impulse there";
     return Failed(jump, why.str());
   }
+  const SolveResult solved = SolveLemke(Lcp{M, r}, solver);
+  ++jump.vi_solves;
+  jump.solver_iterations += solved.iterations;
+  if (!solved.solved()) {
+    std::ostringstream why;
+    why << where.str() << ", and the jump's LCP (Q_D ∋ η ⊥ C (x + B η) + q ∈ Q_D*) is not "
+        << "solved: " << ToString(solved.status) << ": " << solved.message;
+    if (solved.status == SolveStatus::kInfeasible)
+      why << " (no impulse B η restores C x + q where it lacks: where C B vanishes, relative "
+          << "degree two or more, whose impulses this rule does not cover)";
+    return Failed(jump, why.str());
+  }
   // Solutions of a psd LCP share (M + Mᵀ) z, so sym(CB) η: x⁺ = x⁻ + B η is
   // unique where B vanishes on the kernel of sym(CB).
   const double norm_B = std::max(B.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
@@ -131,15 +143,6 @@ StateJump LcsJumpAt(const Lcs& lcs, double t, const Eigen::VectorXd& x_minus,
           << ") move x⁺ = x⁻ + B η differently";
       return Failed(jump, why.str());
     }
-  }
-  const SolveResult solved = SolveLemke(Lcp{M, r}, solver);
-  ++jump.vi_solves;
-  jump.solver_iterations += solved.iterations;
-  if (!solved.solved()) {
-    std::ostringstream why;
-    why << where.str() << ", and the jump's LCP (Q_D ∋ η ⊥ C (x + B η) + q ∈ Q_D*) is not "
-        << "solved: " << ToString(solved.status) << ": " << solved.message;
-    return Failed(jump, why.str());
   }
   jump.impulse = solved.z.head(m);
   jump.x_plus = x_minus + B * jump.impulse;
