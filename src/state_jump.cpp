@@ -12,6 +12,7 @@
 #include "dvi/lemke.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
+#include "source_breakpoints.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -68,7 +69,7 @@ StateJump LcsJumpAt(const Lcs& lcs, double t, const Eigen::VectorXd& x_minus,
   const int m = lcs.m();
   if (m == 0 || !IsOrthant(lcs.K)) return jump;
   Eigen::VectorXd q;
-  lcs.QAt(t, q);
+  lcs.QAt(SourceBreakpoints(lcs.breakpoints).RightLimitTime(t), q);
   const Eigen::MatrixXd C = Eigen::MatrixXd(lcs.C);
   const Eigen::MatrixXd B = Eigen::MatrixXd(lcs.B);
   const Eigen::MatrixXd D = Eigen::MatrixXd(lcs.D);
@@ -192,9 +193,9 @@ void RecordJump(double t, const Eigen::VectorXd& x_minus, const StateJump& jump,
         "; a state jump at t = " + TimeText(t) + " (x⁺ = x⁻ + B η, the LCS jump rule)";
 }
 
-Trajectory WithStartJump(const Lcs& lcs, double t0, const Eigen::VectorXd& x0,
-                         const SolverOptions& solver,
-                         const std::function<Trajectory(const Eigen::VectorXd& x_start)>& integrate) {
+Trajectory WithJump(const Lcs& lcs, double t0, const Eigen::VectorXd& x0, const SolverOptions& solver,
+                    const std::function<Trajectory(const Eigen::VectorXd& x_start)>& integrate,
+                    const std::string& where) {
   // A malformed x0 is the integrator's to refuse, with its own message.
   if (x0.size() != lcs.n() || !x0.allFinite() || !std::isfinite(t0)) return integrate(x0);
   const StateJump jump = LcsJumpAt(lcs, t0, x0, solver);
@@ -202,7 +203,7 @@ Trajectory WithStartJump(const Lcs& lcs, double t0, const Eigen::VectorXd& x0,
   if (jump.outcome == StateJump::Outcome::kFailed) {
     Trajectory failed;
     failed.status = IntegrationStatus::kStepFailure;
-    failed.message = "x0: " + jump.failure;
+    failed.message = where + ": " + jump.failure;
     failed.stats.vi_solves = jump.vi_solves;
     failed.stats.solver_iterations = jump.solver_iterations;
     return failed;

@@ -34,7 +34,7 @@ struct StateJump {
 };
 
 /// Decides whether x⁻ is consistent at t (sources at t, their right limits
-/// where t is a breakpoint) and, where it is not, computes the jump. Only an
+/// where t is one of lcs.breakpoints) and, where it is not, computes the jump. Only an
 /// LCS on the orthant jumps (a bounded box always admits a u); with D
 /// positive semidefinite, η solves the cone complementarity problem
 ///   Q_D ∋ η ⊥ C (x⁻ + B η) + q(t) ∈ Q_D*,  Q_D = SOL(0, D),
@@ -56,9 +56,10 @@ void RecordJump(double t, const Eigen::VectorXd& x_minus, const StateJump& jump,
 
 /// Runs integrate(x) from x0 at t0 or, where x0 is inconsistent there, from
 /// the jump's x⁺, and records the jump (RecordJump). A jump that fails ends
-/// the run at t0 with kStepFailure and the reason, naming x0 inconsistent.
-Trajectory WithStartJump(const Lcs& lcs, double t0, const Eigen::VectorXd& x0,
-                         const SolverOptions& solver,
-                         const std::function<Trajectory(const Eigen::VectorXd& x_start)>& integrate);
+/// the run at t0 with kStepFailure and the reason, after `where` ("x0", or
+/// the breakpoint where a source stepped).
+Trajectory WithJump(const Lcs& lcs, double t0, const Eigen::VectorXd& x0, const SolverOptions& solver,
+                    const std::function<Trajectory(const Eigen::VectorXd& x_start)>& integrate,
+                    const std::string& where = "x0");
 
 }  // namespace dvi::internal

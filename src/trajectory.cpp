@@ -44,6 +44,14 @@ std::string_view ToString(EventKind kind) {
   return "unknown";
 }
 
+bool Trajectory::BeforeJump(std::size_t k) const {
+  if (k + 1 >= times.size() || times[k + 1] != times[k] || (k > 0 && times[k - 1] == times[k]))
+    return false;
+  return std::any_of(events.begin(), events.end(), [t = times[k]](const Event& event) {
+    return event.kind == EventKind::kJump && event.time == t;
+  });
+}
+
 Eigen::VectorXd Trajectory::StateAt(double t) const {
   const size_t k = SampleAtOrAfter(times, t);
   if (times[k] == t) return states[k];

@@ -240,6 +240,65 @@ TEST(StateJump, FallingSourceSteppingStartsFromTheJump) {
 }
 
 // ---------------------------------------------------------------------------
+// A source that steps at declared breakpoints: the same circuit, x' = −2x +
+// 2u, 0 ≤ u ⊥ x − e(t) ≥ 0, with e = 1 on [0, 1), 2 on [1, 2), ½ from 2, and
+// x(0) = 1 (consistent, clamped: u = 1). At 1 the source steps up past x:
+// x(1⁻) = 1 is inconsistent, LCP(1 − 2, 2) gives η = ½, x(1⁺) = 2 (u = 2).
+// At 2 it steps down: the diode blocks (u = 0, no jump), x = 2e^{−2(t−2)}
+// until it meets ½ at t₃ = 2 + ln 4 / 2, clamped from there (u = ½).
+constexpr double kStepsHorizon = 3.5;
+const double kStepsMeet = 2 + std::log(4.0) / 2;
+Lcs SteppingSource() {
+  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Constant(1, 1, -2), Eigen::MatrixXd::Constant(1, 1, 2),
+                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Zero(1, 1));
+  lcs.q_source = [](double t, Eigen::VectorXd& out) { out[0] = t < 1 ? -1 : t < 2 ? -2 : -0.5; };
+  lcs.breakpoints = {1, 2};
+  return lcs;
+}
+Eigen::VectorXd SteppingExact(double t) {
+  if (t < 1) return Eigen::VectorXd::Ones(1);
+  if (t <= 2) return Eigen::VectorXd::Constant(1, 2);
+  return Eigen::VectorXd::Constant(1, std::max(0.5, 2 * std::exp(-2 * (t - 2))));
+}
+
+TEST(StateJump, ASourceSteppingAtABreakpointJumpsThereEventDrivenAndAuto) {
+  for (const bool automatic : {false, true}) {
+    AutoOptions options;
+    options.event = EventOptions(kStepsHorizon);
+    const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
+    const Trajectory run =
+        automatic ? IntegrateAuto(SteppingSource(), x0, 0, kStepsHorizon, options)
+                  : IntegrateEventDriven(SteppingSource(), x0, 0, kStepsHorizon, options.event);
+    const std::string what = automatic ? "auto" : "event";
+    ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
+    std::vector<Event> jumps;
+    for (const Event& event : run.events)
+      if (event.kind == EventKind::kJump) jumps.push_back(event);
+    ASSERT_EQ(jumps.size(), 1u) << what;
+    EXPECT_EQ(jumps[0].time, 1.0) << what;
+    ASSERT_EQ(jumps[0].impulse.size(), 1) << what;
+    EXPECT_NEAR(jumps[0].impulse(0), 0.5, kJumpRoundoff) << what;
+    // The rows at 1: x⁻ = 1, then x⁺ = 2.
+    const auto first = std::find(run.times.begin(), run.times.end(), 1.0) - run.times.begin();
+    ASSERT_LT(static_cast<std::size_t>(first + 1), run.times.size()) << what;
+    EXPECT_EQ(run.times[static_cast<std::size_t>(first + 1)], 1.0) << what;
+    EXPECT_NEAR(run.states[static_cast<std::size_t>(first)](0), 1.0, kEventBound) << what;
+    EXPECT_NEAR(run.states[static_cast<std::size_t>(first + 1)](0), 2.0, kJumpRoundoff) << what;
+    double worst = 0;
+    for (std::size_t k = 0; k < run.times.size(); ++k)
+      if (k != static_cast<std::size_t>(first))
+        worst = std::max(worst, std::abs(run.states[k](0) - SteppingExact(run.times[k])(0)));
+    EXPECT_LE(worst, kEventBound) << what;
+    // The meeting at t₃ is the one state-driven event after the jump.
+    const auto meet = std::find_if(run.events.begin(), run.events.end(),
+                                   [](const Event& e) { return e.time > 2.5; });
+    ASSERT_NE(meet, run.events.end()) << what;
+    EXPECT_NEAR(meet->time, kStepsMeet, kEventBound) << what;
+    EXPECT_TRUE(run.certificate.certified()) << what;
+  }
+}
+
+// ---------------------------------------------------------------------------
 // Where the rule has no unique consistent answer, every method refuses at t0
 // with the reason, naming x0 inconsistent.
 void ExpectRefused(const Lcs& lcs, const Eigen::VectorXd& x0, const std::string& reason) {

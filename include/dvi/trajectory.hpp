@@ -144,6 +144,9 @@ struct Trajectory {
   int state_dim() const { return static_cast<int>(states.dim()); }
   int multiplier_dim() const { return static_cast<int>(multipliers.dim()); }
   double final_time() const { return times.empty() ? 0 : times.back(); }
+  /// Whether row k is the state before a jump (x⁻, EventKind::kJump): the
+  /// first of the rows at a jump's time; it solves no VI.
+  bool BeforeJump(std::size_t k) const;
 
   /// x at time t: from the dense output where it covers t (the step's own
   /// interpolant, at the integrator's accuracy), else linear between

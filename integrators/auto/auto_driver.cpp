@@ -390,7 +390,7 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
           else
             internal::CertifyEventDriven(dvi, &lcs, run, rows, part);
         }};
-    return internal::WithStartJump(lcs, t0, x0, options.event.solver,
+    return internal::WithJump(lcs, t0, x0, options.event.solver,
                                    [&](const Eigen::VectorXd& x_start) {
                                      return Drive(event, stepping, x_start, t0, t_end, options);
                                    });

@@ -91,10 +91,17 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
       problem.breakpoints, problem.K, 1e3 * options.solver.tolerance, x0, t0, t_end, options,
       [&](double a, bool a_is_breakpoint, const Eigen::VectorXd& x_a, double b,
           bool b_is_breakpoint, const EventDrivenOptions& piece) {
-        if (!a_is_breakpoint && !b_is_breakpoint)
-          return IntegrateOnePiece(problem, affine, x_a, a, b, piece);
-        return IntegrateOnePiece(OnPiece(problem, a, a_is_breakpoint, b, b_is_breakpoint), affine,
-                                 x_a, a, b, piece);
+        const auto integrate = [&](const Eigen::VectorXd& x_start) {
+          if (!a_is_breakpoint && !b_is_breakpoint)
+            return IntegrateOnePiece(problem, affine, x_start, a, b, piece);
+          return IntegrateOnePiece(OnPiece(problem, a, a_is_breakpoint, b, b_is_breakpoint),
+                                   affine, x_start, a, b, piece);
+        };
+        // A source that steps at a breakpoint may leave x inconsistent: the
+        // state jumps there as at an inconsistent start.
+        if (lcs && a_is_breakpoint)
+          return WithJump(*lcs, a, x_a, piece.solver, integrate, "at a source breakpoint");
+        return integrate(x_a);
       });
 }
 
@@ -139,7 +146,7 @@ Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, doubl
   dvi.Validate();
   options.Validate();
   options.CheckStates(x0.size());
-  return internal::WithStartJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
+  return internal::WithJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
     Trajectory trajectory =
         internal::IntegrateEventDrivenValidated(dvi, &lcs, x_start, t0, t_end, options);
     internal::CertifyEventDriven(dvi, &lcs, options, trajectory.times.size(), trajectory);

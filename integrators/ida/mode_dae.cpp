@@ -61,7 +61,7 @@ void CertifyModeDae(const Lcs& lcs, const ModeDaeOptions& options, std::size_t r
 
 Trajectory IntegrateModeDae(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
                             const ModeDaeOptions& options) {
-  return internal::WithStartJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
+  return internal::WithJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
     Trajectory trajectory = internal::IntegrateModeDaeUncertified(lcs, x_start, t0, t_end, options);
     internal::CertifyModeDae(lcs, options, trajectory.times.size(), trajectory);
     return trajectory;

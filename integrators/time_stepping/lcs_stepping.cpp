@@ -66,7 +66,7 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
           : internal::RowCertifier(internal::LeftContinuous(lcs.ToDvi(), t0), options.solver);
   // An inconsistent x0 jumps first (the limit of the first backward-Euler
   // step as h → 0), so that the scheme starts from x⁺ at its own order.
-  return internal::WithStartJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
+  return internal::WithJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
     return internal::RunTimeStepping(*method, x_start, t0, t_end, options, std::move(certifier),
                                      lcs.breakpoints);
   });

@@ -392,15 +392,10 @@ std::string TrajectoryCsv(const Scene& scene, const Trajectory& trajectory,
   for (int j = 1; j <= scene.output_multipliers; ++j) csv += ",u" + std::to_string(j);
   csv += "\n";
   const auto& times = trajectory.times;
-  std::vector<double> jumps;
-  for (const Event& event : trajectory.events)
-    if (event.kind == EventKind::kJump) jumps.push_back(event.time);
   for (std::size_t k = 0; k < times.size(); ++k) {
     // Of rows at the same time (an event at a step's end or an output
     // time), the last: the right limit; at a state jump the first too, x⁻.
-    const bool before_jump = (k == 0 || times[k - 1] != times[k]) &&
-                             std::find(jumps.begin(), jumps.end(), times[k]) != jumps.end();
-    if (!before_jump && k + 1 < times.size() &&
+    if (!trajectory.BeforeJump(k) && k + 1 < times.size() &&
         times[k + 1] - times[k] <= kSameRowFraction * scene.horizon)
       continue;
     csv += ExactNumber(times[k]);
