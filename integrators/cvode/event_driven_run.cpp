@@ -204,6 +204,10 @@ bool EventDrivenRun::Start() {
     std::ostringstream message;
     message << "event: the VI at t = " << t0_ << " is not solved (" << ToString(vi.status)
             << ", residual " << vi.residual << "): " << vi.message;
+    if (vi.status == SolveStatus::kInfeasible)
+      message << "; x0 is inconsistent (no u exists there): a state jump is computed for an "
+                 "LCS on the orthant only (pass the problem as an Lcs, or start from a "
+                 "consistent x0)";
     return Fail(IntegrationStatus::kStepFailure, message.str());
   }
   // Index one at (t0, x0, u0): Theorem 5.1 (uniformly P) or Sect. 5.3
