@@ -481,6 +481,33 @@ TEST_F(DvisimRun, DiodeBridgeIsSecondOrderWithHalfWeightsAndPlots) {
 // The scene's own method, auto: D is only positive semidefinite, but u⁰ is
 // strongly regular and the degenerate switches are passed event-driven, so
 // CVODE at rtol 1e-8 runs the whole horizon.
+// The half-wave rectifier from rest jumps at t = 0 (issue 30): summary.json
+// records the jump with its impulse η = C·e(0) = 1e-4·10 sin(60°) A·s, and
+// trajectory.csv has x⁻ = 0 and then x⁺ = e(0) at t = 0.
+TEST_F(DvisimRun, RectifierFromRestRecordsItsJump) {
+  const double e0 = 10 * std::sin(M_PI / 3);
+  for (const std::string method : {"event", "stepping"}) {
+    const RunOutcome run =
+        RunExample("zoo/half_wave_rectifier.json", method, "--method " + method);
+    ASSERT_EQ(run.exit_code, 0) << method << ": " << run.err;
+    const nlohmann::json summary = ReadSummary(method);
+    ASSERT_FALSE(summary["events"].empty()) << method;
+    const nlohmann::json& jump = summary["events"][0];
+    EXPECT_EQ(jump["kind"], "jump") << method;
+    EXPECT_EQ(jump["time"], 0.0) << method;
+    EXPECT_EQ(jump["index"], -1) << method;
+    ASSERT_EQ(jump["impulse"].size(), 1u) << method;
+    EXPECT_NEAR(jump["impulse"][0].get<double>(), 1e-4 * e0, 1e-15) << method;
+    const Csv csv = ReadCsv(method);
+    ASSERT_GE(csv.rows.size(), 2u) << method;
+    EXPECT_EQ(csv.rows[0][0], 0.0) << method;
+    EXPECT_EQ(csv.rows[0][1], 0.0) << method << ": x⁻";
+    EXPECT_EQ(csv.rows[1][0], 0.0) << method;
+    EXPECT_NEAR(csv.rows[1][1], e0, 1e-12) << method << ": x⁺";
+    EXPECT_EQ(summary["certificate"]["certified"], true) << method;
+  }
+}
+
 TEST_F(DvisimRun, DiodeBridgeRunsEventDrivenUnderAuto) {
   const RunOutcome run = RunExample("diode_bridge.json", "auto");
   ASSERT_EQ(run.exit_code, 0) << run.err;

@@ -501,8 +501,9 @@ TEST(LcsStepping, InfeasibleInitialLcpEndsTheRunWithAStatus) {
   // From t0 = 1e-9, which "%f" would print as 0.000000.
   const Trajectory trajectory = IntegrateTimeStepping(lcs, Eigen::VectorXd::Zero(1), 1e-9, 1);
   EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  // No state jump can help (C = 0): the jump rule's refusal names x0.
   EXPECT_THAT(trajectory.message,
-              ::testing::HasSubstr("the VI at the start of time-stepping (t = 1e-09)"));
+              ::testing::HasSubstr("x0: the state at t = 1e-09 is inconsistent"));
   EXPECT_THAT(trajectory.message, ::testing::HasSubstr("infeasible"));
   EXPECT_TRUE(trajectory.times.empty());
 }
@@ -585,18 +586,22 @@ TEST(LcsStepping, ViAtOldStateSchemeIsFirstOrder) {
   EXPECT_LT(study.order, 1.2) << Show(study);
 }
 
-TEST(LcsStepping, InfeasibleInitialViOnTheSparsePathEndsTheRunWithAStatus) {
+TEST(LcsStepping, InconsistentInitialStateOnTheSparsePathJumps) {
   circuits::RcDiodeLadderParameters parameters;
   parameters.n = 50;
   const Lcs ladder = circuits::RcDiodeLadder(parameters);
   Eigen::VectorXd x0 = circuits::RcDiodeLadderInitialState(parameters);
-  // 0 ≤ u₇ ⊥ x₇ + 0·u₇ ≥ 0 has no solution for x₇ < 0: the active-set
-  // iteration meets a singular mode and Newton, the fallback, fails too.
+  // 0 ≤ u₇ ⊥ x₇ + 0·u₇ ≥ 0 has no solution for x₇ < 0 (it used to end the
+  // run): the state jumps first (state_jump.hpp), and the diode's impulse
+  // puts x₇ on its constraint, x₇⁺ = 0.
   x0[7] = -1;
   const Trajectory trajectory = IntegrateTimeStepping(ladder, x0, 0, 1e-3);
-  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
-  EXPECT_THAT(trajectory.message, ::testing::HasSubstr("the VI at the start of time-stepping"));
-  EXPECT_THAT(trajectory.message, ::testing::HasSubstr("mixed (x, u) MCP"));
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ASSERT_FALSE(trajectory.events.empty());
+  EXPECT_EQ(trajectory.events[0].kind, EventKind::kJump);
+  ASSERT_GE(trajectory.times.size(), 2u);
+  EXPECT_EQ(trajectory.states[0][7], -1.0);
+  EXPECT_NEAR(trajectory.states[1][7], 0.0, 1e-12);
 }
 
 TEST(LcsStepping, FilippovSignSystemSlidesWithTheEquivalentControl) {

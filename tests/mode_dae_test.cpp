@@ -309,9 +309,10 @@ TEST(ModeDae, DiodeBridgeCrossingsAreChosenByLookAhead) {
 }
 
 TEST(ModeDae, LcpWithoutSolutionIsAStatusWithAMessage) {
-  // w = x − 1 < 0 with D = 0 and u ≥ 0 unbounded above: no u solves the LCP.
+  // w = −1 < 0 with C = D = 0 and u ≥ 0 unbounded above: no u solves the
+  // LCP, and no state jump can help (w = x − 1 would jump to x = 1).
   const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                             Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Zero(1, 1),
+                             Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 1),
                              Eigen::VectorXd(), Eigen::VectorXd::Constant(1, -1.0));
   const Trajectory result = IntegrateModeDae(lcs, Eigen::VectorXd::Zero(1), 0, 1);
   EXPECT_EQ(result.status, IntegrationStatus::kStepFailure);
