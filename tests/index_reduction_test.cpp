@@ -545,6 +545,54 @@ TEST(IndexReduction, TwoDimensionalFilippovSlidesToTheOrigin) {
   RecordProperty("state_error", Scientific(state_error));
 }
 
+// The slide to the origin from every quadrant, x' = E sgn(x) with
+// E = [[−2, 1], [1, −2]] (−E positive definite) from x0 = (σ1/2, 2σ2): with
+// s = σ, x' = Eσ until x1 = 0 at t_e = (1/2)/|(Eσ)_1| (|(Eσ)_1| = 1 for
+// σ1 = σ2, 3 otherwise); sliding on x1 = 0 (row 1: s1 = σ2/2), x2' = −1.5σ2
+// until the origin at t_a = t_e + |x2(t_e)|/1.5; then s = 0 (E invertible:
+// codimension two, both rows vanish together). In FilippovSignLcs's
+// orthant form (v, x⁻) the quadrants are not alike: entering x1 = 0 from
+// x1 < 0 leaves v1 = 2 and x1⁻ = 0 both at their bounds (β ≠ ∅), whose rows
+// are independent on α ∪ β, and so are the three vanishing rows at the
+// arrival from x2 < 0 after the slide's pass: Sect. 5.4 reduces the rows α
+// (v off its bounds) on their own there. Main (904a81a) stopped not index one
+// at t_e for σ = (−1, ±1) and, for σ = (1, −1), at t_a: "pass 2: no row of
+// the LCP is dependent where it vanishes".
+TEST(IndexReduction, FilippovSlidesToTheOriginFromEveryQuadrant) {
+  // The event and state accuracy of an event-driven run at rtol 1e-10,
+  // atol 1e-12 on a flow of speed ≤ 3 over a horizon of 3: a hundred times
+  // the local tolerances.
+  constexpr double kTimeTolerance = 1e-8;
+  constexpr double kStateTolerance = 1e-8;
+  Eigen::MatrixXd E(2, 2);
+  E << -2, 1, 1, -2;
+  for (const double sigma1 : {1.0, -1.0})
+    for (const double sigma2 : {1.0, -1.0}) {
+      const Eigen::Vector2d sigma(sigma1, sigma2);
+      const Eigen::Vector2d x0(0.5 * sigma1, 2 * sigma2);
+      const Eigen::Vector2d approach = E * sigma;
+      const double entry = 0.5 / std::abs(approach(0));
+      const double x2_entry = x0(1) + approach(1) * entry;
+      const double arrival = entry + std::abs(x2_entry) / 1.5;
+      const auto exact = [&](double t) {
+        if (t <= entry) return Eigen::Vector2d(x0 + approach * t);
+        if (t <= arrival) return Eigen::Vector2d(0, x2_entry - 1.5 * sigma2 * (t - entry));
+        return Eigen::Vector2d(0, 0);
+      };
+      EventDrivenOptions options = Tight();
+      options.output_times = testing::Linspace(0, 3, 301);
+      const Trajectory trajectory = IntegrateEventDriven(FilippovSignLcs(E), x0, 0, 3, options);
+      SCOPED_TRACE("sigma = (" + std::to_string(sigma1) + ", " + std::to_string(sigma2) + ")");
+      EXPECT_TRUE(trajectory.succeeded()) << trajectory.message;
+      EXPECT_EQ(trajectory.events.size(), 2u);
+      if (!trajectory.succeeded() || trajectory.events.size() != 2) continue;
+      EXPECT_LE(std::abs(trajectory.events.front().time - entry), kTimeTolerance);
+      EXPECT_LE(std::abs(trajectory.events.back().time - arrival), kTimeTolerance);
+      EXPECT_LE(testing::MaxStateError(trajectory, exact), kStateTolerance);
+      EXPECT_TRUE(trajectory.certificate.certified());
+    }
+}
+
 // Siconos' Filippov spiral x' = Bλ, λ ∈ −Sgn(x), B = 2[[1, −(1+c)], [1+c, 1]],
 // c = 25, x0 = (3, 3): each quarter turn shrinks by c/(c + 2), and the
 // crossings accumulate at the origin at t* = 1.5. Event-driven integration

@@ -58,6 +58,15 @@ Eigen::VectorXd ZeroedOn(const Eigen::VectorXd& u, const std::vector<int>& S) {
   return zeroed;
 }
 
+std::vector<int> OffBounds(const std::vector<int>& S, const Eigen::VectorXd& u,
+                           const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                           double tolerance) {
+  std::vector<int> support;
+  for (const int j : S)
+    if (u(j) - lower(j) > tolerance && upper(j) - u(j) > tolerance) support.push_back(j);
+  return support;
+}
+
 RowReduction ReduceRows(const SparseMatrix& J, const std::vector<int>& S) {
   RowReduction reduction;
   const int s = static_cast<int>(S.size());

@@ -91,6 +91,19 @@ bool DifferentiateDependentRows(const AffineFlow& flow, const std::vector<int>& 
                                 const Eigen::VectorXd& u, AffineRows& rows,
                                 AffineConstraints& constraints);
 
+/// The components of S where u lies off its bounds by more than tolerance:
+/// the support α of Sect. 5.4, whose rows P_αα reduces on the columns α ∪ β.
+/// DifferentiateDependentRows on all vanishing rows S = α ∪ β also reduces a
+/// dependent degenerate row (a body at rest on a contact, u = 0 = w), but
+/// where a degenerate row is independent there it can hide a dependent row
+/// of α: FilippovSignLcs entering x1 = 0 from x1 < 0 has v1 = 2 (α, row
+/// x1 + x1⁻ free of v1) and x1⁻ = 0 (β, row 2 − v1), and the two rows are
+/// independent together. Reducing α alone holds u_β at its bound: β becomes
+/// γ, the paper's setting with β = ∅, and the modified LCP decides the rest.
+std::vector<int> OffBounds(const std::vector<int>& S, const Eigen::VectorXd& u,
+                           const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                           double tolerance);
+
 /// Relative rank threshold of ReduceRows. A row of F that does not depend on
 /// u has an exactly zero Jacobian row (exact or forward-difference Jacobian),
 /// while forward differences perturb a dependent combination of u-dependent

@@ -102,24 +102,28 @@ bool SelectReducedLcsMode(const ModeProblem& problem, const Eigen::VectorXd& x,
     std::vector<int> S;
     for (int j = 0; j < problem.m(); ++j)
       if (std::abs(current->w(j)) <= tolerance) S.push_back(j);
-    Eigen::VectorXd u_rest = ZeroedOn(current->z, S);
-    if (pass == 1) {
-      memo.S = S;
-      memo.u_rest = std::move(u_rest);
-    } else {
-      memoizable = memoizable && S == memo.S && u_rest == memo.u_rest;
-    }
     // Messages are formed on failure only: an event is on the hot path.
     const auto at_pass = [pass] {
       return "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " + std::to_string(pass) +
              ": ";
     };
     if (!DifferentiateDependentRows(problem.flow(), S, current->z, rows, constraints)) {
-      std::ostringstream message;
-      message << at_pass() << "no row of the LCP is dependent where it vanishes"
-              << (pass == 1 ? "" : ", after " + failure);
-      if (why) *why = message.str();
-      return false;
+      // The paper's rows: α alone, u_β held at its bound (β taken as γ).
+      S = OffBounds(S, current->z, problem.lower(), problem.upper(), tolerance);
+      if (!DifferentiateDependentRows(problem.flow(), S, current->z, rows, constraints)) {
+        std::ostringstream message;
+        message << at_pass() << "no row of the LCP is dependent where it vanishes"
+                << (pass == 1 ? "" : ", after " + failure);
+        if (why) *why = message.str();
+        return false;
+      }
+    }
+    Eigen::VectorXd u_rest = ZeroedOn(current->z, S);
+    if (pass == 1) {
+      memo.S = S;
+      memo.u_rest = std::move(u_rest);
+    } else {
+      memoizable = memoizable && S == memo.S && u_rest == memo.u_rest;
     }
     // The modified LCS of Sect. 5.4 at x.
     SolveResult modified =
