@@ -119,6 +119,7 @@ TEST(Ensemble, ReductionsAndGatheredTrajectoriesEqualDirectRunsBitForBit) {
       EXPECT_EQ(gathered.events[e].time, direct.events[e].time);
       EXPECT_EQ(gathered.events[e].kind, direct.events[e].kind);
       EXPECT_EQ(gathered.events[e].index, direct.events[e].index);
+      EXPECT_EQ(gathered.events[e].impulse, direct.events[e].impulse);
     }
     ASSERT_EQ(gathered.intervals.size(), direct.intervals.size());
     EXPECT_EQ(gathered.intervals[0].reason, direct.intervals[0].reason);
@@ -130,6 +131,28 @@ TEST(Ensemble, ReductionsAndGatheredTrajectoriesEqualDirectRunsBitForBit) {
     ASSERT_EQ(results[k].reduction.size(), 2u);
     EXPECT_EQ(results[k].reduction[0], static_cast<double>(direct.times.size()));
     EXPECT_NEAR(results[k].reduction[1], ExactFinal(StartOf(k)), kStateTolerance);
+  }
+}
+
+// A start below the clamp (x0 < 0 admits no u) jumps to x⁺ = 0 with the
+// impulse η = −x0: the gathered event carries it.
+TEST(Ensemble, AGatheredJumpKeepsItsImpulse) {
+  EnsembleOptions options;
+  options.keep_trajectories = true;
+  const auto member = [](std::size_t k) {
+    return IntegrateEventDriven(ClampedRc(), Eigen::VectorXd::Constant(1, -0.5 * double(k + 1)),
+                                0, kHorizon, Options());
+  };
+  const std::vector<EnsembleResult> results = RunEnsemble(2, member, options);
+  ASSERT_EQ(results.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    ASSERT_TRUE(results[k].succeeded()) << results[k].message;
+    const std::vector<Event>& events = results[k].trajectory->events;
+    ASSERT_FALSE(events.empty());
+    EXPECT_EQ(events[0].kind, EventKind::kJump);
+    ASSERT_EQ(events[0].impulse.size(), 1);
+    EXPECT_NEAR(events[0].impulse[0], 0.5 * double(k + 1), 1e-12);
+    EXPECT_EQ(events[0].impulse, member(k).events[0].impulse);
   }
 }
 

@@ -53,6 +53,7 @@ class Writer {
     Put(event.time);
     Put<int>(static_cast<int>(event.kind));
     Put(event.index);
+    Put(event.impulse);
   }
   void Put(const StepRecord& record) {
     Put(record.t);
@@ -113,6 +114,7 @@ class Reader {
     event.time = Get<double>();
     event.kind = static_cast<EventKind>(Get<int>());
     event.index = Get<int>();
+    event.impulse = GetVector();
     return event;
   }
   StepRecord GetStepRecord() {
@@ -186,7 +188,7 @@ Trajectory GetTrajectory(Reader& in) {
   trajectory.times = in.GetDoubles();
   trajectory.states = in.GetSamples();
   trajectory.multipliers = in.GetSamples();
-  trajectory.events.resize(in.GetLength(16));
+  trajectory.events.resize(in.GetLength(24));
   for (Event& event : trajectory.events) event = in.GetEvent();
   trajectory.intervals.resize(in.GetLength(28));
   for (MethodInterval& interval : trajectory.intervals) {
