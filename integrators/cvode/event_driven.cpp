@@ -23,6 +23,7 @@ namespace dvi {
 namespace internal {
 
 bool g_project_error_estimate_for_testing = false;
+bool g_keep_smooth_history = true;
 
 namespace {
 

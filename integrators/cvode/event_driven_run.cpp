@@ -15,6 +15,7 @@
 
 #include "check.hpp"
 #include "cvode/event_driven_validated.hpp"
+#include "cvode/smooth_switch.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "events/event_times.hpp"
 #include "events/zeno_prediction.hpp"
@@ -94,8 +95,11 @@ void EventDrivenRun::AddCvodeStats() {
   long steps = 0, error_test_failures = 0;
   CVodeGetNumSteps(cvode_.get(), &steps);
   CVodeGetNumErrTestFails(cvode_.get(), &error_test_failures);
-  trajectory_.stats.steps += steps;
-  trajectory_.stats.rejected_steps += error_test_failures;
+  // CVODE's counters run on where a switch kept its history.
+  trajectory_.stats.steps += steps - counted_steps_;
+  trajectory_.stats.rejected_steps += error_test_failures - counted_rejections_;
+  counted_steps_ = steps;
+  counted_rejections_ = error_test_failures;
   segment_open_ = false;
 }
 
@@ -418,7 +422,7 @@ bool EventDrivenRun::IntegrateModes() {
     if (!Check(flag, "CVode") || !StepsResolveTime()) return false;
     long steps = 0;
     CVodeGetNumSteps(cvode, &steps);
-    if (trajectory_.stats.steps + steps > options_.max_steps) {
+    if (trajectory_.stats.steps + steps - counted_steps_ > options_.max_steps) {
       std::ostringstream message;
       message << "event: max_steps = " << options_.max_steps << " reached at t = " << t_reached;
       return Fail(IntegrationStatus::kMaxSteps, message.str());
@@ -454,6 +458,8 @@ bool EventDrivenRun::IntegrateModes() {
       step_ends_.Forget();  // the next step starts in another mode
       Eigen::VectorXd x = y;
       const Eigen::VectorXd x_left = x, u_left = system_.u();
+      const Mode mode_left = system_.mode();
+      const bool left_reduced = system_.reduced();
       if (!HandleEvent(t_, x)) {
         Sample(t_, x_left, u_left);
         return false;
@@ -465,6 +471,19 @@ bool EventDrivenRun::IntegrateModes() {
         if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
         return true;
       }
+      // Issue 31: across a switch the flow is smooth over (the new field
+      // matches CVODE's interpolant to its local error) CVODE goes on at
+      // its order and step instead of restarting at order 1.
+      if (g_keep_smooth_history && !left_reduced && !system_.reduced() && x == x_left &&
+          SwitchMismatch(cvode, t_, system_, mode_left, u_left, history_x_.get(), dky_.get(),
+                         data_.rhs_evals) <= kHistoryKeptMismatch) {
+        if (!EnterSparseJacobian()) return false;
+        mode_start_ = t_;
+        segment_open_ = true;
+        unresolved_steps_ = 0;
+        continue;
+      }
+      counted_steps_ = counted_rejections_ = 0;
       if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
           !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
           !ProjectReducedModesOnly())

@@ -130,6 +130,8 @@ class EventDrivenRun {
   SerialVector dky_{x0_.size(), context_.get()};
   SerialVector atol_{x0_.size(), context_.get()};  // CVodeSVtolerances' (CVODE copies it)
   const Eigen::VectorXd atol_per_state_ = options_.AbsoluteTolerances(x0_.size());
+  // SwitchMismatch's scratch (smooth_switch.hpp), with dky_.
+  SerialVector history_x_{x0_.size(), context_.get()};
   // Which of a step's output times are sampled: kept so that sampling does
   // not allocate.
   std::vector<char> step_kept_;
@@ -157,6 +159,9 @@ class EventDrivenRun {
   ModeCallbackData data_;
 
   bool segment_open_ = false;  // CVODE's counters hold steps not yet in stats
+  // CVODE's step and rejection counts already in stats (since its last
+  // (re)initialization: a kept history goes on counting).
+  long counted_steps_ = 0, counted_rejections_ = 0;
   int unresolved_steps_ = 0;   // steps in a row with h within t's round-off
   long refusals_before_unresolved_ = 0;  // data_.refusals when they began
   double last_event_time_ = 0;

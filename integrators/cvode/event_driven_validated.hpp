@@ -30,5 +30,8 @@ void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions
 /// error estimate, the cause of issue 27's wrong interpolant, so that a test
 /// can show the certificate catching what it did. Never set elsewhere.
 extern bool g_project_error_estimate_for_testing;
+// Off: every event restarts CVODE (CVodeReInit), as before issue 31; tests
+// compare the two.
+extern bool g_keep_smooth_history;
 
 }  // namespace dvi::internal

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <Eigen/Dense>
+#include <sundials/sundials_nvector.h>
+
+#include "modes/box_mode.hpp"
+
+namespace dvi::internal {
+
+/// How far a mode switch at a root return t_event is from smooth, as CVODE
+/// sees it (issue 31): whether its history may carry on in the new mode
+/// instead of restarting at order 1 (CVodeReInit).
+///
+/// CVODE's Nordsieck array holds a polynomial of degree q through the old
+/// mode's solution over its last step (t_n − h, t_n], t_n ≥ t_event. If the
+/// new field agrees with the old one on that polynomial, the polynomial is
+/// a history of the new mode as well, and the piece (t_event, t_n] CVODE
+/// integrated in the old mode is the new mode's too, to within
+/// h |f_new − f_old|. The fields are compared at the step's q + 1 equally
+/// spaced points and at t_event:
+///
+///   max_j ‖h (f_new(t_j, x(t_j)) − f_old(t_j, x(t_j)))‖_WRMS
+///
+/// in CVODE's error weights. On a switch the flow is smooth across (the
+/// ideal diode bridge: the same analytic field on both sides) it is
+/// round-off; where f jumps it is |Δf| h / (rtol |x| + atol) ≫ 1; where only
+/// f' jumps, |Δf'| h · |t − t_event| / (rtol |x| + atol): the test decides
+/// by the order of the jump against the step CVODE is taking.
+///
+/// Jumps are screened first, cheaply: the interpolant's derivatives x'
+/// and x'' at t_event are f_old and f_old' there to within a few local
+/// errors, so ‖h (f_new − x')‖_WRMS > kJumpScreen (a jump of f: no solve)
+/// or ‖h² (f_new' − x'')‖_WRMS > kJumpScreen (a jump of f' along the flow:
+/// one solve of the new mode at t_event + δ, which leaves the system's u
+/// there, a warm start) restarts without evaluating the old mode. Else the
+/// old mode is re-entered for its fields and the new one restored, solved
+/// at t_event.
+///
+/// @pre system is in the new mode, solved at (t_event, x(t_event)), not
+/// reduced; old_mode, u_old the mode and u it left; x, rate scratch
+/// N_Vectors of CVODE's length. Every Newton solve of u is counted in
+/// rhs_evals. +inf where CVODE has no step yet or a mode's equations have
+/// no solution on a point (it does not extend there).
+double SwitchMismatch(void* cvode, double t_event, BoxModeSystem& system, const Mode& old_mode,
+                      const Eigen::VectorXd& u_old, N_Vector x, N_Vector rate, long& rhs_evals);
+
+/// The mismatch up to which CVODE's history carries on in the new mode:
+/// the bound of CVODE's own local error test (‖error‖_WRMS ≤ 1).
+constexpr double kHistoryKeptMismatch = 1.0;
+/// The free screen's bound: x'(t) of CVODE's interpolant differs from f_old
+/// by its interpolation error, up to 2.4 local errors measured on the
+/// diode bridge (q = 5); a hundred leaves room and still screens out every
+/// jump of f the work-precision problems have (10³ and more).
+constexpr double kJumpScreen = 100.0;
+
+}  // namespace dvi::internal
