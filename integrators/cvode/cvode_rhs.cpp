@@ -22,6 +22,8 @@ static_assert(std::is_same_v<decltype(&IndexOneCvRhs), CVRhsFn>,
               "IndexOneCvRhs must be a CVRhsFn (SUNDIALS built with realtype = double)");
 static_assert(std::is_same_v<decltype(&IndexOneCvJac), CVLsJacFn>,
               "IndexOneCvJac must be a CVLsJacFn");
+static_assert(std::is_same_v<decltype(&IndexOneCvRoots), CVRootFn>,
+              "IndexOneCvRoots must be a CVRootFn");
 
 namespace {
 
@@ -105,6 +107,18 @@ int IndexOneCvJac(double t, N_Vector y, N_Vector, SUNMatrix J, void* user_data, 
     for (long k = 0; k < n; ++k)
       Eigen::Map<Eigen::VectorXd>(SUNDenseMatrix_Column(J, k), n) = jacobian.col(k);
     return kSuccess;
+  });
+}
+
+int IndexOneCvRoots(double t, N_Vector y, double* gout, void* user_data) {
+  if (user_data == nullptr) return kFatal;
+  auto& rhs = *static_cast<IndexOneRhs*>(user_data);
+  return Guarded(rhs, [&] {
+    Eigen::VectorXd x;
+    if (!Load(rhs, t, y, x)) return kFatal;
+    // CVODE's root finder has no recoverable return: a mode whose Newton
+    // fails here stops the run with the reason in message().
+    return rhs.ModeRoots(t, x, gout) ? kSuccess : kFatal;
   });
 }
 

@@ -29,8 +29,9 @@ Dvi ValidatedDvi(const Lcs& lcs) {
 }  // namespace
 
 struct IndexOneRhs::Impl {
-  Impl(Dvi problem, int u_size, const SolverOptions& solver)
+  Impl(Dvi problem, TimeStateFunction given_F, int u_size, const SolverOptions& solver)
       : dvi(std::move(problem)),
+        F(std::move(given_F)),
         m(u_size),
         lower(dvi.K.BoxBounds().first),
         upper(dvi.K.BoxBounds().second),
@@ -49,12 +50,17 @@ struct IndexOneRhs::Impl {
   // Dvi and a lifted one are temporaries. Its multiplier is z, of which u is
   // the first m components.
   const Dvi dvi;
+  // F of the problem as given, for w(); the lifted dvi's F differs.
+  const TimeStateFunction F;
   const int m;
   const Eigen::VectorXd lower;
   const Eigen::VectorXd upper;
   const double tolerance;
   internal::BoxModeSystem system;
   Eigen::VectorXd u;
+  // Where u was last computed, for w().
+  double t_u = 0;
+  Eigen::VectorXd x_u;
   Mode mode;
   bool has_mode = false;
   bool frozen = false;
@@ -79,6 +85,8 @@ bool IndexOneRhs::Impl::InMode(double t, const Eigen::VectorXd& x) {
 }
 
 bool IndexOneRhs::Impl::Select(double t, const Eigen::VectorXd& x) {
+  t_u = t;
+  x_u = x;
   if (dvi.m == 0) {  // an ODE: no VI (and F may be unset)
     has_mode = true;
     mode_solved = true;
@@ -116,6 +124,8 @@ bool IndexOneRhs::Impl::Select(double t, const Eigen::VectorXd& x) {
 }
 
 bool IndexOneRhs::Impl::Update(double t, const Eigen::VectorXd& x) {
+  t_u = t;
+  x_u = x;
   if (!has_mode) return Select(t, x);
   std::string why;
   mode_solved = system.Solve(t, x, &why);
@@ -131,10 +141,16 @@ bool IndexOneRhs::Impl::Update(double t, const Eigen::VectorXd& x) {
 }
 
 IndexOneRhs::IndexOneRhs(const Dvi& dvi, const SolverOptions& solver)
-    : impl_(std::make_unique<Impl>(OnABox(dvi, solver), dvi.m, solver)) {}
+    : impl_(std::make_unique<Impl>(OnABox(dvi, solver), dvi.F, dvi.m, solver)) {}
 
 IndexOneRhs::IndexOneRhs(const Lcs& lcs, const SolverOptions& solver)
     : IndexOneRhs(ValidatedDvi(lcs), solver) {}
+
+IndexOneRhs::IndexOneRhs(const SeparableDvi& dvi, const SolverOptions& solver)
+    : IndexOneRhs((dvi.Validate(), dvi.ToDvi()), solver) {}
+
+IndexOneRhs::IndexOneRhs(const SemiAffineDvi& dvi, const SolverOptions& solver)
+    : IndexOneRhs((dvi.Validate(), dvi.ToSeparable()), solver) {}
 
 IndexOneRhs::~IndexOneRhs() = default;
 IndexOneRhs::IndexOneRhs(IndexOneRhs&&) noexcept = default;
@@ -179,6 +195,14 @@ bool IndexOneRhs::Jacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& 
 }
 
 Eigen::VectorXd IndexOneRhs::multiplier() const { return impl_->u.head(impl_->m); }
+Eigen::VectorXd IndexOneRhs::w() const {
+  const Impl& impl = *impl_;
+  if (impl.x_u.size() == 0 || impl.m == 0) return Eigen::VectorXd(0);
+  Eigen::VectorXd w(impl.m);
+  impl.F(impl.t_u, impl.x_u, impl.u.head(impl.m), w);
+  return w;
+}
+
 const std::string& IndexOneRhs::message() const { return impl_->message; }
 
 const Mode& IndexOneRhs::mode() const { return impl_->mode; }
@@ -219,6 +243,47 @@ void IndexOneRhs::EnterMode(const Mode& mode, const Eigen::VectorXd& u) {
 
 void IndexOneRhs::FreezeMode(bool frozen) { impl_->frozen = frozen; }
 bool IndexOneRhs::mode_frozen() const { return impl_->frozen; }
+
+int IndexOneRhs::root_count() const { return 2 * impl_->dvi.m; }
+
+bool IndexOneRhs::ModeRoots(double t, const Eigen::VectorXd& x, double* g) {
+  Impl& impl = *impl_;
+  impl.CheckState(x);
+  if (impl.dvi.m == 0) return true;
+  if (!impl.has_mode) {
+    impl.message = "IndexOneRhs: ModeRoots before any mode is known (SelectMode or EnterMode first)";
+    return false;
+  }
+  std::string why;
+  impl.mode_solved = impl.system.Solve(t, x, &why);
+  if (!impl.mode_solved) {
+    std::ostringstream text;
+    text << "IndexOneRhs: mode " << ModeLetters(impl.mode) << " at t = " << t << ": " << why;
+    impl.message = text.str();
+    return false;
+  }
+  impl.u = impl.system.u();
+  impl.t_u = t;
+  impl.x_u = x;
+  impl.system.Roots(t, x, g);
+  return true;
+}
+
+void IndexOneRhs::CrossRoots(const int* crossed) {
+  Impl& impl = *impl_;
+  DVI_THROW_UNLESS(impl.has_mode, "IndexOneRhs::CrossRoots before any mode is known");
+  Mode next = impl.mode;
+  for (std::size_t j = 0; j < next.size(); ++j) {
+    if (crossed[2 * j] == 0 && crossed[2 * j + 1] == 0) continue;
+    if (next[j] != MultiplierBound::kFree)
+      next[j] = MultiplierBound::kFree;
+    else
+      next[j] = crossed[2 * j] != 0 ? MultiplierBound::kLower : MultiplierBound::kUpper;
+  }
+  if (next != impl.mode) ++impl.stats.mode_changes;
+  const Eigen::VectorXd z = impl.u;
+  EnterMode(next, z);
+}
 
 IndexOneRhsStats IndexOneRhs::stats() const {
   IndexOneRhsStats stats = impl_->stats;

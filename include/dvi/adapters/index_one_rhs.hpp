@@ -66,6 +66,11 @@ class IndexOneRhs {
   /// The LCS (2.8) or its box generalization through Lcs::ToDvi.
   /// @throws InvalidInputError as Lcs::Validate, or as above.
   explicit IndexOneRhs(const Lcs& lcs, const SolverOptions& solver = {});
+  /// The separable DVI (6.2) (SeparableDvi::ToDvi) and the semi-affine DVI
+  /// (5.3) (SemiAffineDvi::ToSeparable). @throws InvalidInputError as their
+  /// Validate, or as above.
+  explicit IndexOneRhs(const SeparableDvi& dvi, const SolverOptions& solver = {});
+  explicit IndexOneRhs(const SemiAffineDvi& dvi, const SolverOptions& solver = {});
   ~IndexOneRhs();
   IndexOneRhs(IndexOneRhs&&) noexcept;
   IndexOneRhs& operator=(IndexOneRhs&&) noexcept;
@@ -92,6 +97,9 @@ class IndexOneRhs {
   /// u (m entries) at the last (t, x) where it was computed (Evaluate,
   /// Jacobian, SelectMode); zero before any.
   Eigen::VectorXd multiplier() const;
+  /// w = F(t, x, u) (m entries) of the problem as given (not its KKT
+  /// lifting) at the last (t, x) where u was computed; empty before any.
+  Eigen::VectorXd w() const;
   /// Why the last failed call failed.
   const std::string& message() const;
   /// The current mode, mode_size() entries; empty before the first
@@ -116,6 +124,29 @@ class IndexOneRhs {
   /// first evaluation selects one and keeps it.
   void FreezeMode(bool frozen);
   bool mode_frozen() const;
+
+  /// Root functions of the current mode's validity, 2·mode_size() of them
+  /// (none for an ODE), all ≥ 0 while the mode holds: for a free component
+  /// z_j − lower_j and upper_j − z_j, for a bound one ±w_j of the sign that
+  /// holds it there, 1 in an unused slot (an infinite bound, the second slot
+  /// of a bound component, a component fixed by lower_j = upper_j). A sign change
+  /// is a mode change of (5.2): with the mode frozen, a caller's root finder
+  /// (CVODE's, cvode_rhs.hpp) locates it on the mode's smooth extension.
+  int root_count() const;
+  /// Solves the current mode at (t, x) (without re-selecting) and writes
+  /// the root_count() values to g. False, with message(), before any mode
+  /// is known or when the mode's Newton fails. @throws InvalidInputError as
+  /// Evaluate.
+  bool ModeRoots(double t, const Eigen::VectorXd& x, double* g);
+  /// Enters the mode across the root functions that crossed (crossed:
+  /// root_count() entries, nonzero where one did, as CVodeGetRootInfo's
+  /// rootsfound): a free component that reached a bound is held there, a
+  /// bound one whose w_j changed sign is freed; u as the starting point.
+  /// At a transversal crossing of a strongly regular u (Sect. 5.3) this is
+  /// the mode past the root; SelectMode's VI at the root itself cannot tell
+  /// (both sides' u agree there). @throws InvalidInputError before any mode
+  /// is known.
+  void CrossRoots(const int* crossed);
 
   IndexOneRhsStats stats() const;
 
