@@ -3,6 +3,7 @@
 // diode (R = C = I = 1), v' = −v − 1 + u, 0 ≤ u ⊥ v ≥ 0. From v(0) = 1,
 // v = 2e^{−t} − 1 until the diode clamps v at 0 at t = ln 2.
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 
 #include <dvi/dvi.hpp>
@@ -18,6 +19,7 @@ int main() {
   std::cout << run.Report(dvi::ReportDetail::kFull);
   if (!run.succeeded() || run.events.size() != 1) return 1;
   const double clamp = run.events[0].time, error = std::abs(clamp - std::log(2.0));
-  std::cout << "diode clamps at t = " << clamp << " (ln 2 to " << error << ")\n";
+  std::cout << std::setprecision(17) << "diode clamps at t = " << clamp << " (ln 2 to " << error
+            << ")\n";
   return error < 1e-8 ? 0 : 1;  // CVODE's error test at rtol 1e-10, 100× slack
 }

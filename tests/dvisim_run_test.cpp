@@ -604,6 +604,31 @@ TEST_F(DvisimRun, SparseLcsEmptiesTheChainAndStaysNonnegative) {
   }
 }
 
+// summary.json names the linear solver that ran, not the one requested:
+// kAuto takes dense below kKluMinStates states.
+TEST_F(DvisimRun, SummaryNamesTheLinearSolverThatRanAndTheVersion) {
+  for (const auto& [extra, expected] :
+       {std::pair<std::string, std::string>{"--method event", "dense"},
+        {"--method auto", "dense"}}) {
+    const RunOutcome run = RunExample("sparse_heat_chain.json", "out", extra);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const nlohmann::json summary = ReadSummary("out");
+    EXPECT_EQ(summary["version"], DVI_VERSION);
+    EXPECT_EQ(summary["linear_solver"], expected) << extra;
+    ASSERT_FALSE(summary["method"].empty());
+    EXPECT_EQ(summary["method"][0]["linear_solver"], expected) << extra;
+  }
+  const RunOutcome stepping = RunExample("sparse_heat_chain.json", "stepping");
+  ASSERT_EQ(stepping.exit_code, 0) << stepping.err;
+  EXPECT_FALSE(ReadSummary("stepping").contains("linear_solver"));  // no Newton systems of CVODE/IDA
+}
+
+TEST_F(DvisimRun, VersionIsTheProjects) {
+  const RunOutcome run = Dvisim("--version");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.out, std::string("dvisim ") + DVI_VERSION + "\n");
+}
+
 TEST_F(DvisimRun, CommandLineOverridesReachTheSummary) {
   const RunOutcome run = RunExample("dvi_saturation.json", "out",
                                     "--h 0.01 --theta 0.25 --gamma 0.75 --method stepping");

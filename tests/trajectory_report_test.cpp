@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Trajectory::Report and the public enums' operator<<: what a log or a
 // failure message shows of a run.
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -69,6 +70,32 @@ TEST(TrajectoryReport, FailureCarriesItsMessageAndStepsMethod) {
   const std::string full = run.Report(ReportDetail::kFull);
   EXPECT_TRUE(Contains(full, "Status: max-steps\nMessage: " + run.message + "\n")) << full;
   EXPECT_EQ(run.Report().rfind("max-steps: ", 0), 0u) << run.Report();
+}
+
+// Each interval names the linear solver that ran CVODE's or IDA's Newton
+// systems: kAuto's choice (dense below kKluMinStates), KLU when asked.
+TEST(TrajectoryReport, IntervalsNameTheLinearSolverThatRan) {
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
+  EventDrivenOptions automatic, klu;
+  klu.linear_solver = LinearSolver::kKlu;
+  ModeDaeOptions dae_dense;
+  dae_dense.linear_solver = LinearSolver::kDense;
+  const struct {
+    Trajectory run;
+    std::optional<LinearSolver> expected;
+  } cases[] = {
+      {IntegrateEventDriven(ClampedCapacitor(), x0, 0.0, 2.0, automatic), LinearSolver::kDense},
+      {IntegrateEventDriven(ClampedCapacitor(), x0, 0.0, 2.0, klu), LinearSolver::kKlu},
+      {IntegrateModeDae(ClampedCapacitor(), x0, 0.0, 2.0), LinearSolver::kKlu},
+      {IntegrateModeDae(ClampedCapacitor(), x0, 0.0, 2.0, dae_dense), LinearSolver::kDense},
+      {IntegrateAuto(ClampedCapacitor(), x0, 0.0, 2.0), LinearSolver::kDense},
+      {IntegrateTimeStepping(ClampedCapacitor(), x0, 0.0, 2.0), std::nullopt},
+  };
+  for (const auto& [run, expected] : cases) {
+    ASSERT_TRUE(run.succeeded()) << run.message;
+    ASSERT_FALSE(run.intervals.empty());
+    EXPECT_EQ(run.intervals[0].linear_solver, expected) << run.intervals[0].method;
+  }
 }
 
 template <typename Enum>

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -10,6 +12,7 @@
 #include "dvi/certificate.hpp"
 #include "dvi/dense_output.hpp"
 #include "dvi/enum_output.hpp"
+#include "dvi/integration_options.hpp"
 #include "dvi/vector_samples.hpp"
 
 namespace dvi {
@@ -78,10 +81,18 @@ std::string_view ToString(IntegrationMethod method);
 
 /// The method that produced [from, to] and why it was chosen.
 struct MethodInterval {
+  MethodInterval() = default;
+  MethodInterval(double from_time, double to_time, IntegrationMethod used, std::string why,
+                 std::optional<LinearSolver> solver = std::nullopt)
+      : from(from_time), to(to_time), method(used), reason(std::move(why)), linear_solver(solver) {}
+
   double from = 0;
   double to = 0;
   IntegrationMethod method = IntegrationMethod::kTimeStepping;
   std::string reason;
+  /// The linear solver that ran CVODE's or IDA's Newton systems there:
+  /// kDense or kKlu (what kAuto chose); empty for methods without them.
+  std::optional<LinearSolver> linear_solver;
 };
 
 /// Work counters of an integration.

@@ -93,8 +93,8 @@ class VectorSamples {
   /// until the next change of size). @throws InvalidInputError as push_back.
   Eigen::Map<Eigen::MatrixXd> Extend(std::size_t count, Eigen::Index dim);
 
-  Ref operator[](std::size_t k) { return Ref(values_.data() + k * dim_, dim_); }
-  ConstRef operator[](std::size_t k) const { return ConstRef(values_.data() + k * dim_, dim_); }
+  Ref operator[](std::size_t k) { return Ref(values_.data() + Offset(k), dim_); }
+  ConstRef operator[](std::size_t k) const { return ConstRef(values_.data() + Offset(k), dim_); }
   Ref front() { return (*this)[0]; }
   ConstRef front() const { return (*this)[0]; }
   Ref back() { return (*this)[size_ - 1]; }
@@ -115,6 +115,9 @@ class VectorSamples {
   void Grow(std::size_t values);
 
   std::size_t capacity() const { return static_cast<std::size_t>(values_.size()); }
+  // Where sample k starts, signed as Eigen's indices (clean under
+  // -Wsign-conversion in a consumer's build).
+  Eigen::Index Offset(std::size_t k) const { return static_cast<Eigen::Index>(k) * dim_; }
 
   // The samples one after another, then room for more: the first
   // size_·dim_ values are used. An Eigen vector, which leaves new room

@@ -229,7 +229,8 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     if (t_a > t) {
       whole.intervals.push_back({t, t_a, IntegrationMethod::kEventDriven,
                                  (t > t0 ? "back to event-driven after time-stepping; " : "") +
-                                     OwnReason(run, "event-driven")});
+                                     OwnReason(run, "event-driven"),
+                                 run.intervals.empty() ? std::nullopt : run.intervals.front().linear_solver});
     }
     const std::vector<double> event_times =
         succeeded ? std::vector<double>() : DistinctEventTimes(run.events, same_time);

@@ -537,7 +537,8 @@ Trajectory EventDrivenRun::Run() {
     if (rate_selections_ > 0)
       reason += "; " + std::to_string(rate_selections_) +
                 " mode(s) chosen by the rates where u is not unique (Proposition 5.1)";
-    trajectory_.intervals.push_back({t0_, trajectory_.times.back(), IntegrationMethod::kEventDriven, reason});
+    trajectory_.intervals.push_back({t0_, trajectory_.times.back(), IntegrationMethod::kEventDriven, reason,
+                                     klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -292,7 +292,8 @@ Trajectory ModeDaeRun::Run() {
            << " mode(s) reduced by differentiating dependent rows (Theorem 5.3)";
     if (look_ahead_selections_ > 0)
       reason << "; " << look_ahead_selections_ << " mode(s) chosen by look-ahead along the flow";
-    trajectory_.intervals.push_back({t0_, trajectory_.final_time(), IntegrationMethod::kModeDae, reason.str()});
+    trajectory_.intervals.push_back({t0_, trajectory_.final_time(), IntegrationMethod::kModeDae, reason.str(),
+                                     klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

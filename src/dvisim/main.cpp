@@ -10,6 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "dvi/version.hpp"
+
 #include "run_command.hpp"
 #include "solve_command.hpp"
 #include "study_command.hpp"
@@ -93,6 +95,7 @@ CLI::App* AddSweepCommand(CLI::App& app, dvi::dvisim::SweepCommand& command,
 int main(int argc, char** argv) {
   CLI::App app{"dvisim: solvers and simulations of differential variational inequalities"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "dvisim " DVI_VERSION);
   dvi::dvisim::SolveCommand solve_command;
   std::string solver;
   double tolerance = 0.0;

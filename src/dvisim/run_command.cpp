@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string_view>
+#include <optional>
 #include <system_error>
 #include <tuple>
 #include <type_traits>
@@ -20,6 +21,7 @@
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/projected_dynamics.hpp"
+#include "dvi/version.hpp"
 #include "boundary_run.hpp"
 #include "boundary_scene.hpp"
 #include "csv_text.hpp"
@@ -418,13 +420,20 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
   summary["name"] = scene.name;
   summary["type"] = scene.type;
   nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
-  for (const MethodInterval& interval : trajectory.intervals)
+  // The linear solver that ran (kAuto's choice), per interval and for the run.
+  std::optional<LinearSolver> linear_solver;
+  for (const MethodInterval& interval : trajectory.intervals) {
     intervals.push_back({{"from", interval.from},
                          {"to", interval.to},
                          {"name", std::string(ToString(interval.method))},
                          {"reason", interval.reason}});
+    if (!interval.linear_solver) continue;
+    intervals.back()["linear_solver"] = std::string(ToString(*interval.linear_solver));
+    if (!linear_solver) linear_solver = interval.linear_solver;
+  }
   summary["method"] = intervals;
   summary["requested_method"] = std::string(ToString(scene.method));
+  summary["version"] = DVI_VERSION;
   // The parameters of the integrator that ran.
   if (UsedMethod(trajectory, IntegrationMethod::kTimeStepping)) {
     summary["h"] = scene.stepping.h;
@@ -439,8 +448,8 @@ nlohmann::ordered_json SummaryJson(const Scene& scene, const Trajectory& traject
     else
       summary["atol"] = scene.event.atol;
     summary["ode"] = std::string(ToString(scene.event.method));
-    summary["linear_solver"] = std::string(ToString(scene.event.linear_solver));
   }
+  if (linear_solver) summary["linear_solver"] = std::string(ToString(*linear_solver));
   nlohmann::ordered_json events = nlohmann::ordered_json::array();
   for (const Event& event : trajectory.events) {
     events.push_back({{"time", event.time},
