@@ -18,6 +18,8 @@ packages=(
   chromium               # the study page's browser test (label browser; 30-40 s and ~370 MB to install here, ~6 s to run)
   libgtest-dev libgmock-dev  # the test suites
   libbenchmark-dev       # bench/
+  python3-pybind11 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+  python3-matplotlib     # python/examples/diode_bridge.py, drawn by its test
   "$@"
 )
 

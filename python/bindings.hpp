@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+// The parts of the Python module `dvi`, one Bind* per concept.
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include <pybind11/pybind11.h>
+
+#include "dvi/error.hpp"
+#include "dvi/enum_output.hpp"
+
+namespace dvi::python {
+
+namespace py = pybind11;
+
+void BindProblems(py::module_& module);
+void BindResults(py::module_& module);
+void BindIntegrators(py::module_& module);
+void BindSolve(py::module_& module);
+
+/// The enumerator whose ToString is name; InvalidInputError naming the
+/// keyword and the choices otherwise.
+template <typename Enum>
+Enum ParseEnum(const std::string& name, const char* keyword, std::initializer_list<Enum> choices) {
+  std::string names;
+  for (const Enum choice : choices) {
+    if (ToString(choice) == name) return choice;
+    names += (names.empty() ? "" : ", ") + std::string(ToString(choice));
+  }
+  throw InvalidInputError(std::string(keyword) + ": unknown value \"" + name + "\" (expected " +
+                          names + ")");
+}
+
+}  // namespace dvi::python
