@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # Install rules: headers, the library, find_package(dvi) (giving dvi::dvi)
 # and pkg-config's dvi.pc beside the CMake package.
-install(TARGETS dvi_library EXPORT dviTargets)
+install(TARGETS dvi_library dvi_ensemble EXPORT dviTargets)
 include(CMakePackageConfigHelpers)
 install(DIRECTORY include/dvi ${PROJECT_BINARY_DIR}/include/dvi
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

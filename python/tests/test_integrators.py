@@ -149,3 +149,14 @@ def test_diode_bridge_picture(tmp_path):
     import diode_bridge
     diode_bridge.main(tmp_path / "bridge.png")
     assert (tmp_path / "bridge.png").stat().st_size > 0
+
+
+def test_a_callables_exception_reaches_the_caller():
+    def broken(t, x, u):
+        raise ZeroDivisionError("boom in f")
+
+    problem = dvi.Dvi(n=1, m=1, f=broken, F=lambda t, x, u: u + x,
+                      K=dvi.ConvexSet.box([-1.0], [1.0]))
+    for integrate in (dvi.integrate_event, dvi.integrate_stepping, dvi.integrate_auto):
+        with pytest.raises(ZeroDivisionError, match="boom in f"):
+            integrate(problem, [3.0], 0.0, 1.0)
