@@ -13,6 +13,7 @@
 #include "dvi/solution_diagnostics.hpp"
 #include "mcp_reformulation.hpp"
 #include "newton_dense_algebra.hpp"
+#include "newton_linear_algebra.hpp"
 #include "newton_sparse_algebra.hpp"
 #include "rounding_floor.hpp"
 
@@ -90,6 +91,48 @@ std::string Format(double value) {
 bool IsDescent(double slope, const Eigen::VectorXd& d) {
   return std::isfinite(slope) && slope < 0 &&
          slope <= -kDescentRho * std::pow(d.norm(), kDescentPower);
+}
+
+// H d = rhs with H factored by the algebra; false where H is singular.
+template <class Algebra>
+bool FactorAndSolve(Algebra& algebra, const Eigen::VectorXd& da, const Eigen::VectorXd& db,
+                    const Eigen::VectorXd& rhs, Eigen::VectorXd& d) {
+  if (!algebra.Factor(da, db)) return false;
+  algebra.Solve(rhs, d);
+  return true;
+}
+
+// A caller's linear algebra (SolveNewtonWith) in RunNewton's shape. Its
+// factorization and solve are one call: a structured solver may keep only
+// what the back substitution needs.
+struct CallerAlgebra {
+  static constexpr const char* kName = "caller's structured";
+  static constexpr bool kReducedNaturalMap = false;
+  internal::NewtonLinearAlgebra& algebra;
+
+  bool EvaluateJacobian(const Eigen::VectorXd& z, const Eigen::VectorXd& f) {
+    return algebra.EvaluateJacobian(z, f);
+  }
+  void AddAbsJacobianTimes(const Eigen::VectorXd& z, Eigen::VectorXd& scale) const {
+    algebra.AddAbsJacobianTimes(z, scale);
+  }
+  void Gradient(const Eigen::VectorXd& da, const Eigen::VectorXd& db, const Eigen::VectorXd& phi,
+                Eigen::VectorXd& scratch, Eigen::VectorXd& gradient) const {
+    algebra.Gradient(da, db, phi, scratch, gradient);
+  }
+  bool SolveNaturalMap(const Eigen::VectorXd& f, const std::vector<signed char>& active,
+                       double shift, Eigen::VectorXd& d) {
+    return algebra.SolveNaturalMap(f, active, shift, d);
+  }
+  bool SolveRegularized(double phi_norm, const Eigen::VectorXd& da, const Eigen::VectorXd& db,
+                        const Eigen::VectorXd& gradient, Eigen::VectorXd& x) {
+    return algebra.SolveRegularized(phi_norm, da, db, gradient, x);
+  }
+};
+
+bool FactorAndSolve(CallerAlgebra& caller, const Eigen::VectorXd& da, const Eigen::VectorXd& db,
+                    const Eigen::VectorXd& rhs, Eigen::VectorXd& d) {
+  return caller.algebra.FactorAndSolve(da, db, rhs, d);
 }
 
 // The method proper [Facchinei–Pang 2003, §9.1–9.4: Algorithm 9.1.10 with
@@ -405,8 +448,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     // natural-map direction with a full line search, then steepest descent.
     if (t == 0) {
       bool newton = false;
-      if (algebra.Factor(da, db)) {
-        algebra.Solve(phi, d);
+      if (FactorAndSolve(algebra, da, db, phi, d)) {
         d = -d;
         newton = true;
       } else {
@@ -472,11 +514,10 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   }
 }
 
-}  // namespace
-
-SolveResult SolveNewton(const BoxMcp& mcp, const SolverOptions& options,
-                        Eigen::VectorXd warm_start) {
-  const Clock::time_point start = Clock::now();
+// The checked first iterate of SolveNewton: the warm start (moved, not
+// copied) or 0, projected onto [l, u].
+Eigen::VectorXd FirstIterate(const BoxMcp& mcp, const SolverOptions& options,
+                             Eigen::VectorXd warm_start) {
   options.Validate();
   mcp.Validate();
   const int m = mcp.dim();
@@ -494,13 +535,31 @@ SolveResult SolveNewton(const BoxMcp& mcp, const SolverOptions& options,
   // caller that moves it in keeps no second copy).
   Eigen::VectorXd z = warm_start.size() == m ? std::move(warm_start) : Eigen::VectorXd::Zero(m);
   z = z.cwiseMax(mcp.lower).cwiseMin(mcp.upper);
+  return z;
+}
 
+}  // namespace
+
+SolveResult SolveNewton(const BoxMcp& mcp, const SolverOptions& options,
+                        Eigen::VectorXd warm_start) {
+  const Clock::time_point start = Clock::now();
+  Eigen::VectorXd z = FirstIterate(mcp, options, std::move(warm_start));
+  const int m = mcp.dim();
   if ((mcp.sparse_jacobian || mcp.constant_jacobian) && options.allow_sparse) {
     SparseAlgebra algebra(mcp, m, options);
     return RunNewton(mcp, options, std::move(z), algebra, start);
   }
   DenseAlgebra algebra(mcp, m);
   return RunNewton(mcp, options, std::move(z), algebra, start);
+}
+
+SolveResult internal::SolveNewtonWith(const BoxMcp& mcp, const SolverOptions& options,
+                                      Eigen::VectorXd warm_start,
+                                      internal::NewtonLinearAlgebra& algebra) {
+  const Clock::time_point start = Clock::now();
+  CallerAlgebra caller{algebra};
+  return RunNewton(mcp, options, FirstIterate(mcp, options, std::move(warm_start)), caller,
+                   start);
 }
 
 }  // namespace dvi

@@ -15,15 +15,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Local coordinates of one step i (t_i → t_{i+1}): rows are the n x-rows
-// then the k rows of ũ^{i+1}; columns are x^i (0..n−1), x^{i+1} (n..2n−1)
-// and ũ^{i+1} (2n..2n+k−1). Every step has this pattern, shifted.
-struct StepTemplate {
-  SparseMatrix matrix;          // constant values, explicit zeros where variable
-  Eigen::VectorXd offset;       // constant part of each local row
-  std::vector<int> variable;    // local slot of each variable entry, in canonical order
-};
-
 // The variable entries in canonical order: first the dense (n + m) × (2n + m)
 // block of a nonlinear step's Jacobian (row-major), then three per
 // component of each ball: (u_l, u_l), (u_l, μ_B), (μ_B, u_l).
@@ -44,6 +35,8 @@ std::vector<std::pair<int, int>> VariableEntries(int n, const LiftedSet& set, bo
   }
   return entries;
 }
+
+}  // namespace
 
 StepTemplate BuildTemplate(const AggregateProblem& problem, double h) {
   const int n = problem.n;
@@ -118,12 +111,14 @@ StepTemplate BuildTemplate(const AggregateProblem& problem, double h) {
   return step;
 }
 
+namespace {
+
 // Everything F and its Jacobian need, shared by both closures (std::function
 // copies its callables).
 struct AggregateData {
   BoundaryValueLayout layout;
   double h = 0;
-  RowPlacement placement;
+  StepRows rows;
   LiftedSet set;
   std::shared_ptr<const SparseMatrix> matrix;
   std::shared_ptr<const Eigen::VectorXd> offset;
@@ -134,11 +129,6 @@ struct AggregateData {
   Eigen::VectorXd buffer;    // one step's (ρ, w)
   Eigen::MatrixXd jacobian;  // one step's Jacobian
 
-  long StepRow(long step, int j) const {
-    return placement.backward[static_cast<std::size_t>(j)] ? layout.State(step, j)
-                                                           : layout.State(step + 1, j);
-  }
-
   void Evaluate(const Eigen::VectorXd& z, Eigen::VectorXd& w) {
     w.noalias() = *matrix * z;
     w += *offset;
@@ -148,7 +138,7 @@ struct AggregateData {
         equations->Evaluate(s * h, h, z.segment(layout.State(s, 0), n),
                             z.segment(layout.State(s + 1, 0), n),
                             z.segment(layout.Multiplier(s + 1, 0), m), buffer);
-        for (int j = 0; j < n; ++j) w(StepRow(s, j)) += buffer(j);
+        for (int j = 0; j < n; ++j) w(rows.Row(s, j)) += buffer(j);
         w.segment(layout.Multiplier(s + 1, 0), m) += buffer.tail(m);
       }
       for (int b = 0; b < set.r; ++b) {
@@ -310,6 +300,19 @@ BoundaryConditions EquilibrateRows(const BoundaryConditions& conditions) {
   return scaled;
 }
 
+void SetBounds(const BoundaryValueLayout& layout, const LiftedSet& set, BoxMcp& mcp) {
+  const long size = layout.size();
+  mcp.lower.resize(size);
+  mcp.upper.resize(size);
+  for (long i = 0; i <= layout.steps; ++i) {
+    mcp.lower.segment(layout.State(i, 0), layout.n).setConstant(-kInf);
+    mcp.upper.segment(layout.State(i, 0), layout.n).setConstant(kInf);
+    if (i == 0) continue;
+    mcp.lower.segment(layout.Multiplier(i, 0), layout.block) = set.lower;
+    mcp.upper.segment(layout.Multiplier(i, 0), layout.block) = set.upper;
+  }
+}
+
 BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
   DVI_THROW_UNLESS(steps >= 1, "steps: " << steps << " must be at least 1");
   DVI_THROW_UNLESS(std::isfinite(problem.horizon) && problem.horizon > 0,
@@ -320,7 +323,7 @@ BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
   auto data = std::make_shared<AggregateData>();
   data->layout = {n, set.m, k, steps};
   data->h = problem.horizon / static_cast<double>(steps);
-  data->placement = PlaceBoundaryRows(problem.conditions);
+  data->rows = {data->layout, PlaceBoundaryRows(problem.conditions)};
   data->set = set;
   data->equations = problem.equations;
   const BoundaryValueLayout& layout = data->layout;
@@ -338,14 +341,7 @@ BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
   for (int v = 0; v < variables; ++v)
     variable_of_slot[static_cast<std::size_t>(step.variable[static_cast<std::size_t>(v)])] = v;
 
-  const auto boundary_row = [&](int r) {
-    const int j = data->placement.component_of_row[static_cast<std::size_t>(r)];
-    return data->placement.backward[static_cast<std::size_t>(j)] ? layout.State(steps, j)
-                                                                 : layout.State(0, j);
-  };
-  const auto local_row = [&](long s, int row) {
-    return row < n ? data->StepRow(s, row) : layout.Multiplier(s + 1, row - n);
-  };
+  const StepRows& rows = data->rows;
 
   // Compressed columns by blocks of columns (ũ^i, x^i), block 0 being x^0:
   // a column's entries come from the steps that see it (as x^i, as x^{i+1}
@@ -376,7 +372,7 @@ BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
       for (int slot = t_outer[local_col]; slot < t_outer[local_col + 1]; ++slot) {
         const int v = variable_of_slot[static_cast<std::size_t>(slot)];
         chunk.entries.push_back(
-            {local_row(s, t_inner[slot]), t_values[slot], v < 0 ? -1 : s * variables + v});
+            {rows.Row(s, t_inner[slot]), t_values[slot], v < 0 ? -1 : s * variables + v});
       }
     };
     const auto close_column = [&] {
@@ -398,8 +394,8 @@ BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
       const Eigen::MatrixXd* conditions = i == 0 ? &M : (i == steps ? &N : nullptr);
       if (conditions)
         for (int r = 0; r < n; ++r)
-          if ((*conditions)(r, j) != 0 || boundary_row(r) == layout.State(i, j))
-            chunk.entries.push_back({boundary_row(r), (*conditions)(r, j), -1});
+          if ((*conditions)(r, j) != 0 || rows.BoundaryRow(r) == layout.State(i, j))
+            chunk.entries.push_back({rows.BoundaryRow(r), (*conditions)(r, j), -1});
       close_column();
     }
   };
@@ -463,8 +459,8 @@ BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
 
   auto offset = std::make_shared<Eigen::VectorXd>(Eigen::VectorXd::Zero(size));
   for (long s = 0; s < steps; ++s)
-    for (int row = 0; row < n + k; ++row) (*offset)(local_row(s, row)) += step.offset(row);
-  for (int r = 0; r < n; ++r) (*offset)(boundary_row(r)) -= problem.conditions.b(r);
+    for (int row = 0; row < n + k; ++row) (*offset)(rows.Row(s, row)) += step.offset(row);
+  for (int r = 0; r < n; ++r) (*offset)(rows.BoundaryRow(r)) -= problem.conditions.b(r);
   data->offset = offset;
   data->buffer.resize(n + set.m);
   data->jacobian.resize(n + set.m, 2 * n + set.m);
@@ -476,15 +472,7 @@ BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps) {
   out.matrix = matrix;
   out.offset = data->offset;
   out.affine = variables == 0;
-  out.mcp.lower.resize(size);
-  out.mcp.upper.resize(size);
-  for (long i = 0; i <= steps; ++i) {
-    out.mcp.lower.segment(layout.State(i, 0), n).setConstant(-kInf);
-    out.mcp.upper.segment(layout.State(i, 0), n).setConstant(kInf);
-    if (i == 0) continue;
-    out.mcp.lower.segment(layout.Multiplier(i, 0), k) = set.lower;
-    out.mcp.upper.segment(layout.Multiplier(i, 0), k) = set.upper;
-  }
+  SetBounds(layout, set, out.mcp);
   out.mcp.F = [data](const Eigen::VectorXd& z, Eigen::VectorXd& w) { data->Evaluate(z, w); };
   out.mcp.sparse_jacobian = [data](const Eigen::VectorXd& z, SparseMatrix& J) {
     data->EvaluateJacobian(z, J);

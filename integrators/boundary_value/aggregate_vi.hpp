@@ -89,6 +89,9 @@ struct AggregateProblem {
 /// its row's scale to be represented.
 BoundaryConditions EquilibrateRows(const BoundaryConditions& conditions);
 
+/// The aggregate MCP's bounds: x free, each ũ^i in K's lifted box.
+void SetBounds(const BoundaryValueLayout& layout, const LiftedSet& set, BoxMcp& mcp);
+
 /// The aggregate MCP on `steps` steps (boundary_value_mcp.hpp).
 BoundaryValueMcp Assemble(const AggregateProblem& problem, long steps);
 
@@ -102,5 +105,54 @@ struct RowPlacement {
   std::vector<int> component_of_row;
 };
 RowPlacement PlaceBoundaryRows(const BoundaryConditions& conditions);
+
+/// Where the aggregate VI's rows sit. Step s (t_s → t_{s+1}) owns n + k
+/// local rows — its x-equations, then the k rows of ũ^{s+1} — over the local
+/// columns x^s (0..n−1), x^{s+1} (n..2n−1), ũ^{s+1} (2n..2n+k−1); each
+/// boundary row r sits at the end of the component it was placed on.
+struct StepRows {
+  BoundaryValueLayout layout;
+  RowPlacement placement;
+
+  /// The global row of step s's local row.
+  long Row(long s, int local) const {
+    const int n = layout.n;
+    if (local >= n) return layout.Multiplier(s + 1, local - n);
+    return placement.backward[static_cast<std::size_t>(local)] ? layout.State(s, local)
+                                                               : layout.State(s + 1, local);
+  }
+  /// The global column of step s's local column.
+  long Column(long s, int local) const {
+    const int n = layout.n;
+    return local < 2 * n ? layout.State(local < n ? s : s + 1, local % n)
+                         : layout.Multiplier(s + 1, local - 2 * n);
+  }
+  /// The local column on which a local row's diagonal entry falls.
+  int DiagonalColumn(int local) const {
+    const int n = layout.n;
+    if (local >= n) return n + local;
+    return placement.backward[static_cast<std::size_t>(local)] ? local : n + local;
+  }
+  /// The component boundary row r sits on, and whether at x^{N_h+1}.
+  int BoundaryComponent(int r) const {
+    return placement.component_of_row[static_cast<std::size_t>(r)];
+  }
+  bool BoundaryAtEnd(int r) const {
+    return placement.backward[static_cast<std::size_t>(BoundaryComponent(r))] != 0;
+  }
+  /// The global row of boundary row r.
+  long BoundaryRow(int r) const {
+    return layout.State(BoundaryAtEnd(r) ? layout.steps : 0, BoundaryComponent(r));
+  }
+};
+
+/// One step's equations in local coordinates (StepRows): every step has
+/// this pattern, and an affine time-invariant problem these values too.
+struct StepTemplate {
+  SparseMatrix matrix;        ///< Constant values, explicit zeros where variable.
+  Eigen::VectorXd offset;     ///< Constant part of each local row.
+  std::vector<int> variable;  ///< Local slot of each variable entry, in canonical order.
+};
+StepTemplate BuildTemplate(const AggregateProblem& problem, double h);
 
 }  // namespace dvi::internal

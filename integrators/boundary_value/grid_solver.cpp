@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -13,7 +14,10 @@
 
 #include "check.hpp"
 #include "dvi/semismooth_newton.hpp"
+#include "newton_linear_algebra.hpp"
 #include "output_times_check.hpp"
+#include "template_algebra.hpp"
+#include "template_operator.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -36,8 +40,9 @@ constexpr double kSameTimeFraction = 1e-12;
 constexpr double kNodeFraction = 1e-9;
 
 struct Grid {
-  BoundaryValueMcp mcp;
+  BoundaryValueMcp mcp;  // matrix and offset null where the template stands for them
   SolveResult result;
+  long nonzeros = 0;  // of the VI's Jacobian
 };
 
 double Seconds(Clock::time_point since) {
@@ -88,7 +93,21 @@ class GridSolver {
   // Newton on `steps` steps from `start` (empty: the projection of 0).
   Grid Solve(long steps, Eigen::VectorXd start, bool refinement) {
     const Clock::time_point begin = Clock::now();
-    Grid grid{Assemble(problem_, steps), {}};
+    Grid grid;
+    std::shared_ptr<const TemplateOperator> op;
+    if (problem_.affine && problem_.set.r == 0) {
+      op = std::make_shared<const TemplateOperator>(problem_, steps);
+      grid.mcp.layout = op->layout();
+      grid.mcp.horizon = problem_.horizon;
+      grid.mcp.h = op->h();
+      grid.mcp.affine = true;
+      SetBounds(grid.mcp.layout, problem_.set, grid.mcp.mcp);
+      grid.mcp.mcp.F = [op](const Eigen::VectorXd& z, Eigen::VectorXd& w) { op->Evaluate(z, w); };
+      grid.nonzeros = op->nonzeros();
+    } else {
+      grid.mcp = Assemble(problem_, steps);
+      grid.nonzeros = grid.mcp.matrix->nonZeros();
+    }
     // Counted for the statistics (rhs_evals).
     VectorMap F = std::move(grid.mcp.mcp.F);
     grid.mcp.mcp.F = [F, this](const Eigen::VectorXd& z, Eigen::VectorXd& w) {
@@ -100,7 +119,13 @@ class GridSolver {
     // instead of 3 on the coarsest grid of the two-point LCS).
     SolverOptions solver = options_.solver;
     if (start.size() == 0) solver.watchdog_steps = 0;
-    grid.result = SolveNewton(grid.mcp.mcp, solver, std::move(start));
+    if (op) {
+      // Time-invariant: the block solver on the step template (BlockLu).
+      TemplateAlgebra algebra(op);
+      grid.result = SolveNewtonWith(grid.mcp.mcp, solver, std::move(start), algebra);
+    } else {
+      grid.result = SolveNewton(grid.mcp.mcp, solver, std::move(start));
+    }
     grid.mcp.mcp.F = std::move(F);
     BoundaryValueGrid record;
     record.steps = steps;
@@ -401,7 +426,7 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
 
   BoundaryValueStats& stats = solver.stats();
   stats.unknowns = grid.mcp.layout.size();
-  stats.nonzeros = grid.mcp.matrix->nonZeros();
+  stats.nonzeros = grid.nonzeros;
   stats.iterations = grid.result.iterations;
   stats.residual = grid.result.residual;
   stats.message = grid.result.message;
