@@ -27,9 +27,11 @@ int main(int argc, char** argv) {
   std::string name = "lcs";
   long steps = 1000;
   int repeat = 1;
+  std::string dump;
   app.add_option("--problem", name, "lcs or game")->check(CLI::IsMember({"lcs", "game"}));
   app.add_option("--steps", steps, "N, the number of steps")->check(CLI::PositiveNumber);
   app.add_option("--repeat", repeat, "solves timed; the best counts")->check(CLI::PositiveNumber);
+  app.add_option("--dump", dump, "write every node's x and u to this file (raw doubles)");
   CLI11_PARSE(app, argc, argv);
 
   const dvi::bench::BenchProblem problem = dvi::bench::MakeBenchProblem(name);
@@ -64,5 +66,24 @@ int main(int argc, char** argv) {
       name.c_str(), steps, std::string(dvi::ToString(solution.trajectory.status)).c_str(), best, best_cpu,
       newton.iterations, newton.total_iterations, newton.grids.size(), newton.residual,
       newton.unknowns, newton.nonzeros, static_cast<double>(usage.ru_maxrss) / 1024.0);
+  if (!dump.empty()) {
+    options.output_times.clear();
+    const dvi::Trajectory trajectory =
+        problem.is_game ? dvi::SolveNashGame(problem.game, problem.horizon, options).solution.trajectory
+                        : dvi::SolveBoundaryValue(problem.lcs, problem.conditions, problem.horizon,
+                                                  options)
+                              .trajectory;
+    std::FILE* file = std::fopen(dump.c_str(), "wb");
+    if (file == nullptr) {
+      std::cerr << "--dump: cannot write " << dump << "\n";
+      return 1;
+    }
+    for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+      const Eigen::VectorXd x = trajectory.states[k], u = trajectory.multipliers[k];
+      std::fwrite(x.data(), sizeof(double), static_cast<std::size_t>(x.size()), file);
+      std::fwrite(u.data(), sizeof(double), static_cast<std::size_t>(u.size()), file);
+    }
+    std::fclose(file);
+  }
   return solution.trajectory.succeeded() ? 0 : 1;
 }
