@@ -71,7 +71,8 @@ struct BoundaryValueOptions {
   /// scheme of the paper's convergence theorems.
   double theta = 0;
   BoundaryValueScheme scheme = BoundaryValueScheme::kImplicit;
-  /// Semismooth Newton on the aggregate MCP (SolveNewton on KLU):
+  /// Semismooth Newton on the aggregate MCP (a block LU of the step
+  /// template for an affine time-invariant problem, else KLU):
   /// tolerance on its natural residual, iteration limit (0: 100), and the
   /// KLU order, by default the MCP's own banded one (SparseOrdering::kGiven),
   /// and the watchdog, by default 3 relaxed steps on warm-started grids
@@ -185,7 +186,9 @@ struct BoundaryValueSolution {
 /// assembled once as a sparse mixed complementarity problem in all
 /// x^{h,0..N_h+1}, u^{h,1..N_h+1} (block-bidiagonal plus the boundary rows;
 /// a K other than a box through its KKT system per step) and solved by
-/// semismooth Newton on KLU (boundary_value_mcp.hpp).
+/// semismooth Newton (boundary_value_mcp.hpp): on a block LU of the per-step
+/// template when the problem is affine and time-invariant (no ball in K),
+/// never assembling the sparse matrix; on KLU otherwise.
 /// @throws InvalidInputError on an invalid problem, conditions, horizon or
 /// options, naming the field; also for an LCS without multipliers (m = 0)
 /// whose linear two-point problem M + N Φ(T) is singular (no unique

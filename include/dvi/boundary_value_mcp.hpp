@@ -31,7 +31,8 @@ struct BoundaryValueLayout {
 /// The discrete boundary-value problem (9.2)–(9.4) (or (9.11), or the
 /// game's (a)–(e) of Sect. 10) assembled as ONE box-constrained mixed
 /// complementarity problem, independent of how it is solved: dvi solves it by
-/// semismooth Newton on KLU; another back-end (PETSc's SNESVI, an MPI-parallel
+/// semismooth Newton on KLU (or, for an affine time-invariant problem, on a
+/// block LU of its step template without assembling it); another back-end (PETSc's SNESVI, an MPI-parallel
 /// solver) takes mcp.lower, mcp.upper and F, or matrix and offset when it is
 /// affine.
 ///

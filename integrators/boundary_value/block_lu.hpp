@@ -51,16 +51,19 @@ struct PivotRange {
 ///     along (zero for separated conditions, dense for periodic ones);
 ///  3. the carried rows on x^{N_h+1} are solved, then the stages back.
 /// This is GEPP on H with the columns in the order (ũ of every step, x^0,
-/// …, x^{N_h}, x^{N_h+1}) — the alternate-row elimination of almost block
-/// diagonal systems [Diaz, Fairweather, Keast, ACM TOMS 9 (1983)] with a
-/// border for non-separated conditions [Wright 1992; de Hoog–Mattheij 1987]
-/// — so its stability is GEPP's: unlike condensing the steps into a product
-/// of transfer matrices, growing and decaying modes each meet their pivots
-/// from the end that controls them. Factorization and solve are one pass:
-/// only the back substitution's rows are stored — per step the n pivot
-/// rows on (x^s, x^{s+1}) with their right-hand side, the border block where
-/// nonzero, and the k right-hand sides of ũ's pivot rows; step 1 is redone
-/// in the back substitution rather than stored.
+/// …, x^{N_h}, x^{N_h+1}): the row-interchange elimination of almost block
+/// diagonal systems (de Boor & Weiss, SOLVEBLOK, ACM TOMS 6 (1980); COLROW
+/// [Diaz, Fairweather, Keast, ACM TOMS 9 (1983)] alternates row and column
+/// elimination), with the boundary rows' columns at x^{N_h+1} carried as a
+/// border. Its stability is GEPP's: unlike condensing the steps into a
+/// product of transfer matrices, a growing and a decaying mode each meet
+/// their pivots from the end that controls them (block_lu_test: a periodic
+/// Hamiltonian with e^{1000} growth, where the product overflows).
+/// Factorization and solve are one pass: only the back substitution's rows
+/// are stored — per step the n pivot rows on (x^s, x^{s+1}) with their
+/// right-hand side, the border block where nonzero, and the k right-hand
+/// sides of ũ's pivot rows; step 1 is redone in the back substitution
+/// rather than stored.
 class BlockLu {
  public:
   /// blocks(s): step s's Jacobian (n + k) × (2n + k) in local coordinates

@@ -445,7 +445,9 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
     std::ostringstream reason;
     reason << "boundary-value problem: aggregate VI (9.2)-(9.4) of " << describe << " on "
            << GridText(grid.mcp.layout.steps, grid.mcp.h) << ", " << stats.unknowns
-           << " unknowns, semismooth Newton on KLU: " << stats.iterations << " iterations, residual "
+           << " unknowns, semismooth Newton on "
+           << (grid.mcp.matrix ? "KLU" : "a block LU of the step template") << ": "
+           << stats.iterations << " iterations, residual "
            << Format(stats.residual);
     if (stats.grids.size() > 1)
       reason << " (" << stats.grids.size() << " grids, " << stats.total_iterations
