@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/method_fraction.hpp"
 #include "dvi/auto_driver.hpp"
 #include "scene_file.hpp"
 #include "support/zoo/models.hpp"
@@ -46,13 +47,6 @@ BridgeRun ChargedBridge(double theta, double tolerance) {
   return run;
 }
 
-double SteppedFraction(const Trajectory& trajectory) {
-  double stepped = 0;
-  for (const MethodInterval& interval : trajectory.intervals)
-    if (interval.method == IntegrationMethod::kTimeStepping) stepped += interval.to - interval.from;
-  return stepped / trajectory.final_time();
-}
-
 // Backward Euler's windows are first order (the source is exact, q(t) of
 // the scene): no halving of h reaches rtol 1e-10, and the run says so.
 TEST(AutoWindow, BackwardEulerWindowsOfTheChargedBridgeAreNotCertifiedAtRtol1e10) {
@@ -73,7 +67,7 @@ TEST(AutoWindow, CertifiedWindowsOfTheChargedBridgeHoldVWithinTheirBound) {
     // Most of the horizon in windows (87 %: the starts of conduction run
     // event-driven since the mode selection by the rates), or this would not
     // test them.
-    EXPECT_GT(SteppedFraction(run.trajectory), 0.5);
+    EXPECT_GT(testing::MethodFraction(run.trajectory, IntegrationMethod::kTimeStepping), 0.5);
     EXPECT_LE(run.trajectory.certificate.window.ratio, 1);
     const double bound = Certificate::kWindowSafety * (tolerance + tolerance * kVs);
     EXPECT_LE(run.max_error, bound) << "rtol = atol = " << tolerance;

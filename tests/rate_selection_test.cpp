@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "support/method_fraction.hpp"
 #include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/lcs.hpp"
@@ -142,13 +143,6 @@ BoostRun Boost(bool automatic) {
   return run;
 }
 
-double EventDrivenFraction(const Trajectory& trajectory) {
-  double driven = 0;
-  for (const MethodInterval& interval : trajectory.intervals)
-    if (interval.method == IntegrationMethod::kEventDriven) driven += interval.to - interval.from;
-  return driven / trajectory.final_time();
-}
-
 TEST(RateSelection, BoostConverterRunsEventDrivenThroughDiscontinuousConduction) {
   const BoostRun run = Boost(false);
   ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
@@ -159,7 +153,7 @@ TEST(RateSelection, BoostConverterUnderAutoIsEventDrivenAndExact) {
   const BoostRun run = Boost(true);
   ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
   EXPECT_LE(run.error, kZooGoal);
-  EXPECT_GE(EventDrivenFraction(run.trajectory), 0.95);
+  EXPECT_GE(testing::MethodFraction(run.trajectory, IntegrationMethod::kEventDriven), 0.95);
 }
 
 }  // namespace
