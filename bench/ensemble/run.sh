@@ -27,18 +27,18 @@ write_sweep() {
   /usr/bin/python3 - "$out_dir/$1.json" "$scenes" "$2" <<'PY'
 import json, sys
 path, scenes, kind = sys.argv[1], sys.argv[2], sys.argv[3]
-# Sizes: ~5–10 s of work each on one core, so that MPI's start-up (~0.5 s)
-# does not decide the comparison.
+# Sizes: ~8–10 s of work each on one core, so that MPI's start-up (0.3–0.4 s
+# measured) does not decide the comparison.
 if kind == "cheap":      # the Filippov relay, event-driven: ~0.02 ms to integrate a member
     sweep = {"scene": scenes + "/filippov_relay.json", "members": [{"/method/name": "event"}],
              "grid": {"/problem/params/a": [0.005 * k for k in range(160)],
-                      "/x0/0": [0.1 + 0.05 * k for k in range(125)]}}
+                      "/x0/0": [0.1 + 0.0125 * k for k in range(500)]}}
 elif kind == "medium":   # the diode bridge at rtol 1e-8 over its start: ~8 ms
     sweep = {"scene": scenes + "/diode_bridge.json",
-             "grid": {"/x0/0": [2 + 0.02 * k for k in range(500)], "/x0/1": [0, 0.5]}}
+             "grid": {"/x0/0": [2 + 0.02 * k for k in range(500)], "/x0/1": [0.25 * j for j in range(6)]}}
 else:                    # the diode bridge at rtol 1e-11: ~15 ms
     sweep = {"scene": scenes + "/diode_bridge.json", "members": [{"/method/rtol": 1e-11}],
-             "grid": {"/x0/0": [2 + 0.05 * k for k in range(400)]}}
+             "grid": {"/x0/0": [2 + 0.05 * k for k in range(400)], "/x0/1": [0, 0.25, 0.5]}}
 json.dump(sweep, open(path, "w"))
 PY
 }
