@@ -600,10 +600,13 @@ TEST(EventDriven, FunctionsOfTheWrongShapeAreNamedByEveryIntegrator) {
     Ju = Eigen::MatrixXd::Ones(3, 1);
   };
   const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 3);
-  for (const auto& [dvi, name] :
+  // Not a structured binding: C++17 lambdas cannot capture one (clang refuses).
+  for (const auto& entry :
        {std::pair{short_f, std::string("Dvi.f: wrote 0 entries, expected 1")},
         std::pair{wide_jacobian,
                   std::string("Dvi.F_jacobian: wrote Jx 2×2 and Ju 3×1, expected 1×1 and 1×1")}}) {
+    const Dvi& dvi = entry.first;
+    const std::string& name = entry.second;
     ExpectThrowNaming([&] { IntegrateEventDriven(dvi, x0, 0, 1); }, name);
     ExpectThrowNaming([&] { IntegrateTimeStepping(dvi, x0, 0, 1); }, name);
     ExpectThrowNaming([&] { IntegrateAuto(dvi, x0, 0, 1); }, name);
