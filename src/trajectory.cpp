@@ -70,6 +70,7 @@ std::string_view ToString(IntegrationMethod method) {
     case IntegrationMethod::kEventDriven: return "event";
     case IntegrationMethod::kModeDae: return "event-ida";
     case IntegrationMethod::kBoundaryValue: return "bvp";
+    case IntegrationMethod::kZenoExtrapolation: return "zeno-extrapolation";
     case IntegrationMethod::kAuto: return "auto";
   }
   return "unknown";

@@ -72,11 +72,16 @@ enum class IntegrationMethod {
   kEventDriven,    ///< Modes as ODEs on CVODE (event_driven.hpp).
   kModeDae,        ///< Modes of an LCS as DAEs on IDA (mode_dae.hpp).
   kBoundaryValue,  ///< One aggregate VI over all steps (boundary_value.hpp).
+  /// The automatic driver's interval [t_k, t*] from the last resolved switch
+  /// of a Zeno sequence to its accumulation, whose t* and x(t*) are
+  /// extrapolated from the switches (events/zeno_extrapolation.hpp); the
+  /// reason gives the switches resolved and the predicted error.
+  kZenoExtrapolation,
   /// The automatic driver (auto_driver.hpp): never an interval's method, it
   /// records the method of each interval it ran.
   kAuto,
 };
-/// "stepping", "event", "event-ida", "bvp", "auto".
+/// "stepping", "event", "event-ida", "bvp", "zeno-extrapolation", "auto".
 std::string_view ToString(IntegrationMethod method);
 
 /// The method that produced [from, to] and why it was chosen.

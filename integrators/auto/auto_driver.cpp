@@ -15,6 +15,7 @@
 #include "dvi/mode_dae.hpp"
 #include "events/event_times.hpp"
 #include "events/trajectory_parts.hpp"
+#include "events/zeno_extrapolation.hpp"
 #include "events/zeno_prediction.hpp"
 #include "ida/mode_dae_validated.hpp"
 #include "output_times_check.hpp"
@@ -89,6 +90,37 @@ std::vector<double> DistinctEventTimes(const std::vector<Event>& events, double 
   for (const Event& event : events)
     if (times.empty() || event.time - times.back() > same_time) times.push_back(event.time);
   return times;
+}
+
+// The states at a run's distinct switch times: the rows it sampled there.
+std::vector<Eigen::VectorXd> StatesAt(const Trajectory& run, const std::vector<double>& times) {
+  std::vector<Eigen::VectorXd> states;
+  states.reserve(times.size());
+  for (const double time : times) {
+    const auto row = std::lower_bound(run.times.begin(), run.times.end(), time);
+    states.push_back(row != run.times.end() && *row == time
+                         ? Eigen::VectorXd(run.states[row - run.times.begin()])
+                         : run.StateAt(time));
+  }
+  return states;
+}
+
+// The largest |x_i| over a run's rows, per component.
+Eigen::VectorXd StateScale(const Trajectory& run) {
+  Eigen::VectorXd scale = Eigen::VectorXd::Zero(run.state_dim());
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    scale = scale.cwiseMax(Eigen::VectorXd(run.states[k]).cwiseAbs());
+  return scale;
+}
+
+// The largest |x_i − x*_i| over the rows of `run` in [from, to].
+Eigen::VectorXd Excursion(const Trajectory& run, double from, double to,
+                          const Eigen::VectorXd& x_star) {
+  Eigen::VectorXd excursion = Eigen::VectorXd::Zero(x_star.size());
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    if (run.times[k] >= from && run.times[k] <= to)
+      excursion = excursion.cwiseMax((Eigen::VectorXd(run.states[k]) - x_star).cwiseAbs());
+  return excursion;
 }
 
 // A time-stepping window held to the run's tolerances (Certificate, window).
@@ -198,14 +230,23 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
   Eigen::VectorXd x = x0;
   double window = base_window;
   int handovers = 0;
+  // Why the current event-driven interval began where it did (none: t0).
+  std::string resumed;
+  // A Zeno sequence whose run stopped short of output rows before t*: its
+  // switches so far, and the zeno_window that lets the next run from its
+  // last switch go on past those rows (< 0: the caller's).
+  std::vector<double> zeno_times;
+  std::vector<Eigen::VectorXd> zeno_states;
+  double zeno_window = -1;
   while (true) {
     // The caller's options as they are where clipping keeps all their times
     // (the first run, as a rule): no copy of a long list of output times.
     EventDrivenOptions clipped;
-    const bool as_given = t == t0 && ClipKeepsAll(outputs, t0, t_end);
+    const bool as_given = t == t0 && ClipKeepsAll(outputs, t0, t_end) && zeno_window < 0;
     if (!as_given) {
       clipped = options.event;
       clipped.output_times = Clip(outputs, t, t_end, false);
+      if (zeno_window >= 0) clipped.zeno_window = zeno_window;
     }
     const EventDrivenOptions& run_options = as_given ? options.event : clipped;
     Trajectory run = event.run(t, x, run_options);
@@ -213,9 +254,21 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     // state where it stopped, located by CVODE / IDA).
     const double t_a = run.times.empty() ? t : run.times.back();
     const Eigen::VectorXd x_a = run.times.empty() ? x : Eigen::VectorXd(run.states.back());
-    // A failed run's rows at t_a give way to time-stepping's first row there.
+    // The switches of a failed run, after those of the Zeno sequence it
+    // continues, and their prediction (events/zeno_prediction.hpp).
+    std::vector<double> event_times = std::move(zeno_times);
+    std::vector<Eigen::VectorXd> event_states = std::move(zeno_states);
+    if (!run.succeeded()) {
+      const std::vector<double> run_times = DistinctEventTimes(run.events, same_time);
+      const std::vector<Eigen::VectorXd> run_states = StatesAt(run, run_times);
+      event_times.insert(event_times.end(), run_times.begin(), run_times.end());
+      event_states.insert(event_states.end(), run_states.begin(), run_states.end());
+    }
+    const internal::ZenoPrediction zeno = internal::PredictAccumulation(event_times);
+    // A failed run's rows at t_a give way to time-stepping's first row there;
+    // a Zeno run's last switch, where the extrapolation starts, stays.
     std::size_t output_rows = run.times.size();
-    if (!run.succeeded() && t_end - t_a > same_time)
+    if (!run.succeeded() && !zeno.found && t_end - t_a > same_time)
       while (output_rows > 0 && run.times[output_rows - 1] >= t_a) --output_rows;
     event.certify(run, output_rows, run_options);
     const bool succeeded = run.succeeded();
@@ -228,13 +281,9 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
                                                        : Eigen::VectorXd();
     if (t_a > t) {
       whole.intervals.push_back({t, t_a, IntegrationMethod::kEventDriven,
-                                 (t > t0 ? "back to event-driven after time-stepping; " : "") +
-                                     OwnReason(run, "event-driven"),
+                                 resumed + OwnReason(run, "event-driven"),
                                  run.intervals.empty() ? std::nullopt : run.intervals.front().linear_solver});
     }
-    const std::vector<double> event_times =
-        succeeded ? std::vector<double>() : DistinctEventTimes(run.events, same_time);
-    const internal::ZenoPrediction zeno = internal::PredictAccumulation(event_times);
     const std::string failure = run.message;
     // A run that spent more steps than time-stepping needs to reach the end:
     // returning would likely spend them again (a flow chattering at the
@@ -248,6 +297,82 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     internal::AppendPart(whole, std::move(run));
     if (succeeded || t_end - t_a <= same_time) return whole;
 
+    std::string extrapolation_failure;
+    if (zeno.found && zeno.accumulation_time < t_end) {
+      const double t_star = zeno.accumulation_time;
+      std::vector<double> inside = Clip(outputs, t_a, t_star, true);
+      if (!inside.empty() && inside.back() >= t_star) inside.pop_back();
+      // Output rows before t* that the run stopped short of: event-driven
+      // goes on from the last switch, once, until t* is nearer than the last
+      // of them (the sequence shrinks geometrically, so a few cycles more).
+      // A row within a thousandth of [t_a, t*] of t* is bounded by the
+      // flow's speed over the time left (ExtrapolatedRows), not resolved.
+      while (!inside.empty() && t_star - inside.back() < 1e-3 * (t_star - t_a)) inside.pop_back();
+      if (!inside.empty() && zeno_window < 0) {
+        zeno_window = 0.5 * (t_star - inside.back()) / (t_end - t_a);
+        zeno_times = std::move(event_times);
+        zeno_states = std::move(event_states);
+        resumed = "on toward the Zeno accumulation at t* = " + Short(t_star) + "; ";
+        t = t_a;
+        x = x_a;
+        continue;
+      }
+      // t* and x(t*) extrapolated, held to the windows' budget (Certificate,
+      // window), then event-driven from there.
+      const double rtol = options.window_rtol > 0 ? options.window_rtol : options.event.rtol;
+      const double atol = options.window_atol > 0 ? options.window_atol : options.event.atol;
+      const Eigen::VectorXd resolution =
+          (rtol * StateScale(whole)).array() + atol;
+      const internal::ZenoExtrapolation extrapolation =
+          internal::ExtrapolateAccumulation(zeno, event_times, event_states, resolution);
+      if (extrapolation.found && extrapolation.accumulation_time > t_a &&
+          extrapolation.accumulation_time < t_end) {
+        inside = Clip(outputs, t_a, extrapolation.accumulation_time, true);
+        if (!inside.empty() && inside.back() >= extrapolation.accumulation_time) inside.pop_back();
+        const double cycle_start = event_times[event_times.size() - 1 -
+                                               static_cast<std::size_t>(extrapolation.state_period)];
+        Trajectory rows = internal::ExtrapolatedRows(
+            extrapolation, t_a, x_a, u_a, inside,
+            Excursion(whole, cycle_start, t_a, extrapolation.state), Certificate::kWindowSafety * resolution,
+            whole.certificate.window.ratio);
+        std::ostringstream account;
+        account.precision(3);
+        account << "Zeno: " << extrapolation.switches << " switches resolved (the last "
+                << zeno.gaps << " gaps with ratio " << zeno.ratio
+                << (zeno.period > 1 ? " per cycle of " + std::to_string(zeno.period) + " switches"
+                                    : "")
+                << "), t* and x(t*) by Aitken's Δ² on the switch times and states (a cycle of "
+                << extrapolation.state_period << " switches): t* = ";
+        account.precision(15);
+        account << extrapolation.accumulation_time;
+        account.precision(3);
+        account << " ± " << extrapolation.time_error << ", x* ± "
+                << extrapolation.state_error.maxCoeff() << "; predicted error "
+                << rows.certificate.window.value << " in x_" << rows.certificate.window.component
+                << " (" << rows.certificate.window.ratio << " of the windows' budget with those before), "
+                << inside.size() << " rows in [t_k, t*]";
+        if (rows.certificate.window.ratio <= 1) {
+          whole.intervals.push_back({t_a, extrapolation.accumulation_time,
+                                     IntegrationMethod::kZenoExtrapolation, account.str()});
+          internal::AppendPart(whole, std::move(rows));
+          resumed = "resumed at the extrapolated accumulation; ";
+          zeno_window = -1;
+          zeno_times.clear();
+          zeno_states.clear();
+          t = extrapolation.accumulation_time;
+          x = extrapolation.state;
+          continue;
+        }
+        extrapolation_failure = "; the extrapolation is not certified (" + account.str() + ")";
+      } else {
+        extrapolation_failure = "; no extrapolation: " + (extrapolation.found ? std::string("t* outside the run") : extrapolation.why);
+      }
+    }
+    zeno_window = -1;
+    zeno_times.clear();
+    zeno_states.clear();
+    resumed = "back to event-driven after time-stepping; ";
+
     ++handovers;
     std::string reason;
     double t_b;
@@ -256,7 +381,8 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
                std::to_string(zeno.gaps) + " gaps with ratio " + Fixed(zeno.ratio, 3) +
                (zeno.period > 1 ? " per cycle of " + std::to_string(zeno.period) + " modes" : "") +
                ", accumulation predicted at t* = " + Fixed(zeno.accumulation_time, 7) +
-               " (event-driven stopped at t = " + Short(t_a) + ": " + failure + ")";
+               " (event-driven stopped at t = " + Short(t_a) + ": " + failure + ")" +
+               extrapolation_failure;
       t_b = std::min(t_end, std::max(zeno.accumulation_time, t_a) + window);
     } else {
       reason = "event-driven stopped at t = " + Short(t_a) + ": " + failure;
