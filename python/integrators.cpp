@@ -136,6 +136,7 @@ AutoOptions AutomaticOptions(const py::kwargs& kwargs) {
   keywords.Take("max_handovers", options.max_handovers);
   keywords.Take("window_rtol", options.window_rtol);
   keywords.Take("window_atol", options.window_atol);
+  keywords.Take("extrapolate_zeno", options.extrapolate_zeno);
   keywords.Finish();
   return options;
 }

@@ -80,6 +80,9 @@ AutoOptions SpiralOptions() {
   options.event.rtol = 1e-10;
   options.event.atol = 1e-12;
   options.stepping.h = 1e-4;
+  // These tests hold the time-stepping windows' path over the accumulation
+  // (tests/zeno_extrapolation_test.cpp holds the default, extrapolating it).
+  options.extrapolate_zeno = false;
   // The window steps over the accumulation at order ½ (measured by the
   // window check): its error is about 2e-2, which no halving of h brings to
   // rtol 1e-10; it is certified to what it reaches (by default the run ends
@@ -254,6 +257,42 @@ TEST(AutoDriver, SpiralWithAlternatingGapRatiosIsZenoPerCycleOfTwoModes) {
   RecordProperty("arrival", Scientific(arrival));
   RecordProperty("predicted_arrival_error", Scientific(std::abs(predicted - arrival)));
   RecordProperty("event_message", event_only.message);
+}
+
+// The same asymmetric spiral by default: t* and x(t*) = 0 extrapolated from
+// the switches a cycle of two modes apart, event-driven before and after.
+TEST(AutoDriver, AsymmetricSpiralIsExtrapolatedPerCycleOfTwoModes) {
+  const double arrival = AsymmetricSpiralArrival();
+  const double horizon = 2 * arrival;
+  AutoOptions options = SpiralOptions();
+  options.extrapolate_zeno = true;
+  options.window_rtol = options.window_atol = 0;  // held to rtol, atol
+  options.event.output_times = Linspace(0, horizon, 401);
+  const Trajectory trajectory =
+      IntegrateAuto(AsymmetricSpiral(), Eigen::Vector2d(3, 3), 0, horizon, options);
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  EXPECT_TRUE(trajectory.certificate.certified()) << trajectory.Report(ReportDetail::kFull);
+  ExpectWellFormed(trajectory, 0, horizon);
+  const auto zeno = std::find_if(
+      trajectory.intervals.begin(), trajectory.intervals.end(), [](const MethodInterval& i) {
+        return i.method == IntegrationMethod::kZenoExtrapolation;
+      });
+  ASSERT_NE(zeno, trajectory.intervals.end()) << trajectory.Report(ReportDetail::kFull);
+  EXPECT_TRUE(Contains(zeno->reason, "per cycle of 2 switches")) << zeno->reason;
+  for (const MethodInterval& interval : trajectory.intervals)
+    EXPECT_NE(interval.method, IntegrationMethod::kTimeStepping) << interval.reason;
+  // The switch times carry CVODE's error at rtol 1e-10.
+  constexpr double kArrivalTolerance = 1e-9;
+  EXPECT_NEAR(zeno->to, arrival, kArrivalTolerance) << zeno->reason;
+  // At the origin after t*, to the extrapolated x*'s error (within the
+  // certificate's window budget, 100·(atol + rtol·max|x|) ≈ 3.1e-6... the
+  // measured x* is far closer).
+  double after = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
+    if (trajectory.times[k] >= zeno->to) after = std::max(after, trajectory.states[k].norm());
+  EXPECT_LE(after, trajectory.certificate.window.bound);
+  RecordProperty("arrival_error", Scientific(std::abs(zeno->to - arrival)));
+  RecordProperty("max_norm_after", Scientific(after));
 }
 
 TEST(AutoDriver, IndexOneProblemRunsEventDrivenThroughout) {

@@ -185,6 +185,8 @@ const std::vector<HostileCase>& Cases() {
        {"method.linear_solver", "needs an lcs scene"}},
       {"SteppingWindowTwo", Dvi("-x1", "", R"("method": {"stepping_window": 2})"),
        "run input.json", 2, {"method.stepping_window", "(0, 1]"}},
+      {"ExtrapolateZenoNotABoolean", Dvi("-x1", "", R"("method": {"extrapolate_zeno": "yes"})"),
+       "run input.json", 2, {"method.extrapolate_zeno", "expected true or false"}},
       {"MaxHandoversHuge", Dvi("-x1", "", R"("method": {"max_handovers": 1000000000000})"),
        "run input.json", 2, {"method.max_handovers", "expected at most"}},
       {"MaxWallZero", Dvi("-x1", "", R"("method": {"max_wall": 0})"), "run input.json", 2,

@@ -89,9 +89,10 @@ TEST(ZenoExtrapolation, SpiralUnderAutoIsExactAfterTheAccumulation) {
 // the retry past the last output row before t*), t* and x(t*) = 0 are
 // extrapolated and recorded as a zeno-extrapolation interval. After t* the
 // origin is a mode only with u not unique (a s1 + b s2 = 0, B u = 0 is
-// unique): mode selection by rates for such states (branch modesel) is
-// what resumes event-driven there; today the window after t* is stepped and
-// is not certified, so this test asserts the extrapolation alone.
+// unique), and the rates do not single out the sliding mode yet: modes ul
+// and lu both pass their check (every root function non-decreasing) with
+// different x', so time-stepping takes over there and, at atol 1e-14, its windows are not
+// certified (1.3e-7 estimated). This test holds the rows up to t*.
 TEST(ZenoExtrapolation, TwistingControllerAccumulationIsExtrapolated) {
   const zoo::ZooModel model = zoo::ZooModelNamed("twisting_controller");
   const Trajectory trajectory =
@@ -105,7 +106,15 @@ TEST(ZenoExtrapolation, TwistingControllerAccumulationIsExtrapolated) {
   ASSERT_NE(at_star, trajectory.times.end());
   const Eigen::VectorXd x_star(trajectory.states[at_star - trajectory.times.begin()]);
   EXPECT_LE((x_star - model.zeno_state).lpNorm<Eigen::Infinity>(), kStateTolerance);
+  const zoo::PiecewiseLinearReference reference = model.reference();
+  double state_error = 0;
+  for (std::size_t k = 0; k < trajectory.times.size() && trajectory.times[k] <= zeno->to; ++k)
+    state_error = std::max(
+        state_error,
+        (trajectory.states[k] - reference.X(trajectory.times[k])).lpNorm<Eigen::Infinity>());
+  EXPECT_LE(state_error, kStateTolerance);
   RecordProperty("accumulation_time_error", std::to_string(time_error));
+  RecordProperty("state_error", std::to_string(state_error));
   RecordProperty("reason", zeno->reason);
 }
 

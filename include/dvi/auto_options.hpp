@@ -33,6 +33,12 @@ struct AutoOptions {
   /// so in the certificate; the event-driven intervals keep event.rtol.
   double window_rtol = 0;
   double window_atol = 0;
+  /// Where event-driven integration stops on a Zeno accumulation (a
+  /// geometric sequence of switches), extrapolate t* and x(t*) by Aitken's
+  /// Δ² on the switch times and states and go on event-driven from there
+  /// (an interval `zeno-extrapolation`, held to the windows' accuracy);
+  /// false steps over the accumulation with a time-stepping window instead.
+  bool extrapolate_zeno = true;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

@@ -298,7 +298,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
     if (succeeded || t_end - t_a <= same_time) return whole;
 
     std::string extrapolation_failure;
-    if (zeno.found && zeno.accumulation_time < t_end) {
+    if (options.extrapolate_zeno && zeno.found && zeno.accumulation_time < t_end) {
       const double t_star = zeno.accumulation_time;
       std::vector<double> inside = Clip(outputs, t_a, t_star, true);
       if (!inside.empty() && inside.back() >= t_star) inside.pop_back();
@@ -346,8 +346,10 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
         account.precision(15);
         account << extrapolation.accumulation_time;
         account.precision(3);
-        account << " ± " << extrapolation.time_error << ", x* ± "
-                << extrapolation.state_error.maxCoeff() << "; predicted error "
+        // The spreads are the extrapolation's own; the switch times and
+        // states carry the event-driven run's error besides.
+        account << " (Δ² spread ± " << extrapolation.time_error << "), x* (± "
+                << extrapolation.state_error.maxCoeff() << "); predicted error "
                 << rows.certificate.window.value << " in x_" << rows.certificate.window.component
                 << " (" << rows.certificate.window.ratio << " of the windows' budget with those before), "
                 << inside.size() << " rows in [t_k, t*]";

@@ -252,7 +252,7 @@ bool EventDrivenRun::Accumulating(double t, std::string& why) {
           << " gaps shrinking by a ratio of " << zeno.ratio;
   if (zeno.period > 1) message << " per cycle of " << zeno.period << " modes";
   message << ", accumulate at t* = " << std::setprecision(10) << zeno.accumulation_time
-          << " (predicted)";
+          << " (predicted); method auto extrapolates t* and x(t*) and goes on from there";
   why = message.str();
   return true;
 }
@@ -461,7 +461,11 @@ bool EventDrivenRun::IntegrateModes() {
       const Mode mode_left = system_.mode();
       const bool left_reduced = system_.reduced();
       if (!HandleEvent(t_, x)) {
-        Sample(t_, x_left, u_left);
+        // The stop's row: u_left is the last RHS evaluation's, at one of
+        // CVODE's stage states; the row's u is the VI's at x_left (the
+        // spiral's x⁻ was 0.011 stale at its Zeno stop), where it solves.
+        const SolveResult at_stop = system_.problem().SolveVi(t_, x_left, u_left);
+        Sample(t_, x_left, at_stop.solved() ? at_stop.z : u_left);
         return false;
       }
       std::copy(x.data(), x.data() + x.size(), y_.data());

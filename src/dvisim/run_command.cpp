@@ -288,6 +288,7 @@ Trajectory IntegrateAutomatically(const Scene& scene, std::function<void(double 
   options.max_handovers = scene.max_handovers;
   options.window_rtol = scene.window_rtol;
   options.window_atol = scene.window_atol;
+  options.extrapolate_zeno = scene.extrapolate_zeno;
   return WithEventDrivenForm(scene, [&](const auto& problem) {
     return IntegrateAuto(problem, scene.x0, 0.0, scene.horizon, options);
   });

@@ -382,6 +382,11 @@ void ReadMethodFields(const json& method, Scene& scene) {
     scene.window_rtol = ReadTolerance(*window_rtol, Field(path, "window_rtol"));
   if (const json* window_atol = FindField(method, "window_atol"))
     scene.window_atol = ReadTolerance(*window_atol, Field(path, "window_atol"));
+  if (const json* zeno = FindField(method, "extrapolate_zeno")) {
+    if (!zeno->is_boolean())
+      Fail(Field(path, "extrapolate_zeno"), "expected true or false, got " + Describe(*zeno));
+    scene.extrapolate_zeno = zeno->get<bool>();
+  }
   if (const json* max_wall = FindField(method, "max_wall"))
     scene.max_wall = ReadPositive(*max_wall, Field(path, "max_wall"));
   if (const json* max_handovers = FindField(method, "max_handovers")) {
@@ -413,7 +418,7 @@ void ReadMethod(const json* method, Scene& scene) {
                           {"name", "h", "theta", "gamma", "rtol", "atol", "scheme", "adaptive",
                            "h_max", "max_steps", "solver", "tol", "ode", "linear_solver",
                            "max_events", "stepping_window", "max_handovers", "max_wall",
-                           "window_rtol", "window_atol"});
+                           "window_rtol", "window_atol", "extrapolate_zeno"});
   }
   const std::string name_path = method->is_string() ? path : Field(path, "name");
   if (const std::string why = WhyNotMethod(scene, scene.method); !why.empty()) Fail(name_path, why);

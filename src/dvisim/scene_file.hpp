@@ -87,6 +87,7 @@ struct Scene {
   int max_handovers = AutoOptions().max_handovers;
   double window_rtol = 0;  ///< AutoOptions::window_rtol (0: rtol).
   double window_atol = 0;  ///< AutoOptions::window_atol (0: atol).
+  bool extrapolate_zeno = AutoOptions().extrapolate_zeno;
   /// method.max_wall: the run's wall-clock budget in seconds, 0 for none
   /// (dvisim's WallClockLimit ends a run beyond it with exit code 1).
   double max_wall = 0;
