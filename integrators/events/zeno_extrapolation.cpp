@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 namespace dvi::internal {
 namespace {
@@ -38,24 +39,49 @@ std::optional<Extrapolant> Aitken(double a0, double a1, double a2, double resolu
 }
 
 // The extrapolant from the last three values at stride `stride` back from
-// `last`, and its error: the larger difference to the two extrapolants one
-// and two strides earlier (only one where the sequence is too short).
+// `last` (Aitken, above), and a bound on its error from the ratios of up to
+// the last four differences d_j at that stride. The rest of the sequence
+// after its last value a is T = d Σ_{m≥1} Π_{j≤m} r_j (d the last
+// difference, r_j the ratios still to come). If every r_j and the
+// extrapolant's r lie in [lo, hi] with |r| ≤ ρ < 1, changing one factor at a
+// time gives |Π_{j≤m} r_j − r^m| ≤ m ρ^{m−1} (hi − lo), so
+//   |a + T − (a + d r/(1 − r))| ≤ |d| (hi − lo) / (1 − ρ)²
+// (Σ m ρ^{m−1} = 1/(1 − ρ)²). [lo, hi] is the observed ratios' range
+// widened by what the values' `resolution` moves a ratio; a's own error
+// (≤ resolution) and d's (≤ 2·resolution, scaled by ρ/(1 − ρ) through the
+// tail) add. That the ratios to come stay in the observed range is exact on
+// a homogeneous flow (its switches scale by one factor per cycle: the zoo's
+// twisting controller and spiral); elsewhere it is the premise the observed
+// spread measures, and a spread the windows' budget cannot take makes the
+// driver step over the accumulation instead.
 std::optional<Extrapolant> Extrapolate(const std::function<double(std::size_t)>& value,
                                        std::size_t first, std::size_t last, std::size_t stride,
                                        double resolution) {
   if (last < first + 3 * stride) return std::nullopt;
-  const auto at = [&](std::size_t back) -> std::optional<Extrapolant> {
-    return Aitken(value(last - (back + 2) * stride), value(last - (back + 1) * stride),
-                  value(last - back * stride), resolution);
-  };
-  const std::optional<Extrapolant> newest = at(0), before = at(1);
-  if (!newest || !before) return std::nullopt;
-  double error = std::abs(newest->value - before->value) + newest->spread;
-  if (last >= first + 4 * stride) {
-    const std::optional<Extrapolant> earliest = at(2);
-    if (!earliest) return std::nullopt;
-    error = std::max(error, std::abs(newest->value - earliest->value) + newest->spread);
+  const std::size_t values = std::min<std::size_t>(5, (last - first) / stride + 1);
+  std::vector<double> difference;  // oldest first
+  for (std::size_t back = values - 1; back > 0; --back)
+    difference.push_back(value(last - (back - 1) * stride) - value(last - back * stride));
+  const double d1 = difference[difference.size() - 2], d2 = difference.back();
+  if (std::abs(d1) <= resolution && std::abs(d2) <= resolution)
+    return Aitken(value(last - 2 * stride), value(last - stride), value(last), resolution);
+  const std::optional<Extrapolant> newest =
+      Aitken(value(last - 2 * stride), value(last - stride), value(last), resolution);
+  if (!newest) return std::nullopt;
+  double lo = INFINITY, hi = -INFINITY;
+  for (std::size_t j = 1; j < difference.size(); ++j) {
+    const double previous = std::abs(difference[j - 1]);
+    if (previous <= 2 * resolution) return std::nullopt;  // a ratio of noise
+    const double r = difference[j] / difference[j - 1];
+    // d_j and d_{j−1} each within 2·resolution of their exact values.
+    const double blur = 2 * resolution * (1 + std::abs(r)) / (previous - 2 * resolution);
+    lo = std::min(lo, r - blur);
+    hi = std::max(hi, r + blur);
   }
+  const double rho = std::max(std::abs(lo), std::abs(hi));
+  if (!(rho < 1)) return std::nullopt;
+  const double error = (std::abs(d2) + 2 * resolution) * (hi - lo) / ((1 - rho) * (1 - rho)) + resolution +
+                       2 * resolution * rho / (1 - rho);
   return Extrapolant{newest->value, error};
 }
 

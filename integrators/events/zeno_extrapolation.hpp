@@ -22,12 +22,12 @@ namespace dvi::internal {
 /// position by r², its speed by r). Exact on an exactly geometric sequence
 /// (a homogeneous flow: the zoo's twisting controller and spiral).
 ///
-/// The predicted error is the sequence's own: the larger difference between
-/// the last extrapolant and the two before it (from the same values one and
-/// two cycles earlier), which is the extrapolation's error where the
-/// ratio drifts (a nonlinear flow) and samples the switches' own error where
-/// it does not. Differences below `resolution` (per component: the
-/// switch states' accuracy, atol + rtol·|x|) are no change.
+/// The predicted error is bounded from the sequence (zeno_extrapolation.cpp,
+/// Extrapolate): |d|(hi − lo)/(1 − ρ)² for the last difference d and the
+/// observed ratios' range [lo, hi] (|r| ≤ ρ < 1), widened by the switch
+/// states' `resolution` (per component: atol + rtol·|x|), proven where the
+/// ratios to come stay in that range (exact on a homogeneous flow); a
+/// sequence whose last changes are within the resolution is at its limit.
 struct ZenoExtrapolation {
   bool found = false;
   std::string why;  ///< Why not, when not found.
