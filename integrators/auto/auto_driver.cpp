@@ -346,9 +346,9 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
         account.precision(15);
         account << extrapolation.accumulation_time;
         account.precision(3);
-        // The spreads are the extrapolation's own; the switch times and
+        // The bounds are the extrapolation's own; the switch times and
         // states carry the event-driven run's error besides.
-        account << " (Δ² spread ± " << extrapolation.time_error << "), x* (± "
+        account << " (Δ² bound ± " << extrapolation.time_error << "), x* (± "
                 << extrapolation.state_error.maxCoeff() << "); predicted error "
                 << rows.certificate.window.value << " in x_" << rows.certificate.window.component
                 << " (" << rows.certificate.window.ratio << " of the windows' budget with those before), "

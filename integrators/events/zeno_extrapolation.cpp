@@ -184,7 +184,7 @@ Trajectory ExtrapolatedRows(const ZenoExtrapolation& extrapolation, double t_k,
   }
   rows.certificate.evaluated = true;
   std::ostringstream basis;
-  basis << "Zeno extrapolation: x* to the difference of successive Aitken extrapolants, rows in "
+  basis << "Zeno extrapolation: x* to |d|(hi - lo)/(1 - rho)^2 from the observed ratios' range, rows in "
            "[t_k, t*] to |x_k - x*| + the last cycle's excursion, <= "
         << Certificate::kWindowSafety << "·(atol + rtol·max |x_i|) with the windows";
   rows.certificate.basis = basis.str();
