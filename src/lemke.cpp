@@ -76,14 +76,58 @@ bool VerifyCertificate(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, Eigen
   return q.dot(y) < -kCertificateTolerance * q.cwiseAbs().maxCoeff() * y_sum;
 }
 
-// w = Mz + q and the natural residual ‖min(z, w)‖∞ of result.z.
+// w = Mz + q and the natural residual ‖min(z, w)‖∞ of result.z. Lemke's z
+// is zero off the basic set, so Mz sums only the columns of nonzero z_j;
+// each w_i accumulates z_j M_ij in increasing j from 0 and then adds q_i,
+// the order (and so the rounding) of Eigen's M * z + q, without its
+// product set-up, which dominated a tiny solve.
 void Evaluate(const Lcp& lcp, SolveResult& result) {
-  result.w.noalias() = lcp.M * result.z;
-  result.w += lcp.q;
+  const Eigen::Index m = lcp.q.size();
+  result.w.setZero(m);
+  double* const w = result.w.data();
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const double z_j = result.z(j);
+    if (z_j == 0.0) continue;
+    const double* const column = &lcp.M(0, j);
+    for (Eigen::Index i = 0; i < m; ++i) w[i] += column[i] * z_j;
+  }
+  for (Eigen::Index i = 0; i < m; ++i) w[i] += lcp.q(i);
   result.residual = internal::OrthantNaturalResidual(result.z, result.w);
 }
 
 SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibility);
+
+using Outcome = internal::LemkeOutcome;
+
+// What the pivoting leaves for RunLemke besides z, w and the residual.
+struct Pivoted {
+  Outcome outcome = Outcome::kIterationLimit;
+  std::vector<int> alpha;  // basic z indices, for PolishOnBasis
+  Eigen::VectorXd ray;     // z-part of a secondary ray
+};
+
+// Pivots on LCP(q, M) with m fixed at compile time for kDim > 0; sets
+// result.iterations, z, w and residual. The solve on the final basis is
+// normally the more accurate, but costs an LU of M_αα: a pivoted z that
+// beats the tolerance by kPolishMargin is kept as it is, so the basis
+// indices are collected only when RunLemke will polish.
+template <int kDim>
+Pivoted Pivot(const Lcp& lcp, int max_pivots, double tolerance, SolveResult& result) {
+  // A power of two keeps the scaling exact.
+  const double scale = std::exp2(std::round(std::log2(lcp.q.cwiseAbs().maxCoeff())));
+  LemkePivoting<kDim> lemke(lcp.M, lcp.q, scale);
+  Pivoted pivoted;
+  pivoted.outcome = lemke.Run(max_pivots);
+  result.iterations = lemke.pivots();
+  lemke.BasicZ(scale, result.z);
+  Evaluate(lcp, result);
+  if (pivoted.outcome == Outcome::kSolution && !(result.residual <= kPolishMargin * tolerance)) {
+    pivoted.alpha = lemke.BasicZIndices();
+  } else if (pivoted.outcome == Outcome::kRay) {
+    pivoted.ray = lemke.RayZ();
+  }
+  return pivoted;
+}
 
 // After a ray that certifies nothing (M not copositive-plus): Lemke's ray
 // proves infeasibility only for copositive-plus M [Cottle–Pang–Stone 1992,
@@ -148,22 +192,20 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
     result.status = SolveStatus::kSolved;
     result.message = "q ≥ 0: z = 0 solves the LCP";
   } else {
-    // A power of two keeps the scaling exact.
-    const double scale = std::exp2(std::round(std::log2(lcp.q.cwiseAbs().maxCoeff())));
-    LemkePivoting lemke(lcp.M, lcp.q, scale);
-    const LemkePivoting::Outcome outcome = lemke.Run(max_pivots);
-    result.iterations = lemke.pivots();
-    lemke.BasicZ(scale, result.z);
-    Evaluate(lcp, result);
+    Pivoted pivoted;
+    switch (m) {
+      case 2: pivoted = Pivot<2>(lcp, max_pivots, options.tolerance, result); break;
+      case 3: pivoted = Pivot<3>(lcp, max_pivots, options.tolerance, result); break;
+      case 4: pivoted = Pivot<4>(lcp, max_pivots, options.tolerance, result); break;
+      default: pivoted = Pivot<Eigen::Dynamic>(lcp, max_pivots, options.tolerance, result);
+    }
 
-    switch (outcome) {
-      case LemkePivoting::Outcome::kSolution: {
-        // The solve on the final basis is normally the more accurate, but
-        // costs an LU of M_αα; a pivoted z that beats the tolerance by
-        // kPolishMargin is kept as it is. Otherwise the pivoted z stays only
-        // if M_αα is so ill-conditioned that the basis solve is worse.
+    switch (pivoted.outcome) {
+      case Outcome::kSolution: {
+        // The pivoted z stays unless the basis solve improves on it (it may
+        // not where M_αα is ill-conditioned).
         if (!(result.residual <= kPolishMargin * options.tolerance)) {
-          Eigen::VectorXd z = PolishOnBasis(lcp.M, lcp.q, lemke.BasicZIndices());
+          Eigen::VectorXd z = PolishOnBasis(lcp.M, lcp.q, pivoted.alpha);
           Eigen::VectorXd w = lcp.M * z + lcp.q;
           const double residual = internal::OrthantNaturalResidual(z, w);
           if (residual <= result.residual || !std::isfinite(result.residual)) {
@@ -177,8 +219,9 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
                                  : internal::LcpRoundingFloor(lcp.M, lcp.q, result.z);
         if (result.residual <= options.tolerance) {
           result.status = SolveStatus::kSolved;
-          result.message = internal::CountMessage("z0 left the basis after ",
-                                                  result.iterations, " pivots");
+          // Short enough for std::string's inline buffer (no allocation on
+          // the path every solved LCP takes); the count is result.iterations.
+          result.message = "z0 left basis";
         } else if (result.residual <= floor) {
           std::ostringstream message;
           message << "z0 left the basis after " << result.iterations << " pivots; the residual "
@@ -197,8 +240,8 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
         }
         break;
       }
-      case LemkePivoting::Outcome::kRay: {
-        Eigen::VectorXd y = lemke.RayZ();
+      case Outcome::kRay: {
+        Eigen::VectorXd y = std::move(pivoted.ray);
         if (VerifyCertificate(lcp.M, lcp.q, y)) {
           result.status = SolveStatus::kInfeasible;
           result.message =
@@ -212,7 +255,7 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
         }
         break;
       }
-      case LemkePivoting::Outcome::kIterationLimit:
+      case Outcome::kIterationLimit:
         result.status = SolveStatus::kMaxIterations;
         result.message = "no complementary basis within " + std::to_string(max_pivots) + " pivots";
         break;

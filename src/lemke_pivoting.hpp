@@ -14,7 +14,8 @@ namespace dvi::internal {
 
 /// Lemke's complementary pivoting on LCP(q, M), the core of SolveLemke
 /// (lemke.cpp sets the problem up, polishes the answer and reads a ray as
-/// a certificate). Owns: B⁻¹, the basic solution and the basis bookkeeping
+/// a certificate). kDim > 0 fixes m at compile time (lemke.cpp does so for
+/// the tiniest problems, whose loops then unroll); the arithmetic is the same. Owns: B⁻¹, the basic solution and the basis bookkeeping
 /// (in fixed storage up to m = 20, one allocation above). Preconditions: M
 /// is m × m and outlives the object; q has m entries, min q < 0 (q ≥ 0 is
 /// solved by z = 0 before pivoting). Source: [Cottle–Pang–Stone 1992,
@@ -45,34 +46,39 @@ constexpr double kDriftGrowth = 100.0;
 // the rows of B⁻¹ needed by the lexicographic ratio test [CPS §4.9] are at
 // hand. The problem is solved with q scaled by a power of
 // two to ‖q‖∞ ≈ 1 so that the absolute tie tolerance is meaningful.
+enum class LemkeOutcome { kSolution, kRay, kIterationLimit };
+
+template <int kDim = Eigen::Dynamic>
 class LemkePivoting {
  public:
-  enum class Outcome { kSolution, kRay, kIterationLimit };
+  using Outcome = LemkeOutcome;
 
   // Copies q / scale into the working storage; M must outlive the object.
   LemkePivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, double scale)
       : m_(static_cast<int>(q.size())),
         M_(M),
         doubles_(Buffer(small_doubles_, large_doubles_,
-                        static_cast<std::size_t>(m_) * (m_ + kVectorColumns))),
-        indices_(Buffer(small_indices_, large_indices_, 6 * static_cast<std::size_t>(m_) + 1)),
-        binv_(doubles_, m_, m_),
+                        static_cast<std::size_t>(Dim()) * (Dim() + kVectorColumns))),
+        indices_(Buffer(small_indices_, large_indices_, 6 * static_cast<std::size_t>(Dim()) + 1)),
+        binv_(doubles_, Dim(), Dim()),
         q_(Column(0)),
         x_(Column(1)),
         column_(Column(2)),
         eta_(Column(3)),
         work_(Column(4)),
         basis_(indices_),
-        row_of_(basis_ + m_),
-        dense_position_(row_of_ + 2 * m_ + 1),
-        dense_columns_(dense_position_ + m_),
-        ties_(dense_columns_ + m_) {
-    binv_.setIdentity();
-    q_ = q / scale;
-    x_ = q_;
-    std::fill(row_of_, row_of_ + 2 * m_ + 1, -1);
-    std::fill(dense_position_, dense_position_ + m_, -1);
-    for (int i = 0; i < m_; ++i) {
+        row_of_(basis_ + Dim()),
+        dense_position_(row_of_ + 2 * Dim() + 1),
+        dense_columns_(dense_position_ + Dim()),
+        ties_(dense_columns_ + Dim()) {
+    // Plain loops: Eigen's set-up per expression outweighs the work at m ≤ 20.
+    std::fill_n(binv_.data(), static_cast<std::size_t>(Dim()) * Dim(), 0.0);
+    std::fill(row_of_, row_of_ + 2 * Dim() + 1, -1);
+    std::fill(dense_position_, dense_position_ + Dim(), -1);
+    for (int i = 0; i < Dim(); ++i) {
+      binv_(i, i) = 1.0;
+      q_(i) = q(i) / scale;
+      x_(i) = q_(i);
       basis_[i] = i;
       row_of_[i] = i;
     }
@@ -91,18 +97,18 @@ class LemkePivoting {
     const double most_negative = x_.minCoeff();
     const double first_tie = kTieTolerance * (1.0 + std::abs(most_negative));
     int leaving_row = 0;
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < Dim(); ++i) {
       if (x_(i) <= most_negative + first_tie) leaving_row = i;
     }
-    int entering = 2 * m_;
+    int entering = 2 * Dim();
     for (;;) {
       if (pivots_ >= max_pivots) return Outcome::kIterationLimit;
       const int leaving = basis_[leaving_row];
       Pivot(leaving_row, entering);
       ++pivots_;
-      if (leaving == 2 * m_) return Outcome::kSolution;
+      if (leaving == 2 * Dim()) return Outcome::kSolution;
       if (pivots_ % kDriftCheckPeriod == 0) ControlDrift();
-      entering = leaving < m_ ? leaving + m_ : leaving - m_;
+      entering = leaving < Dim() ? leaving + Dim() : leaving - Dim();
       ComputeColumn(entering);
       leaving_row = RatioTest();
       if (leaving_row < 0) {
@@ -117,18 +123,19 @@ class LemkePivoting {
   // z of the current basic solution, clipped at 0 and multiplied by `scale`
   // (back to the unscaled problem), into z.
   void BasicZ(double scale, Eigen::VectorXd& z) const {
-    z.setZero(m_);
-    for (int i = 0; i < m_; ++i) {
+    z.resize(Dim());
+    for (int i = 0; i < Dim(); ++i) z(i) = 0.0;
+    for (int i = 0; i < Dim(); ++i) {
       const int v = basis_[i];
-      if (v >= m_ && v < 2 * m_) z(v - m_) = std::max(0.0, x_(i)) * scale;
+      if (v >= Dim() && v < 2 * Dim()) z(v - Dim()) = std::max(0.0, x_(i)) * scale;
     }
   }
 
   // Indices whose z is basic (the support candidate α of the final basis).
   std::vector<int> BasicZIndices() const {
     std::vector<int> alpha;
-    for (int i = 0; i < m_; ++i) {
-      if (basis_[i] >= m_ && basis_[i] < 2 * m_) alpha.push_back(basis_[i] - m_);
+    for (int i = 0; i < Dim(); ++i) {
+      if (basis_[i] >= Dim() && basis_[i] < 2 * Dim()) alpha.push_back(basis_[i] - Dim());
     }
     std::sort(alpha.begin(), alpha.end());
     return alpha;
@@ -137,31 +144,41 @@ class LemkePivoting {
   // z-part of the secondary ray's direction: the entering variable moves by
   // 1 and the basic ones by −B⁻¹A_e [CPS §4.4]; column_ still holds B⁻¹A_e.
   Eigen::VectorXd RayZ() const {
-    Eigen::VectorXd y = Eigen::VectorXd::Zero(m_);
-    if (ray_entering_ >= m_ && ray_entering_ < 2 * m_) y(ray_entering_ - m_) = 1.0;
-    for (int i = 0; i < m_; ++i) {
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(Dim());
+    if (ray_entering_ >= Dim() && ray_entering_ < 2 * Dim()) y(ray_entering_ - Dim()) = 1.0;
+    for (int i = 0; i < Dim(); ++i) {
       const int v = basis_[i];
-      if (v >= m_ && v < 2 * m_) y(v - m_) = -column_(i);
+      if (v >= Dim() && v < 2 * Dim()) y(v - Dim()) = -column_(i);
     }
     return y;
   }
 
  private:
+  // The dimension; a compile-time constant in the fixed-size variants, so the
+  // short loops of a tiny LCP unroll.
+  int Dim() const {
+    if constexpr (kDim == Eigen::Dynamic) {
+      return m_;
+    } else {
+      return kDim;
+    }
+  }
+
   // column_ = B⁻¹ A_e for the column A_e of variable v in [I, −M, −d]. Only
   // the dense columns of B⁻¹ take part in the product; a unit column i
   // (w_i basic in row p) contributes a_i at p.
   void ComputeColumn(int v) {
-    if (v < m_) {
-      std::copy_n(&binv_(0, v), m_, column_.data());
+    if (v < Dim()) {
+      std::copy_n(&binv_(0, v), Dim(), column_.data());
       return;
     }
-    const auto a = M_.col(v - m_);
-    std::fill_n(column_.data(), m_, 0.0);
+    const auto a = M_.col(v - Dim());
+    std::fill_n(column_.data(), Dim(), 0.0);
     for (int k = 0; k < dense_count_; ++k) {
       const int i = dense_columns_[k];
-      if (a(i) != 0.0) SubtractScaled(a(i), &binv_(0, i), column_.data(), m_);
+      if (a(i) != 0.0) SubtractScaled(a(i), &binv_(0, i), column_.data(), Dim());
     }
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < Dim(); ++i) {
       if (row_of_[i] >= 0) column_(row_of_[i]) -= a(i);
     }
   }
@@ -176,27 +193,27 @@ class LemkePivoting {
   // minimum: that ends the method at a feasible complementary basis.
   int RatioTest() {
     double scale = 0.0;
-    for (int i = 0; i < m_; ++i) scale = std::max(scale, std::abs(column_(i)));
+    for (int i = 0; i < Dim(); ++i) scale = std::max(scale, std::abs(column_(i)));
     const double threshold = kPivotTolerance * std::max(scale, 1.0);
     double min_ratio = kLemkeInf;
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < Dim(); ++i) {
       if (column_(i) > threshold) min_ratio = std::min(min_ratio, std::max(x_(i), 0.0) / column_(i));
     }
     if (min_ratio == kLemkeInf) return -1;
     const double tie = kTieTolerance * (1.0 + min_ratio);
     int tie_count = 0;
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < Dim(); ++i) {
       if (column_(i) > threshold && std::max(x_(i), 0.0) / column_(i) <= min_ratio + tie) {
         ties_[tie_count++] = i;
       }
     }
-    const int z0_row = row_of_[2 * m_];
+    const int z0_row = row_of_[2 * Dim()];
     if (z0_row >= 0 && std::find(ties_, ties_ + tie_count, z0_row) != ties_ + tie_count) {
       return z0_row;
     }
     // Break the remaining ties column by column of B⁻¹ [CPS §4.9]: its rows
     // are linearly independent, so one row remains at the end.
-    for (int k = 0; k < m_ && tie_count > 1; ++k) {
+    for (int k = 0; k < Dim() && tie_count > 1; ++k) {
       double min_value = kLemkeInf;
       for (int t = 0; t < tie_count; ++t) {
         min_value = std::min(min_value, binv_(ties_[t], k) / column_(ties_[t]));
@@ -220,19 +237,19 @@ class LemkePivoting {
   void Pivot(int r, int entering) {
     const double pivot = column_(r);
     const int leaving = basis_[r];
-    if (leaving < m_) AddDenseColumn(leaving);
-    std::copy_n(column_.data(), m_, eta_.data());
+    if (leaving < Dim()) AddDenseColumn(leaving);
+    std::copy_n(column_.data(), Dim(), eta_.data());
     eta_(r) -= 1.0;
     for (int k = 0; k < dense_count_; ++k) {
       const int i = dense_columns_[k];
       const double factor = binv_(r, i) / pivot;
-      if (i != entering && factor != 0.0) SubtractScaled(factor, eta_.data(), &binv_(0, i), m_);
+      if (i != entering && factor != 0.0) SubtractScaled(factor, eta_.data(), &binv_(0, i), Dim());
     }
-    SubtractScaled(x_(r) / pivot, eta_.data(), x_.data(), m_);
+    SubtractScaled(x_(r) / pivot, eta_.data(), x_.data(), Dim());
     row_of_[leaving] = -1;
     basis_[r] = entering;
     row_of_[entering] = r;
-    if (entering < m_) {
+    if (entering < Dim()) {
       RemoveDenseColumn(entering);
       SetUnitColumn(entering);
     }
@@ -269,12 +286,12 @@ class LemkePivoting {
   void MultiplyBasis(const Eigen::Ref<const Eigen::VectorXd>& v,
                      Eigen::Ref<Eigen::VectorXd> out) const {
     out.setZero();
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < Dim(); ++i) {
       const int var = basis_[i];
-      if (var < m_) {
+      if (var < Dim()) {
         out(var) += v(i);
-      } else if (var < 2 * m_) {
-        out.noalias() -= v(i) * M_.col(var - m_);
+      } else if (var < 2 * Dim()) {
+        out.noalias() -= v(i) * M_.col(var - Dim());
       } else {
         out.array() -= v(i);
       }
@@ -299,13 +316,13 @@ class LemkePivoting {
   // and refactoring again would not reduce it.
   void ControlDrift() {
     if (Defect() <= std::max(kDriftTolerance, kDriftGrowth * defect_floor_)) return;
-    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m_, m_);
-    for (int i = 0; i < m_; ++i) {
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(Dim(), Dim());
+    for (int i = 0; i < Dim(); ++i) {
       const int var = basis_[i];
-      if (var < m_) {
+      if (var < Dim()) {
         B(var, i) = 1.0;
-      } else if (var < 2 * m_) {
-        B.col(i) = -M_.col(var - m_);
+      } else if (var < 2 * Dim()) {
+        B.col(i) = -M_.col(var - Dim());
       } else {
         B.col(i).setConstant(-1.0);
       }
@@ -313,7 +330,7 @@ class LemkePivoting {
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(B);
     binv_ = lu.inverse();
     x_ = lu.solve(q_);
-    for (int i = 0; i < m_; ++i) {
+    for (int i = 0; i < Dim(); ++i) {
       if (row_of_[i] >= 0) SetUnitColumn(i);
     }
     defect_floor_ = Defect();
@@ -323,7 +340,7 @@ class LemkePivoting {
   static constexpr int kVectorColumns = 5;
 
   Eigen::Map<Eigen::VectorXd> Column(int k) {
-    return {doubles_ + static_cast<std::size_t>(m_) * (m_ + k), m_};
+    return {doubles_ + static_cast<std::size_t>(Dim()) * (Dim() + k), Dim()};
   }
 
   // The small buffer when `size` fits in it, else `large` resized.

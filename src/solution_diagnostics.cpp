@@ -112,8 +112,10 @@ IndexSets OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, d
   DVI_THROW_UNLESS(tol >= 0.0, "tol = " << tol << " must be nonnegative");
   // BoxIndexSets' tests with l = 0 and u = +inf: z_i is at its bound when
   // |z_i| ≤ tol·(1 + 0); the upper bound is never reached.
-  const double w_zero = tol * (1.0 + MaxAbs(w));
   const int m = static_cast<int>(z.size());
+  double w_max = 0.0;
+  for (int i = 0; i < m; ++i) w_max = std::max(w_max, std::abs(w(i)));
+  const double w_zero = tol * (1.0 + w_max);
   const auto kind = [&](int i) {
     if (!(std::abs(z(i)) <= tol)) return 0;   // α
     if (std::abs(w(i)) <= w_zero) return 1;   // β

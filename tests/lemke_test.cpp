@@ -109,6 +109,23 @@ TEST(Lemke, SolvesRandomPMatrixLcpsToTheirKnownSolution) {
   }
 }
 
+// SolveLemke forms w = M z + q from the nonzero z_j alone, accumulating in
+// the order of Eigen's product (one column block below 128 columns), so w
+// is bit-identical to the expression, on the fixed-size paths (m ≤ 4) too.
+TEST(Lemke, ReturnsWExactlyAsMTimesZPlusQ) {
+  for (int m : {2, 3, 4, 5, 30, 100}) {
+    for (unsigned seed = 0; seed < 10; ++seed) {
+      std::mt19937 rng(seed);
+      const Lcp lcp{test::RandomPMatrix(m, rng), test::RandomVector(m, rng)};
+      const SolveResult result = SolveLemke(lcp);
+      SCOPED_TRACE(testing::Message() << "m=" << m << " seed=" << seed);
+      ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
+      const Eigen::VectorXd w = lcp.M * result.z + lcp.q;
+      EXPECT_EQ(result.w, w);
+    }
+  }
+}
+
 TEST(Lemke, NeverClaimsASolutionItDidNotReachOnIllPosedInstances) {
   // RandomTriangularPMatrix at m = 100 has κ ≈ 1e18: the unique solution is
   // numerically ill-posed. Pivoting runs ~1000 pivots and refactors B⁻¹ as
