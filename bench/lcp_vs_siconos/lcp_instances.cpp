@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "support/random_problems.hpp"
+#include "support/siconos_data.hpp"
 
 namespace dvi::bench {
 namespace {
@@ -64,6 +65,16 @@ double IndependentResidual(const SparseLcp& lcp, const Eigen::VectorXd& z) {
   if (z.size() != lcp.q.size()) return std::numeric_limits<double>::infinity();
   const Eigen::VectorXd w = lcp.M * z + lcp.q;
   return ResidualOf(lcp.q, z, w);
+}
+
+std::vector<NamedLcp> SiconosLcpSuite() {
+  std::vector<NamedLcp> suite;
+  for (const std::string& path : test::SiconosDataFiles("lcp")) {
+    const std::string name = test::SiconosInstanceName(path);
+    if (name.size() >= 6 && name.compare(name.size() - 6, 6, "_block") == 0) continue;
+    suite.push_back({name, test::ReadSiconosLcp(path).lcp});
+  }
+  return suite;
 }
 
 }  // namespace dvi::bench

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "dvi/complementarity_problem.hpp"
 
@@ -33,6 +35,16 @@ inline constexpr int kSparseNonzerosPerRow = 7;
 /// dominant), q uniform in [−1, 1]. Nested-dissection-like orderings keep
 /// its LU fill near O(n log n), the regime sparse direct solvers are for.
 SparseLcp GridSpdLcp(int k, std::uint32_t seed);
+
+/// One LCP of the Siconos test suite (tests/data/siconos-4.4.0/lcp/).
+struct NamedLcp {
+  std::string name;
+  Lcp lcp;
+};
+
+/// The suite's dense-storage files (the *_block twins hold the same problems
+/// in sparse-block storage, which the reader rejects by design).
+std::vector<NamedLcp> SiconosLcpSuite();
 
 /// The common yardstick for every answer, ours or Siconos':
 /// ‖min(z, Mz + q)‖∞ / max(1, ‖q‖∞) computed here from (M, q, z) alone.

@@ -28,7 +28,6 @@
 #include "siconos_lcp.hpp"
 #include "statistics.hpp"
 #include "timing.hpp"
-#include "support/siconos_data.hpp"
 
 namespace dvi::bench {
 namespace {
@@ -81,24 +80,6 @@ struct Cell {
   std::vector<double> ours_common;
   std::vector<double> siconos_common;
 };
-
-// One LCP of the Siconos test suite (tests/data/siconos-4.4.0/lcp/).
-struct NamedLcp {
-  std::string name;
-  Lcp lcp;
-};
-
-// The dense-storage files (the *_block twins hold the same problems in
-// sparse-block storage, which the reader rejects by design).
-std::vector<NamedLcp> SiconosLcpSuite() {
-  std::vector<NamedLcp> suite;
-  for (const std::string& path : test::SiconosDataFiles("lcp")) {
-    const std::string name = test::SiconosInstanceName(path);
-    if (name.size() >= 6 && name.compare(name.size() - 6, 6, "_block") == 0) continue;
-    suite.push_back({name, test::ReadSiconosLcp(path).lcp});
-  }
-  return suite;
-}
 
 struct CsvRow {
   std::string pairing, family, instance, side, status;
