@@ -28,6 +28,7 @@
 #include "plot.hpp"
 #include "scene_fields.hpp"
 #include "scene_limits.hpp"
+#include "scene_run.hpp"
 #include "solve_command.hpp"
 #include "wall_limit.hpp"
 
@@ -43,12 +44,6 @@ std::string Short(double value) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.6g", value);
   return text;
-}
-
-// The u columns of the output: s for the filippov matrix form, u (which is
-// already ν for pds and s for a FilippovSystem) otherwise.
-Eigen::VectorXd OutputMultiplier(const Scene& scene, const Eigen::VectorXd& u) {
-  return scene.filippov_sign_lcs ? FilippovSignFromLcs(u) : u;
 }
 
 // A progress bar redrawn in place when the whole percentage changes.
@@ -516,33 +511,11 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
     RefuseOutputOverScene(scene, command.scene_path);
     if (!command.max_wall && scene.max_wall > 0)
       wall_limit.Arm(scene.max_wall, wall_message("method.max_wall", scene.max_wall));
-    Trajectory trajectory;
     std::optional<BoundaryValueReport> report;
-    try {
-      if (RunsBoundaryValue(scene)) {
-        report.emplace();
-        trajectory = SolveBoundaryValueScene(scene, *report);
-      } else {
-        trajectory = IntegrateScene(scene, command.progress_bar ? ProgressBar(err, scene.horizon)
-                                                                : std::function<void(double)>());
-      }
-    } catch (const InvalidInputError& error) {
-      // The integrators name their own argument: x0, a solver, or an option
-      // ("scheme: 3.3 does not apply to projected dynamics"), which a scene
-      // gives as the method field of the same name.
-      // Auto's options carry their set's prefix; the scene has one method.
-      std::string what = error.what();
-      for (const std::string prefix : {"AutoOptions.event.", "AutoOptions.stepping."})
-        if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
-      const std::string option = what.substr(0, what.find_first_of(":(["));
-      for (const char* field : {"h", "theta", "gamma", "scheme", "h_max", "max_steps", "max_events",
-                                "steps"})
-        if (option == field) throw InputError(command.scene_path + ": method." + what);
-      if (option == "output_times")
-        throw InputError(command.scene_path + ": output (horizon, output.samples, output.times): " +
-                         what);
-      throw InputError(command.scene_path + ": the integrator refuses the scene: " + what);
-    }
+    const Trajectory trajectory =
+        RunSceneMethod(scene, command.scene_path, report,
+                       command.progress_bar ? ProgressBar(err, scene.horizon)
+                                            : std::function<void(double)>());
     wall_limit.Disarm();  // The files are written whole or not at all, never cut off.
     if (command.progress_bar) err << "\n";
     if (report && report->hypotheses && !report->hypotheses->hold)
