@@ -19,6 +19,8 @@ void BindProblems(py::module_& module);
 void BindResults(py::module_& module);
 void BindIntegrators(py::module_& module);
 void BindSolve(py::module_& module);
+/// dvi.Scene (when the module is built with dvisim's scene reader).
+void BindScenes(py::module_& module);
 
 /// The enumerator whose ToString is name; InvalidInputError naming the
 /// keyword and the choices otherwise.

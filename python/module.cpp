@@ -25,4 +25,7 @@ PYBIND11_MODULE(dvi, module) {
   dvi::python::BindResults(module);
   dvi::python::BindIntegrators(module);
   dvi::python::BindSolve(module);
+#ifdef DVI_PYTHON_SCENES
+  dvi::python::BindScenes(module);
+#endif
 }
