@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Problem types: ConvexSet, Lcs (dense numpy or sparse triplets), Dvi and
+// Problem types: ConvexSet, Lcs (numpy, scipy.sparse or triplets), Dvi and
 // the Filippov system with Python callables, projected dynamics.
 #include <string>
 #include <utility>
@@ -134,6 +134,35 @@ SparseMatrix FromTriplets(int rows, int cols, const std::vector<int>& row_indice
   return matrix;
 }
 
+// An Lcs matrix given as a numpy array (or nested sequence) or as a
+// scipy.sparse matrix (csr, csc, coo, ...), as the library's CSC matrix. A
+// sparse matrix is taken through a canonical CSC copy (sorted, duplicates
+// summed, the caller's matrix untouched) and its explicit zeros dropped, so
+// that it equals the dense input's Lcs::Dense entry for entry; shapes and
+// NaN are Lcs::Validate's to name.
+SparseMatrix LcsMatrix(const py::object& matrix, const char* field) {
+  if (py::hasattr(matrix, "tocsc") && py::hasattr(matrix, "nnz")) {
+    py::object canonical = matrix.attr("tocsc")(py::arg("copy") = true);
+    canonical.attr("sum_duplicates")();
+    SparseMatrix sparse;
+    try {
+      sparse = canonical.cast<SparseMatrix>();
+    } catch (const py::cast_error&) {
+      throw InvalidInputError(std::string(field) + ": a scipy.sparse matrix of real numbers expected");
+    }
+    sparse.prune(1.0, 0.0);
+    return sparse;
+  }
+  Eigen::MatrixXd dense;
+  try {
+    dense = matrix.cast<Eigen::MatrixXd>();
+  } catch (const py::cast_error&) {
+    throw InvalidInputError(std::string(field) +
+                            ": expected a 2-d array of numbers or a scipy.sparse matrix");
+  }
+  return dense.sparseView(1, 0);
+}
+
 using Triplets = std::tuple<std::vector<int>, std::vector<int>, std::vector<double>>;
 
 SparseMatrix FromTriplets(int rows, int cols, const Triplets& entries, const char* field) {
@@ -153,17 +182,19 @@ void BindProblems(py::module_& module) {
 
   py::class_<Lcs>(module, "Lcs",
                   "The LCS (2.8): x' = A x + B u + p, 0 <= u ⊥ q + C x + D u >= 0 (or K a box)")
-      .def(py::init([](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,
-                       const Eigen::MatrixXd& D, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+      .def(py::init([](const py::object& A, const py::object& B, const py::object& C,
+                       const py::object& D, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                        const ConvexSet* K) {
-             Lcs lcs = Lcs::Dense(A, B, C, D, p, q);
+             Lcs lcs = Lcs::Sparse(LcsMatrix(A, "Lcs.A"), LcsMatrix(B, "Lcs.B"),
+                                   LcsMatrix(C, "Lcs.C"), LcsMatrix(D, "Lcs.D"), p, q);
              if (K != nullptr) lcs.K = *K;
              lcs.Validate();
              return lcs;
            }),
            py::arg("A"), py::arg("B"), py::arg("C"), py::arg("D"),
            py::arg("p") = Eigen::VectorXd(), py::arg("q") = Eigen::VectorXd(),
-           py::arg("K") = nullptr, "Dense matrices (numpy arrays)")
+           py::arg("K") = nullptr,
+           "Each matrix a numpy array or a scipy.sparse matrix (csr, csc, coo)")
       .def_static(
           "from_triplets",
           [](int n, int m, const Triplets& A, const Triplets& B, const Triplets& C,

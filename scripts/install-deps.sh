@@ -19,6 +19,7 @@ packages=(
   libgtest-dev libgmock-dev  # the test suites
   libbenchmark-dev       # bench/
   python3-pybind11 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+  python3-scipy          # scipy.sparse input to dvi.Lcs, tested by python/tests/test_sparse_lcs.py
   python3-matplotlib     # python/examples/diode_bridge.py, drawn by its test
   "$@"
 )
