@@ -5,6 +5,7 @@
 // callable needs it, and re-taking it per call would cost more).
 #include <set>
 #include <string>
+#include <type_traits>
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -141,96 +142,65 @@ AutoOptions AutomaticOptions(const py::kwargs& kwargs) {
   return options;
 }
 
-Dvi FilippovDvi(const FilippovSystem& system) { return system.ToSeparable().ToDvi(); }
+// The form each integrator takes a problem in: a Filippov system as the DVI
+// of its separable form for the event-driven and automatic drivers, as the
+// separable DVI itself for time-stepping; the others as they are.
+template <typename Problem>
+const Problem& AsDvi(const Problem& problem) {
+  return problem;
+}
+Dvi AsDvi(const FilippovSystem& system) { return system.ToSeparable().ToDvi(); }
+template <typename Problem>
+const Problem& AsSteppable(const Problem& problem) {
+  return problem;
+}
+SeparableDvi AsSteppable(const FilippovSystem& system) { return system.ToSeparable(); }
 
-#define DVI_ARGS py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end")
+// One overload of `name` per problem type, options from the keywords by
+// `read`. The GIL is released around an Lcs's integration only (see above).
+template <typename... Problems, typename Options, typename Integrate>
+void DefIntegrator(py::module_& module, const char* name, const char* doc,
+                   Options (*read)(const py::kwargs&), Integrate integrate) {
+  const auto define = [&](auto problem_type, const char* overload_doc) {
+    using Problem = typename decltype(problem_type)::type;
+    module.def(
+        name,
+        [read, integrate](const Problem& problem, const Eigen::VectorXd& x0, double t0,
+                          double t_end, const py::kwargs& kwargs) {
+          const Options options = read(kwargs);
+          if constexpr (std::is_same_v<Problem, Lcs>) {
+            py::gil_scoped_release released_here;
+            return integrate(problem, x0, t0, t_end, options);
+          } else {
+            return integrate(problem, x0, t0, t_end, options);
+          }
+        },
+        py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), overload_doc);
+  };
+  bool first = true;
+  ((define(std::common_type<Problems>{}, first ? doc : nullptr), first = false), ...);
+}
 
 }  // namespace
 
 void BindIntegrators(py::module_& module) {
-  using Vector = Eigen::VectorXd;
-  // Event-driven (Sect. 5).
-  module.def(
-      "integrate_event",
-      [](const Lcs& lcs, const Vector& x0, double t0, double t_end, const py::kwargs& kwargs) {
-        const EventDrivenOptions options = EventOptions(kwargs);
-        py::gil_scoped_release released_here;
-        return IntegrateEventDriven(lcs, x0, t0, t_end, options);
-      },
-      DVI_ARGS, "Event-driven integration on CVODE (Sect. 5); options as keywords");
-  module.def(
-      "integrate_event",
-      [](const Dvi& dvi, const Vector& x0, double t0, double t_end, const py::kwargs& kwargs) {
-        return IntegrateEventDriven(dvi, x0, t0, t_end, EventOptions(kwargs));
-      },
-      DVI_ARGS);
-  module.def(
-      "integrate_event",
-      [](const FilippovSystem& system, const Vector& x0, double t0, double t_end,
-         const py::kwargs& kwargs) {
-        return IntegrateEventDriven(FilippovDvi(system), x0, t0, t_end, EventOptions(kwargs));
-      },
-      DVI_ARGS);
-  // Modes of an LCS as DAEs on IDA (Sect. 5.4).
-  module.def(
-      "integrate_ida",
-      [](const Lcs& lcs, const Vector& x0, double t0, double t_end, const py::kwargs& kwargs) {
-        const ModeDaeOptions options = DaeOptions(kwargs);
-        py::gil_scoped_release released_here;
-        return IntegrateModeDae(lcs, x0, t0, t_end, options);
-      },
-      DVI_ARGS, "An LCS's modes as DAEs on IDA (Sect. 5.4); options as keywords");
-  // The automatic driver.
-  module.def(
-      "integrate_auto",
-      [](const Lcs& lcs, const Vector& x0, double t0, double t_end, const py::kwargs& kwargs) {
-        const AutoOptions options = AutomaticOptions(kwargs);
-        py::gil_scoped_release released_here;
-        return IntegrateAuto(lcs, x0, t0, t_end, options);
-      },
-      DVI_ARGS, "Event-driven where possible, time-stepping over Zeno and chattering");
-  module.def(
-      "integrate_auto",
-      [](const Dvi& dvi, const Vector& x0, double t0, double t_end, const py::kwargs& kwargs) {
-        return IntegrateAuto(dvi, x0, t0, t_end, AutomaticOptions(kwargs));
-      },
-      DVI_ARGS);
-  module.def(
-      "integrate_auto",
-      [](const FilippovSystem& system, const Vector& x0, double t0, double t_end,
-         const py::kwargs& kwargs) {
-        return IntegrateAuto(FilippovDvi(system), x0, t0, t_end, AutomaticOptions(kwargs));
-      },
-      DVI_ARGS);
-  // θ time-stepping (Sect. 7).
-  module.def(
-      "integrate_stepping",
-      [](const Lcs& lcs, const Vector& x0, double t0, double t_end, const py::kwargs& kwargs) {
-        const TimeSteppingOptions options = SteppingOptions(kwargs);
-        py::gil_scoped_release released_here;
-        return IntegrateTimeStepping(lcs, x0, t0, t_end, options);
-      },
-      DVI_ARGS, "θ time-stepping (Sect. 7); options as keywords");
-  module.def(
-      "integrate_stepping",
-      [](const Dvi& dvi, const Vector& x0, double t0, double t_end, const py::kwargs& kwargs) {
-        return IntegrateTimeStepping(dvi, x0, t0, t_end, SteppingOptions(kwargs));
-      },
-      DVI_ARGS);
-  module.def(
-      "integrate_stepping",
-      [](const FilippovSystem& system, const Vector& x0, double t0, double t_end,
-         const py::kwargs& kwargs) {
-        return IntegrateTimeStepping(system.ToSeparable(), x0, t0, t_end, SteppingOptions(kwargs));
-      },
-      DVI_ARGS);
-  module.def(
-      "integrate_stepping",
-      [](const ProjectedDynamics& pds, const Vector& x0, double t0, double t_end,
-         const py::kwargs& kwargs) {
-        return IntegrateTimeStepping(pds, x0, t0, t_end, SteppingOptions(kwargs));
-      },
-      DVI_ARGS);
+  DefIntegrator<Lcs, Dvi, FilippovSystem>(
+      module, "integrate_event", "Event-driven integration on CVODE (Sect. 5); options as keywords",
+      &EventOptions, [](const auto& problem, auto&&... rest) {
+        return IntegrateEventDriven(AsDvi(problem), rest...);
+      });
+  DefIntegrator<Lcs>(module, "integrate_ida",
+                     "An LCS's modes as DAEs on IDA (Sect. 5.4); options as keywords", &DaeOptions,
+                     [](const Lcs& lcs, auto&&... rest) { return IntegrateModeDae(lcs, rest...); });
+  DefIntegrator<Lcs, Dvi, FilippovSystem>(
+      module, "integrate_auto", "Event-driven where possible, time-stepping over Zeno and chattering",
+      &AutomaticOptions,
+      [](const auto& problem, auto&&... rest) { return IntegrateAuto(AsDvi(problem), rest...); });
+  DefIntegrator<Lcs, Dvi, FilippovSystem, ProjectedDynamics>(
+      module, "integrate_stepping", "θ time-stepping (Sect. 7); options as keywords",
+      &SteppingOptions, [](const auto& problem, auto&&... rest) {
+        return IntegrateTimeStepping(AsSteppable(problem), rest...);
+      });
 }
 
 }  // namespace dvi::python

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Trajectory as numpy arrays: rows are samples (times[k], states[k, :]).
+#include <initializer_list>
 #include <string>
+#include <utility>
 
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
@@ -15,15 +17,17 @@ namespace {
 // Samples × dim, a copy (the Trajectory's buffer is dim × samples).
 Eigen::MatrixXd Rows(const VectorSamples& samples) { return samples.matrix().transpose(); }
 
-py::dict Measure(const CertifiedMeasure& measure) {
+// A result's record as a Python dict of its named fields.
+py::dict Record(std::initializer_list<std::pair<const char*, py::object>> fields) {
   py::dict out;
-  out["value"] = measure.value;
-  out["bound"] = measure.bound;
-  out["ratio"] = measure.ratio;
-  out["time"] = measure.time;
-  out["component"] = measure.component;
-  out["checked"] = measure.checked;
+  for (const auto& [name, value] : fields) out[name] = value;
   return out;
+}
+
+py::dict Measure(const CertifiedMeasure& m) {
+  return Record({{"value", py::cast(m.value)}, {"bound", py::cast(m.bound)},
+                 {"ratio", py::cast(m.ratio)}, {"time", py::cast(m.time)},
+                 {"component", py::cast(m.component)}, {"checked", py::cast(m.checked)}});
 }
 
 }  // namespace
@@ -61,47 +65,42 @@ void BindResults(py::module_& module) {
       .def_property_readonly("intervals",
                              [](const Trajectory& run) {
                                py::list intervals;
-                               for (const MethodInterval& interval : run.intervals) {
-                                 py::dict entry;
-                                 entry["from"] = interval.from;
-                                 entry["to"] = interval.to;
-                                 entry["method"] = std::string(ToString(interval.method));
-                                 entry["reason"] = interval.reason;
-                                 entry["linear_solver"] =
-                                     interval.linear_solver
-                                         ? py::cast(std::string(ToString(*interval.linear_solver)))
-                                         : py::none();
-                                 intervals.append(entry);
-                               }
+                               for (const MethodInterval& interval : run.intervals)
+                                 intervals.append(Record(
+                                     {{"from", py::cast(interval.from)},
+                                      {"to", py::cast(interval.to)},
+                                      {"method", py::cast(std::string(ToString(interval.method)))},
+                                      {"reason", py::cast(interval.reason)},
+                                      {"linear_solver",
+                                       interval.linear_solver
+                                           ? py::cast(std::string(ToString(*interval.linear_solver)))
+                                           : py::none()}}));
                                return intervals;
                              })
       .def_property_readonly("stats",
                              [](const Trajectory& run) {
                                const IntegrationStats& s = run.stats;
-                               py::dict out;
-                               out["steps"] = s.steps;
-                               out["rejected_steps"] = s.rejected_steps;
-                               out["rhs_evals"] = s.rhs_evals;
-                               out["jacobian_evals"] = s.jacobian_evals;
-                               out["vi_solves"] = s.vi_solves;
-                               out["solver_iterations"] = s.solver_iterations;
-                               out["max_residual"] = s.max_residual;
-                               out["max_constraint_drift"] = s.max_constraint_drift;
-                               out["reduced_modes"] = s.reduced_modes;
-                               out["wall_seconds"] = s.wall_seconds;
-                               return out;
+                               return Record(
+                                   {{"steps", py::cast(s.steps)},
+                                    {"rejected_steps", py::cast(s.rejected_steps)},
+                                    {"rhs_evals", py::cast(s.rhs_evals)},
+                                    {"jacobian_evals", py::cast(s.jacobian_evals)},
+                                    {"vi_solves", py::cast(s.vi_solves)},
+                                    {"solver_iterations", py::cast(s.solver_iterations)},
+                                    {"max_residual", py::cast(s.max_residual)},
+                                    {"max_constraint_drift", py::cast(s.max_constraint_drift)},
+                                    {"reduced_modes", py::cast(s.reduced_modes)},
+                                    {"wall_seconds", py::cast(s.wall_seconds)}});
                              })
       .def_property_readonly("certificate",
                              [](const Trajectory& run) {
                                const Certificate& c = run.certificate;
-                               py::dict out;
-                               out["certified"] = c.certified();
-                               out["evaluated"] = c.evaluated;
-                               out["vi"] = Measure(c.vi);
-                               out["ode"] = Measure(c.ode);
-                               out["window"] = Measure(c.window);
-                               out["basis"] = c.basis;
-                               return out;
+                               return Record({{"certified", py::cast(c.certified())},
+                                              {"evaluated", py::cast(c.evaluated)},
+                                              {"vi", Measure(c.vi)},
+                                              {"ode", Measure(c.ode)},
+                                              {"window", Measure(c.window)},
+                                              {"basis", py::cast(c.basis)}});
                              })
       .def("state_at", &Trajectory::StateAt, py::arg("t"))
       .def("multiplier_at", &Trajectory::MultiplierAt, py::arg("t"))
