@@ -7,6 +7,7 @@ functors and as scene expressions. Usage (after building):
 """
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -79,6 +80,36 @@ def callables_against_cxx_and_scene():
     return python, cxx, median(scene_seconds)
 
 
+def cpu_seconds(who):
+    usage = resource.getrusage(who)
+    return usage.ru_utime + usage.ru_stime
+
+
+def scene_against_dvisim(name, *flags):
+    """A scene run from Python (Scene.from_json, run, its csv and summary:
+    what dvisim computes before writing its files) against `dvisim run` of
+    the same scene as a process (start, read, run, write): CPU seconds of
+    each, and the integration's own wall time inside both."""
+    path = os.path.join(SOURCE, "examples/scenes", name)
+    keywords = {flags[k].lstrip("-"): flags[k + 1] for k in range(0, len(flags), 2)}
+    python, python_own, process, process_own = [], [], [], []
+    with tempfile.TemporaryDirectory() as out:
+        for _ in range(REPEATS):
+            start = cpu_seconds(resource.RUSAGE_SELF)
+            run = dvi.Scene.from_json(path).run(**keywords)
+            text, summary = run.csv, run.summary
+            python.append(cpu_seconds(resource.RUSAGE_SELF) - start)
+            python_own.append(run.trajectory.stats["wall_seconds"])
+            assert run.trajectory.succeeded and text and summary
+            start = cpu_seconds(resource.RUSAGE_CHILDREN)
+            subprocess.run([os.path.join(BUILD, "src/dvisim/dvisim"), "run", path, "--out", out,
+                            *flags], check=True, capture_output=True)
+            process.append(cpu_seconds(resource.RUSAGE_CHILDREN) - start)
+            process_own.append(json.load(open(os.path.join(out, "summary.json")))
+                               ["stats"]["wall_seconds"])
+    return median(python), median(python_own), median(process), median(process_own)
+
+
 def main():
     own, ratio = bindings_overhead()
     print(f"diode bridge (auto, 1001 outputs): run {own * 1e3:.2f} ms, "
@@ -91,6 +122,13 @@ def main():
     print("saturated decay, event-driven rtol 1e-10:")
     print(f"  C++ functors {cxx['event'] * 1e3:.3f} ms, Python callables "
           f"{python['event'] * 1e3:.3f} ms ({python['event'] / cxx['event']:.1f}x C++)")
+    print("scenes, dvi.Scene (from_json, run, csv, summary) against `dvisim run` (CPU time):")
+    for name, flags in [("diode_bridge.json", ()), ("dvi_saturation.json", ()),
+                        ("dvi_saturation.json", ("--method", "event"))]:
+        python, python_own, process, process_own = scene_against_dvisim(name, *flags)
+        print(f"  {name} {' '.join(flags) or '(its method)'}: Python {python * 1e3:.2f} ms "
+              f"(run {python_own * 1e3:.2f} ms), dvisim {process * 1e3:.2f} ms "
+              f"(run {process_own * 1e3:.2f} ms); Python - dvisim {(python - process) * 1e3:+.2f} ms")
 
 
 if __name__ == "__main__":
