@@ -298,6 +298,42 @@ TEST(StateJump, ASourceSteppingAtABreakpointJumpsThereEventDrivenAndAuto) {
   }
 }
 
+// Time-stepping records the same jump at the breakpoint (kJump, η = ½
+// exactly, from the jump rule, not absorbed into the next step's u) and
+// steps on from x⁺: the one row at 1 is the step's end there, x⁻ = 1 (the
+// left limit, as every stepped row at a breakpoint), the next step starts
+// from x⁺ = 2. Backward Euler at h: its first-order error on the decay after
+// 2 is at most h·max|x''|/2 ≈ h·8/2 (x'' = 4x ≤ 8), taken twice as margin.
+constexpr double kBreakpointStepH = 1e-3;
+constexpr double kBackwardEulerBound = 2 * kBreakpointStepH * 8 / 2;
+TEST(StateJump, ASourceSteppingAtABreakpointJumpsThereTimeStepping) {
+  TimeSteppingOptions options;
+  options.h = kBreakpointStepH;
+  const Trajectory run =
+      IntegrateTimeStepping(SteppingSource(), Eigen::VectorXd::Ones(1), 0, kStepsHorizon, options);
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  std::vector<Event> jumps;
+  for (const Event& event : run.events)
+    if (event.kind == EventKind::kJump) jumps.push_back(event);
+  ASSERT_EQ(jumps.size(), 1u);
+  EXPECT_EQ(jumps[0].time, 1.0);
+  ASSERT_EQ(jumps[0].impulse.size(), 1);
+  EXPECT_NEAR(jumps[0].impulse(0), 0.5, kJumpRoundoff);
+  const auto at_one = std::find(run.times.begin(), run.times.end(), 1.0) - run.times.begin();
+  ASSERT_LT(static_cast<std::size_t>(at_one + 1), run.times.size());
+  EXPECT_NEAR(run.states[static_cast<std::size_t>(at_one)](0), 1.0, kJumpRoundoff);
+  // The first row after 1 is on the clamped arc x = 2 already: a step that
+  // absorbed the jump would carry u = η/h = 500 there.
+  EXPECT_NEAR(run.states[static_cast<std::size_t>(at_one + 1)](0), 2.0, kJumpRoundoff);
+  EXPECT_LE(run.multipliers[static_cast<std::size_t>(at_one + 1)](0), 2.0 + kJumpRoundoff);
+  double worst = 0;
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    if (k != static_cast<std::size_t>(at_one))
+      worst = std::max(worst, std::abs(run.states[k](0) - SteppingExact(run.times[k])(0)));
+  EXPECT_LE(worst, kBackwardEulerBound);
+  EXPECT_TRUE(run.certificate.certified()) << run.certificate.basis;
+}
+
 // ---------------------------------------------------------------------------
 // Where the rule has no unique consistent answer, every method refuses at t0
 // with the reason, naming x0 inconsistent.

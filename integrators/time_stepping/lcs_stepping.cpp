@@ -67,8 +67,11 @@ Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, doub
   // An inconsistent x0 jumps first (the limit of the first backward-Euler
   // step as h → 0), so that the scheme starts from x⁺ at its own order.
   return internal::WithJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
-    return internal::RunTimeStepping(*method, x_start, t0, t_end, options, std::move(certifier),
-                                     lcs.breakpoints);
+    return internal::RunTimeStepping(
+        *method, x_start, t0, t_end, options, std::move(certifier), lcs.breakpoints,
+        [&](double t, const Eigen::VectorXd& x_minus) {
+          return internal::LcsJumpAt(lcs, t, x_minus, options.solver);
+        });
   });
 }
 

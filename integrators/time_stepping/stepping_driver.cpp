@@ -101,6 +101,18 @@ class Recorder {
     if (outputs.empty() || asked || mode_change.at_end) Sample(last_);
   }
 
+  // A state jump at t, the last step's end: its event and VI work.
+  void Jump(double t, const StateJump& jump) {
+    Event event;
+    event.time = t;
+    event.kind = EventKind::kJump;
+    event.index = -1;
+    event.impulse = jump.impulse;
+    trajectory_.events.push_back(std::move(event));
+    trajectory_.stats.vi_solves += jump.vi_solves;
+    trajectory_.stats.solver_iterations += jump.solver_iterations;
+  }
+
   void Finish(double t, const Eigen::VectorXd& x) { Sample({t, x, last_.u, last_.step}); }
 
  private:
@@ -264,9 +276,11 @@ double ScaledError(const Eigen::VectorXd& coarse, const Eigen::VectorXd& fine, i
 
 }  // namespace
 
-Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
-                           double t_end, const TimeSteppingOptions& options,
-                           RowCertifier certifier, const std::vector<double>& breakpoints) {
+Trajectory RunTimeStepping(
+    OneStepMethod& method, const Eigen::VectorXd& x0, double t0, double t_end,
+    const TimeSteppingOptions& options, RowCertifier certifier,
+    const std::vector<double>& breakpoints,
+    const std::function<StateJump(double t, const Eigen::VectorXd& x_minus)>& jump_at) {
   // The run arrives within 1e-12 |t_end| of t_end (end_slack below): a
   // shorter span would end before its first step (t0 = 1e16, t_end = t0 + 2).
   DVI_THROW_UNLESS(t_end - t0 > 1e-12 * std::abs(t_end),
@@ -367,6 +381,24 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
             << ", more than max_steps = " << options.max_steps;
     return finish(IntegrationStatus::kMaxSteps, message.str(), t0);
   }
+  // At a breakpoint the sources may step past what x allows: the jump rule
+  // there (as event-driven integration applies it), not the next step's u,
+  // takes x to x⁺, and the run restarts from x⁺ with the VI's u there.
+  // Empty: consistent (or no jump_at); else the failure that ends the run.
+  const auto jump_at_breakpoint = [&]() -> std::string {
+    if (!jump_at) return "";
+    const StateJump jump = jump_at(t, current.x);
+    if (jump.outcome == StateJump::Outcome::kConsistent) return "";
+    if (jump.outcome == StateJump::Outcome::kFailed) return "at a source breakpoint: " + jump.failure;
+    recorder.Jump(t, jump);
+    StepOutcome restart = Finite(method.Initial(t, jump.x_plus, current.u));
+    Count(restart, stats);
+    if (!restart.solved)
+      return "the VI after the state jump at t = " + TimeText(t) + " was not solved: " +
+             restart.failure;
+    current = std::move(restart);
+    return "";
+  };
   while (t_end - t > end_slack) {
     if (stats.steps >= options.max_steps)
       return finish(IntegrationStatus::kMaxSteps,
@@ -390,8 +422,12 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
       const double t_next = ends_at_breakpoint ? breakpoint : advance(step);
       recorder.Accept(t, t_next - t, current.x, current.u, next);
       t = t_next;
-      if (ends_at_breakpoint) change_h(h);
       current = std::move(next);
+      if (ends_at_breakpoint) {
+        change_h(h);
+        std::string failure = jump_at_breakpoint();
+        if (!failure.empty()) return finish(IntegrationStatus::kStepFailure, std::move(failure), t);
+      }
     } else {
       // Step doubling: one step of size `step` against two of step/2.
       StepOutcome coarse = Finite(method.Step(t, step, current.x, current.u));
@@ -423,8 +459,12 @@ Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, dou
       recorder.Accept(t, t_half - t, current.x, current.u, first);
       recorder.Accept(t_half, t_next - t_half, first.x, first.u, second);
       t = t_next;
-      if (ends_at_breakpoint) change_h(h);
       current = std::move(second);
+      if (ends_at_breakpoint) {
+        change_h(h);
+        std::string failure = jump_at_breakpoint();
+        if (!failure.empty()) return finish(IntegrationStatus::kStepFailure, std::move(failure), t);
+      }
       // Climb the ladder when the error leaves room for a doubled step
       // (local error ∝ h^{p+1}).
       if (error * std::pow(2.0, method.order() + 1) < 0.5 && 2 * h <= h_max) change_h(2 * h);

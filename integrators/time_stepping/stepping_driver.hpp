@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -9,6 +10,7 @@
 #include "dvi/time_stepping.hpp"
 #include "dvi/trajectory.hpp"
 #include "schemes/one_step_method.hpp"
+#include "state_jump.hpp"
 
 namespace dvi::internal {
 
@@ -21,9 +23,15 @@ namespace dvi::internal {
 /// run that reaches t_end with rows beyond their bounds ends kUncertified
 /// (Certificate). A step that would pass one of `breakpoints` (the
 /// problem's, validated) ends there exactly, and the step grid goes on from
-/// it. @pre options validated, x0 sized.
-Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
-                           double t_end, const TimeSteppingOptions& options,
-                           RowCertifier certifier, const std::vector<double>& breakpoints);
+/// it. There, when given, jump_at(b, x⁻) decides whether the sources'
+/// step left x inconsistent: a kJump is recorded as an event (kJump, with
+/// η) and the run goes on from x⁺ (the row at b stays x⁻, the left limit
+/// of every stepped row at a breakpoint); a kFailed one ends the run there
+/// with its reason. @pre options validated, x0 sized.
+Trajectory RunTimeStepping(
+    OneStepMethod& method, const Eigen::VectorXd& x0, double t0, double t_end,
+    const TimeSteppingOptions& options, RowCertifier certifier,
+    const std::vector<double>& breakpoints,
+    const std::function<StateJump(double t, const Eigen::VectorXd& x_minus)>& jump_at = {});
 
 }  // namespace dvi::internal
