@@ -17,6 +17,7 @@
 #include "dvi/enum_output.hpp"
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
+#include "dvi/event_driven_integrator.hpp"
 #include "dvi/event_driven_options.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/integration_options.hpp"

@@ -32,10 +32,8 @@ namespace {
 Trajectory IntegrateOnePiece(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
                              double t_end, const EventDrivenOptions& options) {
   if (dvi.K.IsBox()) {
-    const LinearSolver solver = options.linear_solver;
-    const bool klu = solver == LinearSolver::kKlu ||
-                     (solver == LinearSolver::kAuto && lcs && dvi.n >= kKluMinStates);
-    internal::EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, options, klu);
+    internal::EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, options,
+                                 UsesKlu(dvi, lcs, options));
     Trajectory trajectory = run.Run();
     internal::EndAtFirstNonFiniteSample(trajectory);
     return trajectory;
@@ -63,12 +61,13 @@ Trajectory IntegrateOnePiece(const Dvi& dvi, const Lcs* lcs, const Eigen::Vector
 
 }  // namespace
 
-// lcs: the LCS that dvi is, or null; an LCS with sources is integrated as
-// the general DVI it is (its F moves with t, so its modes are not the
-// time-invariant ones BoxModeSystem reduces by matrices).
-Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
-                                         double t0, double t_end,
-                                         const EventDrivenOptions& options) {
+bool UsesKlu(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options) {
+  return options.linear_solver == LinearSolver::kKlu ||
+         (options.linear_solver == LinearSolver::kAuto && lcs && dvi.n >= kKluMinStates);
+}
+
+void CheckEventDrivenStart(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
+                           double t_end, const EventDrivenOptions& options) {
   DVI_THROW_UNLESS(options.linear_solver != LinearSolver::kKlu || !lcs || lcs->time_invariant(),
                    "linear_solver: kKlu needs a time-invariant Lcs; one with p_source or q_source "
                    "runs its modes as a general DVI's (use kDense, or time-stepping, whose KLU "
@@ -86,6 +85,15 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
   internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
+}
+
+// lcs: the LCS that dvi is, or null; an LCS with sources is integrated as
+// the general DVI it is (its F moves with t, so its modes are not the
+// time-invariant ones BoxModeSystem reduces by matrices).
+Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
+                                         double t0, double t_end,
+                                         const EventDrivenOptions& options) {
+  CheckEventDrivenStart(dvi, lcs, x0, t0, t_end, options);
   const Lcs* affine = lcs && lcs->time_invariant() ? lcs : nullptr;
   const Dvi problem = RightContinuous(dvi);
   return AcrossBreakpoints(

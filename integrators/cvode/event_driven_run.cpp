@@ -9,6 +9,8 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include <cvode/cvode_ls.h>
 #include <cvode/cvode_proj.h>
@@ -91,15 +93,20 @@ bool EventDrivenRun::StepsResolveTime() {
   return Fail(IntegrationStatus::kStepFailure, message.str());
 }
 
-void EventDrivenRun::AddCvodeStats() {
+// CVODE's counters run on where a switch kept its history: what they
+// counted since the last AddCvodeStats goes to stats. Returns CVODE's
+// counts.
+std::pair<long, long> EventDrivenRun::AddUncountedSteps(IntegrationStats& stats) const {
   long steps = 0, error_test_failures = 0;
   CVodeGetNumSteps(cvode_.get(), &steps);
   CVodeGetNumErrTestFails(cvode_.get(), &error_test_failures);
-  // CVODE's counters run on where a switch kept its history.
-  trajectory_.stats.steps += steps - counted_steps_;
-  trajectory_.stats.rejected_steps += error_test_failures - counted_rejections_;
-  counted_steps_ = steps;
-  counted_rejections_ = error_test_failures;
+  stats.steps += steps - counted_steps_;
+  stats.rejected_steps += error_test_failures - counted_rejections_;
+  return {steps, error_test_failures};
+}
+
+void EventDrivenRun::AddCvodeStats() {
+  std::tie(counted_steps_, counted_rejections_) = AddUncountedSteps(trajectory_.stats);
   segment_open_ = false;
 }
 
@@ -191,22 +198,24 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   return Fail(IntegrationStatus::kNotIndexOne, message.str());
 }
 
-bool EventDrivenRun::Start() {
+// Selects the mode at (t, x_start), the start or a Reinit's point, and
+// samples it. The index-one reason is the start's.
+bool EventDrivenRun::Start(double t, const Eigen::VectorXd& x_start) {
   IntegrationStats& stats = trajectory_.stats;
   if (dvi_.m == 0) {
     index_one_reason_ = "m = 0: an ODE, one mode";
-    std::copy(x0_.data(), x0_.data() + x0_.size(), y_.data());
-    Sample(t0_, x0_, Eigen::VectorXd());
+    std::copy(x_start.data(), x_start.data() + x_start.size(), y_.data());
+    Sample(t, x_start, Eigen::VectorXd());
     return true;
   }
   const Eigen::VectorXd warm = Eigen::VectorXd::Zero(dvi_.m);
-  const SolveResult vi = system_.problem().SolveVi(t0_, x0_, warm);
+  const SolveResult vi = system_.problem().SolveVi(t, x_start, warm);
   ++stats.vi_solves;
   stats.solver_iterations += vi.iterations;
   stats.max_residual = std::max(stats.max_residual, vi.residual);
   if (!vi.solved()) {
     std::ostringstream message;
-    message << "event: the VI at t = " << t0_ << " is not solved (" << ToString(vi.status)
+    message << "event: the VI at t = " << t << " is not solved (" << ToString(vi.status)
             << ", residual " << vi.residual << "): " << vi.message;
     if (vi.status == SolveStatus::kInfeasible)
       message << "; x0 is inconsistent (no u exists there): a state jump is computed for an "
@@ -217,26 +226,27 @@ bool EventDrivenRun::Start() {
   // Index one at (t0, x0, u0): Theorem 5.1 (uniformly P) or Sect. 5.3
   // (strongly regular); otherwise the mode comes from ChooseMode's look-ahead
   // or from the differentiation procedure (Theorem 5.3).
-  const Eigen::MatrixXd Fu = system_.problem().MultiplierJacobian(t0_, x0_, vi.z);
-  if (IsPMatrix(Fu).holds)
-    index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + FormatTime(t0_) + " (Theorem 5.1)";
-  else if (IsStronglyRegular(Fu, vi.index_sets).holds)
-    index_one_reason_ = "index one: u0 strongly regular at t = " + FormatTime(t0_) + " (Sect. 5.3)";
+  const Eigen::MatrixXd Fu = system_.problem().MultiplierJacobian(t, x_start, vi.z);
+  const bool first = index_one_reason_.empty();
+  if (first && IsPMatrix(Fu).holds)
+    index_one_reason_ = "index one: ∂F/∂u is a P-matrix at t = " + FormatTime(t) + " (Theorem 5.1)";
+  else if (first && IsStronglyRegular(Fu, vi.index_sets).holds)
+    index_one_reason_ = "index one: u0 strongly regular at t = " + FormatTime(t) + " (Sect. 5.3)";
   Mode mode;
-  Eigen::VectorXd x = x0_;
-  if (!ChooseMode(t0_, x, vi, mode)) return false;
-  if (index_one_reason_.empty())
+  Eigen::VectorXd x = x_start;
+  if (!ChooseMode(t, x, vi, mode)) return false;
+  if (first && index_one_reason_.empty())
     index_one_reason_ = reduced_selections_ > 0
-                            ? "u0 not strongly regular at t = " + FormatTime(t0_) +
+                            ? "u0 not strongly regular at t = " + FormatTime(t) +
                                   "; mode by the differentiation procedure (" +
                                   reduction_theorem_ + ")"
                         : rate_selections_ > 0
-                            ? "u0 not strongly regular at t = " + FormatTime(t0_) +
+                            ? "u0 not strongly regular at t = " + FormatTime(t) +
                                   "; mode by the rates (Proposition 5.1)"
-                            : "u0 not strongly regular at t = " + FormatTime(t0_) +
+                            : "u0 not strongly regular at t = " + FormatTime(t) +
                                   "; mode by look-ahead along the flow";
   std::copy(x.data(), x.data() + x.size(), y_.data());
-  Sample(t0_, x, system_.u());
+  Sample(t, x, system_.u());
   return true;
 }
 
@@ -372,7 +382,14 @@ bool EventDrivenRun::ProjectReducedModesOnly() {
                "CVodeSetProjFrequency");
 }
 
-bool EventDrivenRun::IntegrateModes() {
+bool EventDrivenRun::Begin() {
+  start_clock_ = std::chrono::steady_clock::now();
+  // One sample per output time, the start and the end (events add a few).
+  const std::size_t samples = options_.output_times.size() + 2;
+  trajectory_.times.reserve(samples);
+  trajectory_.states.reserve(samples, x0_.size());
+  trajectory_.multipliers.reserve(samples, dvi_.m);
+  if (!Start(t0_, x0_)) return false;
   void* cvode = cvode_.get();
   data_.system = &system_;
   data_.x.resize(x0_.size());
@@ -393,7 +410,7 @@ bool EventDrivenRun::IntegrateModes() {
       !Check(CVodeSetJacFn(cvode, klu_ ? ModeSparseJacobianCallback : ModeDenseJacobianCallback),
              "CVodeSetJacFn") ||
       !Check(CVodeSetMaxStep(cvode, options_.h_max), "CVodeSetMaxStep") ||
-      !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
+      !Check(CVodeSetStopTime(cvode, stop_time_), "CVodeSetStopTime") ||
       !Check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn"))
     return false;
   if (dvi_.m > 0 &&
@@ -413,123 +430,169 @@ bool EventDrivenRun::IntegrateModes() {
        !ProjectReducedModesOnly()))
     return false;
   segment_open_ = true;
+  return true;
+}
 
+bool EventDrivenRun::SetStopTime(double t) {
+  stop_time_ = t;
+  return Check(CVodeSetStopTime(cvode_.get(), stop_time_), "CVodeSetStopTime");
+}
+
+// Restarts CVODE at (t, x) after the state or the problem changed there
+// (EventDrivenIntegrator::Reinit): the VI selects the mode as at the start.
+bool EventDrivenRun::Restart(double t, const Eigen::VectorXd& x) {
+  if (segment_open_) AddCvodeStats();
+  step_ends_.Forget();
+  taylor_time_ = NAN;
+  t_ = t;
+  if (!Start(t, x)) return false;
+  counted_steps_ = counted_rejections_ = 0;
+  if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode_.get(), t_, y_.get()), "CVodeReInit") ||
+      !Check(CVodeSetStopTime(cvode_.get(), stop_time_), "CVodeSetStopTime") ||
+      !ProjectReducedModesOnly())
+    return false;
+  mode_start_ = t_;
+  segment_open_ = true;
+  unresolved_steps_ = 0;
+  return true;
+}
+
+// One CVODE step (CV_ONE_STEP, up to the stop time) and the event at its
+// end, if any: the body of the event-driven loop, run by Run() and by the
+// resumable EventDrivenIntegrator alike.
+EventDrivenRun::Advance EventDrivenRun::StepOnce() {
+  void* cvode = cvode_.get();
   const Eigen::Map<const Eigen::VectorXd> y(y_.data(), x0_.size());
-  while (true) {
-    double t_reached = t_;
-    const int flag = CVode(cvode, t_end_, y_.get(), &t_reached, CV_ONE_STEP);
-    taylor_time_ = NAN;
-    if (!Check(flag, "CVode") || !StepsResolveTime()) return false;
-    long steps = 0;
-    CVodeGetNumSteps(cvode, &steps);
-    if (trajectory_.stats.steps + steps - counted_steps_ > options_.max_steps) {
-      std::ostringstream message;
-      message << "event: max_steps = " << options_.max_steps << " reached at t = " << t_reached;
-      return Fail(IntegrationStatus::kMaxSteps, message.str());
+  double t_reached = t_;
+  const int flag = CVode(cvode, stop_time_, y_.get(), &t_reached, CV_ONE_STEP);
+  taylor_time_ = NAN;
+  if (!Check(flag, "CVode") || !StepsResolveTime()) return Advance::kFailed;
+  long steps = 0;
+  CVodeGetNumSteps(cvode, &steps);
+  if (trajectory_.stats.steps + steps - counted_steps_ > options_.max_steps) {
+    std::ostringstream message;
+    message << "event: max_steps = " << options_.max_steps << " reached at t = " << t_reached;
+    Fail(IntegrationStatus::kMaxSteps, message.str());
+    return Advance::kFailed;
+  }
+  t_ = t_reached;
+  bool event = flag == CV_ROOT_RETURN;
+  if (!event && data_.root_time == t_ && data_.root_undefined) {
+    double last_defined = t_;
+    if (LocateMissedRoot(t_, last_defined) != MissedRoot::kLocated) {
+      FailWhereFIsUndefined(last_defined);
+      return Advance::kFailed;
     }
-    t_ = t_reached;
-    bool event = flag == CV_ROOT_RETURN;
-    if (!event && data_.root_time == t_ && data_.root_undefined) {
-      double last_defined = t_;
-      if (LocateMissedRoot(t_, last_defined) != MissedRoot::kLocated)
-        return FailWhereFIsUndefined(last_defined);
-      event = true;
+    event = true;
+  }
+  if (!event) {
+    if (!StillHolds()) return Advance::kFailed;
+    if (system_.reduced())
+      trajectory_.stats.max_constraint_drift =
+          std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
+    // The step's check and the samples' may each see a violation the
+    // other misses: the earlier is located first.
+    const double in_step = StepViolation();
+    const double at_sample = SampleOutputs(t_);
+    const double first = std::fmin(in_step, at_sample), second = std::fmax(in_step, at_sample);
+    double last_defined = t_;
+    event = !std::isnan(first) && LocateMissedRoot(first, last_defined) == MissedRoot::kLocated;
+    if (!event && second > first)
+      event = LocateMissedRoot(second, last_defined) == MissedRoot::kLocated;
+    if (event) DropSamplesFrom(t_);
+  }
+  RecordStep(t_);
+  if (event) {
+    SampleOutputs(t_);
+    AddCvodeStats();
+    step_ends_.Forget();  // the next step starts in another mode
+    Eigen::VectorXd x = y;
+    const Eigen::VectorXd x_left = x, u_left = system_.u();
+    const Mode mode_left = system_.mode();
+    const bool left_reduced = system_.reduced();
+    if (!HandleEvent(t_, x)) {
+      // The stop's row: u_left is the last RHS evaluation's, at one of
+      // CVODE's stage states; the row's u is the VI's at x_left (the
+      // spiral's x⁻ was 0.011 stale at its Zeno stop), where it solves.
+      const SolveResult at_stop = system_.problem().SolveVi(t_, x_left, u_left);
+      Sample(t_, x_left, at_stop.solved() ? at_stop.z : u_left);
+      return Advance::kFailed;
     }
-    if (!event) {
-      if (!StillHolds()) return false;
-      if (system_.reduced())
-        trajectory_.stats.max_constraint_drift =
-            std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
-      // The step's check and the samples' may each see a violation the
-      // other misses: the earlier is located first.
-      const double in_step = StepViolation();
-      const double at_sample = SampleOutputs(t_);
-      const double first = std::fmin(in_step, at_sample), second = std::fmax(in_step, at_sample);
-      double last_defined = t_;
-      event = !std::isnan(first) && LocateMissedRoot(first, last_defined) == MissedRoot::kLocated;
-      if (!event && second > first)
-        event = LocateMissedRoot(second, last_defined) == MissedRoot::kLocated;
-      if (event) DropSamplesFrom(t_);
+    std::copy(x.data(), x.data() + x.size(), y_.data());
+    // An event this close to t_end ends the run: CVODE cannot start a
+    // step shorter than its minimum (CV_TOO_CLOSE), and x moves by O(gap).
+    if (t_end_ - t_ <= SameTimeWidth(t_end_, t_end_ - t0_)) {
+      if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
+      t_ = t_end_;
+      return Advance::kEnded;
     }
-    RecordStep(t_);
-    if (event) {
-      SampleOutputs(t_);
-      AddCvodeStats();
-      step_ends_.Forget();  // the next step starts in another mode
-      Eigen::VectorXd x = y;
-      const Eigen::VectorXd x_left = x, u_left = system_.u();
-      const Mode mode_left = system_.mode();
-      const bool left_reduced = system_.reduced();
-      if (!HandleEvent(t_, x)) {
-        // The stop's row: u_left is the last RHS evaluation's, at one of
-        // CVODE's stage states; the row's u is the VI's at x_left (the
-        // spiral's x⁻ was 0.011 stale at its Zeno stop), where it solves.
-        const SolveResult at_stop = system_.problem().SolveVi(t_, x_left, u_left);
-        Sample(t_, x_left, at_stop.solved() ? at_stop.z : u_left);
-        return false;
-      }
-      std::copy(x.data(), x.data() + x.size(), y_.data());
-      // An event this close to t_end ends the run: CVODE cannot start a
-      // step shorter than its minimum (CV_TOO_CLOSE), and x moves by O(gap).
-      if (t_end_ - t_ <= SameTimeWidth(t_end_, t_end_ - t0_)) {
-        if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
-        return true;
-      }
-      // Issue 31: across a switch the flow is smooth over (the new field
-      // matches CVODE's interpolant to its local error) CVODE goes on at
-      // its order and step instead of restarting at order 1.
-      if (g_keep_smooth_history && !left_reduced && !system_.reduced() && x == x_left &&
-          SwitchMismatch(cvode, t_, system_, mode_left, u_left, history_x_.get(), dky_.get(),
-                         data_.rhs_evals) <= kHistoryKeptMismatch) {
-        if (!EnterSparseJacobian()) return false;
-        mode_start_ = t_;
-        segment_open_ = true;
-        unresolved_steps_ = 0;
-        continue;
-      }
-      counted_steps_ = counted_rejections_ = 0;
-      if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
-          !Check(CVodeSetStopTime(cvode, t_end_), "CVodeSetStopTime") ||
-          !ProjectReducedModesOnly())
-        return false;
+    // Issue 31: across a switch the flow is smooth over (the new field
+    // matches CVODE's interpolant to its local error) CVODE goes on at
+    // its order and step instead of restarting at order 1.
+    if (g_keep_smooth_history && !left_reduced && !system_.reduced() && x == x_left &&
+        SwitchMismatch(cvode, t_, system_, mode_left, u_left, history_x_.get(), dky_.get(),
+                       data_.rhs_evals) <= kHistoryKeptMismatch) {
+      if (!EnterSparseJacobian()) return Advance::kFailed;
       mode_start_ = t_;
       segment_open_ = true;
       unresolved_steps_ = 0;
-      continue;
+      return Advance::kEvent;
     }
-    const bool at_end = flag == CV_TSTOP_RETURN || t_ >= t_end_;
-    if (at_end || options_.output_times.empty()) {
-      const Eigen::VectorXd x = y;
-      if (!system_.Solve(t_, x)) {
-        std::ostringstream message;
-        message << "event: mode " << ModeLetters(system_.mode()) << " at t = " << t_
-                << ": Newton on the free components did not converge";
-        return Fail(IntegrationStatus::kStepFailure, message.str());
-      }
-      Sample(t_, x, system_.u());
-    }
-    if (at_end) {
-      AddCvodeStats();
-      return true;
-    }
+    counted_steps_ = counted_rejections_ = 0;
+    if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
+        !Check(CVodeSetStopTime(cvode, stop_time_), "CVodeSetStopTime") ||
+        !ProjectReducedModesOnly())
+      return Advance::kFailed;
+    mode_start_ = t_;
+    segment_open_ = true;
+    unresolved_steps_ = 0;
+    return Advance::kEvent;
   }
+  const bool at_stop = flag == CV_TSTOP_RETURN || t_ >= stop_time_;
+  if (at_stop || options_.output_times.empty()) {
+    const Eigen::VectorXd x = y;
+    if (!system_.Solve(t_, x)) {
+      std::ostringstream message;
+      message << "event: mode " << ModeLetters(system_.mode()) << " at t = " << t_
+              << ": Newton on the free components did not converge";
+      Fail(IntegrationStatus::kStepFailure, message.str());
+      return Advance::kFailed;
+    }
+    Sample(t_, x, system_.u());
+  }
+  if (!at_stop) return Advance::kStep;
+  if (t_ < t_end_) return Advance::kStopped;
+  AddCvodeStats();
+  return Advance::kEnded;
 }
 
 Trajectory EventDrivenRun::Run() {
-  const auto start = std::chrono::steady_clock::now();
-  // One sample per output time, the start and the end (events add a few).
-  const std::size_t samples = options_.output_times.size() + 2;
-  trajectory_.times.reserve(samples);
-  trajectory_.states.reserve(samples, x0_.size());
-  trajectory_.multipliers.reserve(samples, dvi_.m);
-  if (Start()) IntegrateModes();
-  if (segment_open_) AddCvodeStats();
-  IntegrationStats& stats = trajectory_.stats;
+  if (Begin()) {
+    Advance advance = Advance::kStep;
+    while (advance == Advance::kStep || advance == Advance::kEvent)
+      advance = StepOnce();
+  }
+  Trajectory trajectory = std::move(trajectory_);
+  Conclude(trajectory);
+  return trajectory;
+}
+
+Trajectory EventDrivenRun::Snapshot() const {
+  Trajectory trajectory = trajectory_;
+  Conclude(trajectory);
+  return trajectory;
+}
+
+// The statistics, the interval and the wall time of the run so far, added
+// to its samples (trajectory_ or a copy of it).
+void EventDrivenRun::Conclude(Trajectory& trajectory) const {
+  IntegrationStats& stats = trajectory.stats;
+  if (segment_open_) AddUncountedSteps(stats);
   stats.rhs_evals += data_.rhs_evals;
   stats.jacobian_evals += data_.jacobian_evals;
   stats.solver_iterations += system_.newton_iterations();
   stats.reduced_modes += reduced_selections_;
-  if (!trajectory_.times.empty()) {
+  if (!trajectory.times.empty()) {
     std::string reason = index_one_reason_.empty() ? "index one not established" : index_one_reason_;
     if (look_ahead_selections_ > 0)
       reason += "; " + std::to_string(look_ahead_selections_) +
@@ -541,12 +604,11 @@ Trajectory EventDrivenRun::Run() {
     if (rate_selections_ > 0)
       reason += "; " + std::to_string(rate_selections_) +
                 " mode(s) chosen by the rates where u is not unique (Proposition 5.1)";
-    trajectory_.intervals.push_back({t0_, trajectory_.times.back(), IntegrationMethod::kEventDriven, reason,
+    trajectory.intervals.push_back({t0_, trajectory.times.back(), IntegrationMethod::kEventDriven, reason,
                                      klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }
   stats.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return std::move(trajectory_);
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_clock_).count();
 }
 
 }  // namespace dvi::internal

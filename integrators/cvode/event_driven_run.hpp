@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -61,11 +63,33 @@ class EventDrivenRun {
       dense_ = std::make_unique<DenseLinearSolver>(y_.get(), x0.size(), context_.get());
   }
 
+  /// The whole run: Begin, StepOnce to the end, Conclude.
   Trajectory Run();
 
+  /// What one StepOnce did: an accepted step inside the mode, a step ending
+  /// at an event (the new mode entered), a step ending at the stop time
+  /// before t_end, the end of the run, or a failure (trajectory's status).
+  enum class Advance { kStep, kEvent, kStopped, kEnded, kFailed };
+  /// Selects the mode at (t0, x0), samples it and sets CVODE up; false on
+  /// failure.
+  bool Begin();
+  Advance StepOnce();
+  /// CVODE's stop time (CVodeSetStopTime), t_ < t <= t_end.
+  bool SetStopTime(double t);
+  /// Restarts at (t, x), t_ <= t < t_end, as at the start.
+  bool Restart(double t, const Eigen::VectorXd& x);
+  /// The samples so far, with the statistics and the interval.
+  Trajectory Snapshot() const;
+  double time() const { return t_; }
+  double stop_time() const { return stop_time_; }
+  double t_end() const { return t_end_; }
+  const BoxModeSystem& system() const { return system_; }
+  const Trajectory& samples() const { return trajectory_; }
+
  private:
-  bool Start();
-  bool IntegrateModes();
+  bool Start(double t, const Eigen::VectorXd& x_start);
+  void Conclude(Trajectory& trajectory) const;
+  std::pair<long, long> AddUncountedSteps(IntegrationStats& stats) const;
   bool TryMode(double t, Eigen::VectorXd& x, const Mode& mode, const Eigen::VectorXd& u,
                std::string& why);
   bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode);
@@ -122,7 +146,9 @@ class EventDrivenRun {
   Trajectory trajectory_;
   std::string index_one_reason_;
   OutputSchedule outputs_{options_.output_times, t0_, t_end_};
-  double t_ = 0;
+  double t_ = t0_;
+  double stop_time_ = t_end_;
+  std::chrono::steady_clock::time_point start_clock_;
   double mode_start_ = 0;  // where the current mode was entered
 
   SunContext context_;

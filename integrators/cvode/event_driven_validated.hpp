@@ -21,6 +21,14 @@ namespace dvi::internal {
 Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0,
                                          double t0, double t_end,
                                          const EventDrivenOptions& options);
+/// The checks of IntegrateEventDrivenValidated before it integrates: x0,
+/// t0 < t_end, the output times and the linear solver's fit to the problem.
+/// @throws InvalidInputError
+void CheckEventDrivenStart(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
+                           double t_end, const EventDrivenOptions& options);
+/// Whether a box-K run solves CVODE's Newton systems by KLU: asked for, or
+/// kAuto on an LCS of at least kKluMinStates states.
+bool UsesKlu(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options);
 /// Checks the first `rows` rows of an event-driven run against dvi's VI
 /// (lcs, when given, is the LCS that dvi is) and concludes its certificate.
 void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options,

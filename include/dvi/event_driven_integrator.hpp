@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <memory>
+#include <ostream>
+#include <string_view>
+
+#include <Eigen/Dense>
+
+#include "dvi/dvi_problem.hpp"
+#include "dvi/event_driven_options.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/mode.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi {
+
+/// What one EventDrivenIntegrator::Step did.
+enum class StepOutcome {
+  kStep,      ///< An accepted step inside the current mode.
+  kEvent,     ///< A step that ended at a mode change (the new mode is entered).
+  kStopTime,  ///< Reached the time AdvanceTo asked for, before t_end.
+  kEnd,       ///< Reached t_end: the run is over.
+  kFailure,   ///< The run failed: status() and trajectory().message say why.
+};
+/// "step", "event", "stop-time", "end", "failure".
+std::string_view ToString(StepOutcome outcome);
+std::ostream& operator<<(std::ostream& out, StepOutcome outcome);
+
+/// The event-driven integrator of IntegrateEventDriven (event_driven.hpp,
+/// [Seed] Sect. 5) as an object to step, stop and resume, in the style of
+/// SUNDIALS' create/solve/get (CVode in CV_ONE_STEP mode, CVodeSetStopTime,
+/// CVodeReInit) and DiffEq's init/step!: IntegrateEventDriven runs the same
+/// loop (one StepOnce per CVODE step) to t_end.
+///
+///   EventDrivenIntegrator integrator(lcs, x0, 0.0, 10.0, options);
+///   for (double t : sampling_times) {
+///     integrator.AdvanceTo(t);              // stops exactly at t
+///     x = controller(integrator.x());
+///     integrator.Reinit(t, x);              // the VI selects the mode anew
+///   }
+///   Trajectory trajectory = integrator.trajectory();
+///
+/// Every accepted step is sampled (options.output_times must be empty), and
+/// each event adds its sample, as IntegrateEventDriven without output times.
+/// Scope: K a box (the KKT lifting of other sets and the source breakpoints
+/// of IntegrateEventDriven are one-shot only) and a consistent x0 (no state
+/// jump at the start); trajectory() has no certificate (certify it with the
+/// one-shot run).
+class EventDrivenIntegrator {
+ public:
+  /// Selects the mode at (t0, x0) (Theorem 5.1 / Sect. 5.3, or the
+  /// differentiation procedure of Theorems 5.2/5.3). t_end is the horizon:
+  /// the longest run, and the scale of the look-ahead and the Zeno window.
+  /// @throws InvalidInputError on an invalid problem, x0, t0/t_end or
+  /// options, on a non-box K or source breakpoints; failure to find a mode
+  /// at t0 is status() kNotIndexOne / kStepFailure, not an exception.
+  EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
+                        const EventDrivenOptions& options = {});
+  /// An LCS (2.8) through Lcs::ToDvi, with its constant matrices (and KLU).
+  EventDrivenIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                        const EventDrivenOptions& options = {});
+  EventDrivenIntegrator(EventDrivenIntegrator&&) noexcept;
+  EventDrivenIntegrator& operator=(EventDrivenIntegrator&&) noexcept;
+  ~EventDrivenIntegrator();
+
+  /// One CVODE step (and the event at its end), never past t_end or a
+  /// pending AdvanceTo time. After kEnd or kFailure it returns the same
+  /// again without stepping.
+  StepOutcome Step();
+  /// Steps until t (CVodeSetStopTime: the last step ends exactly at t, never
+  /// past it); kStopTime (kEnd at t_end), or kFailure.
+  /// @throws InvalidInputError if t is NaN, before t() or after t_end.
+  StepOutcome AdvanceTo(double t);
+  /// Restarts at (t, x) after the caller changed the state or a parameter
+  /// the problem's functions read: the VI at (t, x) selects the mode as at
+  /// the start, and CVODE restarts there (CVodeReInit). The samples keep
+  /// the old state at t, then the new one.
+  /// @throws InvalidInputError if t is not in [t(), t_end), x has not n
+  /// finite entries, or the run has ended or failed.
+  void Reinit(double t, const Eigen::VectorXd& x);
+
+  double t() const;
+  double t_end() const;
+  /// The state and the multiplier at t() (the last sample; x0 and an empty
+  /// u if the start failed).
+  Eigen::VectorXd x() const;
+  Eigen::VectorXd u() const;
+  /// The current mode (for each u_j: free, lower or upper bound).
+  const Mode& mode() const;
+  IntegrationStatus status() const;
+  IntegrationStats stats() const;
+  /// The samples from t0 to t(), events, statistics and interval so far.
+  Trajectory trajectory() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace dvi
