@@ -4,9 +4,13 @@
 // matches one run, Reinit after a change of state (a sampled-data
 // controller) or of a parameter matches the exact piecewise solution, and
 // invalid calls are named.
+#include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <string>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -32,6 +36,12 @@ constexpr double kStateError = 1e-8;
 // An event's time: the root finder's (100 ε (|t| + |h|)) plus the state's
 // error over |x'| ≥ 1 at the crossing.
 constexpr double kEventTimeError = 1e-9;
+
+std::string Scientific(double value) {
+  std::ostringstream text;
+  text << std::scientific << std::setprecision(3) << value;
+  return text.str();
+}
 
 EventDrivenOptions TightOptions() {
   EventDrivenOptions options;
@@ -116,6 +126,36 @@ TEST(EventDrivenIntegrator, HundredAdvanceToCallsMatchOneCall) {
   EXPECT_NEAR(split.events[0].time, one_shot.events[0].time, 2 * kEventTimeError);
   EXPECT_NEAR(split.events[0].time, 2.0, kEventTimeError);
   EXPECT_GE(split.stats.steps, one_shot.stats.steps);
+  RecordProperty("final_state_difference",
+                 Scientific(std::abs(split.states.back()(0) - one_shot.states.back()(0))));
+  RecordProperty("event_time_difference",
+                 Scientific(std::abs(split.events[0].time - one_shot.events[0].time)));
+}
+
+TEST(EventDrivenIntegrator, LiveDenseOutputIsAccurateWithinTheModesLastStep) {
+  EventDrivenIntegrator integrator(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5,
+                                   TightOptions());
+  // The step that ends at the event (t = 2): after it the span is the
+  // event's instant only, the new mode's.
+  while (integrator.Step() != StepOutcome::kEvent) ASSERT_LT(integrator.t(), 5);
+  const double event = integrator.t();
+  EXPECT_EQ(integrator.StateAt(event), integrator.x());
+  ExpectThrowNaming([&] { integrator.StateAt(event - 1e-3); }, "outside the last step");
+  // Steps in the free mode, x = e^{2−t}: the interpolant at 10 points of
+  // each step as accurate as the samples.
+  double worst = 0;
+  for (int k = 0; k < 20 && integrator.Step() == StepOutcome::kStep; ++k) {
+    const Trajectory samples = integrator.trajectory();
+    const double start = samples.times[samples.times.size() - 2], end = integrator.t();
+    ASSERT_GE(start, event);
+    for (int i = 0; i <= 10; ++i) {
+      const double t = start + (end - start) * i / 10;
+      worst = std::max(worst, std::abs(integrator.StateAt(t)(0) - SaturatedDecayExact(t)(0)));
+    }
+    ExpectThrowNaming([&] { integrator.StateAt(end + 1e-9); }, "outside the last step");
+  }
+  EXPECT_LE(worst, kStateError);
+  RecordProperty("dense_output_max_error", Scientific(worst));
 }
 
 // x' = u + z, z' = 0, u ∈ SOL([−1, 1], u + x): x decays at rate 1 − z while

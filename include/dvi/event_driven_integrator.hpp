@@ -86,6 +86,12 @@ class EventDrivenIntegrator {
   /// u if the start failed).
   Eigen::VectorXd x() const;
   Eigen::VectorXd u() const;
+  /// Live dense output (CVodeGetDky): x at t in the last step, from where
+  /// the current mode began (never across a mode switch) to t(), by CVODE's
+  /// interpolating polynomial, at the integrator's accuracy. Earlier times:
+  /// trajectory().StateAt.
+  /// @throws InvalidInputError if t is outside that span (named).
+  Eigen::VectorXd StateAt(double t) const;
   /// The current mode (for each u_j: free, lower or upper bound).
   const Mode& mode() const;
   IntegrationStatus status() const;

@@ -176,6 +176,18 @@ Eigen::VectorXd EventDrivenIntegrator::u() const {
   return samples.times.empty() ? Eigen::VectorXd() : Eigen::VectorXd(samples.multipliers.back());
 }
 
+Eigen::VectorXd EventDrivenIntegrator::StateAt(double t) const {
+  internal::EventDrivenRun& run = state_->run;
+  const auto [from, to] = run.DenseSpan();
+  DVI_THROW_UNLESS(t >= from && t <= to,
+                   "StateAt: t = " << t << " is outside the last step of the current mode, ["
+                                   << from << ", " << to
+                                   << "] (trajectory().StateAt interpolates the samples)");
+  Eigen::VectorXd x(state_->dvi.n);
+  run.InterpolateState(t, x);
+  return x;
+}
+
 const Mode& EventDrivenIntegrator::mode() const { return state_->run.system().mode(); }
 IntegrationStatus EventDrivenIntegrator::status() const { return state_->run.samples().status; }
 IntegrationStats EventDrivenIntegrator::stats() const { return trajectory().stats; }

@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -455,6 +456,28 @@ bool EventDrivenRun::Restart(double t, const Eigen::VectorXd& x) {
   segment_open_ = true;
   unresolved_steps_ = 0;
   return true;
+}
+
+std::pair<double, double> EventDrivenRun::DenseSpan() const {
+  double t_n = t_, h = 0;
+  CVodeGetCurrentTime(cvode_.get(), &t_n);
+  CVodeGetLastStep(cvode_.get(), &h);
+  // After a root CVODE's step ends past t_ (the root), in the old mode.
+  return {std::max(t_n - h, mode_start_), t_};
+}
+
+void EventDrivenRun::InterpolateState(double t, Eigen::VectorXd& x) {
+  const Eigen::Index n = x0_.size();
+  if (t == t_) {
+    x = Eigen::Map<const Eigen::VectorXd>(y_.data(), n);
+    return;
+  }
+  // Inside DenseSpan CVODE cannot refuse (CV_BAD_T is outside its step).
+  const int flag = CVodeGetDky(cvode_.get(), t, 0, dky_.get());
+  if (flag != CV_SUCCESS)
+    throw std::logic_error("CVodeGetDky inside the last step: " +
+                           FlagName(CVodeGetReturnFlagName(flag)));
+  x = Eigen::Map<const Eigen::VectorXd>(dky_.data(), n);
 }
 
 // One CVODE step (CV_ONE_STEP, up to the stop time) and the event at its

@@ -78,6 +78,12 @@ class EventDrivenRun {
   bool SetStopTime(double t);
   /// Restarts at (t, x), t_ <= t < t_end, as at the start.
   bool Restart(double t, const Eigen::VectorXd& x);
+  /// The span of the live dense output: the last step, from where the
+  /// current mode began on (never across a mode switch), to time().
+  std::pair<double, double> DenseSpan() const;
+  /// x at t in DenseSpan() by CVODE's interpolant (CVodeGetDky), x = y at
+  /// time() itself. @pre t in DenseSpan().
+  void InterpolateState(double t, Eigen::VectorXd& x);
   /// The samples so far, with the statistics and the interval.
   Trajectory Snapshot() const;
   double time() const { return t_; }
