@@ -114,6 +114,17 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
       });
 }
 
+Dvi ValidatedLcsDvi(const Lcs& lcs, double t0, Eigen::Index states,
+                    const EventDrivenOptions& options) {
+  lcs.Validate();
+  lcs.CheckSources(t0);
+  Dvi dvi = lcs.ToDvi();
+  dvi.Validate();
+  options.Validate();
+  options.CheckStates(states);
+  return dvi;
+}
+
 void CertifyEventDriven(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options,
                         std::size_t rows, Trajectory& trajectory) {
   // Sources with breakpoints: rows at them certified at the sides they were
@@ -149,12 +160,7 @@ Trajectory IntegrateEventDriven(const Dvi& dvi, const Eigen::VectorXd& x0, doubl
 
 Trajectory IntegrateEventDriven(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const EventDrivenOptions& options) {
-  lcs.Validate();
-  lcs.CheckSources(t0);
-  const Dvi dvi = lcs.ToDvi();
-  dvi.Validate();
-  options.Validate();
-  options.CheckStates(x0.size());
+  const Dvi dvi = internal::ValidatedLcsDvi(lcs, t0, x0.size(), options);
   return internal::WithJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
     Trajectory trajectory =
         internal::IntegrateEventDrivenValidated(dvi, &lcs, x_start, t0, t_end, options);

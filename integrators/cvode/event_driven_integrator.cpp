@@ -98,12 +98,7 @@ EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::Vector
 
 EventDrivenIntegrator::EventDrivenIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                              double t_end, const EventDrivenOptions& options) {
-  lcs.Validate();
-  lcs.CheckSources(t0);
-  const Dvi dvi = lcs.ToDvi();
-  dvi.Validate();
-  options.Validate();
-  options.CheckStates(x0.size());
+  const Dvi dvi = internal::ValidatedLcsDvi(lcs, t0, x0.size(), options);
   CheckStepperScope(dvi, options);
   internal::CheckEventDrivenStart(dvi, &lcs, x0, t0, t_end, options);
   // As IntegrateEventDriven: an LCS with sources runs as the general DVI.

@@ -26,6 +26,10 @@ Trajectory IntegrateEventDrivenValidated(const Dvi& dvi, const Lcs* lcs, const E
 /// @throws InvalidInputError
 void CheckEventDrivenStart(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
                            double t_end, const EventDrivenOptions& options);
+/// The Dvi of an LCS run, lcs (its sources at t0) and options validated
+/// for x0 of size `states`. @throws InvalidInputError
+Dvi ValidatedLcsDvi(const Lcs& lcs, double t0, Eigen::Index states,
+                    const EventDrivenOptions& options);
 /// Whether a box-K run solves CVODE's Newton systems by KLU: asked for, or
 /// kAuto on an LCS of at least kKluMinStates states.
 bool UsesKlu(const Dvi& dvi, const Lcs* lcs, const EventDrivenOptions& options);
