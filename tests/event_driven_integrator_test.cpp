@@ -132,6 +132,24 @@ TEST(EventDrivenIntegrator, HundredAdvanceToCallsMatchOneCall) {
                  Scientific(std::abs(split.events[0].time - one_shot.events[0].time)));
 }
 
+// An event at (or within the same-time width 1e-12 (|t| + horizon) of) the
+// stop time ends AdvanceTo there: CVODE cannot restart for a step shorter
+// than its minimum.
+TEST(EventDrivenIntegrator, EventAtTheStopTimeStopsThere) {
+  for (const double stop : {2.0, 2.0 + 3e-12, 2.0 - 3e-12}) {
+    EventDrivenIntegrator integrator(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5,
+                                     TightOptions());
+    ASSERT_EQ(integrator.AdvanceTo(stop), StepOutcome::kStopTime)
+        << "stop " << stop << ": " << integrator.trajectory().message;
+    EXPECT_EQ(integrator.t(), stop);
+    ASSERT_EQ(integrator.AdvanceTo(5), StepOutcome::kEnd) << integrator.trajectory().message;
+    const Trajectory trajectory = integrator.trajectory();
+    ASSERT_EQ(trajectory.events.size(), 1u) << "stop " << stop;
+    EXPECT_NEAR(trajectory.events[0].time, 2.0, kEventTimeError);
+    EXPECT_NEAR(trajectory.states.back()(0), SaturatedDecayExact(5)(0), kStateError);
+  }
+}
+
 TEST(EventDrivenIntegrator, LiveDenseOutputIsAccurateWithinTheModesLastStep) {
   EventDrivenIntegrator integrator(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5,
                                    TightOptions());

@@ -449,7 +449,7 @@ bool EventDrivenRun::Restart(double t, const Eigen::VectorXd& x) {
   if (!Start(t, x)) return false;
   counted_steps_ = counted_rejections_ = 0;
   if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode_.get(), t_, y_.get()), "CVodeReInit") ||
-      !Check(CVodeSetStopTime(cvode_.get(), stop_time_), "CVodeSetStopTime") ||
+      (stop_time_ > t_ && !Check(CVodeSetStopTime(cvode_.get(), stop_time_), "CVodeSetStopTime")) ||
       !ProjectReducedModesOnly())
     return false;
   mode_start_ = t_;
@@ -542,17 +542,20 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
       return Advance::kFailed;
     }
     std::copy(x.data(), x.data() + x.size(), y_.data());
-    // An event this close to t_end ends the run: CVODE cannot start a
-    // step shorter than its minimum (CV_TOO_CLOSE), and x moves by O(gap).
-    if (t_end_ - t_ <= SameTimeWidth(t_end_, t_end_ - t0_)) {
-      if (trajectory_.times.back() < t_end_) Sample(t_end_, x, system_.u());
-      t_ = t_end_;
-      return Advance::kEnded;
+    // An event this close to the stop time ends the step there (the run,
+    // at t_end): CVODE cannot start a step shorter than its minimum
+    // (CV_TOO_CLOSE), and x moves by O(gap).
+    const bool at_stop = stop_time_ - t_ <= SameTimeWidth(stop_time_, t_end_ - t0_);
+    if (at_stop) {
+      if (trajectory_.times.back() < stop_time_) Sample(stop_time_, x, system_.u());
+      t_ = stop_time_;
+      if (t_ >= t_end_) return Advance::kEnded;
     }
     // Issue 31: across a switch the flow is smooth over (the new field
     // matches CVODE's interpolant to its local error) CVODE goes on at
     // its order and step instead of restarting at order 1.
-    if (g_keep_smooth_history && !left_reduced && !system_.reduced() && x == x_left &&
+    if (!at_stop && g_keep_smooth_history && !left_reduced && !system_.reduced() &&
+        x == x_left &&
         SwitchMismatch(cvode, t_, system_, mode_left, u_left, history_x_.get(), dky_.get(),
                        data_.rhs_evals) <= kHistoryKeptMismatch) {
       if (!EnterSparseJacobian()) return Advance::kFailed;
@@ -561,15 +564,16 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
       unresolved_steps_ = 0;
       return Advance::kEvent;
     }
+    // At the stop time the caller sets the next one (SetStopTime).
     counted_steps_ = counted_rejections_ = 0;
     if (!EnterSparseJacobian() || !Check(CVodeReInit(cvode, t_, y_.get()), "CVodeReInit") ||
-        !Check(CVodeSetStopTime(cvode, stop_time_), "CVodeSetStopTime") ||
+        (!at_stop && !Check(CVodeSetStopTime(cvode, stop_time_), "CVodeSetStopTime")) ||
         !ProjectReducedModesOnly())
       return Advance::kFailed;
     mode_start_ = t_;
     segment_open_ = true;
     unresolved_steps_ = 0;
-    return Advance::kEvent;
+    return at_stop ? Advance::kStopped : Advance::kEvent;
   }
   const bool at_stop = flag == CV_TSTOP_RETURN || t_ >= stop_time_;
   if (at_stop || options_.output_times.empty()) {
