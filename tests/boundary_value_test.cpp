@@ -498,5 +498,20 @@ TEST(BoundaryValueInput, AnUnsolvableDiscreteViIsAFailureNamingIterationAndResid
   EXPECT_TRUE(solution.trajectory.times.empty());
 }
 
+// This program does not link dvi::petsc: backend petsc is then refused by
+// name, as in a build without PETSc, and an unknown backend word too.
+TEST(BoundaryValueInput, PetscBackendWithoutThePetscLibraryIsRefusedByName) {
+  const TwoPointLcs problem;
+  BoundaryValueOptions options = Steps(100);
+  options.backend = BoundaryValueBackend::kPetsc;
+  ExpectThrowNaming(
+      [&] { SolveBoundaryValue(problem.lcs, problem.conditions(), TwoPointLcs::kT, options); },
+      "backend: \"petsc\" is not available: dvi was built without PETSc");
+  ExpectThrowNaming([] { ParseBoundaryValueBackend("cuda"); },
+                    "unknown boundary-value backend \"cuda\" (expected dvi or petsc)");
+  EXPECT_EQ(ParseBoundaryValueBackend(ToString(BoundaryValueBackend::kPetsc)),
+            BoundaryValueBackend::kPetsc);
+}
+
 }  // namespace
 }  // namespace dvi

@@ -547,6 +547,24 @@ const std::vector<HostileCase>& Cases() {
        {"method.steps", "not both"}},
       {"BvpSchemeUnknown", Boundary("[[1]]", "[[1]]", "[1]", R"(, "scheme": "7.2")"),
        "run input.json", 2, {"method.scheme", "9.3 or 9.11"}},
+      // --- the PETSc back-end (issue 34) -----------------------------------------------------
+      {"BvpBackendUnknown", Boundary("[[1]]", "[[1]]", "[1]", R"(, "backend": "cuda")"),
+       "run input.json", 2, {"method.backend", "unknown boundary-value backend \"cuda\""}},
+      {"BvpBackendNotAString", Boundary("[[1]]", "[[1]]", "[1]", R"(, "backend": 1)"),
+       "run input.json", 2, {"method.backend", "expected \"dvi\" or \"petsc\""}},
+#ifdef DVI_HOSTILE_PETSC
+      {"BvpBackendPetsc", Boundary("[[1]]", "[[1]]", "[1]", R"(, "backend": "petsc")"),
+       "run input.json", 0, {}},
+      {"BvpBackendPetscOnABall",
+       R"({"problem": {"type": "dvi", "f": ["-x1 + u1"], "F": ["u1 - x1"],
+          "set": {"ball": {"center": [0], "radius": 1}}},
+          "boundary": {"M": [[1]], "N": [[0]], "b": [1]}, "horizon": 1,
+          "method": {"name": "bvp", "steps": 100, "backend": "petsc"}})",
+       "run input.json", 2, {"method.backend", "not one with a ball"}},
+#else
+      {"BvpBackendPetscWithoutPetsc", Boundary("[[1]]", "[[1]]", "[1]", R"(, "backend": "petsc")"),
+       "run input.json", 2, {"method.backend", "built without PETSc"}},
+#endif
       {"BvpMaxWall", Boundary("[[1]]", "[[1]]", "[1]", R"(, "max_wall": 60)"), "run input.json", 0,
        {}},
       // x' = u, 0 <= u ⊥ 1 >= 0 forces u = 0, so x(0) - x(T) = 1 has no

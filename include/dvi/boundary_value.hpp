@@ -60,6 +60,22 @@ std::string_view ToString(BoundaryValueScheme scheme);
 /// Inverse of ToString. @throws InvalidInputError naming the unknown word.
 BoundaryValueScheme ParseBoundaryValueScheme(std::string_view name);
 
+/// Who solves each grid's aggregate VI.
+enum class BoundaryValueBackend {
+  /// dvi's semismooth Newton (block LU or KLU), one process.
+  kDvi,
+  /// PETSc's SNES vinewtonrsls on a DMDA over the time steps, over the MPI
+  /// ranks of PETSC_COMM_WORLD (the optional library dvi::petsc,
+  /// petsc_backend.hpp, must have been enabled; else InvalidInputError
+  /// "built without PETSc"). K a box or a polyhedron (its KKT lifting is a
+  /// box); a K with a ball is refused.
+  kPetsc,
+};
+/// "dvi", "petsc".
+std::string_view ToString(BoundaryValueBackend backend);
+/// Inverse of ToString. @throws InvalidInputError naming the unknown word.
+BoundaryValueBackend ParseBoundaryValueBackend(std::string_view name);
+
 struct BoundaryValueOptions {
   /// Steps N_h + 1 of the grid, h = T/steps (of the first grid when
   /// refining). 0: from h.
@@ -71,6 +87,7 @@ struct BoundaryValueOptions {
   /// scheme of the paper's convergence theorems.
   double theta = 0;
   BoundaryValueScheme scheme = BoundaryValueScheme::kImplicit;
+  BoundaryValueBackend backend = BoundaryValueBackend::kDvi;
   /// Semismooth Newton on the aggregate MCP (a block LU of the step
   /// template for an affine time-invariant problem, else KLU):
   /// tolerance on its natural residual, iteration limit (0: 100), and the

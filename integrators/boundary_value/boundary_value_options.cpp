@@ -81,6 +81,17 @@ BoundaryValueScheme ParseBoundaryValueScheme(std::string_view name) {
                           "\" (expected 9.3 or 9.11)");
 }
 
+std::string_view ToString(BoundaryValueBackend backend) {
+  return backend == BoundaryValueBackend::kPetsc ? "petsc" : "dvi";
+}
+
+BoundaryValueBackend ParseBoundaryValueBackend(std::string_view name) {
+  for (const BoundaryValueBackend backend : {BoundaryValueBackend::kDvi, BoundaryValueBackend::kPetsc})
+    if (ToString(backend) == name) return backend;
+  throw InvalidInputError("unknown boundary-value backend \"" + std::string(name) +
+                          "\" (expected dvi or petsc)");
+}
+
 std::string_view ToString(BoundaryDiagnostics::Verdict verdict) {
   switch (verdict) {
     case BoundaryDiagnostics::Verdict::kNotApplicable: return "not-applicable";

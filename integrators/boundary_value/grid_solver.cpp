@@ -14,6 +14,7 @@
 
 #include "check.hpp"
 #include "dvi/semismooth_newton.hpp"
+#include "grid_backend.hpp"
 #include "newton_linear_algebra.hpp"
 #include "output_times_check.hpp"
 #include "template_algebra.hpp"
@@ -43,6 +44,7 @@ struct Grid {
   BoundaryValueMcp mcp;  // matrix and offset null where the template stands for them
   SolveResult result;
   long nonzeros = 0;  // of the VI's Jacobian
+  bool by_backend = false;  // solved by the installed back-end (PETSc)
 };
 
 double Seconds(Clock::time_point since) {
@@ -94,6 +96,16 @@ class GridSolver {
   Grid Solve(long steps, Eigen::VectorXd start, bool refinement) {
     const Clock::time_point begin = Clock::now();
     Grid grid;
+    // PETSc's reduced-space Newton cannot leave a degenerate cold start (u
+    // at its bound where F = 0, as with D = 0: its reduced system is then
+    // singular, or it cycles — measured on the two-point LCS and the
+    // rectifier), so a grid without a warm start (the coarsest, at most
+    // coarsest_steps steps) is dvi's, on every rank alike.
+    if (options_.backend == BoundaryValueBackend::kPetsc && start.size() > 0) {
+      SolveOnBackend(steps, start, grid);
+      Record(steps, refinement, begin, grid);
+      return grid;
+    }
     std::shared_ptr<const TemplateOperator> op;
     if (problem_.affine && problem_.set.r == 0) {
       op = std::make_shared<const TemplateOperator>(problem_, steps);
@@ -127,6 +139,30 @@ class GridSolver {
       grid.result = SolveNewton(grid.mcp.mcp, solver, std::move(start));
     }
     grid.mcp.mcp.F = std::move(F);
+    Record(steps, refinement, begin, grid);
+    return grid;
+  }
+
+  // The grid by the installed back-end (grid_backend.hpp), which never
+  // assembles dvi's matrix: the grid keeps the layout and bounds only.
+  void SolveOnBackend(long steps, const Eigen::VectorXd& start, Grid& grid) {
+    const GridBackendSolver& backend = PetscGridSolver();
+    const int n = problem_.n;
+    grid.mcp.layout = {n, problem_.set.m, problem_.set.size(), steps};
+    grid.mcp.horizon = problem_.horizon;
+    grid.mcp.h = problem_.horizon / static_cast<double>(steps);
+    grid.mcp.affine = problem_.affine != nullptr;
+    SetBounds(grid.mcp.layout, problem_.set, grid.mcp.mcp);
+    // The step blocks' entries, the boundary rows counted dense.
+    grid.nonzeros = steps * static_cast<long>(BuildTemplate(problem_, grid.mcp.h).matrix.nonZeros()) +
+                    2L * n * n;
+    SolverOptions solver = options_.solver;
+    if (start.size() == 0) solver.watchdog_steps = 0;
+    grid.result = backend(problem_, steps, solver, start);
+    grid.by_backend = true;
+  }
+
+  void Record(long steps, bool refinement, Clock::time_point begin, const Grid& grid) {
     BoundaryValueGrid record;
     record.steps = steps;
     record.h = grid.mcp.h;
@@ -136,7 +172,6 @@ class GridSolver {
     record.refinement = refinement;
     stats_.grids.push_back(record);
     stats_.total_iterations += grid.result.iterations;
-    return grid;
   }
 
   // The warm start of a grid of `steps` steps: the solution of the grid
@@ -356,6 +391,13 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
                    "steps: the first grid of " << first_steps << " steps exceeds max_steps = "
                                                << options.max_steps);
 
+  if (options.backend == BoundaryValueBackend::kPetsc) {
+    // Before any grid is solved, so that no rank starts what others refuse.
+    PetscGridSolver();
+    DVI_THROW_UNLESS(problem.set.r == 0,
+                     "backend: \"petsc\" takes a box or polyhedral K (a box in its KKT "
+                     "lifting), not one with a ball: use backend \"dvi\"");
+  }
   BoundaryValueSolution solution;
   Trajectory& trajectory = solution.trajectory;
   GridSolver solver(problem, options);
@@ -446,7 +488,9 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
     reason << "boundary-value problem: aggregate VI (9.2)-(9.4) of " << describe << " on "
            << GridText(grid.mcp.layout.steps, grid.mcp.h) << ", " << stats.unknowns
            << " unknowns, semismooth Newton on "
-           << (grid.mcp.matrix ? "KLU" : "a block LU of the step template") << ": "
+           << (grid.by_backend ? "PETSc (SNES vinewtonrsls)"
+                   : grid.mcp.matrix ? "KLU" : "a block LU of the step template")
+           << ": "
            << stats.iterations << " iterations, residual "
            << Format(stats.residual);
     if (stats.grids.size() > 1)

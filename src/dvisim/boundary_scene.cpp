@@ -185,10 +185,10 @@ void ReadBoundaryValueMethod(const json& method, Scene& scene) {
   for (const auto& item : method.items())
     if (BelongsToAnotherMethod(item.key()))
       Fail(Field(path, item.key()), "is not used by \"bvp\" (it takes h or steps, theta, scheme, "
-                                    "tol, max_iterations, refine, rtol, atol, max_steps, max_wall)");
+                                    "backend, tol, max_iterations, refine, rtol, atol, max_steps, max_wall)");
   RejectUnknownFields(method, path,
-                      {"name", "h", "steps", "theta", "scheme", "tol", "max_iterations", "refine",
-                       "rtol", "atol", "max_steps", "max_wall"},
+                      {"name", "h", "steps", "theta", "scheme", "backend", "tol", "max_iterations",
+                       "refine", "rtol", "atol", "max_steps", "max_wall"},
                       " for bvp");
   const json* h = FindField(method, "h");
   const json* steps = FindField(method, "steps");
@@ -210,6 +210,13 @@ void ReadBoundaryValueMethod(const json& method, Scene& scene) {
       Fail(Field(path, "scheme"), "expected \"9.3\" or \"9.11\", got " + Describe(*scheme));
     options.scheme = WithPath(Field(path, "scheme"),
                               [&] { return ParseBoundaryValueScheme(scheme->get<std::string>()); });
+  }
+  if (const json* backend = FindField(method, "backend")) {
+    if (!backend->is_string())
+      Fail(Field(path, "backend"), "expected \"dvi\" or \"petsc\", got " + Describe(*backend));
+    options.backend = WithPath(Field(path, "backend"), [&] {
+      return ParseBoundaryValueBackend(backend->get<std::string>());
+    });
   }
   if (const json* tol = FindField(method, "tol"))
     options.solver.tolerance = ReadTolerance(*tol, Field(path, "tol"));

@@ -17,6 +17,9 @@
 #include "study_command.hpp"
 #include "sweep_command.hpp"
 #include "dvi/ensemble.hpp"
+#ifdef DVI_HAS_PETSC
+#include "dvi/petsc_backend.hpp"
+#endif
 
 namespace {
 
@@ -133,6 +136,12 @@ int main(int argc, char** argv) {
     if (run->count("--atol") > 0) run_command.atol = atol;
     if (run->count("--h-max") > 0) run_command.h_max = h_max;
     run_command.progress_bar = ::isatty(STDERR_FILENO) != 0;
+    // Under mpiexec a boundary-value scene with backend petsc runs on every
+    // rank (rank 0 writes); MPI and PETSc start only when used so.
+    const dvi::EnsembleMpiSession mpi(&argc, &argv);
+#ifdef DVI_HAS_PETSC
+    const dvi::PetscBackendSession petsc;
+#endif
     return dvi::dvisim::RunScene(run_command, std::cout, std::cerr);
   }
   if (study->parsed()) {

@@ -18,6 +18,7 @@
 #include <variant>
 
 #include "dvi/auto_driver.hpp"
+#include "dvi/ensemble.hpp"
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/projected_dynamics.hpp"
@@ -525,6 +526,8 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
           << trajectory.message << " (no files written)\n";
       return kExitNumericalFailure;
     }
+    // A solve over MPI ranks (backend petsc) is written once, by rank 0.
+    if (CurrentEnsembleRank().rank != 0) return kExitSolved;
     PrintSummary(scene, trajectory,
                  WriteOutputs(scene, trajectory, report ? &*report : nullptr), out);
     return kExitSolved;

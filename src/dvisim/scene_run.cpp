@@ -29,8 +29,8 @@ Trajectory RunSceneMethod(const Scene& scene, const std::string& source,
     for (const std::string prefix : {"AutoOptions.event.", "AutoOptions.stepping."})
       if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
     const std::string option = what.substr(0, what.find_first_of(":(["));
-    for (const char* field : {"h", "theta", "gamma", "scheme", "h_max", "max_steps", "max_events",
-                              "steps"})
+    for (const char* field : {"h", "theta", "gamma", "scheme", "backend", "h_max", "max_steps",
+                              "max_events", "steps"})
       if (option == field) throw InputError(source + ": method." + what);
     if (option == "output_times")
       throw InputError(source + ": output (horizon, output.samples, output.times): " + what);
