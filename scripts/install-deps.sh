@@ -15,6 +15,7 @@ packages=(
   libginac-dev           # scene expressions: parsing and exact symbolic derivatives
   gnuplot-nox            # dvisim run's plots (pngcairo and svg terminals)
   libopenmpi-dev openmpi-bin  # ensembles and dvisim sweep over MPI ranks, and their 2-rank test
+  libpetsc-real-dev      # the PETSc back-end of boundary-value solves (dvi::petsc, DVI_PETSC) and its tests
   chromium               # the study page's browser test (label browser; 30-40 s and ~370 MB to install here, ~6 s to run)
   libgtest-dev libgmock-dev  # the test suites
   libbenchmark-dev       # bench/

@@ -53,7 +53,10 @@ for run in ("one", "two"):
     assert len(other) == len(serial), f"{run}: {len(other)} rows, serial {len(serial)}"
     worst = max(abs(float(a) - float(b)) for ra, rb in zip(serial[1:], other[1:])
                 for a, b in zip(ra, rb))
-    residual = json.load(open(f"{work}/{scene}-{run}/summary.json"))["newton"]["residual"]
+    newton = json.load(open(f"{work}/{scene}-{run}/summary.json"))["newton"]
+    residual = newton["residual"]
+    ranks = {"one": "on 1 rank", "two": "on 2 ranks"}[run]
+    assert f"PETSc SNES vinewtonrsls {ranks}" in newton["message"], newton["message"]
     print(f"{scene} petsc {run}: max |difference| = {worst:.3g} (bound {bound:.3g}), "
           f"residual {residual:.3g}")
     if worst > bound or residual > tolerance:
