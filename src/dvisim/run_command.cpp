@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -67,23 +68,42 @@ void WriteFile(const fs::path& path, const std::string& contents, const std::str
   if (!stream) throw InputError(source + ": cannot write " + path.string());
 }
 
+// The signal SignalsDeferred held back, 0 if none.
+volatile sig_atomic_t deferred_signal = 0;
+extern "C" void RecordSignal(int signal) { deferred_signal = signal; }
+
 // Holds SIGINT, SIGTERM and SIGHUP back while it lives: one arriving while
 // the outputs are written ends dvisim only once they are all in place or
-// all removed, not with a temporary directory left behind.
+// all removed, not with a temporary directory left behind. Blocked in this
+// thread and recorded by a handler in any other: a library linked in (the
+// PETSc back-end's OpenBLAS) runs threads of its own, to which the kernel
+// may deliver a signal this thread blocks.
 class SignalsDeferred {
  public:
   SignalsDeferred() {
     sigset_t held;
     sigemptyset(&held);
-    for (const int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&held, signal);
-    sigprocmask(SIG_BLOCK, &held, &previous_);
+    for (const int signal : kSignals) sigaddset(&held, signal);
+    sigprocmask(SIG_BLOCK, &held, &previous_mask_);
+    struct sigaction record {};
+    record.sa_handler = RecordSignal;
+    sigemptyset(&record.sa_mask);
+    for (std::size_t i = 0; i < kSignals.size(); ++i)
+      sigaction(kSignals[i], &record, &previous_actions_[i]);
   }
-  ~SignalsDeferred() { sigprocmask(SIG_SETMASK, &previous_, nullptr); }
+  ~SignalsDeferred() {
+    for (std::size_t i = 0; i < kSignals.size(); ++i)
+      sigaction(kSignals[i], &previous_actions_[i], nullptr);
+    sigprocmask(SIG_SETMASK, &previous_mask_, nullptr);
+    if (deferred_signal != 0) raise(deferred_signal);
+  }
   SignalsDeferred(const SignalsDeferred&) = delete;
   SignalsDeferred& operator=(const SignalsDeferred&) = delete;
 
  private:
-  sigset_t previous_;
+  static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
+  sigset_t previous_mask_;
+  std::array<struct sigaction, 3> previous_actions_{};
 };
 
 // Writes the files into a temporary directory beside dir, then moves them
