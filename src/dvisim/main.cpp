@@ -142,6 +142,7 @@ int main(int argc, char** argv) {
 #ifdef DVI_HAS_PETSC
     const dvi::PetscBackendSession petsc;
 #endif
+    run_command.write_outputs = dvi::CurrentEnsembleRank().rank == 0;
     return dvi::dvisim::RunScene(run_command, std::cout, std::cerr);
   }
   if (study->parsed()) {

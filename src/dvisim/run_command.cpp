@@ -19,7 +19,6 @@
 #include <variant>
 
 #include "dvi/auto_driver.hpp"
-#include "dvi/ensemble.hpp"
 #include "dvi/error.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/projected_dynamics.hpp"
@@ -547,7 +546,7 @@ int RunScene(const RunCommand& command, std::ostream& out, std::ostream& err) {
       return kExitNumericalFailure;
     }
     // A solve over MPI ranks (backend petsc) is written once, by rank 0.
-    if (CurrentEnsembleRank().rank != 0) return kExitSolved;
+    if (!command.write_outputs) return kExitSolved;
     PrintSummary(scene, trajectory,
                  WriteOutputs(scene, trajectory, report ? &*report : nullptr), out);
     return kExitSolved;

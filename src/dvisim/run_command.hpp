@@ -32,6 +32,10 @@ struct RunCommand {
   std::optional<double> max_wall;
   /// Draw a progress bar on `err` (the caller sets it when stderr is a terminal).
   bool progress_bar = false;
+  /// Print the summary and write the files (false on MPI ranks other than
+  /// 0, which solve a backend petsc scene with rank 0 but leave the output
+  /// to it).
+  bool write_outputs = true;
 };
 
 /// Applies the command-line overrides to a scene, checked like the file's
