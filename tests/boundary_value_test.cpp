@@ -17,6 +17,7 @@
 #include "dvi/solution_diagnostics.hpp"
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
+#include "support/periodic_rectifier.hpp"
 
 namespace dvi {
 namespace {
@@ -287,20 +288,7 @@ struct PeriodicRectifier {
   double State(double t) const {
     return t <= t1 ? 0.5 * (std::sin(t) - std::cos(t) + std::exp(-t)) : 0.0;
   }
-  SeparableDvi dvi = [] {
-    SeparableDvi d;
-    d.n = 1;
-    d.m = 1;
-    d.f = [](double t, const Eigen::VectorXd& x, Eigen::VectorXd& out) { out(0) = -x(0) + std::sin(t); };
-    d.f_jacobian = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& J) { J(0, 0) = -1; };
-    d.B = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& B) { B(0, 0) = 1; };
-    d.G = [](double, const Eigen::VectorXd& x, Eigen::VectorXd& out) { out(0) = x(0); };
-    d.G_jacobian = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& J) { J(0, 0) = 1; };
-    d.F = [](const Eigen::VectorXd&, Eigen::VectorXd& out) { out(0) = 0; };
-    d.F_jacobian = [](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J(0, 0) = 0; };
-    d.K = ConvexSet::Orthant(1);
-    return d;
-  }();
+  SeparableDvi dvi = testing::PeriodicRectifierDvi();
 };
 
 TEST(BoundaryValueDvi, PeriodicOrbitWithSingularMPlusNConvergesAtFirstOrder) {

@@ -17,6 +17,7 @@
 #include "dvi/error.hpp"
 #include "dvi/petsc_backend.hpp"
 #include "support/expect_throw.hpp"
+#include "support/periodic_rectifier.hpp"
 
 namespace dvi {
 namespace {
@@ -109,17 +110,7 @@ TEST(PetscBackend, TwoPointLcsEqualsTheSerialSolveAndTheExactSolution) {
 // The periodic rectifier x' = −x + sin t + u, 0 ≤ u ⊥ x ≥ 0, x(0) = x(2π):
 // a time-varying separable DVI (the step equations' path), M + N singular.
 TEST(PetscBackend, PeriodicRectifierEqualsTheSerialSolve) {
-  SeparableDvi d;
-  d.n = 1;
-  d.m = 1;
-  d.f = [](double t, const Eigen::VectorXd& x, Eigen::VectorXd& out) { out(0) = -x(0) + std::sin(t); };
-  d.f_jacobian = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& J) { J(0, 0) = -1; };
-  d.B = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& B) { B(0, 0) = 1; };
-  d.G = [](double, const Eigen::VectorXd& x, Eigen::VectorXd& out) { out(0) = x(0); };
-  d.G_jacobian = [](double, const Eigen::VectorXd&, Eigen::MatrixXd& J) { J(0, 0) = 1; };
-  d.F = [](const Eigen::VectorXd&, Eigen::VectorXd& out) { out(0) = 0; };
-  d.F_jacobian = [](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J(0, 0) = 0; };
-  d.K = ConvexSet::Orthant(1);
+  const SeparableDvi d = testing::PeriodicRectifierDvi();
   constexpr long kSteps = 1600;
   const BoundaryValueOptions petsc = Options(kSteps, BoundaryValueBackend::kPetsc);
   const BoundaryValueSolution parallel =
