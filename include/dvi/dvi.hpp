@@ -37,6 +37,7 @@
 #include "dvi/solve.hpp"
 #include "dvi/solve_result.hpp"
 #include "dvi/solver_options.hpp"
+#include "dvi/step_outcome.hpp"
 #include "dvi/time_stepping.hpp"
 #include "dvi/time_stepping_options.hpp"
 #include "dvi/trajectory.hpp"

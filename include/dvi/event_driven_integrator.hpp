@@ -2,8 +2,6 @@
 #pragma once
 
 #include <memory>
-#include <ostream>
-#include <string_view>
 
 #include <Eigen/Dense>
 
@@ -11,21 +9,10 @@
 #include "dvi/event_driven_options.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/mode.hpp"
+#include "dvi/step_outcome.hpp"
 #include "dvi/trajectory.hpp"
 
 namespace dvi {
-
-/// What one EventDrivenIntegrator::Step did.
-enum class StepOutcome {
-  kStep,      ///< An accepted step inside the current mode.
-  kEvent,     ///< A step that ended at a mode change (the new mode is entered).
-  kStopTime,  ///< Reached the time AdvanceTo asked for, before t_end.
-  kEnd,       ///< Reached t_end: the run is over.
-  kFailure,   ///< The run failed: status() and trajectory().message say why.
-};
-/// "step", "event", "stop-time", "end", "failure".
-std::string_view ToString(StepOutcome outcome);
-std::ostream& operator<<(std::ostream& out, StepOutcome outcome);
 
 /// The event-driven integrator of IntegrateEventDriven (event_driven.hpp,
 /// [Seed] Sect. 5) as an object to step, stop and resume, in the style of

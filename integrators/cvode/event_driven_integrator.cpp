@@ -14,21 +14,6 @@
 
 namespace dvi {
 
-std::string_view ToString(StepOutcome outcome) {
-  switch (outcome) {
-    case StepOutcome::kStep: return "step";
-    case StepOutcome::kEvent: return "event";
-    case StepOutcome::kStopTime: return "stop-time";
-    case StepOutcome::kEnd: return "end";
-    case StepOutcome::kFailure: return "failure";
-  }
-  return "unknown";
-}
-
-std::ostream& operator<<(std::ostream& out, StepOutcome outcome) {
-  return out << ToString(outcome);
-}
-
 // The run keeps references to its problem, x0 and options: they live here,
 // on the heap, so that moving the integrator does not move them.
 struct EventDrivenIntegrator::State {
