@@ -90,6 +90,7 @@ BoxModeSystem::BoxModeSystem(const Dvi& dvi, Eigen::VectorXd lower, Eigen::Vecto
       u_(Eigen::VectorXd::Zero(dvi.m)) {}
 
 void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
+  KeepSplit();
   mode_ = mode;
   free_.clear();
   reductions_.clear();
@@ -366,11 +367,21 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     // The passes SelectReducedLcsMode made for this mode, when they are the
     // ones this loop would make: the same rows with the same u off them.
     ReductionMemo& memo = reduction_memo_;
+    const int a = static_cast<int>(free_.size());
     if (memo.passes > 0 && memo.S == free_ && memo.u_rest == ZeroedOn(u_, free_)) {
       reduced_rows.swap(memo.rows);
       mode_constraints_.swap(memo.constraints);
       passes_ = memo.passes;
+    } else if (LcsModeSplit* kept = splits_.Take(mode_)) {
+      // Split when it was entered before: the same rows, factors and map.
+      memo.passes = 0;
+      SwapSplit(*kept);
+      residual_.resize(a);
+      step_.resize(a);
+      AffineRootSlopes();
+      return;
     }
+    ++splits_done_;
     memo.passes = 0;
     Eigen::MatrixXd Gu;
     bool full_rank = FormFreeRows(passes_ == 0 ? problem_.lcs_rows() : reduced_rows, Gu);
@@ -386,7 +397,6 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
       constraint_gram_.compute(
           Eigen::MatrixXd(mode_constraints_.C * mode_constraints_.C.transpose()));
     // G_u's factors, kept for every solve in the mode.
-    const int a = static_cast<int>(free_.size());
     // Full rank at kRankTolerance is invertible; below it, FullPivLU's own
     // threshold still accepts a badly scaled regular G_u.
     mode_regular_ = full_rank || Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
@@ -409,6 +419,7 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
   }
   // Theorem 5.2/5.3's row operations on the free components, once per mode,
   // repeated while the rows stay dependent (Sect. 5.4).
+  ++splits_done_;
   while (static_cast<int>(reductions_.size()) < kMaxNonlinearPasses) {
     Eigen::VectorXd G;
     Eigen::MatrixXd Gu;
@@ -417,6 +428,21 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     if (reduction.empty()) break;
     reductions_.push_back(std::move(reduction));
   }
+}
+
+void BoxModeSystem::SwapSplit(LcsModeSplit& split) {
+  free_c_.swap(split.c);
+  free_C_.swap(split.C);
+  free_M_.swap(split.M);
+  std::swap(mode_lu_, split.lu);
+  map_.swap(split.map);
+  map_offset_.swap(split.map_offset);
+  std::swap(mode_regular_, split.regular);
+}
+
+void BoxModeSystem::KeepSplit() {
+  if (rows_split_ && problem_.affine() && passes_ == 0 && map_.size() > 0)
+    SwapSplit(splits_.Slot(mode_));
 }
 
 void BoxModeSystem::Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const {

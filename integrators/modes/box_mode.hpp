@@ -12,6 +12,7 @@
 #include "dvi/mode.hpp"
 #include "dvi/solve_result.hpp"
 #include "dvi/solver_options.hpp"
+#include "modes/lcs_mode_splits.hpp"
 #include "modes/mode_problem.hpp"
 #include "modes/mode_reduction.hpp"
 #include "modes/mode_selection.hpp"
@@ -68,6 +69,9 @@ class BoxModeSystem {
   /// The multiplier of the last successful Solve.
   const Eigen::VectorXd& u() const { return u_; }
   long newton_iterations() const { return newton_iterations_; }
+  /// How many times a mode's rows were split (its equations formed, G_u
+  /// factored, reduced if need be) on entering it.
+  long splits() const { return splits_done_; }
 
   /// u(t, x) of the current mode by Newton from the last u (moved along the
   /// tangent of the last RhsJacobian in a nonlinear mode). False (with why)
@@ -196,6 +200,13 @@ class BoxModeSystem {
   /// Newton's iterate as u(t, x), the anchor of the next start.
   void Accept(double t, const Eigen::VectorXd& x);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
+  /// Exchanges the current LCS mode's split rows (free_c_ … mode_regular_)
+  /// with split's.
+  void SwapSplit(LcsModeSplit& split);
+  /// Keeps the current mode's split rows in splits_ when it is an
+  /// unreduced LCS mode with a dense map (LcsModeSplits), before another
+  /// mode is entered.
+  void KeepSplit();
 
   ModeProblem problem_;
   Mode mode_;
@@ -222,6 +233,7 @@ class BoxModeSystem {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> map_;
   Eigen::VectorXd map_offset_;
   bool mode_regular_ = false;
+  LcsModeSplits splits_;  // of the last modes left
   // Whether u_α = map_offset_ + map_ x gives u (trivially when no
   // component is free) for the current mode.
   bool ByMap() const { return free_.empty() || (rows_split_ && mode_regular_ && map_.size() > 0); }
@@ -252,6 +264,7 @@ class BoxModeSystem {
   mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;
   long newton_iterations_ = 0;
+  long splits_done_ = 0;
 };
 
 }  // namespace dvi::internal
