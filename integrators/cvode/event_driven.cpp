@@ -24,6 +24,7 @@ namespace internal {
 
 bool g_project_error_estimate_for_testing = false;
 bool g_keep_smooth_history = true;
+bool g_try_predicted_mode = true;
 
 namespace {
 

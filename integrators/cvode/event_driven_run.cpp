@@ -22,6 +22,7 @@
 #include "dvi/matrix_classes.hpp"
 #include "events/event_times.hpp"
 #include "events/zeno_prediction.hpp"
+#include "modes/active_set_solve.hpp"
 #include "modes/mode_selection.hpp"
 #include "modes/rate_selection.hpp"
 #include "sundials/callbacks.hpp"
@@ -158,8 +159,9 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   }
   std::string look_ahead_why;
   const Selection selection =
-      SelectMode(system_.problem(), t, x, vi, delta, !regular.holds, mode,
-                           &stats.vi_solves, &stats.solver_iterations, &look_ahead_why);
+      SelectMode(system_.problem(), t, x, vi, delta, !regular.holds, mode, &stats.vi_solves,
+                 &stats.solver_iterations, &look_ahead_why,
+                 next_mode_.empty() ? nullptr : &next_mode_);
   if (selection == Selection::kChosen &&
       TryMode(t, x, mode, vi.z, look_ahead_why)) {
     if (!regular.holds) ++look_ahead_selections_;
@@ -268,6 +270,26 @@ bool EventDrivenRun::Accumulating(double t, std::string& why) {
   return true;
 }
 
+// At a root return: the current mode with each component whose root
+// function crossed changed — a free u_j that reached a bound sits on it, a
+// bound u_j whose F_j crossed zero is freed (BoxModeSystem::Roots' slots).
+bool EventDrivenRun::PredictNextMode() {
+  roots_found_.resize(2 * static_cast<std::size_t>(dvi_.m));
+  if (CVodeGetRootInfo(cvode_.get(), roots_found_.data()) != CV_SUCCESS) return false;
+  next_mode_ = system_.mode();
+  bool crossed = false;
+  for (int j = 0; j < dvi_.m; ++j)
+    for (int side = 0; side < 2; ++side) {
+      if (roots_found_[2 * j + side] == 0) continue;
+      crossed = true;
+      if (next_mode_[j] != MultiplierBound::kFree)
+        next_mode_[j] = MultiplierBound::kFree;
+      else
+        next_mode_[j] = side == 0 ? MultiplierBound::kLower : MultiplierBound::kUpper;
+    }
+  return crossed;
+}
+
 bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   IntegrationStats& stats = trajectory_.stats;
   const Mode old_mode = system_.mode();
@@ -283,7 +305,13 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     system_.Project(t, x, correction, nullptr);
     x += correction;
   }
-  SolveResult vi = system_.problem().SolveVi(t, x, system_.u());
+  // Issue 31: on the mode the roots predict first, one linear solve where
+  // it holds (SolveViOnActiveSet's test is the VI solver's).
+  SolveResult vi;
+  if (next_mode_.empty() ||
+      !SolveViOnActiveSet(system_.problem(), t, x, next_mode_,
+                          system_.problem().solver().tolerance, vi))
+    vi = system_.problem().SolveVi(t, x, system_.u());
   if (!vi.solved()) {
     // The root's state carries CVODE's error and x' times the root's time
     // tolerance (100 ε (|t| + |h|)): x crossed a state constraint by up to
@@ -533,7 +561,10 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
     const Eigen::VectorXd x_left = x, u_left = system_.u();
     const Mode mode_left = system_.mode();
     const bool left_reduced = system_.reduced();
-    if (!HandleEvent(t_, x)) {
+    if (!(flag == CV_ROOT_RETURN && g_try_predicted_mode && PredictNextMode())) next_mode_.clear();
+    const bool handled = HandleEvent(t_, x);
+    next_mode_.clear();
+    if (!handled) {
       // The stop's row: u_left is the last RHS evaluation's, at one of
       // CVODE's stage states; the row's u is the VI's at x_left (the
       // spiral's x⁻ was 0.011 stale at its Zeno stop), where it solves.

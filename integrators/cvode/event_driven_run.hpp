@@ -100,6 +100,9 @@ class EventDrivenRun {
                std::string& why);
   bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode);
   bool HandleEvent(double t, Eigen::VectorXd& x);
+  /// next_mode_ from the roots CVODE found at its root return; false when
+  /// it does not say which.
+  bool PredictNextMode();
   bool EnterSparseJacobian();
   // CVODE projects BDF steps only; under Adams the drift of reduced modes is
   // measured, not corrected.
@@ -198,6 +201,11 @@ class EventDrivenRun {
   long refusals_before_unresolved_ = 0;  // data_.refusals when they began
   double last_event_time_ = 0;
   int burst_ = 0;
+  // The mode the roots CVODE reports at an event predict (the old one with
+  // each component that crossed changed), set for HandleEvent; empty when
+  // no prediction (an event found by StepViolation, the start).
+  Mode next_mode_;
+  std::vector<int> roots_found_;  // CVodeGetRootInfo's, for PredictNextMode
   ModesAtOneTime modes_at_event_time_;
   std::vector<double> switch_times_;  // times of the mode changes, for Zeno detection
   long reduced_selections_ = 0;       // modes chosen by the differentiation procedure

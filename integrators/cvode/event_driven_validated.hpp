@@ -45,5 +45,9 @@ extern bool g_project_error_estimate_for_testing;
 // Off: every event restarts CVODE (CVodeReInit), as before issue 31; tests
 // compare the two.
 extern bool g_keep_smooth_history;
+// Off: an event's VI and its look-ahead's are solved by the VI solver, not
+// first on the mode the roots predict (modes/active_set_solve.hpp), as
+// before issue 31's cheaper events; tests compare the two.
+extern bool g_try_predicted_mode;
 
 }  // namespace dvi::internal

@@ -190,6 +190,7 @@ SolveResult ModeProblem::SolveVi(double t, const Eigen::VectorXd& x,
 
 SolveResult ModeProblem::SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorXd& warm,
                                            double tolerance) const {
+  ++solver_calls_;
   SolverOptions solver = solver_;
   if (tolerance > 0) solver.tolerance = tolerance;
   if (!affine_orthant_ || !mcp.jacobian) return dvi::Solve(mcp, solver, warm);

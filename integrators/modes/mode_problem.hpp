@@ -35,7 +35,8 @@ struct DenseAffineRows {
 /// every mode unit evaluates it, whatever the mode: F and its derivatives
 /// (the given ones, else differences), the rows G^k of the differentiation
 /// procedure's passes (Sect. 5.4), the full VI at a state and the mode of a
-/// solution. An LCS's matrices are read once, at construction. Immutable.
+/// solution. An LCS's matrices are read once, at construction. Immutable
+/// but for a count of its solves.
 class ModeProblem {
  public:
   /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: the
@@ -110,6 +111,9 @@ class ModeProblem {
   /// The mode of a VI solution z: a component within BoundTolerance() of a
   /// bound sits on it.
   Mode ModeOf(const Eigen::VectorXd& z) const;
+  /// How many box problems SolveBoxProblem (and so SolveVi) handed to the
+  /// VI solver: the cost of mode selection at events (issue 31).
+  long solver_calls() const { return solver_calls_; }
 
  private:
   const Dvi& dvi_;
@@ -121,6 +125,7 @@ class ModeProblem {
   AffineFlow flow_;
   AffineRows lcs_rows_;
   DenseAffineRows dense_rows_;  // for checks of samples and the F slack
+  mutable long solver_calls_ = 0;
 };
 
 }  // namespace dvi::internal

@@ -8,6 +8,7 @@
 
 #include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
+#include "modes/active_set_solve.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -162,7 +163,8 @@ bool SelectReducedLcsMode(const ModeProblem& problem, const Eigen::VectorXd& x,
 
 Selection SelectMode(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
                      const SolveResult& vi, double delta, bool every_component, Mode& mode,
-                     long* vi_solves, long* iterations, std::string* why) {
+                     long* vi_solves, long* iterations, std::string* why,
+                     const Mode* predicted) {
   // Degeneracy tolerance: well above the VI's residual, well below the
   // O(delta) changes the look-ahead resolves.
   const double tolerance = problem.BoundTolerance();
@@ -196,7 +198,10 @@ Selection SelectMode(const ModeProblem& problem, double t, const Eigen::VectorXd
   Eigen::VectorXd x_ahead = x + delta * xdot;
   Mode previous;
   for (int iteration = 0; iteration < kMaxLookAheadIterations; ++iteration) {
-    const SolveResult ahead = problem.SolveVi(t + delta, x_ahead, vi.z);
+    SolveResult ahead;
+    if (!predicted || !SolveViOnActiveSet(problem, t + delta, x_ahead, *predicted,
+                                          problem.solver().tolerance, ahead))
+      ahead = problem.SolveVi(t + delta, x_ahead, vi.z);
     ++*vi_solves;
     *iterations += ahead.iterations;
     if (!ahead.solved()) {

@@ -41,12 +41,15 @@ enum class Selection { kChosen, kViNotSolved, kChattering };
 /// strongly regular, so vi.z is only one of many solutions) — the mode it
 /// has after a backward-Euler look-ahead step of length delta, solved by
 /// fixed-point iteration until two iterates agree on the mode. The solves
-/// are added to *vi_solves and *iterations. kViNotSolved (with why): a
+/// are added to *vi_solves and *iterations. predicted, when given: the mode
+/// the look-ahead's VIs are first solved on (SolveViOnActiveSet), the
+/// full VI solved where it is not their solution. kViNotSolved (with why): a
 /// look-ahead VI was not solved; kChattering: the iterates keep alternating
 /// between modes.
 Selection SelectMode(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
                      const SolveResult& vi, double delta, bool every_component, Mode& mode,
-                     long* vi_solves, long* iterations, std::string* why);
+                     long* vi_solves, long* iterations, std::string* why,
+                     const Mode* predicted = nullptr);
 
 /// An LCS's passes of the differentiation procedure made by
 /// SelectReducedMode on the rows S with u_rest off them, for the mode

@@ -6,6 +6,7 @@
 
 #include "circuits/diode_bridge.hpp"
 #include "cvode/event_driven_run.hpp"
+#include "cvode/event_driven_validated.hpp"
 #include "dvi/event_driven.hpp"
 #include "support/convergence.hpp"
 
@@ -27,20 +28,57 @@ EventDrivenOptions BridgeOptions() {
   return options;
 }
 
-// The bridge alternates between two modes, and the smoothness test of each
-// switch re-enters the mode just left (smooth_switch.hpp): each mode is
-// split once.
-TEST(EventCost, TheBridgeSplitsEachOfItsTwoModesOnce) {
+struct BridgeRun {
+  Trajectory trajectory;
+  long solver_calls = 0;  // full VIs handed to the VI solver
+  long splits = 0;
+};
+
+BridgeRun RunBridge(bool try_predicted_mode) {
   const circuits::DiodeBridgeParameters parameters;
   const Lcs lcs = circuits::DiodeBridge(parameters);
   const Dvi dvi = lcs.ToDvi();
   const Eigen::VectorXd x0 = circuits::DiodeBridgeInitialState(parameters);
   const EventDrivenOptions options = BridgeOptions();
+  internal::g_try_predicted_mode = try_predicted_mode;
   internal::EventDrivenRun run(dvi, true, &lcs, x0, 0, kBridgeHorizon, options, false);
-  const Trajectory trajectory = run.Run();
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ASSERT_EQ(trajectory.events.size(), kBridgeEvents);
-  EXPECT_EQ(run.system().splits(), 2);
+  BridgeRun result{run.Run(), run.system().problem().solver_calls(), run.system().splits()};
+  internal::g_try_predicted_mode = true;
+  return result;
+}
+
+// Each switch of the bridge leaves the mode the roots predict (the pair
+// that stops conducting blocks, the other one starts): both VIs of its
+// look-ahead are solved on that mode (SolveViOnActiveSet), strongly regular
+// there. The event's own VI is not (u is not strongly regular at the zero
+// crossing, D is only positive semidefinite), so the solver decides it: the
+// VI solver runs 1 + 1 per switch instead of 1 + 3. The run is the same to
+// the bit: samples, multipliers and events.
+TEST(EventCost, TheBridgesSwitchesAreSolvedOnThePredictedModeToTheSameRun) {
+  const BridgeRun full = RunBridge(false);
+  const BridgeRun predicted = RunBridge(true);
+  ASSERT_TRUE(full.trajectory.succeeded()) << full.trajectory.message;
+  ASSERT_TRUE(predicted.trajectory.succeeded()) << predicted.trajectory.message;
+  ASSERT_EQ(predicted.trajectory.events.size(), kBridgeEvents);
+  EXPECT_EQ(full.solver_calls, 1 + 3 * 16);
+  EXPECT_EQ(predicted.solver_calls, 1 + 16);
+  ASSERT_EQ(predicted.trajectory.times, full.trajectory.times);
+  EXPECT_TRUE(predicted.trajectory.states.matrix() == full.trajectory.states.matrix());
+  EXPECT_TRUE(predicted.trajectory.multipliers.matrix() == full.trajectory.multipliers.matrix());
+  ASSERT_EQ(predicted.trajectory.events.size(), full.trajectory.events.size());
+  for (std::size_t k = 0; k < full.trajectory.events.size(); ++k)
+    EXPECT_EQ(predicted.trajectory.events[k].time, full.trajectory.events[k].time);
+  EXPECT_EQ(predicted.trajectory.stats.vi_solves, full.trajectory.stats.vi_solves);
+}
+
+// The bridge alternates between two modes, and the smoothness test of each
+// switch re-enters the mode just left (smooth_switch.hpp): each mode is
+// split once.
+TEST(EventCost, TheBridgeSplitsEachOfItsTwoModesOnce) {
+  const BridgeRun run = RunBridge(true);
+  ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
+  ASSERT_EQ(run.trajectory.events.size(), kBridgeEvents);
+  EXPECT_EQ(run.splits, 2);
 }
 
 }  // namespace
