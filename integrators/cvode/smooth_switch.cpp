@@ -21,18 +21,32 @@ double Wrms(const Eigen::VectorXd& v, const Eigen::Map<const Eigen::VectorXd>& w
   return v.cwiseProduct(weights).norm() / std::sqrt(double(v.size()));
 }
 
-// h f(t_j, x(t_j)) of the system's current mode at the points of
-// SwitchMismatch, one per column, t_event last; false where Solve fails.
-bool FieldOnLastStep(void* cvode, double t_event, double t_n, double h, int q,
-                     BoxModeSystem& system, N_Vector x, Eigen::MatrixXd& h_f, long& rhs_evals) {
+// The points of SwitchMismatch, one per column of X at times: q + 1 equally
+// spaced on CVODE's last step, t_event last (read once for both modes).
+bool PointsOnLastStep(void* cvode, double t_event, double t_n, double h, int q, N_Vector x,
+                      Eigen::VectorXd& times, Eigen::MatrixXd& X) {
   const Eigen::Map<const Eigen::VectorXd> x_t(N_VGetArrayPointer(x), N_VGetLength(x));
-  h_f.resize(x_t.size(), q + 2);
-  Eigen::VectorXd f(x_t.size());
+  times.resize(q + 2);
+  X.resize(x_t.size(), q + 2);
   for (int j = 0; j <= q + 1; ++j) {
-    const double t = j <= q ? t_n - h * j / q : t_event;
+    times(j) = j <= q ? t_n - h * j / q : t_event;
+    if (CVodeGetDky(cvode, times(j), 0, x) != CV_SUCCESS) return false;
+    X.col(j) = x_t;
+  }
+  return true;
+}
+
+// h f(t_j, x(t_j)) of the system's current mode at the points, one per
+// column; false where Solve fails.
+bool FieldAtPoints(const Eigen::VectorXd& times, const Eigen::MatrixXd& X, double h,
+                   BoxModeSystem& system, Eigen::MatrixXd& h_f, long& rhs_evals) {
+  h_f.resize(X.rows(), X.cols());
+  Eigen::VectorXd x(X.rows()), f(X.rows());
+  for (Eigen::Index j = 0; j < X.cols(); ++j) {
     ++rhs_evals;
-    if (CVodeGetDky(cvode, t, 0, x) != CV_SUCCESS || !system.Solve(t, x_t)) return false;
-    system.Rhs(t, x_t, f);
+    x = X.col(j);
+    if (!system.Solve(times(j), x)) return false;
+    system.Rhs(times(j), x, f);
     h_f.col(j) = h * f;
   }
   return h_f.allFinite();
@@ -72,13 +86,15 @@ double SwitchMismatch(void* cvode, double t_event, BoxModeSystem& system, const 
   const Eigen::VectorXd rate_jump = (f_ahead - f_new) / delta - rate_t;
   if (!(Wrms(h * h * rate_jump, weights) <= kJumpScreen)) return kInfinite;
 
-  Eigen::MatrixXd h_f_new, h_f_old;
+  Eigen::VectorXd times;
+  Eigen::MatrixXd X, h_f_new, h_f_old;
   const Mode new_mode = system.mode();
   const Eigen::VectorXd u_new = system.u();
-  bool measured = FieldOnLastStep(cvode, t_event, t_n, h, q, system, x, h_f_new, rhs_evals);
+  if (!PointsOnLastStep(cvode, t_event, t_n, h, q, x, times, X)) return kInfinite;
+  bool measured = FieldAtPoints(times, X, h, system, h_f_new, rhs_evals);
   if (measured) {
     system.Enter(old_mode, u_old);
-    measured = FieldOnLastStep(cvode, t_event, t_n, h, q, system, x, h_f_old, rhs_evals);
+    measured = FieldAtPoints(times, X, h, system, h_f_old, rhs_evals);
     // Back in the new mode, solved at the event as the caller left it.
     system.Enter(new_mode, u_new);
     ++rhs_evals;
