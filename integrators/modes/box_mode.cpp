@@ -115,14 +115,14 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
                                   Eigen::MatrixXd* Gx) const {
   const int a = static_cast<int>(free_.size());
   if (problem_.affine()) {
-    G = free_c_;
-    G.noalias() += free_C_ * x;
-    G.noalias() += free_M_ * u;
+    G = split_.c;
+    G.noalias() += split_.C * x;
+    G.noalias() += split_.M * u;
     if (Gu) {
       Gu->resize(a, a);
-      for (int k = 0; k < a; ++k) Gu->col(k) = free_M_.col(free_[k]);
+      for (int k = 0; k < a; ++k) Gu->col(k) = split_.M.col(free_[k]);
     }
-    if (Gx) *Gx = Eigen::MatrixXd(free_C_);
+    if (Gx) *Gx = Eigen::MatrixXd(split_.C);
     return;
   }
   // A residual needs F alone, G_u and G_x its Jacobians; a reduced mode's
@@ -268,7 +268,7 @@ void BoxModeSystem::Accept(double t, const Eigen::VectorXd& x) {
 
 bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
   ++newton_iterations_;
-  if (!mode_regular_) {
+  if (!split_.regular) {
     if (why) {
       std::ostringstream message;
       if (reduced())
@@ -281,13 +281,13 @@ bool BoxModeSystem::SolveLcsMode(const Eigen::VectorXd& x, std::string* why) {
     return false;
   }
   bool finite = true;
-  if (map_.size() > 0) {
+  if (split_.map.size() > 0) {
     // Plain loops over the row-major map: at these sizes Eigen's matrix-
     // vector and dot kernels cost more than the products (this runs once per
     // RHS evaluation).
-    const double* row = map_.data();
+    const double* row = split_.map.data();
     for (int i = 0; i < static_cast<int>(free_.size()); ++i, row += n()) {
-      double value = map_offset_(i);
+      double value = split_.map_offset(i);
       for (int k = 0; k < n(); ++k) value += row[k] * x(k);
       u_(free_[i]) = value;
       finite = finite && std::isfinite(value);
@@ -315,8 +315,8 @@ void BoxModeSystem::SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
       if (mode_[j] != MultiplierBound::kFree) U.row(j).setConstant(u_(j));
     for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
       auto u = U.row(free_[i]);
-      u.setConstant(map_offset_(i));
-      for (int j = 0; j < n(); ++j) u += map_(i, j) * X.row(j);
+      u.setConstant(split_.map_offset(i));
+      for (int j = 0; j < n(); ++j) u += split_.map(i, j) * X.row(j);
       // A finite sum has every entry finite; the entries are looked at only
       // when it is not (or overflows).
       if (!std::isfinite(u.sum()))
@@ -335,21 +335,21 @@ void BoxModeSystem::SolveColumns(const Eigen::Ref<const Eigen::VectorXd>& times,
 
 void BoxModeSystem::SolveLcsModeByLu(const Eigen::VectorXd& x) {
   // G = c + C x + M u is affine in u: one Newton step from any u is exact.
-  residual_ = free_c_;
-  residual_.noalias() += free_C_ * x;
-  residual_.noalias() += free_M_ * u_;
-  step_ = mode_lu_.solve(residual_);
+  residual_ = split_.c;
+  residual_.noalias() += split_.C * x;
+  residual_.noalias() += split_.M * u_;
+  step_ = split_.lu.solve(residual_);
   for (int i = 0; i < static_cast<int>(free_.size()); ++i) u_(free_[i]) -= step_(i);
 }
 
 bool BoxModeSystem::FormFreeRows(const AffineRows& rows, Eigen::MatrixXd& Gu) {
   const int a = static_cast<int>(free_.size());
   const SparseMatrix pick = FreeRows();
-  free_c_ = pick * rows.c;
-  free_M_ = Eigen::MatrixXd(pick * rows.M);
-  free_C_ = pick * rows.C;
+  split_.c = pick * rows.c;
+  split_.M = Eigen::MatrixXd(pick * rows.M);
+  split_.C = pick * rows.C;
   Gu.resize(a, a);
-  for (int k = 0; k < a; ++k) Gu.col(k) = free_M_.col(free_[k]);
+  for (int k = 0; k < a; ++k) Gu.col(k) = split_.M.col(free_[k]);
   // ReduceRows' test on the whole of G_u: its column-pivoted QR has the
   // pivots of all blocks together, so full rank here is full rank in each.
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Gu);
@@ -375,7 +375,7 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     } else if (LcsModeSplit* kept = splits_.Take(mode_)) {
       // Split when it was entered before: the same rows, factors and map.
       memo.passes = 0;
-      SwapSplit(*kept);
+      split_.swap(*kept);
       residual_.resize(a);
       step_.resize(a);
       AffineRootSlopes();
@@ -399,20 +399,20 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     // G_u's factors, kept for every solve in the mode.
     // Full rank at kRankTolerance is invertible; below it, FullPivLU's own
     // threshold still accepts a badly scaled regular G_u.
-    mode_regular_ = full_rank || Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
-    mode_lu_.compute(Gu);
+    split_.regular = full_rank || Eigen::FullPivLU<Eigen::MatrixXd>(Gu).isInvertible();
+    split_.lu.compute(Gu);
     residual_.resize(a);
     step_.resize(a);
     // u_α is affine in x inside the mode, u_α = k + K x, with
     // K = −G_u⁻¹ C_α and k = −G_u⁻¹ (c_α + M_α u at its bounds): formed
     // when small, so that u costs one small product per evaluation (and per
     // output time); a large circuit keeps the sparse C_α and the LU.
-    map_.resize(0, 0);
-    if (mode_regular_ && static_cast<long>(a) * n() <= kDenseMapEntries) {
+    split_.map.resize(0, 0);
+    if (split_.regular && static_cast<long>(a) * n() <= kDenseMapEntries) {
       Eigen::VectorXd u_bounds = u_;
       for (const int j : free_) u_bounds(j) = 0;
-      map_offset_ = -mode_lu_.solve(free_c_ + free_M_ * u_bounds);
-      map_ = -mode_lu_.solve(Eigen::MatrixXd(free_C_));
+      split_.map_offset = -split_.lu.solve(split_.c + split_.M * u_bounds);
+      split_.map = -split_.lu.solve(Eigen::MatrixXd(split_.C));
     }
     AffineRootSlopes();
     return;
@@ -430,19 +430,9 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
   }
 }
 
-void BoxModeSystem::SwapSplit(LcsModeSplit& split) {
-  free_c_.swap(split.c);
-  free_C_.swap(split.C);
-  free_M_.swap(split.M);
-  std::swap(mode_lu_, split.lu);
-  map_.swap(split.map);
-  map_offset_.swap(split.map_offset);
-  std::swap(mode_regular_, split.regular);
-}
-
 void BoxModeSystem::KeepSplit() {
-  if (rows_split_ && problem_.affine() && passes_ == 0 && map_.size() > 0)
-    SwapSplit(splits_.Slot(mode_));
+  if (rows_split_ && problem_.affine() && passes_ == 0 && split_.map.size() > 0)
+    split_.swap(splits_.Slot(mode_));
 }
 
 void BoxModeSystem::Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const {
@@ -463,7 +453,7 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
     J = problem_.flow().A;
     for (int i = 0; i < static_cast<int>(free_.size()); ++i)
       for (SparseMatrix::InnerIterator it(problem_.flow().B, free_[i]); it; ++it)
-        J.row(it.row()) += it.value() * map_.row(i);
+        J.row(it.row()) += it.value() * split_.map.row(i);
     return true;
   }
   Eigen::MatrixXd fx, fu;
@@ -504,11 +494,11 @@ bool BoxModeSystem::SparseRhsJacobian(SparseMatrix& J) const {
   zero_diagonal *= 0.0;
   J = problem_.flow().A + zero_diagonal;
   if (free_.empty()) return true;
-  if (!mode_regular_) return false;
+  if (!split_.regular) return false;
   // Implicit function theorem on G = c + C x + M u = 0 (its free rows):
   // du_α/dx = −G_u⁻¹ G_x, with G_u⁻¹ small and dense, G_x = C_α sparse.
-  const SparseMatrix Gu_inverse = Eigen::MatrixXd(mode_lu_.inverse()).sparseView(1, 0);
-  J -= (problem_.flow().B * FreeRows().transpose()) * (Gu_inverse * free_C_);
+  const SparseMatrix Gu_inverse = Eigen::MatrixXd(split_.lu.inverse()).sparseView(1, 0);
+  J -= (problem_.flow().B * FreeRows().transpose()) * (Gu_inverse * split_.C);
   J.makeCompressed();
   return true;
 }

@@ -97,7 +97,7 @@ class BoxModeSystem {
   /// component, trivially). Its root functions are then polynomials in t
   /// along a step's interpolant.
   bool CoversSteps() const {
-    return affine() && (free_.empty() || (rows_split_ && mode_regular_));
+    return affine() && (free_.empty() || (rows_split_ && split_.regular));
   }
   bool HasDenseRows() const { return problem_.HasDenseRows(); }
   /// The violations of FirstViolation, over a whole step [t_n − h, t_n]
@@ -188,8 +188,8 @@ class BoxModeSystem {
                    SparseMatrix* phi_x) const;
   /// The a×m matrix that picks the free rows (a = |free_|).
   SparseMatrix FreeRows() const;
-  /// The free rows of rows as the LCS mode's equations (free_c_, free_C_,
-  /// free_M_) and their G_u; true when G_u has full rank at kRankTolerance
+  /// The free rows of rows as the LCS mode's equations (split_'s c, C and
+  /// M) and their G_u; true when G_u has full rank at kRankTolerance
   /// (no row for the differentiation procedure).
   bool FormFreeRows(const AffineRows& rows, Eigen::MatrixXd& Gu);
   /// Splits the free rows of the mode just entered at (t, x, u_).
@@ -200,9 +200,6 @@ class BoxModeSystem {
   /// Newton's iterate as u(t, x), the anchor of the next start.
   void Accept(double t, const Eigen::VectorXd& x);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
-  /// Exchanges the current LCS mode's split rows (free_c_ … mode_regular_)
-  /// with split's.
-  void SwapSplit(LcsModeSplit& split);
   /// Keeps the current mode's split rows in splits_ when it is an
   /// unreduced LCS mode with a dense map (LcsModeSplits), before another
   /// mode is entered.
@@ -223,20 +220,15 @@ class BoxModeSystem {
   mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
   Eigen::VectorXd scratch_x_;  // a column of SolveColumns
   int passes_ = 0;
-  // An LCS mode's free rows G = c + C x + M u (a of them) and G_u's LU.
-  Eigen::VectorXd free_c_;
-  SparseMatrix free_C_;
-  Eigen::MatrixXd free_M_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> mode_lu_;
-  // u_α = map_offset_ + map_ x when the mode is small (map_ empty otherwise);
-  // by rows, as SolveLcsMode reads it.
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> map_;
-  Eigen::VectorXd map_offset_;
-  bool mode_regular_ = false;
+  // An LCS mode's split rows: its free rows, G_u's LU and, when small, the
+  // affine map u_α(x) (lcs_mode_splits.hpp).
+  LcsModeSplit split_;
   LcsModeSplits splits_;  // of the last modes left
-  // Whether u_α = map_offset_ + map_ x gives u (trivially when no
-  // component is free) for the current mode.
-  bool ByMap() const { return free_.empty() || (rows_split_ && mode_regular_ && map_.size() > 0); }
+  // Whether u_α = split_.map_offset + split_.map x gives u (trivially when
+  // no component is free) for the current mode.
+  bool ByMap() const {
+    return free_.empty() || (rows_split_ && split_.regular && split_.map.size() > 0);
+  }
   Eigen::VectorXd residual_, step_;
   // Newton's iterate and G_u's factors on a nonlinear mode, and F with its
   // Jacobians for ModeEquations: kept so that Newton does not allocate.

@@ -38,13 +38,13 @@ void BoxModeSystem::AffineRootSlopes() {
   // A small LCS checks every step exactly (StepViolation): no slopes.
   if (problem_.HasDenseRows()) return;
   const int a = static_cast<int>(free_.size());
-  if (!(a == 0 || mode_regular_) || static_cast<long>(a + 2 * m()) * n() > kMaxSlopeEntries)
+  if (!(a == 0 || split_.regular) || static_cast<long>(a + 2 * m()) * n() > kMaxSlopeEntries)
     return;
   Eigen::MatrixXd K(a, n());
-  if (map_.size() > 0)
-    K = -map_;
+  if (split_.map.size() > 0)
+    K = -split_.map;
   else if (a > 0)
-    K = mode_lu_.solve(Eigen::MatrixXd(free_C_));
+    K = split_.lu.solve(Eigen::MatrixXd(split_.C));
   root_gradients_.setZero(2 * m(), n());
   root_slopes_t_.setZero(2 * m());
   for (int i = 0; i < a; ++i)
@@ -233,20 +233,20 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
   U.leftCols(q + 1).setZero();
   for (int j = 0; j < m(); ++j)
     if (mode_[j] != MultiplierBound::kFree) U(j, 0) = u_(j);
-  if (map_.size() > 0) {
+  if (split_.map.size() > 0) {
     for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
       std::fill(p.begin(), p.end(), 0.0);
-      add_product(map_.data() + i * n(), 1, n(), taylor);
-      p[0] += map_offset_(i);
+      add_product(split_.map.data() + i * n(), 1, n(), taylor);
+      p[0] += split_.map_offset(i);
       for (int k = 0; k <= q; ++k) U(free_[i], k) = p[k];
     }
   } else if (!free_.empty()) {
     // A large mode keeps the sparse C_α and G_u's LU: u_α's coefficients
     // are −G_u⁻¹ C_α y⁽ᵏ⁾/k!, the constant one also −G_u⁻¹ (c_α + M_α u at
     // its bounds).
-    Eigen::MatrixXd W = free_C_ * taylor;
-    W.col(0) += free_c_ + free_M_ * U.col(0);
-    const Eigen::MatrixXd U_free = -mode_lu_.solve(W);
+    Eigen::MatrixXd W = split_.C * taylor;
+    W.col(0) += split_.c + split_.M * U.col(0);
+    const Eigen::MatrixXd U_free = -split_.lu.solve(W);
     for (int i = 0; i < static_cast<int>(free_.size()); ++i)
       U.row(free_[i]).head(q + 1) = U_free.row(i);
   }

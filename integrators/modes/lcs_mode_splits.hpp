@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstddef>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -17,21 +18,34 @@ namespace dvi::internal {
 /// the free set is at its bounds), so a mode left and entered again needs
 /// none of it formed anew.
 struct LcsModeSplit {
-  Mode mode;
-  Eigen::VectorXd c;
+  Eigen::VectorXd c;  // G = c + C x + M u, a rows
   SparseMatrix C;
   Eigen::MatrixXd M;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // of G_u
+  // u_α = map_offset + map x when the mode is small (map empty otherwise);
+  // by rows, as BoxModeSystem::SolveLcsMode reads it.
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> map;
   Eigen::VectorXd map_offset;
-  bool regular = false;
+  bool regular = false;  // G_u nonsingular
+
+  /// Exchanges the contents without copying them (Eigen 3.4's SparseMatrix
+  /// has no move operations).
+  void swap(LcsModeSplit& other) {
+    c.swap(other.c);
+    C.swap(other.C);
+    M.swap(other.M);
+    std::swap(lu, other.lu);
+    map.swap(other.map);
+    map_offset.swap(other.map_offset);
+    std::swap(regular, other.regular);
+  }
 };
 
-/// The splits of the last kLcsModeSplits modes left, most recent first out:
-/// a circuit that switches among a few modes (the diode bridge alternates
-/// between two, and the smoothness test of a switch, smooth_switch.hpp,
-/// re-enters the mode just left) splits each of them once (issue 31,
-/// "cheaper events"). Only unreduced modes with a dense map are kept: their
+/// The splits of the last kLcsModeSplits modes left, the least recently
+/// stored giving way to a new one: a circuit that switches among a few
+/// modes (the diode bridge alternates between two, and the smoothness test
+/// of a switch, smooth_switch.hpp, re-enters the mode just left) splits
+/// each of them once (issue 31, "cheaper events"). Only unreduced modes with a dense map are kept: their
 /// split is small (a × n ≤ the map's bound) and a reduced one depends on
 /// the passes that selected it.
 class LcsModeSplits {
@@ -42,32 +56,36 @@ class LcsModeSplits {
   /// swaps it out, leaving the slot free).
   LcsModeSplit* Take(const Mode& mode) {
     if (mode.empty()) return nullptr;
-    for (LcsModeSplit& split : splits_)
-      if (split.mode == mode) {
-        split.mode.clear();
-        return &split;
+    for (Kept& kept : kept_)
+      if (kept.mode == mode) {
+        kept.mode.clear();
+        return &kept.split;
       }
     return nullptr;
   }
   /// The slot to keep mode's split in (the caller swaps it in): a free
   /// one, else the least recently stored.
   LcsModeSplit& Slot(const Mode& mode) {
-    std::size_t slot = 0;
-    for (std::size_t k = 0; k < kLcsModeSplits; ++k) {
-      if (splits_[k].mode.empty()) {
-        slot = k;
+    Kept* slot = &kept_[0];
+    for (Kept& kept : kept_) {
+      if (kept.mode.empty()) {
+        slot = &kept;
         break;
       }
-      if (stored_[k] < stored_[slot]) slot = k;
+      if (kept.stored < slot->stored) slot = &kept;
     }
-    stored_[slot] = ++clock_;
-    splits_[slot].mode = mode;
-    return splits_[slot];
+    slot->stored = ++clock_;
+    slot->mode = mode;
+    return slot->split;
   }
 
  private:
-  std::array<LcsModeSplit, kLcsModeSplits> splits_;
-  std::array<long, kLcsModeSplits> stored_{};  // when each slot was stored
+  struct Kept {
+    Mode mode;  // empty: a free slot
+    long stored = 0;  // when it was stored (clock_)
+    LcsModeSplit split;
+  };
+  std::array<Kept, kLcsModeSplits> kept_;
   long clock_ = 0;
 };
 
