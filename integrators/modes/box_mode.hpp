@@ -43,7 +43,14 @@ namespace dvi::internal {
 /// The multiplier of the last evaluation, moved along the mode's tangent
 /// du/dx, starts the next Newton solve.
 ///
-/// Three files: the mode equations (Newton on the free components, the
+/// A singular G_u whose null vectors d leave the flow alone (f_u,A d = 0:
+/// Proposition 5.1's semi-affine case, B·u unique where u is not) is not
+/// reduced: its null vectors are the mode's free directions, u_A solves G = 0
+/// in the least-norm sense and is placed, along each free direction, at the
+/// middle of the interval where every root function is non-negative
+/// (box_mode_free_directions.cpp).
+///
+/// Four files: the mode equations (Newton on the free components, the
 /// right-hand side and its Jacobians, the tangent start: box_mode.cpp), the
 /// mode roots (root functions, floors, sample and whole-step checks:
 /// box_mode_roots.cpp), a reduced mode's original constraints and the
@@ -182,6 +189,16 @@ class BoxModeSystem {
   /// Φ(t, x) = P F(t, x, u_) and Φ_x = P F_x (sparse: an LCS's is).
   void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
                    SparseMatrix* phi_x) const;
+  /// Sets free_directions_ (a × k, unit columns) to G_u's null space when
+  /// G_u (a×a, at (t, x, u_)) is singular and f_u on the free columns
+  /// vanishes on it; true then. False leaves it empty, with
+  /// flow_moving_null_ = |f_u d| of a null vector d that moves the flow (0
+  /// when G_u is regular).
+  bool FindFreeDirections(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Gu);
+  /// Solve in a mode with free directions: Gauss–Newton's least-norm steps
+  /// on G = 0, then u at the middle of each free direction's interval.
+  bool SolveAlongFreeDirections(double t, const Eigen::VectorXd& x, std::string* why);
+  bool HasFreeDirections() const { return free_directions_.cols() > 0; }
   /// The a×m matrix that picks the free rows (a = |free_|).
   SparseMatrix FreeRows() const;
   /// The free rows of rows as the LCS mode's equations (free_c_, free_C_,
@@ -212,6 +229,10 @@ class BoxModeSystem {
   mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
   Eigen::VectorXd scratch_x_;  // a column of SolveColumns
   int passes_ = 0;
+  // The current mode's free directions (a × k), none when empty; a null
+  // vector's |f_u d| that moves the flow (the message of a singular mode).
+  Eigen::MatrixXd free_directions_;
+  double flow_moving_null_ = 0;
   // An LCS mode's free rows G = c + C x + M u (a of them) and G_u's LU.
   Eigen::VectorXd free_c_;
   SparseMatrix free_C_;
