@@ -95,6 +95,15 @@ class BoxModeSystem {
   Eigen::Index FirstViolation(const Eigen::Ref<const Eigen::VectorXd>& times,
                               const Eigen::Ref<const Eigen::MatrixXd>& X,
                               const Eigen::Ref<const Eigen::MatrixXd>& U, double f_slack) const;
+  /// A mode just selected at (t, x), w = F there, with a component held at
+  /// a bound where w_j vanishes: freed when that makes it a free direction
+  /// of the mode (Proposition 5.1) and the mode still holds — u in the
+  /// middle of its interval then keeps the mode as long as it can, where at
+  /// its bound it would end as soon as the interval moves off the bound (the
+  /// bridge's V_b at 0 when its source changes sign). True when mode
+  /// changed; the system is left entered in mode, solved at (t, x).
+  bool FreeHeldComponents(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& w,
+                          Mode& mode);
   /// Whether FirstViolationInStep covers the current mode: an LCS mode
   /// whose u is affine in x (by its dense map or G_u's LU; no free
   /// component, trivially). Its root functions are then polynomials in t

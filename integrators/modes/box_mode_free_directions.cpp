@@ -140,4 +140,26 @@ bool BoxModeSystem::SolveAlongFreeDirections(double t, const Eigen::VectorXd& x,
   return true;
 }
 
+bool BoxModeSystem::FreeHeldComponents(double t, const Eigen::VectorXd& x,
+                                       const Eigen::VectorXd& w, Mode& mode) {
+  const double tolerance = problem_.BoundTolerance();
+  const Mode entered = mode;
+  const Eigen::VectorXd u = u_;
+  for (int j = 0; j < m(); ++j) {
+    if (mode[j] == MultiplierBound::kFree || problem_.lower()(j) == problem_.upper()(j) ||
+        std::abs(w(j)) > tolerance)
+      continue;
+    Mode candidate = mode;
+    candidate[j] = MultiplierBound::kFree;
+    Enter(candidate, u);
+    if (Solve(t, x) && HasFreeDirections() && Holds(t, x, nullptr)) mode = std::move(candidate);
+  }
+  if (mode == entered) {
+    Enter(entered, u);
+    return false;
+  }
+  Enter(mode, u);
+  return Solve(t, x);
+}
+
 }  // namespace dvi::internal
