@@ -100,7 +100,6 @@ void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   tangent_known_ = false;
   anchored_ = false;
   free_directions_.resize(0, 0);
-  flow_moving_null_ = 0;
   u_ = u;
   for (int j = 0; j < m(); ++j) {
     if (mode_[j] == MultiplierBound::kFree) free_.push_back(j);

@@ -200,9 +200,8 @@ class BoxModeSystem {
                    SparseMatrix* phi_x) const;
   /// Sets free_directions_ (a × k, unit columns) to G_u's null space when
   /// G_u (a×a, at (t, x, u_)) is singular and f_u on the free columns
-  /// vanishes on it; true then. False leaves it empty, with
-  /// flow_moving_null_ = |f_u d| of a null vector d that moves the flow (0
-  /// when G_u is regular).
+  /// vanishes on it; true then. False leaves it empty (G_u regular, or a
+  /// null vector moves the flow: the differentiation procedure's case).
   bool FindFreeDirections(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Gu);
   /// Solve in a mode with free directions: Gauss–Newton's least-norm steps
   /// on G = 0, then u at the middle of each free direction's interval.
@@ -238,10 +237,8 @@ class BoxModeSystem {
   mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
   Eigen::VectorXd scratch_x_;  // a column of SolveColumns
   int passes_ = 0;
-  // The current mode's free directions (a × k), none when empty; a null
-  // vector's |f_u d| that moves the flow (the message of a singular mode).
+  // The current mode's free directions (a × k), none when empty.
   Eigen::MatrixXd free_directions_;
-  double flow_moving_null_ = 0;
   // An LCS mode's free rows G = c + C x + M u (a of them) and G_u's LU.
   Eigen::VectorXd free_c_;
   SparseMatrix free_C_;

@@ -20,7 +20,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "modes/box_mode.hpp"
 
@@ -37,7 +36,6 @@ constexpr double kSlopeTolerance = 1e-10;
 bool BoxModeSystem::FindFreeDirections(double t, const Eigen::VectorXd& x,
                                        const Eigen::MatrixXd& Gu) {
   free_directions_.resize(0, 0);
-  flow_moving_null_ = 0;
   const int a = static_cast<int>(free_.size());
   if (a == 0) return false;
   Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
@@ -57,10 +55,7 @@ bool BoxModeSystem::FindFreeDirections(double t, const Eigen::VectorXd& x,
   const Eigen::MatrixXd moves = fu_free * N;
   for (int k = 0; k < N.cols(); ++k) {
     const double move = moves.col(k).lpNorm<Eigen::Infinity>() / N.col(k).lpNorm<Eigen::Infinity>();
-    if (move > kRankTolerance * scale) {
-      flow_moving_null_ = move;
-      return false;  // the differentiation procedure's case, or no unique flow
-    }
+    if (move > kRankTolerance * scale) return false;  // the differentiation procedure's case
   }
   free_directions_ = N;
   for (int k = 0; k < N.cols(); ++k) free_directions_.col(k).normalize();
