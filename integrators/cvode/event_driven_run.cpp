@@ -165,6 +165,7 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   if (selection == Selection::kChosen &&
       TryMode(t, x, mode, vi.z, look_ahead_why)) {
     if (!regular.holds) ++look_ahead_selections_;
+    system_.FreeHeldComponents(t, x, vi.w, mode);
     return true;
   }
   std::ostringstream message;
@@ -188,6 +189,7 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
       system_, t, x, vi, kRateStepFraction * delta, state_tolerance, mode, &rates_why);
   if (by_rates == RateSelection::kChosen && TryMode(t, x, mode, vi.z, rates_why)) {
     ++rate_selections_;
+    system_.FreeHeldComponents(t, x, vi.w, mode);
     return true;
   }
   x = x_event;

@@ -100,6 +100,7 @@ void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   root_slopes_known_ = false;
   tangent_known_ = false;
   anchored_ = false;
+  free_directions_.resize(0, 0);
   u_ = u;
   for (int j = 0; j < m(); ++j) {
     if (mode_[j] == MultiplierBound::kFree) free_.push_back(j);
@@ -158,6 +159,7 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     SplitRows(t, x);
     rows_split_ = true;
   }
+  if (HasFreeDirections()) return SolveAlongFreeDirections(t, x, why);
   if (problem_.affine()) return SolveLcsMode(x, why);
   // Newton with G_u's factors kept from call to call while they still cut
   // the residual fast enough (the chord method, ChordTooSlow): a mode's
@@ -385,6 +387,14 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     memo.passes = 0;
     Eigen::MatrixXd Gu;
     bool full_rank = FormFreeRows(passes_ == 0 ? problem_.lcs_rows() : reduced_rows, Gu);
+    if (!full_rank && passes_ == 0 && FindFreeDirections(t, x, Gu)) {
+      // Proposition 5.1's semi-affine case: no pass, u by its free
+      // directions (SolveAlongFreeDirections), no map, no slopes.
+      split_.regular = false;
+      split_.map.resize(0, 0);
+      root_slopes_known_ = false;
+      return;
+    }
     while (!full_rank && passes_ <= n()) {
       if (passes_ == 0) reduced_rows = problem_.lcs_rows();
       if (!DifferentiateDependentRows(problem_.flow(), free_, u_, reduced_rows, mode_constraints_)) break;
@@ -424,6 +434,15 @@ void BoxModeSystem::SplitRows(double t, const Eigen::VectorXd& x) {
     Eigen::VectorXd G;
     Eigen::MatrixXd Gu;
     problem_.PassRows(reductions_, static_cast<int>(reductions_.size()), t, x, u_, G, &Gu, nullptr);
+    if (reductions_.empty()) {
+      // Null vectors of F_u[A, A] that leave the flow alone are free
+      // directions (Proposition 5.1), not rows to differentiate.
+      const int a = static_cast<int>(free_.size());
+      Eigen::MatrixXd Gu_free(a, a);
+      for (int i = 0; i < a; ++i)
+        for (int k = 0; k < a; ++k) Gu_free(i, k) = Gu(free_[i], free_[k]);
+      if (FindFreeDirections(t, x, Gu_free)) return;
+    }
     RowReduction reduction = ReduceRows(Gu.sparseView(1, 0), free_);
     if (reduction.empty()) break;
     reductions_.push_back(std::move(reduction));
@@ -474,6 +493,15 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   Eigen::MatrixXd Gu, Gx, fua(n(), a);
   ModeEquations(t, x, u_, G, &Gu, &Gx);
   for (int i = 0; i < a; ++i) fua.col(i) = fu.col(free_[i]);
+  if (HasFreeDirections()) {
+    // u_A's least-norm part moves with x; its part along the free
+    // directions does not move the flow (f_u,A d = 0).
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+    cod.setThreshold(kRankTolerance);
+    cod.compute(Gu);
+    J -= fua * cod.solve(Gx);
+    return true;
+  }
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
   if (!lu.isInvertible()) return false;
   // Implicit function theorem on G(t, x, u(t, x)) = 0.

@@ -44,7 +44,14 @@ namespace dvi::internal {
 /// The multiplier of the last evaluation, moved along the mode's tangent
 /// du/dx, starts the next Newton solve.
 ///
-/// Three files: the mode equations (Newton on the free components, the
+/// A singular G_u whose null vectors d leave the flow alone (f_u,A d = 0:
+/// Proposition 5.1's semi-affine case, B·u unique where u is not) is not
+/// reduced: its null vectors are the mode's free directions, u_A solves G = 0
+/// in the least-norm sense and is placed, along each free direction, at the
+/// middle of the interval where every root function is non-negative
+/// (box_mode_free_directions.cpp).
+///
+/// Four files: the mode equations (Newton on the free components, the
 /// right-hand side and its Jacobians, the tangent start: box_mode.cpp), the
 /// mode roots (root functions, floors, sample and whole-step checks:
 /// box_mode_roots.cpp), a reduced mode's original constraints and the
@@ -92,6 +99,15 @@ class BoxModeSystem {
   Eigen::Index FirstViolation(const Eigen::Ref<const Eigen::VectorXd>& times,
                               const Eigen::Ref<const Eigen::MatrixXd>& X,
                               const Eigen::Ref<const Eigen::MatrixXd>& U, double f_slack) const;
+  /// A mode just selected at (t, x), w = F there, with a component held at
+  /// a bound where w_j vanishes: freed when that makes it a free direction
+  /// of the mode (Proposition 5.1) and the mode still holds — u in the
+  /// middle of its interval then keeps the mode as long as it can, where at
+  /// its bound it would end as soon as the interval moves off the bound (the
+  /// bridge's V_b at 0 when its source changes sign). True when mode
+  /// changed; the system is left entered in mode, solved at (t, x).
+  bool FreeHeldComponents(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& w,
+                          Mode& mode);
   /// Whether FirstViolationInStep covers the current mode: an LCS mode
   /// whose u is affine in x (by its dense map or G_u's LU; no free
   /// component, trivially). Its root functions are then polynomials in t
@@ -186,6 +202,15 @@ class BoxModeSystem {
   /// Φ(t, x) = P F(t, x, u_) and Φ_x = P F_x (sparse: an LCS's is).
   void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
                    SparseMatrix* phi_x) const;
+  /// Sets free_directions_ (a × k, unit columns) to G_u's null space when
+  /// G_u (a×a, at (t, x, u_)) is singular and f_u on the free columns
+  /// vanishes on it; true then. False leaves it empty (G_u regular, or a
+  /// null vector moves the flow: the differentiation procedure's case).
+  bool FindFreeDirections(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Gu);
+  /// Solve in a mode with free directions: Gauss–Newton's least-norm steps
+  /// on G = 0, then u at the middle of each free direction's interval.
+  bool SolveAlongFreeDirections(double t, const Eigen::VectorXd& x, std::string* why);
+  bool HasFreeDirections() const { return free_directions_.cols() > 0; }
   /// The a×m matrix that picks the free rows (a = |free_|).
   SparseMatrix FreeRows() const;
   /// The free rows of rows as the LCS mode's equations (split_'s c, C and
@@ -229,6 +254,8 @@ class BoxModeSystem {
   bool ByMap() const {
     return free_.empty() || (rows_split_ && split_.regular && split_.map.size() > 0);
   }
+  // The current mode's free directions (a × k), none when empty.
+  Eigen::MatrixXd free_directions_;
   Eigen::VectorXd residual_, step_;
   // Newton's iterate and G_u's factors on a nonlinear mode, and F with its
   // Jacobians for ModeEquations: kept so that Newton does not allocate.

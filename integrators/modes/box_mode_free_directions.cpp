@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: Apache-2.0
+// BoxModeSystem's free directions ([Seed] Sect. 5.2, Proposition 5.1, the
+// semi-affine case): a mode whose equations G(t, x, u_A) = 0 have a
+// singular G_u with null vectors d along which the flow does not move
+// (f_u,A d = 0, for an LCS B_A d = 0). u is not unique in such a mode, B·u
+// and so x' are, and the solution goes on in it. A diode bridge feeding a
+// capacitor filter while all four diodes block: the potential V_b of the
+// floating source is anywhere in [max(0, −e), min(v, v − e)], C v' = −v/R.
+//
+// u_A solves G = 0 by Gauss–Newton with the minimum-norm step (a complete
+// orthogonal decomposition of G_u: the steps never move u along the null
+// space), and then, along each free direction in turn, u is placed at the
+// MIDDLE of the interval in which every root function of the mode stays
+// non-negative (the free components' bounds, the bound rows' F of the sign
+// that holds them): the mode then holds as long as that interval is not
+// empty, and its root functions reach zero where the interval closes (both
+// of its ends meet), which is where the mode ends. A null vector that moves
+// the flow is not a free direction: where the differentiation procedure
+// (Theorems 5.2/5.3) does not remove it, the flow is not unique.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "modes/box_mode.hpp"
+
+namespace dvi::internal {
+namespace {
+
+constexpr int kMaxGaussNewtonIterations = 50;
+// A slope of a root function along a free direction below this, relative
+// to the largest, is zero: the root function does not bound the direction.
+constexpr double kSlopeTolerance = 1e-10;
+
+}  // namespace
+
+bool BoxModeSystem::FindFreeDirections(double t, const Eigen::VectorXd& x,
+                                       const Eigen::MatrixXd& Gu) {
+  free_directions_.resize(0, 0);
+  const int a = static_cast<int>(free_.size());
+  if (a == 0) return false;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
+  lu.setThreshold(kRankTolerance);
+  if (lu.rank() == a) return false;
+  const Eigen::MatrixXd N = lu.kernel();  // a × k, columns a basis of null(G_u)
+  // f_u on the free columns: B_A for an LCS.
+  Eigen::MatrixXd fu_free(n(), a);
+  if (affine()) {
+    for (int i = 0; i < a; ++i) fu_free.col(i) = Eigen::VectorXd(problem_.flow().B.col(free_[i]));
+  } else {
+    Eigen::MatrixXd fx, fu;
+    problem_.SmallFJacobians(t, x, u_, fx, fu);
+    for (int i = 0; i < a; ++i) fu_free.col(i) = fu.col(free_[i]);
+  }
+  const double scale = fu_free.cwiseAbs().maxCoeff();
+  const Eigen::MatrixXd moves = fu_free * N;
+  for (int k = 0; k < N.cols(); ++k) {
+    const double move = moves.col(k).lpNorm<Eigen::Infinity>() / N.col(k).lpNorm<Eigen::Infinity>();
+    if (move > kRankTolerance * scale) return false;  // the differentiation procedure's case
+  }
+  free_directions_ = N;
+  for (int k = 0; k < N.cols(); ++k) free_directions_.col(k).normalize();
+  return true;
+}
+
+bool BoxModeSystem::SolveAlongFreeDirections(double t, const Eigen::VectorXd& x,
+                                             std::string* why) {
+  const int a = static_cast<int>(free_.size());
+  Eigen::VectorXd& u = newton_u_;
+  u = u_;
+  Eigen::VectorXd G, step;
+  Eigen::MatrixXd Gu;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+  bool converged = false;
+  for (int iteration = 0; iteration < kMaxGaussNewtonIterations; ++iteration) {
+    ++newton_iterations_;
+    ModeEquations(t, x, u, G, &Gu, nullptr);
+    const double norm = G.allFinite() ? G.lpNorm<Eigen::Infinity>()
+                                      : std::numeric_limits<double>::infinity();
+    if (!std::isfinite(norm)) break;
+    if (norm <= problem_.solver().tolerance) {
+      converged = true;
+      break;
+    }
+    cod.setThreshold(kRankTolerance);
+    cod.compute(Gu);
+    step = cod.solve(G);  // the least-norm step: orthogonal to the free directions
+    for (int i = 0; i < a; ++i) u(free_[i]) -= step(i);
+  }
+  if (!converged) {
+    if (why)
+      *why = "the mode's equations have no solution along its free directions (∂F/∂u on the "
+             "free components is singular and F there is not consistent)";
+    return false;
+  }
+  // Each free direction d: every root function is affine in s along
+  // u + s d (exactly for an LCS; to first order otherwise), g + s·slope.
+  Eigen::VectorXd F;
+  problem_.EvalF(t, x, u, F);
+  Eigen::MatrixXd Fx, Fu;
+  problem_.FJacobians(t, x, u, Fx, Fu);
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < free_directions_.cols(); ++k) {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(m());
+    for (int i = 0; i < a; ++i) d(free_[i]) = free_directions_(i, k);
+    const Eigen::VectorXd slopes = Fu * d;
+    const double slope_scale =
+        kSlopeTolerance * std::max({1.0, slopes.lpNorm<Eigen::Infinity>(), d.lpNorm<Eigen::Infinity>()});
+    double low = -inf, high = inf;
+    const auto bound = [&](double value, double slope) {  // value + s·slope ≥ 0
+      if (slope > slope_scale) low = std::max(low, -value / slope);
+      if (slope < -slope_scale) high = std::min(high, -value / slope);
+    };
+    for (int j = 0; j < m(); ++j) {
+      if (mode_[j] == MultiplierBound::kFree) {
+        if (std::isfinite(problem_.lower()(j))) bound(u(j) - problem_.lower()(j), d(j));
+        if (std::isfinite(problem_.upper()(j))) bound(problem_.upper()(j) - u(j), -d(j));
+      } else if (problem_.lower()(j) != problem_.upper()(j)) {
+        const double sign = mode_[j] == MultiplierBound::kLower ? 1.0 : -1.0;
+        bound(sign * F(j), sign * slopes(j));
+      }
+    }
+    // The middle of [low, high]; unbounded on one side, the nearest point
+    // of it to where u is; unbounded on both, u stays.
+    double s = 0;
+    if (std::isfinite(low) && std::isfinite(high))
+      s = 0.5 * (low + high);
+    else if (std::isfinite(low))
+      s = std::max(0.0, low);
+    else if (std::isfinite(high))
+      s = std::min(0.0, high);
+    u += s * d;
+    F += s * slopes;
+  }
+  Accept(t, x);
+  return true;
+}
+
+bool BoxModeSystem::FreeHeldComponents(double t, const Eigen::VectorXd& x,
+                                       const Eigen::VectorXd& w, Mode& mode) {
+  const double tolerance = problem_.BoundTolerance();
+  const Mode entered = mode;
+  const Eigen::VectorXd u = u_;
+  for (int j = 0; j < m(); ++j) {
+    if (mode[j] == MultiplierBound::kFree || problem_.lower()(j) == problem_.upper()(j) ||
+        std::abs(w(j)) > tolerance)
+      continue;
+    Mode candidate = mode;
+    candidate[j] = MultiplierBound::kFree;
+    Enter(candidate, u);
+    if (Solve(t, x) && HasFreeDirections() && Holds(t, x, nullptr)) mode = std::move(candidate);
+  }
+  if (mode == entered) {
+    Enter(entered, u);
+    return false;
+  }
+  Enter(mode, u);
+  return Solve(t, x);
+}
+
+}  // namespace dvi::internal

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: Apache-2.0
+// Modes with free directions ([Seed] Proposition 5.1, the semi-affine case):
+// the diode bridge with a capacitor filter, where u is not unique while all
+// four diodes block (the source's node potential V_b is anywhere in an
+// interval) but B·u is, runs event-driven end to end — on a DC bridge by
+// hand (time-invariant: the LCS's matrix path), and on the zoo's sine-driven
+// bridge and half-wave rectifier from rest against their exact solutions.
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dvi/auto_driver.hpp"
+#include "dvi/event_driven.hpp"
+#include "scene_file.hpp"
+#include "support/zoo/zoo_model.hpp"
+
+namespace dvi {
+namespace {
+
+std::vector<double> Grid(double horizon, int count) {
+  std::vector<double> times;
+  for (int k = 0; k < count; ++k) times.push_back(horizon * k / (count - 1));
+  return times;
+}
+
+// A bridge fed by a DC source E = 1 into C = 1 with R = 1 (the zoo's bridge
+// with e constant, q time-invariant), charged to v0 = 2: all diodes block
+// (V_b ∈ [0, v − E], B u = 0) and v = 2 e^{−t} until v = E at t* = ln 2;
+// then D1 and D4 conduct, v = E, i1 = E/R.
+Lcs DcBridge() {
+  Eigen::MatrixXd B(1, 4), C(4, 1), D(4, 4);
+  B << 1, 1, 0, 0;
+  C << 1, 1, 0, 0;
+  D << 0, 0, 0, -1,  //
+      0, 0, 0, -1,   //
+      0, 0, 0, 1,    //
+      1, 1, -1, 0;
+  return Lcs::Dense(Eigen::MatrixXd::Constant(1, 1, -1), B, C, D, Eigen::VectorXd(),
+                    Eigen::Vector4d(-1, 0, 1, 0));
+}
+
+TEST(FreeDirections, DcBridgeBlocksThenClampsAtLn2) {
+  const double horizon = 2, t_star = std::log(2.0);
+  for (const bool automatic : {false, true}) {
+    AutoOptions options;
+    options.event.rtol = 1e-10;
+    options.event.atol = 1e-12;
+    options.event.output_times = Grid(horizon, 201);
+    const Trajectory run =
+        automatic ? IntegrateAuto(DcBridge(), Eigen::VectorXd::Constant(1, 2), 0, horizon, options)
+                  : IntegrateEventDriven(DcBridge(), Eigen::VectorXd::Constant(1, 2), 0, horizon,
+                                         options.event);
+    const std::string what = automatic ? "auto" : "event";
+    ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
+    ASSERT_FALSE(run.events.empty()) << what;
+    EXPECT_NEAR(run.events.front().time, t_star, 1e-9) << what;
+    for (std::size_t k = 0; k < run.times.size(); ++k) {
+      const double t = run.times[k];
+      const double exact = t < t_star ? 2 * std::exp(-t) : 1.0;
+      EXPECT_NEAR(run.states[k](0), exact, 1e-8) << what << " at t = " << t;
+    }
+    for (const MethodInterval& interval : run.intervals)
+      EXPECT_EQ(interval.method, IntegrationMethod::kEventDriven) << what << interval.reason;
+    EXPECT_TRUE(run.certificate.certified()) << what;
+  }
+}
+
+// The largest |x − x_ref| over the rows after the jump, relative to each
+// state's range (the zoo bench's measure).
+double ZooError(const zoo::ZooModel& model, const Trajectory& run) {
+  const auto reference = model.reference();
+  Eigen::VectorXd range = Eigen::VectorXd::Zero(model.n());
+  for (const double t : Grid(model.horizon, 1001)) range = range.cwiseMax(reference.X(t).cwiseAbs());
+  double worst = 0;
+  for (std::size_t k = 1; k < run.times.size(); ++k)
+    worst = std::max(worst, ((run.states[k] - reference.X(run.times[k])).cwiseAbs().array() /
+                             range.array())
+                                .maxCoeff());
+  return worst;
+}
+
+// The scenes as dvisim runs them (rtol 1e-10 alone: atol = 1e-16; the
+// sine's rate from its expression).
+TEST(FreeDirections, ZooRectifiersFromRestRunEventDrivenToTheirExactSolutions) {
+  for (const char* key : {"bridge_rectifier", "half_wave_rectifier"}) {
+    const zoo::ZooModel model = zoo::ZooModelNamed(key);
+    const dvisim::Scene scene = dvisim::ReadScene(std::string(DVI_EXAMPLES_DIR) +
+                                                  "/scenes/zoo/" + key + ".json");
+    const Lcs& lcs = std::get<Lcs>(scene.problem);
+    for (const bool automatic : {false, true}) {
+      AutoOptions options;
+      options.event = scene.event;
+      options.stepping = scene.stepping;
+      options.event.output_times = Grid(model.horizon, 1001);
+      const Trajectory run =
+          automatic ? IntegrateAuto(lcs, scene.x0, 0, model.horizon, options)
+                    : IntegrateEventDriven(lcs, scene.x0, 0, model.horizon, options.event);
+      const std::string what = std::string(key) + (automatic ? " auto" : " event");
+      ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
+      const double error = ZooError(model, run);
+      std::ostringstream measured;
+      measured << "error " << error << ", VI residual " << run.stats.max_residual;
+      RecordProperty(what, measured.str());
+      EXPECT_LE(error, 1e-6) << what;
+      EXPECT_LE(run.stats.max_residual, 1e-9) << what;
+      std::set<double> switches;
+      for (const Event& event : run.events)
+        if (event.kind != EventKind::kJump) switches.insert(event.time);
+      EXPECT_EQ(switches.size(), model.reference().SwitchTimes().size()) << what;
+      for (const MethodInterval& interval : run.intervals)
+        EXPECT_EQ(interval.method, IntegrationMethod::kEventDriven) << what << interval.reason;
+      EXPECT_TRUE(run.certificate.certified()) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dvi
