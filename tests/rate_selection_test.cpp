@@ -120,6 +120,23 @@ TEST(RateSelection, TwistingControllerAtRestStaysAtTheOriginEventDriven) {
   }
 }
 
+// The same controller written as a Filippov scene (a nonlinear Dvi: F
+// evaluated, not matrices): at the origin the sliding modes' G_u is
+// singular wherever both relays are free (a s1 + b s2 = 0), and Newton,
+// starting at the VI's solution with residual 0, entered such a mode: CVODE
+// then failed (CV_CONV_FAILURE at h = 3e-10, the mode's Jacobian through a
+// singular G_u). Such a mode is refused, one relay free is chosen.
+TEST(RateSelection, TwistingSceneAtRestStaysAtTheOriginEventDriven) {
+  const dvisim::Scene scene =
+      dvisim::ReadScene(std::string(DVI_EXAMPLES_DIR) + "/scenes/zoo/twisting_controller.json");
+  const Dvi dvi = std::get<FilippovSystem>(scene.problem).ToSeparable().ToDvi();
+  const Trajectory run = IntegrateEventDriven(dvi, Eigen::VectorXd::Zero(2), 0, 2, Tight());
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  EXPECT_TRUE(run.certificate.certified());
+  EXPECT_EQ(run.times.back(), 2.0);
+  for (const Eigen::VectorXd& x : run.states) EXPECT_EQ(x.lpNorm<Eigen::Infinity>(), 0.0);
+}
+
 // The zoo's boost converter (tests/support/zoo/boost_converter.cpp) at the
 // scene's rtol 1e-10: the onset of discontinuous conduction (i reaches 0
 // with the switch open, the diode's pair degenerate, D skew) was refused.
