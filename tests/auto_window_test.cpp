@@ -64,10 +64,11 @@ TEST(AutoWindow, CertifiedWindowsOfTheChargedBridgeHoldVWithinTheirBound) {
   for (const double tolerance : {1e-4, 1e-6}) {
     const BridgeRun run = ChargedBridge(0.5, tolerance);
     ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
-    // Most of the horizon in windows (87 %: the starts of conduction run
-    // event-driven since the mode selection by the rates), or this would not
-    // test them.
-    EXPECT_GT(testing::MethodFraction(run.trajectory, IntegrationMethod::kTimeStepping), 0.5);
+    // A fifth of the horizon in windows (20 %, 21 % at 1e-4, 1e-6; 87 %
+    // before the rates of the next order decided the degenerate starts of
+    // conduction, which now run event-driven), several windows: enough to
+    // test them, and the bounds below still reach near their budget.
+    EXPECT_GT(testing::MethodFraction(run.trajectory, IntegrationMethod::kTimeStepping), 0.1);
     EXPECT_LE(run.trajectory.certificate.window.ratio, 1);
     const double bound = Certificate::kWindowSafety * (tolerance + tolerance * kVs);
     EXPECT_LE(run.max_error, bound) << "rtol = atol = " << tolerance;
