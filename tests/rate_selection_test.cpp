@@ -97,6 +97,51 @@ TEST(RateSelection, NonUniqueFlowIsRefusedNamingTheCondition) {
   EXPECT_NEAR(run.times.back(), std::log(2.0), kPsdTolerance);
 }
 
+// The twisting controller x1' = x2, x2' = d − a s1 − b s2, s_j ∈ sgn(x_j)
+// (tests/support/zoo/twisting_controller.cpp, a = 2, b = 1), with a constant
+// disturbance |d| < a − b, started at rest at the origin: it stays there
+// (codimension-two sliding, a s1 + b s2 = d). Every root function's rate
+// vanishes at the origin in every candidate mode, so the first-order test
+// let ul and lu through with different x'' (x2' = ∓(a − b) + d) and the run
+// was refused as "the flow is not unique"; the second derivative of x1
+// (x1'' = x2' of the wrong sign for s1's bound) rules them out and leaves
+// the sliding modes, whose flows agree (x' = 0).
+Lcs DisturbedTwisting(double disturbance) {
+  const zoo::ZooModel model = zoo::ZooModelNamed("twisting_controller");
+  Lcs lcs = model.lcs;
+  lcs.p = Eigen::Vector2d(0, disturbance);
+  return lcs;
+}
+
+TEST(RateSelection, TwistingControllerAtRestStaysAtTheOriginEventDriven) {
+  for (const double disturbance : {0.0, 0.5, -0.75}) {
+    const Trajectory run = IntegrateEventDriven(DisturbedTwisting(disturbance),
+                                                Eigen::VectorXd::Zero(2), 0, 2, Tight());
+    ASSERT_TRUE(run.succeeded()) << "d = " << disturbance << ": " << run.message;
+    EXPECT_TRUE(run.certificate.certified()) << "d = " << disturbance;
+    EXPECT_EQ(run.times.back(), 2.0);
+    for (const Eigen::VectorXd& x : run.states)
+      EXPECT_EQ(x.lpNorm<Eigen::Infinity>(), 0.0) << "d = " << disturbance;
+  }
+}
+
+// The same controller written as a Filippov scene (a nonlinear Dvi: F
+// evaluated, not matrices): at the origin the sliding modes' G_u is
+// singular wherever both relays are free (a s1 + b s2 = 0), and Newton,
+// starting at the VI's solution with residual 0, entered such a mode: CVODE
+// then failed (CV_CONV_FAILURE at h = 3e-10, the mode's Jacobian through a
+// singular G_u). Such a mode is refused, one relay free is chosen.
+TEST(RateSelection, TwistingSceneAtRestStaysAtTheOriginEventDriven) {
+  const dvisim::Scene scene =
+      dvisim::ReadScene(std::string(DVI_EXAMPLES_DIR) + "/scenes/zoo/twisting_controller.json");
+  const Dvi dvi = std::get<FilippovSystem>(scene.problem).ToSeparable().ToDvi();
+  const Trajectory run = IntegrateEventDriven(dvi, Eigen::VectorXd::Zero(2), 0, 2, Tight());
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  EXPECT_TRUE(run.certificate.certified());
+  EXPECT_EQ(run.times.back(), 2.0);
+  for (const Eigen::VectorXd& x : run.states) EXPECT_EQ(x.lpNorm<Eigen::Infinity>(), 0.0);
+}
+
 // The zoo's boost converter (tests/support/zoo/boost_converter.cpp) at the
 // scene's rtol 1e-10: the onset of discontinuous conduction (i reaches 0
 // with the switch open, the diode's pair degenerate, D skew) was refused.

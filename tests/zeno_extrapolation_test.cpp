@@ -81,18 +81,17 @@ TEST(ZenoExtrapolation, SpiralUnderAutoIsExactAfterTheAccumulation) {
           state_error,
           (trajectory.states[k] - reference.X(trajectory.times[k])).lpNorm<Eigen::Infinity>());
   EXPECT_LE(state_error, kStateTolerance);
-  RecordProperty("accumulation_time_error", std::to_string(time_error));
+  RecordProperty("accumulation_time_error", ::testing::PrintToString(time_error));
   RecordProperty("state_error_after_accumulation", std::to_string(state_error));
 }
 
 // The twisting controller: the run stops on Zeno after 29 switches (with
 // the retry past the last output row before t*), t* and x(t*) = 0 are
-// extrapolated and recorded as a zeno-extrapolation interval. After t* the
-// origin is a mode only with u not unique (a s1 + b s2 = 0, B u = 0 is
-// unique), and the rates do not single out the sliding mode yet: modes ul
-// and lu both pass their check (every root function non-decreasing) with
-// different x', so time-stepping takes over there and, at atol 1e-14, its windows are not
-// certified (1.3e-7 estimated). This test holds the rows up to t*.
+// extrapolated and recorded as a zeno-extrapolation interval. At the origin
+// u is not unique (a s1 + b s2 = 0; B u = 0 is) and every first rate
+// vanishes; the next derivative selects the sliding mode
+// (rate_selection.hpp), so the run resumes event-driven there and x stays
+// at the origin to the horizon, certified.
 TEST(ZenoExtrapolation, TwistingControllerAccumulationIsExtrapolated) {
   const zoo::ZooModel model = zoo::ZooModelNamed("twisting_controller");
   const Trajectory trajectory =
@@ -113,8 +112,25 @@ TEST(ZenoExtrapolation, TwistingControllerAccumulationIsExtrapolated) {
         state_error,
         (trajectory.states[k] - reference.X(trajectory.times[k])).lpNorm<Eigen::Infinity>());
   EXPECT_LE(state_error, kStateTolerance);
-  RecordProperty("accumulation_time_error", std::to_string(time_error));
+  // After t*: event-driven to the horizon (it was time-stepped with h = 0.1,
+  // leaving |x2| up to 0.25), x exactly at the origin.
+  double after = 0;
+  for (const MethodInterval& interval : trajectory.intervals)
+    if (interval.from >= zeno->to && interval.method == IntegrationMethod::kEventDriven)
+      after += interval.to - interval.from;
+  EXPECT_EQ(after, model.horizon - zeno->to) << trajectory.Report(ReportDetail::kFull);
+  EXPECT_EQ(trajectory.times.back(), model.horizon);
+  double after_error = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k)
+    if (trajectory.times[k] > zeno->to)
+      after_error = std::max(after_error, trajectory.states[k].lpNorm<Eigen::Infinity>());
+  // The sliding mode's constraints x = 0 (x1 = 0 and, differentiated,
+  // x2 = 0) project x* (7e-10 off, within its predicted error) onto them.
+  EXPECT_EQ(after_error, 0.0);
+  EXPECT_TRUE(trajectory.certificate.certified()) << trajectory.Report(ReportDetail::kFull);
+  RecordProperty("accumulation_time_error", ::testing::PrintToString(time_error));
   RecordProperty("state_error", std::to_string(state_error));
+  RecordProperty("state_error_after_accumulation", std::to_string(after_error));
   RecordProperty("reason", zeno->reason);
 }
 

@@ -89,12 +89,16 @@ DvisimRun RunDvisim(const ZooModel& model, const PiecewiseLinearReference& refer
   for (const Json& interval : summary.at("method")) {
     const std::string name = interval.at("name").get<std::string>();
     ++counts[name];
-    if (name == "event") {
+    // The goal counts a Zeno extrapolation as event-driven.
+    if (name == "event" || name == "zeno-extrapolation") {
       event_time += interval.at("to").get<double>() - interval.at("from").get<double>();
     }
     std::smatch match;
     const std::string reason = interval.at("reason").get<std::string>();
-    if (std::isnan(run.predicted_t_star) && std::regex_search(reason, match, t_star)) {
+    if (name == "zeno-extrapolation") {  // ends at t*, to the double
+      run.predicted_t_star = interval.at("to").get<double>();
+      run.t_star_resolution = 0;
+    } else if (std::isnan(run.predicted_t_star) && std::regex_search(reason, match, t_star)) {
       const std::string printed = match[1];
       run.predicted_t_star = std::stod(printed);
       const std::size_t point = printed.find('.');

@@ -24,7 +24,7 @@ struct DvisimRun {
   double event_fraction = 0; ///< Of the horizon, in `event` intervals.
   std::string intervals;     ///< How many intervals of each method.
   double zeno_error = HUGE_VAL;    ///< max |x − x_ref| over the rows after t*.
-  double predicted_t_star = NAN;   ///< As auto's interval reason prints it.
+  double predicted_t_star = NAN;   ///< The zeno-extrapolation interval's end, or as a reason prints it.
   double t_star_resolution = NAN;  ///< Half a unit of its last printed digit.
   std::string plot;                ///< dvisim's plot.png, if written.
 };

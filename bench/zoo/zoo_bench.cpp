@@ -292,8 +292,9 @@ int main(int argc, char** argv) {
     if (std::isnan(row.model.zeno_time)) continue;
     const DvisimRun& a = row.runs.front();
     const bool ran = a.exit_code == 0 && !a.timed_out;
-    // auto's summary prints its predicted t* to a few decimals: the goal is
-    // met only where that printed value proves it.
+    // t* is the zeno-extrapolation interval's end (a double); where there
+    // is none, a reason's printed prediction, and the goal is met only
+    // where that printed value proves it.
     const double t_star_error = std::abs(a.predicted_t_star - row.model.zeno_time);
     std::cout << "\n" << row.model.key << " (t* = " << row.model.zeno_time << "): x within 1e-8 "
               << "after t*: "

@@ -50,6 +50,13 @@ struct EventDrivenOptions : IntegrationOptions {
   /// the message (the automatic driver steps over t*). In [0, 1]; 0 turns the
   /// detector off.
   double zeno_window = 1e-2;
+  /// The known error of x0 (∞-norm; ≥ 0, finite): the automatic driver sets
+  /// it to the predicted error of the extrapolated x(t*) when it resumes
+  /// event-driven after a Zeno extrapolation. Mode selection at t0 may
+  /// project x0 onto a reduced mode's constraints by that much more than the
+  /// local error tolerances allow (x* of a twisting controller, 7e-10 from
+  /// the origin, onto x = 0).
+  double x0_error = 0;
   /// kKlu: for an LCS the mode's Jacobian is A − B_α G_u⁻¹ G_x (G the
   /// free rows of w, differentiated ones in a reduced mode), formed from the
   /// sparse matrices without any dense n×n one and factored by KLU — large

@@ -238,6 +238,8 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
   std::vector<double> zeno_times;
   std::vector<Eigen::VectorXd> zeno_states;
   double zeno_window = -1;
+  // The error of x where the next run starts: an extrapolated x(t*)'s.
+  double x0_error = 0;
   while (true) {
     // The caller's options as they are where clipping keeps all their times
     // (the first run, as a rule): no copy of a long list of output times.
@@ -247,9 +249,11 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
       clipped = options.event;
       clipped.output_times = Clip(outputs, t, t_end, false);
       if (zeno_window >= 0) clipped.zeno_window = zeno_window;
+      clipped.x0_error = x0_error;
     }
     const EventDrivenOptions& run_options = as_given ? options.event : clipped;
     Trajectory run = event.run(t, x, run_options);
+    x0_error = 0;
     // The part the run integrated well: all of its samples (its last is the
     // state where it stopped, located by CVODE / IDA).
     const double t_a = run.times.empty() ? t : run.times.back();
@@ -363,6 +367,7 @@ Trajectory Drive(const EventMethod& event, const SteppingMethod& stepping,
           zeno_states.clear();
           t = extrapolation.accumulation_time;
           x = extrapolation.state;
+          x0_error = rows.certificate.window.value;
           continue;
         }
         extrapolation_failure = "; the extrapolation is not certified (" + account.str() + ")";

@@ -184,7 +184,8 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   // allows, by its rates (modes/rate_selection.hpp).
   std::string rates_why;
   const double state_tolerance =
-      kProjectionErrors * (options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.LargestAtol());
+      kProjectionErrors * (options_.rtol * x.lpNorm<Eigen::Infinity>() + options_.LargestAtol()) +
+      (t == t0_ ? options_.x0_error : 0);
   const RateSelection by_rates = SelectModeByRates(
       system_, t, x, vi, kRateStepFraction * delta, state_tolerance, mode, &rates_why);
   if (by_rates == RateSelection::kChosen && TryMode(t, x, mode, vi.z, rates_why)) {

@@ -177,6 +177,23 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     for (int i = 0; i < a; ++i) u(free_[i]) -= step_(i);
   }
   bool fresh = !newton_lu_current_;
+  // G_u's LU at the current iterate; false, naming it, where G_u is singular.
+  const auto factor = [&] {
+    newton_lu_.compute(newton_Gu_);
+    newton_lu_current_ = Regular(newton_lu_);
+    if (!newton_lu_current_ && why) {
+      std::ostringstream message;
+      if (reduced())
+        message << "the matrix (5.8) of the reduced mode is singular after "
+                << reductions_.size() << " pass(es) of the differentiation procedure "
+                << "(Theorem 5.2, Sect. 5.4; a nonlinear F is differentiated at most "
+                << kMaxNonlinearPasses << " times)";
+      else
+        message << "∂F/∂u on the free components is singular";
+      *why = message.str();
+    }
+    return newton_lu_current_;
+  };
   double previous_norm = std::numeric_limits<double>::infinity();
   double previous_step_norm = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
@@ -189,6 +206,11 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     // the equations' own round-off (differenced rows of a second pass end
     // there before Newton's step reaches round-off).
     if (norm == 0 || (norm >= previous_norm && norm <= problem_.solver().tolerance)) {
+      // Solved at Newton's start: G_u there must still be regular, or u_A
+      // is not determined by the mode (the implicit function theorem fails)
+      // and the flow's Jacobian through G_u⁻¹ is garbage (a twisting
+      // controller's a s1 + b s2 = 0 with both relays free).
+      if (fresh && iteration == 0 && !factor()) return false;
       Accept(t, x);
       return true;
     }
@@ -207,25 +229,7 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
     } else {
       previous_norm = norm;
     }
-    if (fresh) {
-      newton_lu_.compute(newton_Gu_);
-      newton_lu_current_ = true;
-      if (!Regular(newton_lu_)) {
-        newton_lu_current_ = false;
-        if (why) {
-          std::ostringstream message;
-          if (reduced())
-            message << "the matrix (5.8) of the reduced mode is singular after "
-                    << reductions_.size() << " pass(es) of the differentiation procedure "
-                    << "(Theorem 5.2, Sect. 5.4; a nonlinear F is differentiated at most "
-                    << kMaxNonlinearPasses << " times)";
-          else
-            message << "∂F/∂u on the free components is singular";
-          *why = message.str();
-        }
-        return false;
-      }
-    }
+    if (fresh && !factor()) return false;
     SolveSmall(newton_lu_, residual_, step_);
     double u_norm = 0;
     for (int i = 0; i < a; ++i) {

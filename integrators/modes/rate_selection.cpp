@@ -73,24 +73,36 @@ bool Continues(BoxModeSystem& system, double t, const Eigen::VectorXd& x, const 
   system.Rhs(t, x_mode, xdot);
   Eigen::MatrixXd J;
   if (!system.RhsJacobian(t, x_mode, J)) return false;
-  const Eigen::VectorXd x_ahead = x_mode + rate_step * xdot;
-  if (!system.Solve(t + rate_step, x_ahead)) return false;
-  system.Roots(t + rate_step, x_ahead, g1.data());
-  const Eigen::VectorXd rates = (g1 - g0) / rate_step;
-  const double tolerance = system.problem().BoundTolerance();
-  const double rate_scale = kRateTolerance * (1 + rates.lpNorm<Eigen::Infinity>());
-  for (int k = 0; k < slots; ++k) {
-    if (g0(k) > tolerance) continue;  // not at its zero: Holds decided
-    const double round_off = kDifferenceUlps * std::numeric_limits<double>::epsilon() *
-                             (std::abs(g0(k)) + std::abs(g1(k))) / rate_step;
-    if (rates(k) < -rate_scale - round_off) return false;
-  }
   const int n = system.n();
   continuation.mode = mode;
   continuation.derivatives.resize(n, n + 1);
   continuation.derivatives.col(0) = xdot;
   for (int k = 1; k <= n; ++k)
     continuation.derivatives.col(k) = J * continuation.derivatives.col(k - 1);
+  // The root functions at zero, each until a rate of some order decides it.
+  const double tolerance = system.problem().BoundTolerance();
+  std::vector<int> undecided;
+  for (int k = 0; k < slots; ++k)
+    if (g0(k) <= tolerance) undecided.push_back(k);  // the others: Holds decided
+  // Order 1 along the flow itself (t moves too: sources), the higher orders
+  // along x^(k) = J^(k−1) x' at t (exact for a mode of an LCS with constant
+  // sources, whose root functions are affine in x along the mode).
+  for (int order = 1; order <= n + 1 && !undecided.empty(); ++order) {
+    const double t_ahead = order == 1 ? t + rate_step : t;
+    const Eigen::VectorXd x_ahead = x_mode + rate_step * continuation.derivatives.col(order - 1);
+    if (!system.Solve(t_ahead, x_ahead)) return false;
+    system.Roots(t_ahead, x_ahead, g1.data());
+    const Eigen::VectorXd rates = (g1 - g0) / rate_step;
+    const double rate_scale = kRateTolerance * (1 + rates.lpNorm<Eigen::Infinity>());
+    std::vector<int> vanishing;
+    for (const int k : undecided) {
+      const double round_off = kDifferenceUlps * std::numeric_limits<double>::epsilon() *
+                               (std::abs(g0(k)) + std::abs(g1(k))) / rate_step;
+      if (rates(k) < -rate_scale - round_off) return false;  // leaves its bound
+      if (rates(k) <= rate_scale + round_off) vanishing.push_back(k);
+    }
+    undecided = std::move(vanishing);
+  }
   return true;
 }
 

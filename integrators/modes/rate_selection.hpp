@@ -21,12 +21,19 @@ namespace dvi::internal {
 /// many solutions); the others keep the bound their w's sign holds. A
 /// candidate continues the solution when its equations are solved (a
 /// singular one reduced by BoxModeSystem's differentiation procedure), it
-/// holds at (t, x), and every root function at zero there is non-decreasing
-/// along its flow — the first-order test of the mode-selection rule for
-/// linear complementarity systems (Camlibel, Heemels, Schumacher, "On
-/// linear passive complementarity systems", Eur. J. Control 8 (2002); the
-/// "initial solution" of Heemels, Schumacher, Weiland, SIAM J. Appl. Math.
-/// 60 (2000)), its rates taken as a difference quotient over rate_step.
+/// holds at (t, x), and every root function at zero there is
+/// lexicographically non-decreasing along its flow: its first rate that does
+/// not vanish, of orders 1 … n + 1, is positive (or all vanish) — the
+/// derivative chain of the mode-selection rule for linear complementarity
+/// systems (Heemels, Schumacher, Weiland, SIAM J. Appl. Math. 60 (2000),
+/// Thm 6.8, the "initial solution"; Camlibel, Heemels, Schumacher, Eur. J.
+/// Control 8 (2002); [Seed] Theorems 5.2/5.3 differentiate the same way).
+/// Where the first rates all vanish the next derivative decides: at the
+/// origin of a twisting controller x1' = x2, x2' = −a s1 − b s2 every rate
+/// of order 1 is 0, and x1'' = x2' rules out the modes that leave it. The
+/// rate of order 1 is a difference quotient over rate_step along the flow
+/// (t moving too), order k along x^(k) = J^(k−1) x' at t (exact for an LCS
+/// mode with constant sources, whose root functions are affine in x).
 /// Candidates that continue must agree on the flow: x' and its derivatives
 /// J x', …, Jⁿ x' by each mode's Jacobian J (for an LCS mode, whose flow
 /// is affine, equal Krylov sequences mean equal trajectories); then any of
