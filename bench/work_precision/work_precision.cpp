@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "baseline_runs.hpp"
+#include "oracle_schedule.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/adapters/index_one_rhs.hpp"
 #include "run_command.hpp"
@@ -57,9 +58,6 @@ constexpr double kTargetError = 1e-8;
 constexpr double kLastProportionalTolerance = 1e-10;
 // The oracle's schedule comes from an event run this tight (its events).
 constexpr double kScheduleRtol = 1e-13;
-// u_j this far (relative) from a bound of K is off it: far above the VI
-// solver's 1e-10, far below a multiplier of a mode that holds.
-constexpr double kInsideBound = 1e-8;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 struct Point {
@@ -99,9 +97,8 @@ Point FromStudyRun(const std::string& problem, const StudyRun& run) {
   return point;
 }
 
-// The oracle's mode schedule: the mode the VI selects at t = 0, then each
-// event of a tight event run moves one component; simultaneous events
-// share a segment start.
+// The oracle's mode schedule: the events of a tight event run
+// (baselines::ScheduleOfEvents).
 std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
                                              const baselines::BaselineProblem& problem) {
   dvisim::Scene tight = scene;
@@ -113,43 +110,7 @@ std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
   const Trajectory reference = dvisim::IntegrateScene(tight);
   if (!reference.succeeded())
     throw std::runtime_error(scene.name + ": the schedule's event run failed: " + reference.message);
-  IndexOneRhs rhs = std::visit([](const auto& dvi) { return IndexOneRhs(dvi); }, problem.dvi);
-  if (!rhs.SelectMode(0, scene.x0)) throw std::runtime_error(scene.name + ": " + rhs.message());
-  std::vector<baselines::ModeSegment> schedule;
-  baselines::ModeSegment segment{0, scene.horizon, rhs.mode()};
-  // A reduced (index-two) mode at t = 0 is not the VI's at (0, x0) alone
-  // (the clamp: F = 0 there for every u ≥ 0, and the VI takes u = 0); it
-  // shows in the event run's u(0+) strictly inside K's box.
-  const ConvexSet& K =
-      std::visit([](const auto& dvi) -> const ConvexSet& { return dvi.K; }, problem.dvi);
-  const Eigen::VectorXd u0 = reference.multipliers[0];
-  if (K.IsBox() && segment.mode.size() == static_cast<std::size_t>(u0.size())) {
-    const auto [lower, upper] = K.BoxBounds();
-    for (Eigen::Index j = 0; j < u0.size(); ++j) {
-      const double margin = kInsideBound * std::max(1.0, std::abs(u0(j)));
-      if (u0(j) - lower(j) > margin && upper(j) - u0(j) > margin)  // infinite bounds too
-        segment.mode[static_cast<std::size_t>(j)] = MultiplierBound::kFree;
-    }
-  }
-  for (const Event& event : reference.events) {
-    if (event.time > segment.from) {
-      segment.to = event.time;
-      schedule.push_back(segment);
-      segment.from = event.time;
-    }
-    // u_j's events move mode entry j; constraint k of a non-box K moves its
-    // KKT multiplier μ_k, entry m + k (free while active, at 0 released).
-    const bool constraint = event.kind == EventKind::kConstraintActive ||
-                            event.kind == EventKind::kConstraintReleased;
-    segment.mode[static_cast<std::size_t>(event.index + (constraint ? rhs.m() : 0))] =
-        event.kind == EventKind::kReachedLower || event.kind == EventKind::kConstraintReleased
-            ? MultiplierBound::kLower
-        : event.kind == EventKind::kReachedUpper ? MultiplierBound::kUpper
-                                                 : MultiplierBound::kFree;
-  }
-  segment.to = scene.horizon;
-  schedule.push_back(segment);
-  return schedule;
+  return baselines::ScheduleOfEvents(problem, reference);
 }
 
 // The oracle over the tolerance ladder, measured at the study's points

@@ -51,16 +51,16 @@ void Check(int flag, const char* call) {
     throw std::runtime_error(std::string(call) + " failed with flag " + std::to_string(flag));
 }
 
-// CVODE BDF on an IndexOneRhs with the dense LU and the mode's Jacobian
+// CVODE (BDF unless told) on an IndexOneRhs with the dense LU and the mode's Jacobian
 // (IndexOneCvJac): the linear algebra the event-driven integrator uses.
 class CvodeSolver {
  public:
   CvodeSolver(IndexOneRhs& rhs, const Eigen::VectorXd& x0, double t0, double rtol, double atol,
-              long max_steps) {
+              long max_steps, OdeMethod method = OdeMethod::kBdf) {
     const auto n = static_cast<sunindextype>(x0.size());
     Check(SUNContext_Create(nullptr, &context_), "SUNContext_Create");
     y_ = N_VNew_Serial(n, context_);
-    cvode_ = CVodeCreate(CV_BDF, context_);
+    cvode_ = CVodeCreate(method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS, context_);
     matrix_ = SUNDenseMatrix(n, n, context_);
     if (y_ == nullptr || cvode_ == nullptr || matrix_ == nullptr)
       throw std::runtime_error("CVODE: out of memory");
@@ -129,6 +129,23 @@ class CvodeSolver {
   long steps_before_restart_ = 0;
 };
 
+// Whether x' jumps at segment.from, x the state there (OracleRestarts::
+// kWhereRateJumps): f of the mode being left against f of segment's, which
+// it enters. False, with why in failure, when a mode's u is not computed.
+bool RateJumps(IndexOneRhs& rhs, const ModeSegment& segment, const Eigen::VectorXd& x,
+               std::string& failure) {
+  Eigen::VectorXd f_old, f_new;
+  const bool evaluated = rhs.Evaluate(segment.from, x, f_old);
+  rhs.EnterMode(segment.mode, rhs.multiplier());
+  if (!evaluated || !rhs.Evaluate(segment.from, x, f_new)) {
+    failure = "oracle-limit: f at the switch t = " + std::to_string(segment.from) + ": " +
+              rhs.message();
+    return false;
+  }
+  const double scale = std::max(f_old.lpNorm<Eigen::Infinity>(), f_new.lpNorm<Eigen::Infinity>());
+  return (f_new - f_old).lpNorm<Eigen::Infinity>() > kRateJump * scale;
+}
+
 }  // namespace
 
 BaselineRun RunPlainCvode(const BaselineProblem& problem, double rtol, double atol) {
@@ -149,11 +166,12 @@ BaselineRun RunPlainCvode(const BaselineProblem& problem, double rtol, double at
 }
 
 BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<ModeSegment>& schedule,
-                           double rtol, double atol) {
+                           double rtol, double atol, const OracleOptions& options) {
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
   rhs.FreezeMode(true);
-  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol, problem.max_steps);
+  CvodeSolver cvode(rhs, problem.x0, problem.t0, rtol, atol, problem.max_steps, options.method);
+  long uncounted_evals = 0;
   const std::vector<double>& times = problem.output_times;
   std::size_t next = 0;
   for (; next < times.size() && times[next] <= problem.t0; ++next) run.states.push_back(problem.x0);
@@ -163,11 +181,22 @@ BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<Mod
   if (!rhs.SelectMode(problem.t0, problem.x0)) run.failure = rhs.message();
   for (std::size_t k = 0; k < schedule.size() && run.failure.empty(); ++k) {
     const ModeSegment& segment = schedule[k];
-    rhs.EnterMode(segment.mode, rhs.multiplier());
-    if (k == 0)
-      cvode.SetStopTime(segment.to);
-    else
-      cvode.Restart(segment.from, segment.to);
+    if (k > 0 && options.restarts == OracleRestarts::kWhereRateJumps) {
+      const long before = rhs.stats().rhs_evals;
+      const bool jumps = RateJumps(rhs, segment, cvode.State(), run.failure);
+      uncounted_evals += rhs.stats().rhs_evals - before;
+      if (!run.failure.empty()) break;
+      if (jumps)
+        cvode.Restart(segment.from, segment.to);
+      else
+        cvode.SetStopTime(segment.to);
+    } else {
+      rhs.EnterMode(segment.mode, rhs.multiplier());
+      if (k == 0)
+        cvode.SetStopTime(segment.to);
+      else
+        cvode.Restart(segment.from, segment.to);
+    }
     bool at_end = false, advanced = false;
     for (; next < times.size() && times[next] <= segment.to; ++next) {
       // An output time at the segment's start up to round-off (the schedule
@@ -187,7 +216,7 @@ BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<Mod
     }
     if (run.failure.empty() && !at_end) cvode.AdvanceTo(segment.to, run.failure);
   }
-  run.rhs_evals = rhs.stats().rhs_evals;
+  run.rhs_evals = rhs.stats().rhs_evals - uncounted_evals;
   run.steps = cvode.steps();
   return run;
 }
