@@ -21,15 +21,15 @@ double Wrms(const Eigen::VectorXd& v, const Eigen::Map<const Eigen::VectorXd>& w
   return v.cwiseProduct(weights).norm() / std::sqrt(double(v.size()));
 }
 
-// h f(t_j, x(t_j)) of the system's current mode at the points of
-// SwitchMismatch, one per column, t_event last; false where Solve fails.
-bool FieldOnLastStep(void* cvode, double t_event, double t_n, double h, int q,
-                     BoxModeSystem& system, N_Vector x, Eigen::MatrixXd& h_f, long& rhs_evals) {
+// h f(t, x(t)) of the system's current mode at the ends of CVODE's last
+// step, t_n − h and t_n, one per column; false where Solve fails.
+bool FieldAtStepEnds(void* cvode, double t_n, double h, BoxModeSystem& system, N_Vector x,
+                     Eigen::MatrixXd& h_f, long& rhs_evals) {
   const Eigen::Map<const Eigen::VectorXd> x_t(N_VGetArrayPointer(x), N_VGetLength(x));
-  h_f.resize(x_t.size(), q + 2);
+  h_f.resize(x_t.size(), 2);
   Eigen::VectorXd f(x_t.size());
-  for (int j = 0; j <= q + 1; ++j) {
-    const double t = j <= q ? t_n - h * j / q : t_event;
+  for (int j = 0; j < 2; ++j) {
+    const double t = t_n - h * (1 - j);
     ++rhs_evals;
     if (CVodeGetDky(cvode, t, 0, x) != CV_SUCCESS || !system.Solve(t, x_t)) return false;
     system.Rhs(t, x_t, f);
@@ -43,10 +43,8 @@ bool FieldOnLastStep(void* cvode, double t_event, double t_n, double h, int q,
 double SwitchMismatch(void* cvode, double t_event, BoxModeSystem& system, const Mode& old_mode,
                       const Eigen::VectorXd& u_old, N_Vector x, N_Vector rate, long& rhs_evals) {
   double t_n = 0, h = 0;
-  int q = 0;
   if (CVodeGetCurrentTime(cvode, &t_n) != CV_SUCCESS || CVodeGetLastStep(cvode, &h) != CV_SUCCESS ||
-      CVodeGetLastOrder(cvode, &q) != CV_SUCCESS || h == 0 || q < 1 ||
-      CVodeGetErrWeights(cvode, rate) != CV_SUCCESS)
+      h == 0 || CVodeGetErrWeights(cvode, rate) != CV_SUCCESS)
     return kInfinite;
   const long n = N_VGetLength(x);
   const Eigen::VectorXd weights_copy = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(rate), n);
@@ -75,10 +73,10 @@ double SwitchMismatch(void* cvode, double t_event, BoxModeSystem& system, const 
   Eigen::MatrixXd h_f_new, h_f_old;
   const Mode new_mode = system.mode();
   const Eigen::VectorXd u_new = system.u();
-  bool measured = FieldOnLastStep(cvode, t_event, t_n, h, q, system, x, h_f_new, rhs_evals);
+  bool measured = FieldAtStepEnds(cvode, t_n, h, system, x, h_f_new, rhs_evals);
   if (measured) {
     system.Enter(old_mode, u_old);
-    measured = FieldOnLastStep(cvode, t_event, t_n, h, q, system, x, h_f_old, rhs_evals);
+    measured = FieldAtStepEnds(cvode, t_n, h, system, x, h_f_old, rhs_evals);
     // Back in the new mode, solved at the event as the caller left it.
     system.Enter(new_mode, u_new);
     ++rhs_evals;
