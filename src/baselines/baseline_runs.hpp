@@ -58,7 +58,9 @@ enum class OracleRestarts {
   kEverySwitch,  ///< At every switch time (`oracle`).
   /// Only where x' jumps, ‖f_new − f_old‖∞ > kRateJump·max(‖f_old‖∞,
   /// ‖f_new‖∞) at the switch (`oracle-limit`); elsewhere CVODE's history
-  /// carries on into the next mode. The physical limit of issue 31: no
+  /// carries on into the next mode, unless CVODE fails on its first call
+  /// there (a kink of f' it cannot step over at a tight rtol: the decay at
+  /// 1e-12), which then restarts at the switch. The physical limit of issue 31: no
   /// integrator can keep less than the restarts x' forces, nor find the
   /// switches for free. The jump check's evaluations are not counted (the
   /// oracle knows where x' jumps).
