@@ -19,9 +19,11 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "baseline_runs.hpp"
+#include "oracle_schedule.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/adapters/index_one_rhs.hpp"
 #include "run_command.hpp"
@@ -43,7 +45,10 @@ using dvisim::StudyRun;
 
 // The problems in the order of the tables (bench/work_precision/scenes/NAME.json).
 const char* const kProblems[] = {"decay", "diode", "oscillator", "ball", "rectifier", "clamp",
-                                 "forced"};
+                                 "forced", "bridge"};
+// Issue 31's goal: event within this factor of the physical-limit oracle's
+// RHS evaluations (oracle-limit: restarts only where x' jumps).
+constexpr double kLimitGoal = 1.3;
 // The issue's 1e-3 … 1e-10, extended to 1e-13 so that the event curve can
 // meet time-stepping's smallest error.
 constexpr double kTolerances[] = {1e-3, 1e-4, 1e-5,  1e-6,  1e-7,  1e-8,
@@ -57,9 +62,6 @@ constexpr double kTargetError = 1e-8;
 constexpr double kLastProportionalTolerance = 1e-10;
 // The oracle's schedule comes from an event run this tight (its events).
 constexpr double kScheduleRtol = 1e-13;
-// u_j this far (relative) from a bound of K is off it: far above the VI
-// solver's 1e-10, far below a multiplier of a mode that holds.
-constexpr double kInsideBound = 1e-8;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 struct Point {
@@ -99,9 +101,8 @@ Point FromStudyRun(const std::string& problem, const StudyRun& run) {
   return point;
 }
 
-// The oracle's mode schedule: the mode the VI selects at t = 0, then each
-// event of a tight event run moves one component; simultaneous events
-// share a segment start.
+// The oracle's mode schedule: the events of a tight event run
+// (baselines::ScheduleOfEvents).
 std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
                                              const baselines::BaselineProblem& problem) {
   dvisim::Scene tight = scene;
@@ -113,47 +114,12 @@ std::vector<baselines::ModeSegment> Schedule(const dvisim::Scene& scene,
   const Trajectory reference = dvisim::IntegrateScene(tight);
   if (!reference.succeeded())
     throw std::runtime_error(scene.name + ": the schedule's event run failed: " + reference.message);
-  IndexOneRhs rhs = std::visit([](const auto& dvi) { return IndexOneRhs(dvi); }, problem.dvi);
-  if (!rhs.SelectMode(0, scene.x0)) throw std::runtime_error(scene.name + ": " + rhs.message());
-  std::vector<baselines::ModeSegment> schedule;
-  baselines::ModeSegment segment{0, scene.horizon, rhs.mode()};
-  // A reduced (index-two) mode at t = 0 is not the VI's at (0, x0) alone
-  // (the clamp: F = 0 there for every u ≥ 0, and the VI takes u = 0); it
-  // shows in the event run's u(0+) strictly inside K's box.
-  const ConvexSet& K =
-      std::visit([](const auto& dvi) -> const ConvexSet& { return dvi.K; }, problem.dvi);
-  const Eigen::VectorXd u0 = reference.multipliers[0];
-  if (K.IsBox() && segment.mode.size() == static_cast<std::size_t>(u0.size())) {
-    const auto [lower, upper] = K.BoxBounds();
-    for (Eigen::Index j = 0; j < u0.size(); ++j) {
-      const double margin = kInsideBound * std::max(1.0, std::abs(u0(j)));
-      if (u0(j) - lower(j) > margin && upper(j) - u0(j) > margin)  // infinite bounds too
-        segment.mode[static_cast<std::size_t>(j)] = MultiplierBound::kFree;
-    }
-  }
-  for (const Event& event : reference.events) {
-    if (event.time > segment.from) {
-      segment.to = event.time;
-      schedule.push_back(segment);
-      segment.from = event.time;
-    }
-    // u_j's events move mode entry j; constraint k of a non-box K moves its
-    // KKT multiplier μ_k, entry m + k (free while active, at 0 released).
-    const bool constraint = event.kind == EventKind::kConstraintActive ||
-                            event.kind == EventKind::kConstraintReleased;
-    segment.mode[static_cast<std::size_t>(event.index + (constraint ? rhs.m() : 0))] =
-        event.kind == EventKind::kReachedLower || event.kind == EventKind::kConstraintReleased
-            ? MultiplierBound::kLower
-        : event.kind == EventKind::kReachedUpper ? MultiplierBound::kUpper
-                                                 : MultiplierBound::kFree;
-  }
-  segment.to = scene.horizon;
-  schedule.push_back(segment);
-  return schedule;
+  return baselines::ScheduleOfEvents(problem, reference);
 }
 
-// The oracle over the tolerance ladder, measured at the study's points
-// against its reference.
+// The oracles over the tolerance ladder in the scene's CVODE family,
+// measured at the study's points against its reference: `oracle` restarts
+// at every switch, `oracle-limit` only where x' jumps (the physical limit).
 std::vector<Point> OraclePoints(const dvisim::Scene& scene, const StudyResult& study) {
   std::vector<Point> points;
   std::optional<baselines::BaselineProblem> problem = dvisim::AsBaselineProblem(scene);
@@ -167,16 +133,20 @@ std::vector<Point> OraclePoints(const dvisim::Scene& scene, const StudyResult& s
   for (const double k : order) problem->output_times.push_back(study.measured_times[static_cast<std::size_t>(k)]);
   const std::vector<baselines::ModeSegment> schedule = Schedule(scene, *problem);
   const double atol_per_rtol = scene.event.atol / scene.event.rtol;
+  for (const auto restarts :
+       {baselines::OracleRestarts::kEverySwitch, baselines::OracleRestarts::kWhereRateJumps})
   for (const double rtol : kTolerances) {
+    const baselines::OracleOptions options{restarts, scene.event.method};
     const auto run = [&] {
-      return baselines::RunOracleCvode(*problem, schedule, rtol, rtol * atol_per_rtol);
+      return baselines::RunOracleCvode(*problem, schedule, rtol, rtol * atol_per_rtol, options);
     };
     const auto start = std::chrono::steady_clock::now();
     const baselines::BaselineRun result = run();
     const double first = SecondsSince(start);
     Point point;
     point.problem = scene.name;
-    point.method = "oracle";
+    point.method =
+        restarts == baselines::OracleRestarts::kEverySwitch ? "oracle" : "oracle-limit";
     point.parameter = "rtol";
     point.value = rtol;
     point.seconds = dvisim::TimeRepeated([&] { run(); }, first, 3).seconds;
@@ -243,7 +213,22 @@ struct Verdicts {
 
 std::string RatioText(double ratio) { return std::isfinite(ratio) ? Format(ratio) + "×" : "∞"; }
 
-// The three goals of the issue for one problem.
+// The largest event / oracle RHS evaluations over the rtols both ran at,
+// and that rtol; (0, 0) when none.
+std::pair<double, double> WorstRhsRatio(const std::vector<Point>& event,
+                                        const std::vector<Point>& oracle) {
+  double worst = 0, worst_rtol = 0;
+  for (const Point& e : event)
+    for (const Point& o : oracle)
+      if (e.value == o.value && e.ok() && o.ok() &&
+          static_cast<double>(e.rhs_evals) / static_cast<double>(o.rhs_evals) > worst) {
+        worst = static_cast<double>(e.rhs_evals) / static_cast<double>(o.rhs_evals);
+        worst_rtol = e.value;
+      }
+  return {worst, worst_rtol};
+}
+
+// The goals of the issues for one problem.
 void JudgeProblem(const std::vector<Point>& points, const std::string& problem, double budget,
                   Verdicts& verdicts) {
   const std::vector<Point> event = Select(points, problem, "event");
@@ -310,17 +295,14 @@ void JudgeProblem(const std::vector<Point>& points, const std::string& problem, 
 
   // (3) RHS evaluations against the oracle, per tolerance and at 1e-8.
   const std::vector<Point> oracle = Select(points, problem, "oracle");
-  double worst = 0, worst_rtol = 0;
-  for (const Point& e : event)
-    for (const Point& o : oracle)
-      if (e.value == o.value && e.ok() && o.ok() &&
-          static_cast<double>(e.rhs_evals) / static_cast<double>(o.rhs_evals) > worst) {
-        worst = static_cast<double>(e.rhs_evals) / static_cast<double>(o.rhs_evals);
-        worst_rtol = e.value;
-      }
+  const auto [worst, worst_rtol] = WorstRhsRatio(event, oracle);
   verdicts.Row(problem, "event RHS evals ≤ 1.5× oracle's at every rtol",
                "worst ratio " + Format(worst) + " at rtol = " + Format(worst_rtol),
                worst > 0 && worst <= 1.5);
+  const auto [limit_worst, limit_rtol] = WorstRhsRatio(event, Select(points, problem, "oracle-limit"));
+  verdicts.Row(problem, "event RHS evals ≤ 1.3× oracle-limit's at every rtol",
+               "worst ratio " + Format(limit_worst) + " at rtol = " + Format(limit_rtol),
+               limit_worst > 0 && limit_worst <= kLimitGoal);
   const double event_evals = CostAt(event, kTargetError, false).interpolated;
   const double oracle_evals = CostAt(oracle, kTargetError, false).interpolated;
   const bool both = std::isfinite(event_evals) && std::isfinite(oracle_evals);
@@ -364,6 +346,36 @@ void PrintToleranceProportionality(const std::vector<Point>& points,
   }
 }
 
+// Issue 31's table: event / oracle-limit RHS evaluations per rtol (and
+// event / oracle), "–" where either run failed.
+void PrintLimitRatios(const std::vector<Point>& points, const std::vector<std::string>& problems) {
+  std::cout << "\n### RHS evaluations against the oracles\n\nevent / oracle-limit (event / oracle) "
+               "per rtol; goal ≤ "
+            << Format(kLimitGoal) << "\n\n| problem |";
+  for (const double rtol : kTolerances) std::cout << " " << Format(rtol, 1) << " |";
+  std::cout << "\n|---|";
+  for (std::size_t k = 0; k < std::size(kTolerances); ++k) std::cout << "---|";
+  std::cout << "\n";
+  const auto ratio = [](const std::vector<Point>& runs, const Point& e) -> std::string {
+    for (const Point& o : runs)
+      if (o.value == e.value && o.ok() && o.rhs_evals > 0)
+        return Format(static_cast<double>(e.rhs_evals) / static_cast<double>(o.rhs_evals));
+    return "–";
+  };
+  for (const std::string& problem : problems) {
+    const std::vector<Point> limit = Select(points, problem, "oracle-limit");
+    const std::vector<Point> oracle = Select(points, problem, "oracle");
+    std::cout << "| " << problem << " |";
+    for (const double rtol : kTolerances) {
+      std::string cell = "–";
+      for (const Point& e : Select(points, problem, "event"))
+        if (e.value == rtol && e.ok()) cell = ratio(limit, e) + " (" + ratio(oracle, e) + ")";
+      std::cout << " " << cell << " |";
+    }
+    std::cout << "\n";
+  }
+}
+
 void WriteCsv(const std::vector<Point>& points, const std::string& path) {
   std::ofstream csv(path);
   if (!csv) throw std::runtime_error("cannot write " + path);
@@ -384,6 +396,8 @@ int Main(int argc, char** argv) {
   std::string only;
   double budget = 10;
   int jobs = 1;
+  std::optional<dvisim::StudyMethod> method;
+  std::optional<OdeMethod> family;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
     if (arg == "--out" && k + 1 < argc) {
@@ -394,9 +408,29 @@ int Main(int argc, char** argv) {
       only = argv[++k];
     } else if (arg == "--jobs" && k + 1 < argc) {
       jobs = std::atoi(argv[++k]);
+    } else if (arg == "--method" && k + 1 < argc) {
+      const std::string name = argv[++k];
+      for (const dvisim::StudyMethod candidate : dvisim::kAllStudyMethods)
+        if (dvisim::ToString(candidate) == name) method = candidate;
+      if (!method) {
+        std::cerr << "work_precision: --method " << name << ": no such study method (";
+        for (const dvisim::StudyMethod candidate : dvisim::kAllStudyMethods)
+          std::cerr << (candidate == dvisim::kAllStudyMethods[0] ? "" : ", ")
+                    << dvisim::ToString(candidate);
+        std::cerr << ")\n";
+        return 2;
+      }
+    } else if (arg == "--family" && k + 1 < argc) {
+      const std::string name = argv[++k];
+      for (const OdeMethod candidate : {OdeMethod::kBdf, OdeMethod::kAdams})
+        if (ToString(candidate) == name) family = candidate;
+      if (!family) {
+        std::cerr << "work_precision: --family " << name << ": not bdf or adams\n";
+        return 2;
+      }
     } else {
       std::cerr << "usage: work_precision [--out DIR] [--budget SECONDS] [--problem NAME] "
-                   "[--jobs N]\n";
+                   "[--jobs N] [--method NAME] [--family bdf|adams]\n";
       return 2;
     }
   }
@@ -405,7 +439,8 @@ int Main(int argc, char** argv) {
     if (only.empty() || only == name) problems.push_back(name);
   if (problems.empty()) {
     std::cerr << "work_precision: --problem " << only
-              << ": no such problem (decay, diode, oscillator, ball, rectifier, clamp, forced)\n";
+              << ": no such problem (decay, diode, oscillator, ball, rectifier, clamp, forced, "
+                 "bridge)\n";
     return 2;
   }
   if (!out_dir.empty()) fs::create_directories(out_dir);
@@ -416,6 +451,8 @@ int Main(int argc, char** argv) {
     dvisim::Scene scene = dvisim::ReadScene(std::string(DVI_BENCH_SCENES_DIR) + "/" + name + ".json");
     scene.study.rtol.assign(std::begin(kTolerances), std::end(kTolerances));
     scene.study.h.clear();
+    if (method) scene.study.methods = {*method};
+    if (family) scene.event.method = *family;
     for (int k = 0; k <= kHalvings; ++k)
       scene.study.h.push_back(std::ldexp(scene.horizon / kFirstStepCount, -k));
     dvisim::StudyOptions options;
@@ -450,6 +487,7 @@ int Main(int argc, char** argv) {
   std::cout << "\n" << verdicts.passed << " goals passed, " << verdicts.failed << " failed, "
             << verdicts.not_applicable << " not applicable\n";
   PrintToleranceProportionality(points, problems);
+  PrintLimitRatios(points, problems);
   const std::string csv = (out_dir.empty() ? std::string(".") : out_dir) + "/work_precision.csv";
   WriteCsv(points, csv);
   std::cout << "CSV: " << csv << "\n";

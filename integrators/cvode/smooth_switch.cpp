@@ -21,15 +21,15 @@ double Wrms(const Eigen::VectorXd& v, const Eigen::Map<const Eigen::VectorXd>& w
   return v.cwiseProduct(weights).norm() / std::sqrt(double(v.size()));
 }
 
-// The points of SwitchMismatch, one per column of X at times: q + 1 equally
-// spaced on CVODE's last step, t_event last (read once for both modes).
-bool PointsOnLastStep(void* cvode, double t_event, double t_n, double h, int q, N_Vector x,
-                      Eigen::VectorXd& times, Eigen::MatrixXd& X) {
+// The points of SwitchMismatch, one per column of X at times: the two ends
+// of CVODE's last step, t_n − h and t_n (read once for both modes).
+bool PointsAtStepEnds(void* cvode, double t_n, double h, N_Vector x, Eigen::VectorXd& times,
+                      Eigen::MatrixXd& X) {
   const Eigen::Map<const Eigen::VectorXd> x_t(N_VGetArrayPointer(x), N_VGetLength(x));
-  times.resize(q + 2);
-  X.resize(x_t.size(), q + 2);
-  for (int j = 0; j <= q + 1; ++j) {
-    times(j) = j <= q ? t_n - h * j / q : t_event;
+  times.resize(2);
+  X.resize(x_t.size(), 2);
+  for (int j = 0; j < 2; ++j) {
+    times(j) = t_n - h * (1 - j);
     if (CVodeGetDky(cvode, times(j), 0, x) != CV_SUCCESS) return false;
     X.col(j) = x_t;
   }
@@ -57,10 +57,8 @@ bool FieldAtPoints(const Eigen::VectorXd& times, const Eigen::MatrixXd& X, doubl
 double SwitchMismatch(void* cvode, double t_event, BoxModeSystem& system, const Mode& old_mode,
                       const Eigen::VectorXd& u_old, N_Vector x, N_Vector rate, long& rhs_evals) {
   double t_n = 0, h = 0;
-  int q = 0;
   if (CVodeGetCurrentTime(cvode, &t_n) != CV_SUCCESS || CVodeGetLastStep(cvode, &h) != CV_SUCCESS ||
-      CVodeGetLastOrder(cvode, &q) != CV_SUCCESS || h == 0 || q < 1 ||
-      CVodeGetErrWeights(cvode, rate) != CV_SUCCESS)
+      h == 0 || CVodeGetErrWeights(cvode, rate) != CV_SUCCESS)
     return kInfinite;
   const long n = N_VGetLength(x);
   const Eigen::VectorXd weights_copy = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(rate), n);
@@ -90,7 +88,7 @@ double SwitchMismatch(void* cvode, double t_event, BoxModeSystem& system, const 
   Eigen::MatrixXd X, h_f_new, h_f_old;
   const Mode new_mode = system.mode();
   const Eigen::VectorXd u_new = system.u();
-  if (!PointsOnLastStep(cvode, t_event, t_n, h, q, x, times, X)) return kInfinite;
+  if (!PointsAtStepEnds(cvode, t_n, h, x, times, X)) return kInfinite;
   bool measured = FieldAtPoints(times, X, h, system, h_f_new, rhs_evals);
   if (measured) {
     system.Enter(old_mode, u_old);

@@ -16,6 +16,7 @@
 
 #include "dvi/dvi_problem.hpp"
 #include "dvi/adapters/index_one_rhs.hpp"
+#include "dvi/event_driven_options.hpp"
 #include "dvi/lcs.hpp"
 
 namespace dvi::baselines {
@@ -52,11 +53,35 @@ struct BaselineRun {
 /// CVODE BDF with the dense linear solver and IndexOneCvJac, one call to
 /// CVode per output time (its interpolant), no root functions.
 BaselineRun RunPlainCvode(const BaselineProblem& problem, double rtol, double atol);
+/// Where the oracle restarts CVODE (CVodeReInit: order 1, a new first step).
+enum class OracleRestarts {
+  kEverySwitch,  ///< At every switch time (`oracle`).
+  /// Only where x' jumps, ‖f_new − f_old‖∞ > kRateJump·max(‖f_old‖∞,
+  /// ‖f_new‖∞) at the switch (`oracle-limit`); elsewhere CVODE's history
+  /// carries on into the next mode, unless CVODE fails on its first call
+  /// there (a kink of f' it cannot step over at a tight rtol: the decay at
+  /// 1e-12), which then restarts at the switch. The physical limit of issue 31: no
+  /// integrator can keep less than the restarts x' forces, nor find the
+  /// switches for free. The jump check's evaluations are not counted (the
+  /// oracle knows where x' jumps).
+  kWhereRateJumps,
+};
+/// Relative size of a jump of x' at a switch; round-off is far below (the
+/// diode bridge: 1e-13), every jump of the work-precision problems far
+/// above (1e-2 and more).
+constexpr double kRateJump = 1e-6;
+
+struct OracleOptions {
+  OracleRestarts restarts = OracleRestarts::kEverySwitch;
+  OdeMethod method = OdeMethod::kBdf;  ///< CVODE's family in every mode.
+};
+
 /// As RunPlainCvode on each segment of `schedule` (covering [t0, t_end] in
-/// order) with that mode frozen (IndexOneRhs::FreezeMode), CVodeReInit at
-/// each switch time and the stop time set there, so no step crosses a kink.
+/// order) with that mode frozen (IndexOneRhs::FreezeMode) and the stop time
+/// set at each switch time, so no step crosses a kink; CVodeReInit there as
+/// options.restarts says.
 BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<ModeSegment>& schedule,
-                           double rtol, double atol);
+                           double rtol, double atol, const OracleOptions& options = {});
 /// odeint::make_dense_output(atol, rtol, runge_kutta_dopri5) with
 /// integrate_times over the output times.
 BaselineRun RunOdeintDopri5(const BaselineProblem& problem, double rtol, double atol);

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Writes the `exact` blocks of clamp.json and forced.json, whose switch
-times solve transcendental equations, to 17 significant digits (mpmath at
+"""Writes the `exact` blocks of clamp.json, forced.json and bridge.json, whose
+switch times solve transcendental equations, to 17 significant digits (mpmath at
 50 digits: Newton from brackets found by scanning the closed forms).
-  python3 bench/work_precision/scenes/exact_blocks.py   (rewrites both files in place)
+  python3 bench/work_precision/scenes/exact_blocks.py   (rewrites the files in place)
 """
 import json
 import os
@@ -77,11 +77,30 @@ def forced_pieces(a, horizon):
         start = t
 
 
-def rewrite(name, pieces):
+def bridge_pieces(horizon):
+    """The ideal diode bridge from (v, i) = (10 V, 0), L = 10 mH, C = 1 uF,
+    R = 1 kOhm: one damped oscillation x = exp(-a t)(cos(w t) x0 + sin(w t)/w
+    (M + a I) x0), a = 1/(2RC), w^2 = 1/(LC) - a^2 (Cayley-Hamilton, as
+    circuits::DiodeBridgeExactState); a diode pair switches where v = 0, at
+    tan(w t) = 10 w / 5000."""
+    a = mp.mpf(500)
+    w = mp.sqrt(mp.mpf(10) ** 8 - a * a)
+    formula = ["exp(-a*t)*(10*cos(w*t) - 5000*sin(w*t)/w)", "exp(-a*t)*1000*sin(w*t)/w"]
+    pieces, k = [], 0
+    while True:
+        t = (mp.atan(10 * w / 5000) + k * mp.pi) / w
+        if t >= horizon:
+            pieces.append({"x": formula})
+            return {"a": number(a), "w": number(w)}, pieces
+        pieces.append({"to": number(t), "x": formula})
+        k += 1
+
+
+def rewrite(name, pieces, params=None):
     path = os.path.join(HERE, name)
     with open(path) as f:
         scene = json.load(f)
-    scene["exact"] = {"pieces": pieces}
+    scene["exact"] = {"pieces": pieces} if params is None else {"params": params, "pieces": pieces}
     with open(path, "w") as f:
         json.dump(scene, f, indent=2)
         f.write("\n")
@@ -89,3 +108,5 @@ def rewrite(name, pieces):
 
 rewrite("clamp.json", clamp_pieces(10 * mp.pi))
 rewrite("forced.json", forced_pieces(mp.mpf(3), mp.mpf(20)))
+bridge_params, bridge = bridge_pieces(mp.mpf("5e-3"))
+rewrite("bridge.json", bridge, bridge_params)
