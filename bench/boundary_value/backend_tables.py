@@ -27,8 +27,8 @@ LATENCY = 2e-6
 RANKS = (2, 4, 16, 64, 256)
 # -log_view events shown, in this order (PETSc 3.18's names).
 EVENTS = ("SNESSolve", "SNESFunctionEval", "SNESJacobianEval", "SNESLineSearch", "KSPSolve",
-          "PCSetUp", "MatLUFactorSym", "MatLUFactorNum", "MatSolve", "MatCreateSubMat",
-          "MatAssemblyEnd", "VecScatterBegin")
+          "PCSetUp", "MatLUFactorSym", "MatLUFactorNum", "MatSolve", "MatCreateSubMats",
+          "MatAssemblyEnd", "VecScatterBegin", "SNESSetUp", "DMCreateMat")
 
 
 def load_runs(out_dir):
