@@ -188,7 +188,9 @@ struct BoundaryValueSolution {
   /// at the output times, the mode changes as events (at the end of the step
   /// where they happen), one interval "bvp", and the statistics (steps of the
   /// finest grid, vi_solves = grids solved, solver_iterations = all Newton
-  /// iterations, jacobian_evals, max_residual = the finest residual).
+  /// iterations, rhs_evals / jacobian_evals = evaluations of the grids' F
+  /// and J, those of the PETSc back-end included, max_residual = the finest
+  /// residual).
   /// status kStepFailure when Newton did not solve a grid's aggregate VI
   /// (the message names the grid, the iteration and the residual; no
   /// samples), kMaxSteps when refinement did not reach its tolerance.

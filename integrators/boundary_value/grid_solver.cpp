@@ -139,6 +139,8 @@ class GridSolver {
       grid.result = SolveNewton(grid.mcp.mcp, solver, std::move(start));
     }
     grid.mcp.mcp.F = std::move(F);
+    // dvi's Newton evaluates (and factors) J once per iteration.
+    jacobian_evals_ += grid.result.iterations;
     Record(steps, refinement, begin, grid);
     return grid;
   }
@@ -158,8 +160,11 @@ class GridSolver {
                     2L * n * n;
     SolverOptions solver = options_.solver;
     if (start.size() == 0) solver.watchdog_steps = 0;
-    grid.result = backend(problem_, steps, solver, start);
+    GridBackendResult solved = backend(problem_, steps, solver, start);
+    grid.result = std::move(solved.result);
     grid.by_backend = true;
+    rhs_evals_ += solved.rhs_evals;
+    jacobian_evals_ += solved.jacobian_evals;
   }
 
   void Record(long steps, bool refinement, Clock::time_point begin, const Grid& grid) {
@@ -193,6 +198,7 @@ class GridSolver {
 
   BoundaryValueStats& stats() { return stats_; }
   long rhs_evals() const { return rhs_evals_; }
+  long jacobian_evals() const { return jacobian_evals_; }
   long failed_warm_start() const { return failed_warm_start_; }
 
  private:
@@ -200,6 +206,7 @@ class GridSolver {
   const BoundaryValueOptions& options_;
   BoundaryValueStats stats_;
   long rhs_evals_ = 0;
+  long jacobian_evals_ = 0;
   long failed_warm_start_ = 0;
 };
 
@@ -477,7 +484,7 @@ BoundaryValueSolution SolveAggregate(const AggregateProblem& problem,
   counts.steps = grid.mcp.layout.steps;
   counts.vi_solves = static_cast<long>(stats.grids.size());
   counts.solver_iterations = stats.total_iterations;
-  counts.jacobian_evals = stats.total_iterations;
+  counts.jacobian_evals = solver.jacobian_evals();
   counts.rhs_evals = solver.rhs_evals();
   counts.max_residual = grid.result.residual;
   if (trajectory.status != IntegrationStatus::kStepFailure) {

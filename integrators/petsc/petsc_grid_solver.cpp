@@ -62,6 +62,7 @@ struct GridContext {
   double tolerance = 0;
   Vec lower = nullptr, upper = nullptr;
   std::string failure;  // an exception caught inside a callback
+  long jacobian_evals = 0;
 };
 
 // Global (= natural, for a 1-D DMDA) index of node i's slot c.
@@ -158,6 +159,7 @@ PetscErrorCode EvaluateLocal(DMDALocalInfo* info, PetscScalar* z_data, PetscScal
 PetscErrorCode JacobianLocal(DMDALocalInfo* info, PetscScalar* z_data, Mat, Mat P, void* context) {
   auto* grid = static_cast<GridContext*>(context);
   const NodeArray z(z_data, grid->dof);
+  ++grid->jacobian_evals;
   try {
     const long first = info->xs, last = info->xs + info->xm - 1;
     const int n = grid->n, k = grid->k, m = grid->m;
@@ -325,8 +327,8 @@ void EnsurePetsc() {
   petsc_started_here = true;
 }
 
-SolveResult SolveGrid(const AggregateProblem& problem, long steps, const SolverOptions& options,
-                      const Eigen::VectorXd& start) {
+GridBackendResult SolveGrid(const AggregateProblem& problem, long steps,
+                            const SolverOptions& options, const Eigen::VectorXd& start) {
   EnsurePetsc();
   GridContext grid;
   grid.problem = &problem;
@@ -404,16 +406,26 @@ SolveResult SolveGrid(const AggregateProblem& problem, long steps, const SolverO
   Check(PCFactorSetMatSolverType(pc, klu ? MATSOLVERKLU : MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   Check(SNESSetFromOptions(snes), "SNESSetFromOptions");
 
-  SolveResult result;
+  GridBackendResult answer;
+  SolveResult& result = answer.result;
   result.method = SolverMethod::kNewton;
   const PetscErrorCode code = SNESSolve(snes, nullptr, objects.z);
+  // Every F evaluation SNES made (line search and the final one below
+  // included) and every Jacobian assembled.
+  const auto count = [&] {
+    PetscInt evaluations = 0;
+    Check(SNESGetNumberFunctionEvals(snes, &evaluations), "SNESGetNumberFunctionEvals");
+    answer.rhs_evals = evaluations;
+    answer.jacobian_evals = grid.jacobian_evals;
+  };
   if (code != 0) {
     const char* text = nullptr;
     PetscErrorMessage(code, &text, nullptr);
     result.status = SolveStatus::kFailed;
     result.message = "PETSc SNESSolve failed: " +
                      (grid.failure.empty() ? std::string(text ? text : "unknown error") : grid.failure);
-    return result;
+    count();
+    return answer;
   }
   PetscInt done = 0;
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
@@ -422,6 +434,7 @@ SolveResult SolveGrid(const AggregateProblem& problem, long steps, const SolverO
   Vec f;
   Check(SNESGetFunction(snes, &f, nullptr, nullptr), "SNESGetFunction");
   Check(SNESComputeFunction(snes, objects.z, f), "SNESComputeFunction");
+  count();
   result.iterations = static_cast<int>(done);
   result.z = Gathered(objects.z, grid.k);
   result.w = Gathered(f, grid.k);
@@ -433,7 +446,7 @@ SolveResult SolveGrid(const AggregateProblem& problem, long steps, const SolverO
           << (klu ? "KLU" : "MUMPS") << "): " << SNESConvergedReasons[reason] << " after " << done
           << " iterations, natural residual " << result.residual;
   result.message = message.str();
-  return result;
+  return answer;
 }
 
 }  // namespace

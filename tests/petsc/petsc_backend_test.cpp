@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "dvi/boundary_value.hpp"
 #include "dvi/error.hpp"
@@ -67,16 +69,26 @@ void ExpectSameTrajectory(const Trajectory& petsc, const Trajectory& serial, dou
 // The two-point LCS of boundary_value_test: x1' = −x1 − 1 + u,
 // x2' = x1, 0 ≤ u ⊥ x1 ≥ 0, x2(0) + x1(T) = 0, x2(T) = a − ln(1 + a),
 // T = 2, a = 1: x1 = 2e^{−t} − 1 until ln 2, then 0 (u = 1).
-TEST(PetscBackend, TwoPointLcsEqualsTheSerialSolveAndTheExactSolution) {
-  const double a = 1, horizon = 2, beta = a - std::log(1 + a), switch_time = std::log(1 + a);
+constexpr double kTwoPointA = 1, kTwoPointHorizon = 2;
+Lcs TwoPointLcs() {
   Eigen::MatrixXd A(2, 2), B(2, 1), C(1, 2), D = Eigen::MatrixXd::Zero(1, 1);
   A << -1, 0, 1, 0;
   B << 1, 0;
   C << 1, 0;
-  const Lcs lcs = Lcs::Dense(A, B, C, D, Eigen::Vector2d(-1, 0));
+  return Lcs::Dense(A, B, C, D, Eigen::Vector2d(-1, 0));
+}
+BoundaryConditions TwoPointConditions() {
   BoundaryConditions bc{Eigen::MatrixXd::Zero(2, 2), Eigen::MatrixXd::Identity(2, 2),
-                        Eigen::Vector2d(0, beta)};
+                        Eigen::Vector2d(0, kTwoPointA - std::log(1 + kTwoPointA))};
   bc.M(0, 1) = 1;
+  return bc;
+}
+
+TEST(PetscBackend, TwoPointLcsEqualsTheSerialSolveAndTheExactSolution) {
+  const double a = kTwoPointA, horizon = kTwoPointHorizon, beta = a - std::log(1 + a),
+               switch_time = std::log(1 + a);
+  const Lcs lcs = TwoPointLcs();
+  const BoundaryConditions bc = TwoPointConditions();
   constexpr long kSteps = 2000;
   const BoundaryValueOptions petsc = Options(kSteps, BoundaryValueBackend::kPetsc);
   const BoundaryValueSolution parallel = SolveBoundaryValue(lcs, bc, horizon, petsc);
@@ -105,6 +117,36 @@ TEST(PetscBackend, TwoPointLcsEqualsTheSerialSolveAndTheExactSolution) {
   // Every output row solves its step's VI (the certificate's VI residual).
   EXPECT_TRUE(parallel.trajectory.certificate.evaluated);
   EXPECT_LE(parallel.trajectory.certificate.vi.ratio, 1);
+}
+
+// The trajectory's statistics count the back-end's work (before: only dvi's
+// grids, 0 of PETSc's 41 evaluations): on 2000 steps the coarsest grid (125
+// steps, from the cold start) is dvi's Newton, the finest PETSc's. Every
+// PETSc iteration assembles one Jacobian, and its l2 line search (one
+// secant iteration, PETSc 3.18's default) evaluates F at λ = 1, 1/2 and the
+// secant step; F at the start and the back-end's F at the solution come on
+// top.
+TEST(PetscBackend, StatisticsCountTheBackEndsEvaluations) {
+  constexpr long kSteps = 2000, kCoarse = 125;
+  const BoundaryValueSolution coarse = SolveBoundaryValue(
+      TwoPointLcs(), TwoPointConditions(), kTwoPointHorizon, Options(kCoarse, BoundaryValueBackend::kDvi));
+  const BoundaryValueSolution parallel =
+      SolveBoundaryValue(TwoPointLcs(), TwoPointConditions(), kTwoPointHorizon,
+                         Options(kSteps, BoundaryValueBackend::kPetsc));
+  ASSERT_TRUE(coarse.trajectory.succeeded()) << coarse.trajectory.message;
+  ASSERT_TRUE(parallel.trajectory.succeeded()) << parallel.trajectory.message;
+  const std::vector<BoundaryValueGrid>& grids = parallel.newton.grids;
+  ASSERT_EQ(grids.size(), 2u);
+  ASSERT_EQ(grids[0].steps, kCoarse);
+  EXPECT_EQ(grids[0].iterations, coarse.newton.iterations);
+  const long petsc_iterations = grids[1].iterations;
+  ASSERT_GE(petsc_iterations, 1);
+  const IntegrationStats& counts = parallel.trajectory.stats;
+  const IntegrationStats& coarse_counts = coarse.trajectory.stats;
+  EXPECT_EQ(counts.jacobian_evals, coarse_counts.jacobian_evals + petsc_iterations);
+  const long petsc_evals = counts.rhs_evals - coarse_counts.rhs_evals;
+  RecordProperty("petsc_rhs_evals", std::to_string(petsc_evals));
+  EXPECT_EQ(petsc_evals, 3 * petsc_iterations + 2);
 }
 
 // The periodic rectifier x' = −x + sin t + u, 0 ≤ u ⊥ x ≥ 0, x(0) = x(2π):
