@@ -5,11 +5,10 @@
 
 namespace dvi::internal {
 
-Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
-                           double t_end, const TimeSteppingOptions& options,
-                           RowCertifier certifier, const std::vector<double>& breakpoints,
-                           const JumpRule& jump_at) {
-  SteppingRun run(method, t0, t_end, options, std::move(certifier), breakpoints, jump_at);
+Trajectory RunTimeStepping(SteppingSetup& setup, const Eigen::VectorXd& x0, double t0,
+                           double t_end, const TimeSteppingOptions& options) {
+  SteppingRun run(*setup.method, t0, t_end, options, std::move(*setup.certifier),
+                  setup.breakpoints, setup.jump_at);
   return run.Run(x0);
 }
 

@@ -1,23 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Dense>
 
-#include "certify.hpp"
-#include "dvi/time_stepping.hpp"
+#include "dvi/time_stepping_options.hpp"
 #include "dvi/trajectory.hpp"
-#include "schemes/one_step_method.hpp"
-#include "time_stepping/stepping_run.hpp"
+#include "time_stepping/stepping_setup.hpp"
 
 namespace dvi::internal {
 
-/// The one-shot run: SteppingRun (stepping_run.hpp) from (t0, x0) to t_end.
-/// @pre options validated, x0 sized.
-Trajectory RunTimeStepping(OneStepMethod& method, const Eigen::VectorXd& x0, double t0,
-                           double t_end, const TimeSteppingOptions& options,
-                           RowCertifier certifier, const std::vector<double>& breakpoints,
-                           const JumpRule& jump_at = {});
+/// The one-shot run (IntegrateTimeStepping): SteppingRun (stepping_run.hpp)
+/// of `setup` from (t0, x0) to t_end. @pre setup from SetUpStepping with
+/// the same x0, t0, t_end and options.
+Trajectory RunTimeStepping(SteppingSetup& setup, const Eigen::VectorXd& x0, double t0,
+                           double t_end, const TimeSteppingOptions& options);
 
 }  // namespace dvi::internal

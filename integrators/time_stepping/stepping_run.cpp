@@ -133,6 +133,7 @@ void SteppingRun::Conclude(Trajectory& trajectory) const {
   trajectory.stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   EndAtFirstNonFiniteSample(trajectory);
+  if (start_jump_) RecordJump(t0_, x_minus_, *start_jump_, trajectory);
 }
 
 Trajectory SteppingRun::Snapshot() const {
@@ -142,7 +143,23 @@ Trajectory SteppingRun::Snapshot() const {
 }
 
 bool SteppingRun::Begin(const Eigen::VectorXd& x0) {
-  current_ = method_.Initial(t0_, x0, options_.initial_guess);
+  // An inconsistent x0 jumps first (the limit of the first backward-Euler
+  // step as h → 0), so that the scheme starts from x⁺ at its own order;
+  // Conclude records the jump.
+  if (jump_at_) {
+    StateJump jump = jump_at_(t0_, x0);
+    if (jump.outcome == StateJump::Outcome::kFailed) {
+      trajectory_.stats.vi_solves += jump.vi_solves;
+      trajectory_.stats.solver_iterations += jump.solver_iterations;
+      Fail(IntegrationStatus::kStepFailure, "x0: " + jump.failure);
+      return false;
+    }
+    if (jump.outcome == StateJump::Outcome::kJump) {
+      x_minus_ = x0;
+      start_jump_ = std::move(jump);
+    }
+  }
+  current_ = method_.Initial(t0_, start_jump_ ? start_jump_->x_plus : x0, options_.initial_guess);
   Count(current_, trajectory_.stats);
   if (!current_.solved) {
     Fail(IntegrationStatus::kStepFailure, "the VI at the start of time-stepping (t = " +

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -60,8 +61,9 @@ class SteppingRun {
   /// The whole run from x0: Begin, StepOnce to t_end.
   Trajectory Run(const Eigen::VectorXd& x0);
 
-  /// Solves the VI at (t0, x0) for u⁰ and samples the start; false (the
-  /// run over, with its status) on failure.
+  /// Solves the VI at (t0, x0) for u⁰ and samples the start (from x⁺ where
+  /// jump_at finds x0 inconsistent); false (the run over, with its status)
+  /// on failure.
   bool Begin(const Eigen::VectorXd& x0);
   /// The time the next steps stop at, time() < stop <= t_end (t_end at first).
   void SetStopTime(double stop) { stop_ = stop; }
@@ -121,6 +123,9 @@ class SteppingRun {
   double previous_t_ = 0;
   Eigen::VectorXd previous_x_;
   bool over_ = false;
+  // The jump of an inconsistent x0 (x_minus_) at t0, recorded by Conclude.
+  std::optional<StateJump> start_jump_;
+  Eigen::VectorXd x_minus_;
 };
 
 }  // namespace dvi::internal
