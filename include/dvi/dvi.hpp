@@ -39,6 +39,7 @@
 #include "dvi/solver_options.hpp"
 #include "dvi/step_outcome.hpp"
 #include "dvi/time_stepping.hpp"
+#include "dvi/time_stepping_integrator.hpp"
 #include "dvi/time_stepping_options.hpp"
 #include "dvi/trajectory.hpp"
 #include "dvi/vector_samples.hpp"

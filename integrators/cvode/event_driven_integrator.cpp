@@ -3,7 +3,6 @@
 // per Step, with the stop time and the restart of the caller.
 #include "dvi/event_driven_integrator.hpp"
 
-#include <cmath>
 #include <optional>
 #include <utility>
 
@@ -11,6 +10,7 @@
 #include "cvode/event_driven_run.hpp"
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/error.hpp"
+#include "stepper_calls.hpp"
 
 namespace dvi {
 
@@ -63,10 +63,6 @@ StepOutcome ToOutcome(internal::EventDrivenRun::Advance advance) {
   return StepOutcome::kFailure;
 }
 
-bool Over(StepOutcome outcome) {
-  return outcome == StepOutcome::kEnd || outcome == StepOutcome::kFailure;
-}
-
 }  // namespace
 
 EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
@@ -99,7 +95,7 @@ EventDrivenIntegrator::~EventDrivenIntegrator() = default;
 
 StepOutcome EventDrivenIntegrator::Step() {
   State& state = *state_;
-  if (Over(state.last)) return state.last;
+  if (internal::Over(state.last)) return state.last;
   internal::EventDrivenRun& run = state.run;
   // A stop time reached (or never set) gives way to the horizon: CVODE
   // keeps a stop time it has reached and would return there again.
@@ -111,13 +107,8 @@ StepOutcome EventDrivenIntegrator::Step() {
 StepOutcome EventDrivenIntegrator::AdvanceTo(double t) {
   State& state = *state_;
   internal::EventDrivenRun& run = state.run;
-  DVI_THROW_UNLESS(!std::isnan(t), "AdvanceTo: t is NaN");
-  DVI_THROW_UNLESS(t >= run.time(), "AdvanceTo: t = " << t << " is before the current time "
-                                                      << run.time()
-                                                      << " (the integrator only goes forward)");
-  DVI_THROW_UNLESS(t <= run.t_end(),
-                   "AdvanceTo: t = " << t << " is past t_end = " << run.t_end());
-  if (Over(state.last)) return state.last;
+  internal::CheckAdvanceTime(t, run.time(), run.t_end());
+  if (internal::Over(state.last)) return state.last;
   if (t == run.time()) return StepOutcome::kStopTime;
   if (!run.SetStopTime(t)) return state.last = StepOutcome::kFailure;
   StepOutcome outcome = StepOutcome::kStep;
@@ -129,16 +120,7 @@ StepOutcome EventDrivenIntegrator::AdvanceTo(double t) {
 void EventDrivenIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   State& state = *state_;
   internal::EventDrivenRun& run = state.run;
-  DVI_THROW_UNLESS(!Over(state.last), "Reinit: the run has "
-                                          << (state.last == StepOutcome::kEnd ? "ended" : "failed")
-                                          << " at t = " << run.time());
-  DVI_THROW_UNLESS(std::isfinite(t) && t >= run.time() && t < run.t_end(),
-                   "Reinit: t = " << t << " must be finite, in [t() = " << run.time()
-                                  << ", t_end = " << run.t_end() << ")");
-  DVI_THROW_UNLESS(x.size() == state.dvi.n,
-                   "Reinit: x has " << x.size() << " entries, expected " << state.dvi.n);
-  for (int i = 0; i < x.size(); ++i)
-    DVI_THROW_UNLESS(std::isfinite(x(i)), "Reinit: x(" << i << ") = " << x(i) << " is not finite");
+  internal::CheckReinit(state.last, t, x, run.time(), run.t_end(), state.dvi.n);
   if (!run.Restart(t, x)) state.last = StepOutcome::kFailure;
 }
 
