@@ -14,10 +14,10 @@ void CheckAdvanceTime(double t, double now, double t_end) {
   DVI_THROW_UNLESS(t <= t_end, "AdvanceTo: t = " << t << " is past t_end = " << t_end);
 }
 
-void CheckReinit(StepOutcome last, double t, const Eigen::VectorXd& x, double now, double t_end,
-                 Eigen::Index n) {
+void CheckReinit(dvi::StepOutcome last, double t, const Eigen::VectorXd& x, double now,
+                 double t_end, Eigen::Index n) {
   DVI_THROW_UNLESS(!Over(last), "Reinit: the run has "
-                                    << (last == StepOutcome::kEnd ? "ended" : "failed")
+                                    << (last == dvi::StepOutcome::kEnd ? "ended" : "failed")
                                     << " at t = " << now);
   DVI_THROW_UNLESS(std::isfinite(t) && t >= now && t < t_end,
                    "Reinit: t = " << t << " must be finite, in [t() = " << now

@@ -12,8 +12,8 @@ namespace dvi::internal {
 /// argument the same way. @throws InvalidInputError naming the call.
 
 /// Whether a Step/AdvanceTo outcome ends the run (kEnd, kFailure).
-inline bool Over(StepOutcome outcome) {
-  return outcome == StepOutcome::kEnd || outcome == StepOutcome::kFailure;
+inline bool Over(dvi::StepOutcome outcome) {
+  return outcome == dvi::StepOutcome::kEnd || outcome == dvi::StepOutcome::kFailure;
 }
 
 /// AdvanceTo(t): t not NaN, not before the current time `now` (the
@@ -22,7 +22,9 @@ void CheckAdvanceTime(double t, double now, double t_end);
 
 /// Reinit(t, x) at `now` of a run whose last outcome is `last`: the run not
 /// over, t finite in [now, t_end), x of n finite entries.
-void CheckReinit(StepOutcome last, double t, const Eigen::VectorXd& x, double now, double t_end,
-                 Eigen::Index n);
+/// (dvi::StepOutcome: the public one, not internal::StepOutcome of a
+/// one-step method.)
+void CheckReinit(dvi::StepOutcome last, double t, const Eigen::VectorXd& x, double now,
+                 double t_end, Eigen::Index n);
 
 }  // namespace dvi::internal

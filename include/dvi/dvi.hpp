@@ -27,6 +27,7 @@
 #include "dvi/matrix_classes.hpp"
 #include "dvi/mode.hpp"
 #include "dvi/mode_dae.hpp"
+#include "dvi/mode_dae_integrator.hpp"
 #include "dvi/mode_dae_options.hpp"
 #include "dvi/nash_game.hpp"
 #include "dvi/projected_dynamics.hpp"

@@ -296,7 +296,7 @@ SteppingRun::Advance SteppingRun::StepOnce() {
       const double t_next = ends_at_breakpoint ? breakpoint : NextGridTime(step);
       recorder_.Accept(t_, t_next - t_, current_.x, current_.u, next);
       previous_t_ = t_;
-      previous_x_ = current_.x;
+      previous_x_.swap(current_.x);  // current_.x is replaced next
       t_ = t_next;
       current_ = std::move(next);
     } else {
@@ -330,7 +330,7 @@ SteppingRun::Advance SteppingRun::StepOnce() {
       recorder_.Accept(t_, t_half - t_, current_.x, current_.u, first);
       recorder_.Accept(t_half, t_next - t_half, first.x, first.u, second);
       previous_t_ = t_half;
-      previous_x_ = first.x;
+      previous_x_.swap(first.x);
       t_ = t_next;
       current_ = std::move(second);
     }
