@@ -51,18 +51,6 @@ void CheckStepperScope(const Dvi& dvi, const EventDrivenOptions& options) {
                           "AdvanceTo)");
 }
 
-StepOutcome ToOutcome(internal::EventDrivenRun::Advance advance) {
-  using Advance = internal::EventDrivenRun::Advance;
-  switch (advance) {
-    case Advance::kStep: return StepOutcome::kStep;
-    case Advance::kEvent: return StepOutcome::kEvent;
-    case Advance::kStopped: return StepOutcome::kStopTime;
-    case Advance::kEnded: return StepOutcome::kEnd;
-    case Advance::kFailed: return StepOutcome::kFailure;
-  }
-  return StepOutcome::kFailure;
-}
-
 }  // namespace
 
 EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
@@ -93,28 +81,10 @@ EventDrivenIntegrator::EventDrivenIntegrator(EventDrivenIntegrator&&) noexcept =
 EventDrivenIntegrator& EventDrivenIntegrator::operator=(EventDrivenIntegrator&&) noexcept = default;
 EventDrivenIntegrator::~EventDrivenIntegrator() = default;
 
-StepOutcome EventDrivenIntegrator::Step() {
-  State& state = *state_;
-  if (internal::Over(state.last)) return state.last;
-  internal::EventDrivenRun& run = state.run;
-  // A stop time reached (or never set) gives way to the horizon: CVODE
-  // keeps a stop time it has reached and would return there again.
-  if (run.stop_time() <= run.time() && !run.SetStopTime(run.t_end()))
-    return state.last = StepOutcome::kFailure;
-  return state.last = ToOutcome(run.StepOnce());
-}
+StepOutcome EventDrivenIntegrator::Step() { return internal::StepRun(state_->run, state_->last); }
 
 StepOutcome EventDrivenIntegrator::AdvanceTo(double t) {
-  State& state = *state_;
-  internal::EventDrivenRun& run = state.run;
-  internal::CheckAdvanceTime(t, run.time(), run.t_end());
-  if (internal::Over(state.last)) return state.last;
-  if (t == run.time()) return StepOutcome::kStopTime;
-  if (!run.SetStopTime(t)) return state.last = StepOutcome::kFailure;
-  StepOutcome outcome = StepOutcome::kStep;
-  while (outcome == StepOutcome::kStep || outcome == StepOutcome::kEvent)
-    outcome = state.last = ToOutcome(run.StepOnce());
-  return outcome;
+  return internal::AdvanceRun(state_->run, state_->last, t);
 }
 
 void EventDrivenIntegrator::Reinit(double t, const Eigen::VectorXd& x) {

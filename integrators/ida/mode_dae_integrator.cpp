@@ -30,18 +30,6 @@ struct ModeDaeIntegrator::State {
 
 namespace {
 
-StepOutcome ToOutcome(internal::ModeDaeRun::Advance advance) {
-  using Advance = internal::ModeDaeRun::Advance;
-  switch (advance) {
-    case Advance::kStep: return StepOutcome::kStep;
-    case Advance::kEvent: return StepOutcome::kEvent;
-    case Advance::kStopped: return StepOutcome::kStopTime;
-    case Advance::kEnded: return StepOutcome::kEnd;
-    case Advance::kFailed: return StepOutcome::kFailure;
-  }
-  return StepOutcome::kFailure;
-}
-
 const ModeDaeOptions& CheckedOptions(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                      double t_end, const ModeDaeOptions& options) {
   internal::CheckModeDaeRun(lcs, x0, t0, t_end, options);
@@ -64,28 +52,10 @@ ModeDaeIntegrator::ModeDaeIntegrator(ModeDaeIntegrator&&) noexcept = default;
 ModeDaeIntegrator& ModeDaeIntegrator::operator=(ModeDaeIntegrator&&) noexcept = default;
 ModeDaeIntegrator::~ModeDaeIntegrator() = default;
 
-StepOutcome ModeDaeIntegrator::Step() {
-  State& state = *state_;
-  if (internal::Over(state.last)) return state.last;
-  internal::ModeDaeRun& run = state.run;
-  // A stop time reached gives way to the horizon: IDA keeps a stop time it
-  // has reached and would return there again.
-  if (run.stop_time() <= run.time() && !run.SetStopTime(run.t_end()))
-    return state.last = StepOutcome::kFailure;
-  return state.last = ToOutcome(run.StepOnce());
-}
+StepOutcome ModeDaeIntegrator::Step() { return internal::StepRun(state_->run, state_->last); }
 
 StepOutcome ModeDaeIntegrator::AdvanceTo(double t) {
-  State& state = *state_;
-  internal::ModeDaeRun& run = state.run;
-  internal::CheckAdvanceTime(t, run.time(), run.t_end());
-  if (internal::Over(state.last)) return state.last;
-  if (t == run.time()) return StepOutcome::kStopTime;
-  if (!run.SetStopTime(t)) return state.last = StepOutcome::kFailure;
-  StepOutcome outcome = StepOutcome::kStep;
-  while (outcome == StepOutcome::kStep || outcome == StepOutcome::kEvent)
-    outcome = state.last = ToOutcome(run.StepOnce());
-  return outcome;
+  return internal::AdvanceRun(state_->run, state_->last, t);
 }
 
 void ModeDaeIntegrator::Reinit(double t, const Eigen::VectorXd& x) {

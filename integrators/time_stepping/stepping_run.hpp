@@ -65,8 +65,12 @@ class SteppingRun {
   /// jump_at finds x0 inconsistent); false (the run over, with its status)
   /// on failure.
   bool Begin(const Eigen::VectorXd& x0);
-  /// The time the next steps stop at, time() < stop <= t_end (t_end at first).
-  void SetStopTime(double stop) { stop_ = stop; }
+  /// The time the next steps stop at, time() < stop <= t_end (t_end at
+  /// first); true (as EventDrivenRun's, which CVODE may refuse).
+  bool SetStopTime(double stop) {
+    stop_ = stop;
+    return true;
+  }
   /// One accepted step (adaptive: one step-doubling pair, after its
   /// rejections), never past the stop time. @pre the run is not over.
   Advance StepOnce();

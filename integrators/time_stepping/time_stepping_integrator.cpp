@@ -34,22 +34,6 @@ struct TimeSteppingIntegrator::State {
   StepOutcome last = StepOutcome::kStep;  // kEnd or kFailure: the run is over
 };
 
-namespace {
-
-StepOutcome ToOutcome(internal::SteppingRun::Advance advance) {
-  using Advance = internal::SteppingRun::Advance;
-  switch (advance) {
-    case Advance::kStep: return StepOutcome::kStep;
-    case Advance::kEvent: return StepOutcome::kEvent;
-    case Advance::kStopped: return StepOutcome::kStopTime;
-    case Advance::kEnded: return StepOutcome::kEnd;
-    case Advance::kFailed: return StepOutcome::kFailure;
-  }
-  return StepOutcome::kFailure;
-}
-
-}  // namespace
-
 TimeSteppingIntegrator::TimeSteppingIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0,
                                                double t0, double t_end,
                                                const TimeSteppingOptions& options)
@@ -76,26 +60,10 @@ TimeSteppingIntegrator& TimeSteppingIntegrator::operator=(TimeSteppingIntegrator
     default;
 TimeSteppingIntegrator::~TimeSteppingIntegrator() = default;
 
-StepOutcome TimeSteppingIntegrator::Step() {
-  State& state = *state_;
-  if (internal::Over(state.last)) return state.last;
-  internal::SteppingRun& run = state.run;
-  // A stop time reached gives way to the horizon.
-  if (run.stop_time() <= run.time()) run.SetStopTime(run.t_end());
-  return state.last = ToOutcome(run.StepOnce());
-}
+StepOutcome TimeSteppingIntegrator::Step() { return internal::StepRun(state_->run, state_->last); }
 
 StepOutcome TimeSteppingIntegrator::AdvanceTo(double t) {
-  State& state = *state_;
-  internal::SteppingRun& run = state.run;
-  internal::CheckAdvanceTime(t, run.time(), run.t_end());
-  if (internal::Over(state.last)) return state.last;
-  if (t == run.time()) return StepOutcome::kStopTime;
-  run.SetStopTime(t);
-  StepOutcome outcome = StepOutcome::kStep;
-  while (outcome == StepOutcome::kStep || outcome == StepOutcome::kEvent)
-    outcome = state.last = ToOutcome(run.StepOnce());
-  return outcome;
+  return internal::AdvanceRun(state_->run, state_->last, t);
 }
 
 void TimeSteppingIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
