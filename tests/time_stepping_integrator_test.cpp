@@ -215,6 +215,35 @@ TEST(TimeSteppingIntegrator, ReinitByASampledDataControllerMatchesTheExactSoluti
   EXPECT_NEAR(trajectory.states.back()(0), -1, 1e-12);
 }
 
+// Reinit to an inconsistent state of an LCS jumps as its start would:
+// x' = −1 + u, 0 ≤ u ⊥ x ≥ 0 (D = 0) set to x = −½ admits no u; the jump
+// rule's η solves LCP(C x⁻, C B) = LCP(−½, 1), η = ½, x⁺ = x⁻ + B η = 0,
+// and x stays at 0 with u = 1 from the next step on (the VI at x = 0 alone
+// admits any u ≥ 0 and gives 0; backward Euler is exact here).
+TEST(TimeSteppingIntegrator, ReinitToAnInconsistentLcsStateJumps) {
+  const Eigen::MatrixXd one = Eigen::MatrixXd::Ones(1, 1);
+  const Lcs lcs = Lcs::Dense(0 * one, one, one, 0 * one, Eigen::VectorXd::Constant(1, -1));
+  TimeSteppingIntegrator integrator(lcs, Eigen::VectorXd::Constant(1, 2), 0, 2, Fixed(0.01));
+  ASSERT_EQ(integrator.AdvanceTo(0.5), StepOutcome::kStopTime);
+  EXPECT_NEAR(integrator.x()(0), 1.5, 1e-12);
+  integrator.Reinit(0.5, Eigen::VectorXd::Constant(1, -0.5));
+  EXPECT_NEAR(integrator.x()(0), 0, 1e-12);
+  ASSERT_EQ(integrator.AdvanceTo(2), StepOutcome::kEnd);
+  EXPECT_NEAR(integrator.u()(0), 1, 1e-12);
+  const Trajectory trajectory = integrator.trajectory();
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  EXPECT_NEAR(trajectory.states.back()(0), 0, 1e-12);
+  std::size_t jumps = 0;
+  for (const Event& event : trajectory.events) {
+    if (event.kind != EventKind::kJump) continue;
+    ++jumps;
+    EXPECT_EQ(event.time, 0.5);
+    ASSERT_EQ(event.impulse.size(), 1);
+    EXPECT_NEAR(event.impulse(0), 0.5, 1e-12);
+  }
+  EXPECT_EQ(jumps, 1u);
+}
+
 // x̂ᴴ on the last step is the line from x^i to x^{i+1} ([Seed] (7.1)).
 TEST(TimeSteppingIntegrator, LiveDenseOutputIsTheLastStepsLine) {
   TimeSteppingIntegrator integrator(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 4,
