@@ -43,10 +43,11 @@ class ModeDaeIntegrator {
   /// kStopTime (kEnd at t_end), or kFailure.
   /// @throws InvalidInputError if t is NaN, before t() or after t_end.
   StepOutcome AdvanceTo(double t);
-  /// Restarts at (t, x) after the caller changed the state: the modified
-  /// LCP at (t, x) selects the mode as at the start, and IDA restarts there
-  /// (IDAReInit) from consistent values. The samples keep the old state at
-  /// t, then the new one.
+  /// Restarts at (t, x) after the caller changed the state: steps to t
+  /// first if t > t(), then the modified LCP at (t, x) selects the mode as
+  /// at the start, and IDA restarts there (IDAReInit) from consistent
+  /// values. The samples keep the old state at t, then the new one. A
+  /// failure (of the steps to t or of the mode) is status().
   /// @throws InvalidInputError if t is not in [t(), t_end), x has not n
   /// finite entries, or the run has ended or failed.
   void Reinit(double t, const Eigen::VectorXd& x);

@@ -62,6 +62,7 @@ void ModeDaeIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   State& state = *state_;
   internal::ModeDaeRun& run = state.run;
   internal::CheckReinit(state.last, t, x, run.time(), run.t_end(), state.lcs.n());
+  if (t > run.time() && AdvanceTo(t) != StepOutcome::kStopTime) return;
   if (!run.Restart(t, x)) state.last = StepOutcome::kFailure;
 }
 
