@@ -19,10 +19,12 @@
 #include "dvi/event_driven_integrator.hpp"
 #include "support/expect_throw.hpp"
 #include "support/reference_dvis.hpp"
+#include "support/same_trajectory.hpp"
 
 namespace dvi {
 namespace {
 
+using testing::ExpectSameTrajectory;
 using testing::ExpectThrowNaming;
 using testing::SaturatedDecay;
 using testing::SaturatedDecayExact;
@@ -50,23 +52,6 @@ EventDrivenOptions TightOptions() {
   return options;
 }
 
-void ExpectSameSamples(const Trajectory& a, const Trajectory& b) {
-  ASSERT_EQ(a.times.size(), b.times.size());
-  for (std::size_t k = 0; k < a.times.size(); ++k) {
-    EXPECT_EQ(a.times[k], b.times[k]) << "row " << k;
-    EXPECT_EQ(a.states[k], b.states[k]) << "row " << k;
-    EXPECT_EQ(a.multipliers[k], b.multipliers[k]) << "row " << k;
-  }
-  ASSERT_EQ(a.events.size(), b.events.size());
-  for (std::size_t k = 0; k < a.events.size(); ++k) {
-    EXPECT_EQ(a.events[k].time, b.events[k].time);
-    EXPECT_EQ(a.events[k].kind, b.events[k].kind);
-    EXPECT_EQ(a.events[k].index, b.events[k].index);
-  }
-  EXPECT_EQ(a.stats.steps, b.stats.steps);
-  EXPECT_EQ(a.stats.rhs_evals, b.stats.rhs_evals);
-}
-
 TEST(EventDrivenIntegrator, OneShotRunIsTheStepperRunToTheEnd) {
   const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 3);
   const Trajectory one_shot = IntegrateEventDriven(SaturatedDecay(), x0, 0, 5, TightOptions());
@@ -74,7 +59,7 @@ TEST(EventDrivenIntegrator, OneShotRunIsTheStepperRunToTheEnd) {
 
   EventDrivenIntegrator advanced(SaturatedDecay(), x0, 0, 5, TightOptions());
   EXPECT_EQ(advanced.AdvanceTo(5), StepOutcome::kEnd);
-  ExpectSameSamples(advanced.trajectory(), one_shot);
+  ExpectSameTrajectory(advanced.trajectory(), one_shot);
 
   // Step by step: one CVODE step per Step, so as many calls as steps.
   EventDrivenIntegrator stepped(SaturatedDecay(), x0, 0, 5, TightOptions());
@@ -94,7 +79,7 @@ TEST(EventDrivenIntegrator, OneShotRunIsTheStepperRunToTheEnd) {
   EXPECT_EQ(events, 1);
   EXPECT_EQ(steps, one_shot.stats.steps);
   EXPECT_EQ(stepped.t(), 5.0);
-  ExpectSameSamples(stepped.trajectory(), one_shot);
+  ExpectSameTrajectory(stepped.trajectory(), one_shot);
 }
 
 TEST(EventDrivenIntegrator, HundredAdvanceToCallsMatchOneCall) {

@@ -3,7 +3,6 @@
 // per Step, with the stop time and the restart of the caller.
 #include "dvi/event_driven_integrator.hpp"
 
-#include <cmath>
 #include <optional>
 #include <utility>
 
@@ -11,6 +10,7 @@
 #include "cvode/event_driven_run.hpp"
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/error.hpp"
+#include "stepper_calls.hpp"
 
 namespace dvi {
 
@@ -51,22 +51,6 @@ void CheckStepperScope(const Dvi& dvi, const EventDrivenOptions& options) {
                           "AdvanceTo)");
 }
 
-StepOutcome ToOutcome(internal::EventDrivenRun::Advance advance) {
-  using Advance = internal::EventDrivenRun::Advance;
-  switch (advance) {
-    case Advance::kStep: return StepOutcome::kStep;
-    case Advance::kEvent: return StepOutcome::kEvent;
-    case Advance::kStopped: return StepOutcome::kStopTime;
-    case Advance::kEnded: return StepOutcome::kEnd;
-    case Advance::kFailed: return StepOutcome::kFailure;
-  }
-  return StepOutcome::kFailure;
-}
-
-bool Over(StepOutcome outcome) {
-  return outcome == StepOutcome::kEnd || outcome == StepOutcome::kFailure;
-}
-
 }  // namespace
 
 EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
@@ -97,48 +81,16 @@ EventDrivenIntegrator::EventDrivenIntegrator(EventDrivenIntegrator&&) noexcept =
 EventDrivenIntegrator& EventDrivenIntegrator::operator=(EventDrivenIntegrator&&) noexcept = default;
 EventDrivenIntegrator::~EventDrivenIntegrator() = default;
 
-StepOutcome EventDrivenIntegrator::Step() {
-  State& state = *state_;
-  if (Over(state.last)) return state.last;
-  internal::EventDrivenRun& run = state.run;
-  // A stop time reached (or never set) gives way to the horizon: CVODE
-  // keeps a stop time it has reached and would return there again.
-  if (run.stop_time() <= run.time() && !run.SetStopTime(run.t_end()))
-    return state.last = StepOutcome::kFailure;
-  return state.last = ToOutcome(run.StepOnce());
-}
+StepOutcome EventDrivenIntegrator::Step() { return internal::StepRun(state_->run, state_->last); }
 
 StepOutcome EventDrivenIntegrator::AdvanceTo(double t) {
-  State& state = *state_;
-  internal::EventDrivenRun& run = state.run;
-  DVI_THROW_UNLESS(!std::isnan(t), "AdvanceTo: t is NaN");
-  DVI_THROW_UNLESS(t >= run.time(), "AdvanceTo: t = " << t << " is before the current time "
-                                                      << run.time()
-                                                      << " (the integrator only goes forward)");
-  DVI_THROW_UNLESS(t <= run.t_end(),
-                   "AdvanceTo: t = " << t << " is past t_end = " << run.t_end());
-  if (Over(state.last)) return state.last;
-  if (t == run.time()) return StepOutcome::kStopTime;
-  if (!run.SetStopTime(t)) return state.last = StepOutcome::kFailure;
-  StepOutcome outcome = StepOutcome::kStep;
-  while (outcome == StepOutcome::kStep || outcome == StepOutcome::kEvent)
-    outcome = state.last = ToOutcome(run.StepOnce());
-  return outcome;
+  return internal::AdvanceRun(state_->run, state_->last, t);
 }
 
 void EventDrivenIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   State& state = *state_;
   internal::EventDrivenRun& run = state.run;
-  DVI_THROW_UNLESS(!Over(state.last), "Reinit: the run has "
-                                          << (state.last == StepOutcome::kEnd ? "ended" : "failed")
-                                          << " at t = " << run.time());
-  DVI_THROW_UNLESS(std::isfinite(t) && t >= run.time() && t < run.t_end(),
-                   "Reinit: t = " << t << " must be finite, in [t() = " << run.time()
-                                  << ", t_end = " << run.t_end() << ")");
-  DVI_THROW_UNLESS(x.size() == state.dvi.n,
-                   "Reinit: x has " << x.size() << " entries, expected " << state.dvi.n);
-  for (int i = 0; i < x.size(); ++i)
-    DVI_THROW_UNLESS(std::isfinite(x(i)), "Reinit: x(" << i << ") = " << x(i) << " is not finite");
+  internal::CheckReinit(state.last, t, x, run.time(), run.t_end(), state.dvi.n);
   if (!run.Restart(t, x)) state.last = StepOutcome::kFailure;
 }
 

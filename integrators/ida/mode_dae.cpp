@@ -20,8 +20,8 @@ bool ModeDaeApplies(const Lcs& lcs) {
 
 namespace internal {
 
-Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
-                                       double t_end, const ModeDaeOptions& options) {
+void CheckModeDaeRun(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                     const ModeDaeOptions& options) {
   lcs.Validate();
   options.Validate();
   options.CheckStates(x0.size());
@@ -38,6 +38,11 @@ Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t0, t_end: " << t0 << ", " << t_end << " must be finite with t_end > t0");
   internal::CheckOutputTimesWithin(options.output_times, t0, t_end);
+}
+
+Trajectory IntegrateModeDaeUncertified(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
+                                       double t_end, const ModeDaeOptions& options) {
+  CheckModeDaeRun(lcs, x0, t0, t_end, options);
   internal::ModeDaeRun run(lcs, x0, t0, t_end, options);
   Trajectory trajectory = run.Run();
   internal::EndAtFirstNonFiniteSample(trajectory);

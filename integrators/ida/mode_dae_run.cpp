@@ -57,10 +57,10 @@ long ModeDaeRun::Steps() const {
 }
 
 // Restarts IDA at (t, y_, yp_), at order one.
-bool ModeDaeRun::Restart(double t) {
+bool ModeDaeRun::RestartIda(double t) {
   CollectIdaStats();
   return Check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit") &&
-         Check(IDASetStopTime(ida_.get(), t_end_), "IDASetStopTime");
+         (stop_time_ <= t || Check(IDASetStopTime(ida_.get(), stop_time_), "IDASetStopTime"));
 }
 
 // A root function that stays exactly zero just after a root (F of a diode
@@ -78,7 +78,7 @@ bool ModeDaeRun::RestartAtZeroRoot() {
   restarted_at_zero_root_ = t_;
   data_.ida_message.clear();
   return Check(IDAGetDky(ida_.get(), t_, 0, y_.get()), "IDAGetDky") &&
-         Check(IDAGetDky(ida_.get(), t_, 1, yp_.get()), "IDAGetDky") && Restart(t_);
+         Check(IDAGetDky(ida_.get(), t_, 1, yp_.get()), "IDAGetDky") && RestartIda(t_);
 }
 
 // Enters `mode` at (t, x, u): consistent values (x onto the differentiated
@@ -110,9 +110,10 @@ bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen
   trajectory_.stats.max_constraint_drift =
       std::max(trajectory_.stats.max_constraint_drift, dae_.Drift(y_.data()));
   t_ = t;
+  mode_start_ = t;
   if (klu_ && !klu_->Reset(dae_.nonzeros()))
     return Fail(IntegrationStatus::kStepFailure, "mode-dae: the KLU matrix cannot be resized");
-  if (initialized_) return Restart(t);
+  if (initialized_) return RestartIda(t);
   initialized_ = true;
   void* ida = ida_.get();
   SUNMatrix matrix = klu_ ? klu_->matrix() : dense_->matrix();
@@ -134,7 +135,7 @@ bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen
          Check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg") &&
          Check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps") &&
          Check(IDASetMaxStep(ida, options_.h_max), "IDASetMaxStep") &&
-         Check(IDASetStopTime(ida, t_end_), "IDASetStopTime") &&
+         Check(IDASetStopTime(ida, stop_time_), "IDASetStopTime") &&
          Check(IDARootInit(ida, 2 * m_, m_ > 0 ? ModeDaeRootCallback : nullptr), "IDARootInit") &&
          (m_ == 0 || (Check(IDASetRootDirection(ida, directions.data()), "IDASetRootDirection") &&
                       Check(IDASetNoInactiveRootWarn(ida), "IDASetNoInactiveRootWarn")));
@@ -218,19 +219,25 @@ bool ModeDaeRun::FirstStepOverflows() {
   return true;
 }
 
-bool ModeDaeRun::Integrate() {
+ModeDaeRun::Advance ModeDaeRun::StepOnce() {
   IntegrationStats& stats = trajectory_.stats;
+  const std::size_t events_before = trajectory_.events.size();
+  const auto ended = [&](bool ok) {
+    if (!ok) return Advance::kFailed;
+    return trajectory_.events.size() > events_before ? Advance::kEvent : Advance::kStep;
+  };
   while (true) {
     if (Steps() >= options_.max_steps) {
       std::ostringstream message;
       message << "mode-dae: max_steps = " << options_.max_steps << " reached at t = " << t_;
-      return Fail(IntegrationStatus::kMaxSteps, message.str());
+      Fail(IntegrationStatus::kMaxSteps, message.str());
+      return Advance::kFailed;
     }
     double t_return = t_;
     const int flag = IDASolve(ida_.get(), t_end_, &t_return, y_.get(), yp_.get(), IDA_ONE_STEP);
-    if (flag == IDA_ILL_INPUT && FirstStepOverflows()) return false;
+    if (flag == IDA_ILL_INPUT && FirstStepOverflows()) return Advance::kFailed;
     if (flag == IDA_ILL_INPUT && RestartAtZeroRoot()) continue;
-    if (!Check(flag, "IDASolve")) return false;
+    if (!Check(flag, "IDASolve")) return Advance::kFailed;
     t_ = t_return;
     if (flag != IDA_ROOT_RETURN) {
       std::vector<int> roots;
@@ -239,25 +246,28 @@ bool ModeDaeRun::Integrate() {
         SampleOutputs(missed);
         t_ = missed;
         RecordStep(missed);
-        if (!HandleRoot(missed, roots)) return false;
+        if (!HandleRoot(missed, roots)) return Advance::kFailed;
         // A new mode restarted IDA at the root; a kept one goes on from the
         // step's end.
-        if (kept_mode_y_.size() == 0 || kept_mode_time_ != missed) continue;
-        if (!Check(IDAGetDky(ida_.get(), t_return, 0, y_.get()), "IDAGetDky")) return false;
+        if (kept_mode_y_.size() == 0 || kept_mode_time_ != missed) return ended(true);
+        if (!Check(IDAGetDky(ida_.get(), t_return, 0, y_.get()), "IDAGetDky"))
+          return Advance::kFailed;
         t_ = t_return;
       }
-      if (!ModeStillHolds()) return false;
+      if (!ModeStillHolds()) return Advance::kFailed;
     }
     // Theorem 5.3 only keeps d/dt Φ(x) = 0; Φ(x) itself is
     // held by BDF, which preserves linear invariants up to the Newton error.
     stats.max_constraint_drift = std::max(stats.max_constraint_drift, dae_.Drift(y_.data()));
     SampleOutputs(t_return);
     RecordStep(t_return);
-    const bool done = flag == IDA_TSTOP_RETURN || t_return >= t_end_;
+    const bool stopped = flag == IDA_TSTOP_RETURN || t_return >= stop_time_;
+    const bool done = stopped && stop_time_ >= t_end_;
     bool root = false;
     if (flag == IDA_ROOT_RETURN) {
       std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
-      if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo")) return false;
+      if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo"))
+        return Advance::kFailed;
       double t_root = t_return;
       const ConsistentRoot located = LocateConsistentRoot(t_root, roots);
       if (located == ConsistentRoot::kLater) {
@@ -266,37 +276,102 @@ bool ModeDaeRun::Integrate() {
         t_ = t_root;
       }
       root = located != ConsistentRoot::kNone;
-      if (root && !HandleRoot(t_root, roots)) return false;
+      if (root && !HandleRoot(t_root, roots)) return Advance::kFailed;
     }
     if (!root && options_.output_times.empty() && !done) Sample(t_return);
     if (done) {
       Sample(t_end_);
-      return true;
+      return Advance::kEnded;
     }
+    if (stopped) return Advance::kStopped;
+    return ended(true);
   }
 }
 
-Trajectory ModeDaeRun::Run() {
-  const auto start = std::chrono::steady_clock::now();
-  const bool started = Start();
-  if (started) Integrate();
-  CollectIdaStats();
-  IntegrationStats& stats = trajectory_.stats;
+bool ModeDaeRun::SetStopTime(double t) {
+  stop_time_ = t;
+  return Check(IDASetStopTime(ida_.get(), t), "IDASetStopTime");
+}
+
+bool ModeDaeRun::Begin() {
+  start_clock_ = std::chrono::steady_clock::now();
+  started_ = Start();
+  return started_;
+}
+
+// The caller's restart: the mode at (t, x) as at the start (ChooseMode from
+// IDA's u as the warm start), entered with consistent values, and sampled
+// after the row at t that the run reached.
+bool ModeDaeRun::Restart(double t, const Eigen::VectorXd& x) {
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
+  const Eigen::VectorXd warm = y.tail(m_);
+  Mode mode;
+  Eigen::VectorXd u, x_start = x;
+  kept_mode_y_.resize(0);
+  if (!ChooseMode(t, x_start, warm, std::vector<bool>(m_, false), mode, u) ||
+      !EnterMode(t, mode, x_start, u))
+    return false;
+  Sample(t);
+  return true;
+}
+
+std::pair<double, double> ModeDaeRun::DenseSpan() const {
+  double t_n = t_, h = 0;
+  IDAGetCurrentTime(ida_.get(), &t_n);
+  IDAGetLastStep(ida_.get(), &h);
+  return {std::max(t_n - h, mode_start_), t_};
+}
+
+void ModeDaeRun::InterpolateState(double t, Eigen::VectorXd& x) {
+  if (IDAGetDky(ida_.get(), t, 0, dky_.get()) != IDA_SUCCESS) {
+    x = Eigen::Map<const Eigen::VectorXd>(y_.data(), n_);
+    return;
+  }
+  x = Eigen::Map<const Eigen::VectorXd>(dky_.data(), n_);
+}
+
+// The statistics (IDA's counts since its last reinitialization included),
+// the interval and the wall time of the run so far, added to its samples
+// (trajectory_ or a copy of it).
+void ModeDaeRun::Conclude(Trajectory& trajectory) const {
+  IntegrationStats& stats = trajectory.stats;
+  if (initialized_) {
+    long steps = 0, error_test_failures = 0, convergence_failures = 0;
+    IDAGetNumSteps(ida_.get(), &steps);
+    IDAGetNumErrTestFails(ida_.get(), &error_test_failures);
+    IDAGetNumNonlinSolvConvFails(ida_.get(), &convergence_failures);
+    stats.steps += steps;
+    stats.rejected_steps += error_test_failures + convergence_failures;
+  }
   stats.rhs_evals = data_.residual_evals;
   stats.jacobian_evals = data_.jacobian_evals;
   stats.reduced_modes = reduced_modes_;
-  if (started) {
+  if (started_) {
     std::ostringstream reason;
     reason << "LCS modes as DAEs on IDA (" << (data_.sparse ? "sparse KLU" : "dense")
            << " Jacobian), n = " << n_ << ", m = " << m_ << "; " << reduced_modes_
            << " mode(s) reduced by differentiating dependent rows (Theorem 5.3)";
     if (look_ahead_selections_ > 0)
       reason << "; " << look_ahead_selections_ << " mode(s) chosen by look-ahead along the flow";
-    trajectory_.intervals.push_back({t0_, trajectory_.final_time(), IntegrationMethod::kModeDae, reason.str(),
-                                     klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
+    trajectory.intervals.push_back({t0_, trajectory.final_time(), IntegrationMethod::kModeDae,
+                                    reason.str(), klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }
   stats.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_clock_).count();
+}
+
+Trajectory ModeDaeRun::Snapshot() const {
+  Trajectory snapshot = trajectory_;
+  Conclude(snapshot);
+  return snapshot;
+}
+
+Trajectory ModeDaeRun::Run() {
+  if (Begin()) {
+    Advance advance = Advance::kStep;
+    while (advance == Advance::kStep || advance == Advance::kEvent) advance = StepOnce();
+  }
+  Conclude(trajectory_);
   return trajectory_;
 }
 

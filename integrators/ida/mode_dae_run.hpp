@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -61,11 +63,36 @@ class ModeDaeRun {
       dense_ = std::make_unique<DenseLinearSolver>(y_.get(), dae_.size(), context_.get());
   }
 
+  /// The whole run: Begin, StepOnce to the end, the statistics and interval.
   Trajectory Run();
+
+  /// What one StepOnce did (as EventDrivenRun::Advance).
+  enum class Advance { kStep, kEvent, kStopped, kEnded, kFailed };
+  /// Selects the mode at (t0, x0), samples it and sets IDA up; false on failure.
+  bool Begin();
+  /// One IDA step (and the root at its end), never past the stop time;
+  /// every step is sampled. @pre Begin succeeded, the run not over.
+  Advance StepOnce();
+  /// IDA's stop time (IDASetStopTime), time() < t <= t_end.
+  bool SetStopTime(double t);
+  /// Restarts at (t, x), time() <= t < t_end, as at the start: the mode the
+  /// modified LCP proposes there, consistent values, IDA restarted.
+  bool Restart(double t, const Eigen::VectorXd& x);
+  /// The samples so far with the statistics, the interval and the wall time.
+  Trajectory Snapshot() const;
+  double time() const { return t_; }
+  double stop_time() const { return stop_time_; }
+  double t_end() const { return t_end_; }
+  const Trajectory& samples() const { return trajectory_; }
+  const Mode& mode() const { return dae_.mode(); }
+  /// The span of the live dense output: the last step, from where the
+  /// current mode began on, to time(); x there by IDA's interpolant (IDAGetDky).
+  std::pair<double, double> DenseSpan() const;
+  void InterpolateState(double t, Eigen::VectorXd& x);
 
  private:
   bool Start();
-  bool Integrate();
+  void Conclude(Trajectory& trajectory) const;
   bool HandleRoot(double t, const std::vector<int>& roots);
   double MissedRoot(std::vector<int>& roots);
   Eigen::VectorXd ConsistentMultiplier(const Eigen::Ref<const Eigen::VectorXd>& y);
@@ -80,7 +107,7 @@ class ModeDaeRun {
   bool LookAheadMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Mode& mode,
                      Eigen::VectorXd& x_ahead, Eigen::VectorXd& u_ahead, std::string& why);
   std::string DescribeMode(const Mode& mode) const;
-  bool Restart(double t);
+  bool RestartIda(double t);
   bool RestartAtZeroRoot();
   bool EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen::VectorXd& u);
   bool Check(int flag, const char* call);
@@ -106,7 +133,11 @@ class ModeDaeRun {
   Trajectory trajectory_;
   OutputSchedule outputs_{options_.output_times, t0_, t_end_};
   double t_ = 0;
+  double stop_time_ = t_end_;
+  double mode_start_ = 0;  // where the current mode was entered
   bool initialized_ = false;
+  bool started_ = false;  // Start succeeded
+  std::chrono::steady_clock::time_point start_clock_;
 
   SunContext context_;
   SerialVector y_{dae_.size(), context_.get()};

@@ -15,6 +15,11 @@ namespace dvi::internal {
 /// Owns: nothing. Preconditions: as IntegrateModeDae's. Source: [Seed]
 /// Sect. 5.4.
 
+/// The checks of IntegrateModeDae's arguments (the LCS, K a box, no
+/// sources, x0, t0 < t_end, options and their output times).
+/// @throws InvalidInputError naming what is wrong.
+void CheckModeDaeRun(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                     const ModeDaeOptions& options);
 /// IntegrateModeDae without checking its rows against the VI
 /// (CertifyModeDae): the automatic driver drops the row where a failed run
 /// stops before it is output. Validates as IntegrateModeDae.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -434,26 +435,24 @@ void CheckRun(int n, const Eigen::VectorXd& x0, double t0, double t_end) {
                    "t_end: " << t_end << " does not exceed t0 = " << t0);
 }
 
-Trajectory IntegrateGeneral(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
-                            const TimeSteppingOptions& options) {
-  if (options.scheme == SteppingScheme::kViAtOldState) {
-    ViAtOldState method(dvi, options);
-    return internal::RunTimeStepping(
-        method, x0, t0, t_end, options,
-        internal::RowCertifier(internal::LeftContinuous(dvi, t0), options.solver),
-        dvi.breakpoints);
-  }
-  ViAtNewState method(dvi, options);
-  return internal::RunTimeStepping(
-      method, x0, t0, t_end, options,
-      internal::RowCertifier(internal::LeftContinuous(dvi, t0), options.solver),
-      dvi.breakpoints);
+// Scheme (3.4) or (3.3) on a Dvi whose sources are right-continuous.
+internal::SteppingSetup GeneralSetup(const Dvi& dvi, double t0, const TimeSteppingOptions& options) {
+  internal::SteppingSetup setup;
+  if (options.scheme == SteppingScheme::kViAtOldState)
+    setup.method = std::make_unique<ViAtOldState>(dvi, options);
+  else
+    setup.method = std::make_unique<ViAtNewState>(dvi, options);
+  setup.certifier.emplace(internal::LeftContinuous(dvi, t0), options.solver);
+  setup.breakpoints = dvi.breakpoints;
+  return setup;
 }
 
 }  // namespace
 
-Trajectory IntegrateTimeStepping(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
-                                 const TimeSteppingOptions& options) {
+namespace internal {
+
+SteppingSetup SetUpStepping(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
+                            const TimeSteppingOptions& options) {
   options.Validate();
   options.CheckStates(x0.size());
   dvi.Validate();
@@ -465,11 +464,11 @@ Trajectory IntegrateTimeStepping(const Dvi& dvi, const Eigen::VectorXd& x0, doub
                               << " does not apply to a general Dvi (use 3.3 or 3.4; 7.2 needs a "
                                  "SeparableDvi, 7.3 projected dynamics)");
   CheckRun(dvi.n, x0, t0, t_end);
-  return IntegrateGeneral(internal::RightContinuous(dvi), x0, t0, t_end, options);
+  return GeneralSetup(RightContinuous(dvi), t0, options);
 }
 
-Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd& x0, double t0,
-                                 double t_end, const TimeSteppingOptions& options) {
+SteppingSetup SetUpStepping(const SeparableDvi& dvi, const Eigen::VectorXd& x0, double t0,
+                            double t_end, const TimeSteppingOptions& options) {
   options.Validate();
   options.CheckStates(x0.size());
   dvi.Validate();
@@ -479,10 +478,25 @@ Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd&
   dvi.CheckShapes(t0, x0);
   if (options.scheme == SteppingScheme::kViAtNewState ||
       options.scheme == SteppingScheme::kViAtOldState)
-    return IntegrateGeneral(dvi.ToDvi(), x0, t0, t_end, options);
-  SeparableMethod method(dvi, options);
-  return internal::RunTimeStepping(method, x0, t0, t_end, options,
-                                   internal::RowCertifier(dvi.ToDvi(), options.solver), {});
+    return GeneralSetup(dvi.ToDvi(), t0, options);
+  SteppingSetup setup;
+  setup.method = std::make_unique<SeparableMethod>(dvi, options);
+  setup.certifier.emplace(dvi.ToDvi(), options.solver);
+  return setup;
+}
+
+}  // namespace internal
+
+Trajectory IntegrateTimeStepping(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
+                                 const TimeSteppingOptions& options) {
+  internal::SteppingSetup setup = internal::SetUpStepping(dvi, x0, t0, t_end, options);
+  return internal::RunTimeStepping(setup, x0, t0, t_end, options);
+}
+
+Trajectory IntegrateTimeStepping(const SeparableDvi& dvi, const Eigen::VectorXd& x0, double t0,
+                                 double t_end, const TimeSteppingOptions& options) {
+  internal::SteppingSetup setup = internal::SetUpStepping(dvi, x0, t0, t_end, options);
+  return internal::RunTimeStepping(setup, x0, t0, t_end, options);
 }
 
 }  // namespace dvi

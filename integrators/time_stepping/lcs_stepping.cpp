@@ -33,46 +33,57 @@ constexpr int kDenseMaxSize = 4000;
 }  // namespace
 }  // namespace internal
 
-Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
-                                 const TimeSteppingOptions& options) {
-  lcs.Validate();
+namespace internal {
+
+SteppingSetup SetUpStepping(const Lcs& problem, const Eigen::VectorXd& x0, double t0,
+                            double t_end, const TimeSteppingOptions& options) {
+  problem.Validate();
   options.Validate();
   options.CheckStates(x0.size());
-  DVI_THROW_UNLESS(x0.size() == lcs.n(),
-                   "x0 has " << x0.size() << " entries, expected n = " << lcs.n());
+  DVI_THROW_UNLESS(x0.size() == problem.n(),
+                   "x0 has " << x0.size() << " entries, expected n = " << problem.n());
   for (Eigen::Index k = 0; k < x0.size(); ++k)
     DVI_THROW_UNLESS(std::isfinite(x0[k]), "x0[" << k << "] = " << x0[k] << " is not finite");
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t_end = " << t_end << " must be finite and exceed t0 = " << t0);
-  lcs.CheckSources(t0);
+  problem.CheckSources(t0);
   DVI_THROW_UNLESS(options.scheme != SteppingScheme::kFullyImplicit,
                    "scheme: 7.3 (fully implicit) is for projected dynamics, not an LCS; use "
                    "auto, 7.2, 3.3 or 3.4");
+  SteppingSetup setup;
+  setup.lcs = std::make_shared<const Lcs>(problem);
+  const Lcs& lcs = *setup.lcs;
   const bool box = lcs.K.IsBox();
-  const bool sparse =
-      box && options.solver.allow_sparse && lcs.n() + lcs.m() >= internal::kSparseMinSize;
+  const bool sparse = box && options.solver.allow_sparse && lcs.n() + lcs.m() >= kSparseMinSize;
   DVI_THROW_UNLESS(
-      sparse || std::max(lcs.n(), lcs.m()) <= internal::kDenseMaxSize,
+      sparse || std::max(lcs.n(), lcs.m()) <= kDenseMaxSize,
       "n = " << lcs.n() << ", m = " << lcs.m() << " need the sparse path (the dense one stops at "
-             << internal::kDenseMaxSize << "), which "
+             << kDenseMaxSize << "), which "
              << (box ? "solver.allow_sparse = false turns off"
                      : "takes only a box K, and Lcs.K is " + lcs.K.Describe() + ", not a box"));
-  const std::unique_ptr<internal::OneStepMethod> method =
-      sparse ? internal::MakeSparseLcsMethod(lcs, options) : internal::MakeDenseLcsMethod(lcs, options);
+  setup.method = sparse ? MakeSparseLcsMethod(lcs, options) : MakeDenseLcsMethod(lcs, options);
   // A row at a breakpoint ends the step to it, solved at the left limits.
-  internal::RowCertifier certifier =
-      lcs.breakpoints.empty()
-          ? internal::RowCertifier(lcs, options.solver)
-          : internal::RowCertifier(internal::LeftContinuous(lcs.ToDvi(), t0), options.solver);
+  if (lcs.breakpoints.empty())
+    setup.certifier.emplace(lcs, options.solver);
+  else
+    setup.certifier.emplace(LeftContinuous(lcs.ToDvi(), t0), options.solver);
+  setup.breakpoints = lcs.breakpoints;
   // An inconsistent x0 jumps first (the limit of the first backward-Euler
-  // step as h → 0), so that the scheme starts from x⁺ at its own order.
-  return internal::WithJump(lcs, t0, x0, options.solver, [&](const Eigen::VectorXd& x_start) {
-    return internal::RunTimeStepping(
-        *method, x_start, t0, t_end, options, std::move(certifier), lcs.breakpoints,
-        [&](double t, const Eigen::VectorXd& x_minus) {
-          return internal::LcsJumpAt(lcs, t, x_minus, options.solver);
-        });
-  });
+  // step as h → 0), so that the scheme starts from x⁺ at its own order; so
+  // does x where a source steps.
+  setup.jump_at = [shared = setup.lcs, solver = options.solver](double t,
+                                                                const Eigen::VectorXd& x_minus) {
+    return LcsJumpAt(*shared, t, x_minus, solver);
+  };
+  return setup;
+}
+
+}  // namespace internal
+
+Trajectory IntegrateTimeStepping(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                                 const TimeSteppingOptions& options) {
+  internal::SteppingSetup setup = internal::SetUpStepping(lcs, x0, t0, t_end, options);
+  return internal::RunTimeStepping(setup, x0, t0, t_end, options);
 }
 
 }  // namespace dvi

@@ -3,6 +3,7 @@
 // Sect. 2.4) by the fully implicit scheme (7.3).
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -177,8 +178,10 @@ class FullyImplicitPds final : public internal::OneStepMethod {
 
 }  // namespace
 
-Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::VectorXd& x0, double t0,
-                                 double t_end, const TimeSteppingOptions& options) {
+namespace internal {
+
+SteppingSetup SetUpStepping(const ProjectedDynamics& pds, const Eigen::VectorXd& x0, double t0,
+                            double t_end, const TimeSteppingOptions& options) {
   options.Validate();
   options.CheckStates(x0.size());
   pds.Validate();
@@ -195,9 +198,18 @@ Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::Vect
   DVI_THROW_UNLESS(std::isfinite(t0) && std::isfinite(t_end) && t_end > t0,
                    "t_end: " << t_end << " does not exceed t0 = " << t0);
   pds.CheckInitialState(x0);
-  FullyImplicitPds method(pds, options);
-  return internal::RunTimeStepping(method, x0, t0, t_end, options,
-                                   internal::RowCertifier(pds, options.solver), {});
+  SteppingSetup setup;
+  setup.method = std::make_unique<FullyImplicitPds>(pds, options);
+  setup.certifier.emplace(pds, options.solver);
+  return setup;
+}
+
+}  // namespace internal
+
+Trajectory IntegrateTimeStepping(const ProjectedDynamics& pds, const Eigen::VectorXd& x0, double t0,
+                                 double t_end, const TimeSteppingOptions& options) {
+  internal::SteppingSetup setup = internal::SetUpStepping(pds, x0, t0, t_end, options);
+  return internal::RunTimeStepping(setup, x0, t0, t_end, options);
 }
 
 }  // namespace dvi
