@@ -59,12 +59,21 @@ StepOutcome ToOutcome(internal::EventDrivenRun::Advance advance) {
     case Advance::kStopped: return StepOutcome::kStopTime;
     case Advance::kEnded: return StepOutcome::kEnd;
     case Advance::kFailed: return StepOutcome::kFailure;
+    case Advance::kUserStop: return StepOutcome::kUserStop;
   }
   return StepOutcome::kFailure;
 }
 
 bool Over(StepOutcome outcome) {
-  return outcome == StepOutcome::kEnd || outcome == StepOutcome::kFailure;
+  return outcome == StepOutcome::kEnd || outcome == StepOutcome::kFailure ||
+         outcome == StepOutcome::kUserStop;
+}
+
+// A start or restart that did not succeed: stopped by the observer, or
+// failed.
+StepOutcome NotStarted(const internal::EventDrivenRun& run) {
+  return run.samples().status == IntegrationStatus::kStoppedByUser ? StepOutcome::kUserStop
+                                                                    : StepOutcome::kFailure;
 }
 
 }  // namespace
@@ -78,7 +87,7 @@ EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::Vector
   CheckStepperScope(dvi, options);
   internal::CheckEventDrivenStart(dvi, nullptr, x0, t0, t_end, options);
   state_ = std::make_unique<State>(dvi, std::nullopt, x0, t0, t_end, options);
-  if (!state_->run.Begin()) state_->last = StepOutcome::kFailure;
+  if (!state_->run.Begin()) state_->last = NotStarted(state_->run);
 }
 
 EventDrivenIntegrator::EventDrivenIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
@@ -90,7 +99,7 @@ EventDrivenIntegrator::EventDrivenIntegrator(const Lcs& lcs, const Eigen::Vector
   std::optional<Lcs> affine;
   if (lcs.time_invariant()) affine = lcs;
   state_ = std::make_unique<State>(dvi, std::move(affine), x0, t0, t_end, options);
-  if (!state_->run.Begin()) state_->last = StepOutcome::kFailure;
+  if (!state_->run.Begin()) state_->last = NotStarted(state_->run);
 }
 
 EventDrivenIntegrator::EventDrivenIntegrator(EventDrivenIntegrator&&) noexcept = default;
@@ -130,7 +139,9 @@ void EventDrivenIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   State& state = *state_;
   internal::EventDrivenRun& run = state.run;
   DVI_THROW_UNLESS(!Over(state.last), "Reinit: the run has "
-                                          << (state.last == StepOutcome::kEnd ? "ended" : "failed")
+                                          << (state.last == StepOutcome::kEnd        ? "ended"
+                                              : state.last == StepOutcome::kUserStop ? "been stopped"
+                                                                                     : "failed")
                                           << " at t = " << run.time());
   DVI_THROW_UNLESS(std::isfinite(t) && t >= run.time() && t < run.t_end(),
                    "Reinit: t = " << t << " must be finite, in [t() = " << run.time()
@@ -139,7 +150,7 @@ void EventDrivenIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
                    "Reinit: x has " << x.size() << " entries, expected " << state.dvi.n);
   for (int i = 0; i < x.size(); ++i)
     DVI_THROW_UNLESS(std::isfinite(x(i)), "Reinit: x(" << i << ") = " << x(i) << " is not finite");
-  if (!run.Restart(t, x)) state.last = StepOutcome::kFailure;
+  if (!run.Restart(t, x)) state.last = NotStarted(run);
 }
 
 double EventDrivenIntegrator::t() const { return state_->run.time(); }
@@ -166,6 +177,15 @@ Eigen::VectorXd EventDrivenIntegrator::StateAt(double t) const {
   Eigen::VectorXd x(state_->dvi.n);
   run.InterpolateState(t, x);
   return x;
+}
+
+Eigen::VectorXd EventDrivenIntegrator::MultiplierAt(double t) const {
+  const Eigen::VectorXd x = StateAt(t);
+  Eigen::VectorXd u;
+  DVI_THROW_UNLESS(state_->run.MultiplierAt(t, x, u),
+                   "MultiplierAt: the mode " << ModeLetters(mode())
+                                             << "'s equations are not solved at t = " << t);
+  return u;
 }
 
 const Mode& EventDrivenIntegrator::mode() const { return state_->run.system().mode(); }

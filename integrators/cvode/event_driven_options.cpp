@@ -33,6 +33,7 @@ void EventDrivenOptions::Validate() const {
                    "min_event_spacing: " << min_event_spacing << " is outside [0, 1)");
   DVI_THROW_UNLESS(std::isfinite(zeno_window) && zeno_window >= 0 && zeno_window <= 1,
                    "zeno_window: " << zeno_window << " is outside [0, 1]");
+  observation.Validate();
 }
 
 }  // namespace dvi
