@@ -10,6 +10,7 @@ std::string_view ToString(StepOutcome outcome) {
     case StepOutcome::kStopTime: return "stop-time";
     case StepOutcome::kEnd: return "end";
     case StepOutcome::kFailure: return "failure";
+    case StepOutcome::kUserStop: return "user-stop";
   }
   return "unknown";
 }

@@ -17,7 +17,9 @@ void CheckAdvanceTime(double t, double now, double t_end) {
 void CheckReinit(dvi::StepOutcome last, double t, const Eigen::VectorXd& x, double now,
                  double t_end, Eigen::Index n) {
   DVI_THROW_UNLESS(!Over(last), "Reinit: the run has "
-                                    << (last == dvi::StepOutcome::kEnd ? "ended" : "failed")
+                                    << (last == dvi::StepOutcome::kEnd        ? "ended"
+                                        : last == dvi::StepOutcome::kUserStop ? "been stopped"
+                                                                              : "failed")
                                     << " at t = " << now);
   DVI_THROW_UNLESS(std::isfinite(t) && t >= now && t < t_end,
                    "Reinit: t = " << t << " must be finite, in [t() = " << now

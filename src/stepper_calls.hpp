@@ -12,9 +12,11 @@ namespace dvi::internal {
 /// (each names a bad argument alike; @throws InvalidInputError naming the
 /// call), and Step / AdvanceTo over the run's StepOnce.
 
-/// Whether a Step/AdvanceTo outcome ends the run (kEnd, kFailure).
+/// Whether a Step/AdvanceTo outcome ends the run (kEnd, kFailure,
+/// kUserStop).
 inline bool Over(dvi::StepOutcome outcome) {
-  return outcome == dvi::StepOutcome::kEnd || outcome == dvi::StepOutcome::kFailure;
+  return outcome == dvi::StepOutcome::kEnd || outcome == dvi::StepOutcome::kFailure ||
+         outcome == dvi::StepOutcome::kUserStop;
 }
 
 /// AdvanceTo(t): t not NaN, not before the current time `now` (the
@@ -29,7 +31,9 @@ void CheckReinit(dvi::StepOutcome last, double t, const Eigen::VectorXd& x, doub
                  double t_end, Eigen::Index n);
 
 /// A run's StepOnce answer (Run::Advance: kStep, kEvent, kStopped, kEnded,
-/// kFailed) as the public StepOutcome.
+/// kFailed) as the public StepOutcome. A run with more answers (the
+/// event-driven one's kUserStop) overloads it next to its Advance, where
+/// StepRun/AdvanceRun find it by argument-dependent lookup.
 template <typename Advance>
 dvi::StepOutcome ToStepOutcome(Advance advance) {
   switch (advance) {
@@ -46,7 +50,7 @@ dvi::StepOutcome ToStepOutcome(Advance advance) {
 /// SetStopTime(t) → bool, StepOnce()), never past its stop time; a stop
 /// time reached gives way to the horizon (CVODE and IDA keep a stop time
 /// they reached and would return there again). After kEnd or kFailure
-/// (`last`) the same again without stepping.
+/// (`last`, Over) the same again without stepping.
 template <typename Run>
 dvi::StepOutcome StepRun(Run& run, dvi::StepOutcome& last) {
   if (Over(last)) return last;

@@ -28,6 +28,7 @@ std::string_view ToString(IntegrationStatus status) {
     case IntegrationStatus::kEventAccumulation: return "event-accumulation";
     case IntegrationStatus::kNotIndexOne: return "not-index-one";
     case IntegrationStatus::kUncertified: return "uncertified";
+    case IntegrationStatus::kStoppedByUser: return "stopped-by-user";
   }
   return "unknown";
 }
@@ -40,6 +41,7 @@ std::string_view ToString(EventKind kind) {
     case EventKind::kConstraintActive: return "constraint-active";
     case EventKind::kConstraintReleased: return "constraint-released";
     case EventKind::kJump: return "jump";
+    case EventKind::kUser: return "user";
   }
   return "unknown";
 }

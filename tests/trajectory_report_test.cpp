@@ -122,6 +122,13 @@ TEST(EnumOutput, EveryPublicEnumIsWrittenByItsName) {
   EXPECT_EQ(Streamed(ConvexSet::Kind::kBall), "ball");
   EXPECT_EQ(Streamed(BoundaryValueScheme::kImplicitExplicit), "9.11");
   EXPECT_EQ(Streamed(BoundaryDiagnostics::Verdict::kHolds), "holds");
+  EXPECT_EQ(Streamed(IntegrationStatus::kStoppedByUser), "stopped-by-user");
+  EXPECT_EQ(Streamed(EventKind::kUser), "user");
+  EXPECT_EQ(Streamed(StepOutcome::kUserStop), "user-stop");
+  EXPECT_EQ(Streamed(ObservationPoint::kOutputTime), "output-time");
+  EXPECT_EQ(Streamed(ObserverReply::kStop), "stop");
+  EXPECT_EQ(Streamed(EventDirection::kFalling), "falling");
+  EXPECT_EQ(Streamed(UserEventAction::kModify), "modify");
 }
 
 }  // namespace

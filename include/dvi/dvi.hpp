@@ -30,6 +30,7 @@
 #include "dvi/mode_dae_integrator.hpp"
 #include "dvi/mode_dae_options.hpp"
 #include "dvi/nash_game.hpp"
+#include "dvi/observer.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/projected_gauss_seidel.hpp"
 #include "dvi/projection_method.hpp"

@@ -52,8 +52,10 @@ class EventDrivenIntegrator {
   ~EventDrivenIntegrator();
 
   /// One CVODE step (and the event at its end), never past t_end or a
-  /// pending AdvanceTo time. After kEnd or kFailure it returns the same
-  /// again without stepping.
+  /// pending AdvanceTo time. After kEnd, kFailure or kUserStop it returns
+  /// the same again without stepping. options.observation's observer sees
+  /// every sample and step end; its user events stop the run (kUserStop)
+  /// or modify the state and go on (kEvent).
   StepOutcome Step();
   /// Steps until t (CVodeSetStopTime: the last step ends exactly at t, never
   /// past it); kStopTime (kEnd at t_end), or kFailure.
@@ -79,6 +81,10 @@ class EventDrivenIntegrator {
   /// trajectory().StateAt.
   /// @throws InvalidInputError if t is outside that span (named).
   Eigen::VectorXd StateAt(double t) const;
+  /// u at t in the same span: the current mode's equations at StateAt(t)
+  /// (the right limit at the mode's start).
+  /// @throws InvalidInputError as StateAt, or if they are not solved there.
+  Eigen::VectorXd MultiplierAt(double t) const;
   /// The current mode (for each u_j: free, lower or upper bound).
   const Mode& mode() const;
   IntegrationStatus status() const;

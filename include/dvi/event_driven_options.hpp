@@ -5,6 +5,7 @@
 
 #include "dvi/enum_output.hpp"
 #include "dvi/integration_options.hpp"
+#include "dvi/observer.hpp"
 
 namespace dvi {
 
@@ -66,6 +67,10 @@ struct EventDrivenOptions : IntegrationOptions {
   /// linear_solver there. kAuto (the default) takes KLU wherever it applies
   /// from kKluMinStates states on.
   LinearSolver linear_solver = LinearSolver::kAuto;
+  /// An observer called at every sample and step end, and user root
+  /// functions that stop the run or modify the state (observer.hpp). K must
+  /// be a box (InvalidInputError otherwise).
+  ObservationOptions observation;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

@@ -15,8 +15,11 @@ enum class StepOutcome {
   kStopTime,  ///< Reached the time AdvanceTo asked for, before t_end.
   kEnd,       ///< Reached t_end: the run is over.
   kFailure,   ///< The run failed: status() and trajectory().message say why.
+  /// An observer or a user event with action stop ended the run
+  /// (IntegrationStatus::kStoppedByUser): t() is where.
+  kUserStop,
 };
-/// "step", "event", "stop-time", "end", "failure".
+/// "step", "event", "stop-time", "end", "failure", "user-stop".
 std::string_view ToString(StepOutcome outcome);
 std::ostream& operator<<(std::ostream& out, StepOutcome outcome);
 

@@ -35,9 +35,13 @@ enum class IntegrationStatus {
   /// ODE beyond the bounds of its Certificate; the message names the time
   /// and the component.
   kUncertified,
+  /// Event-driven: an observer answered kStop, or a user event with action
+  /// kStop occurred (observer.hpp); the message says which and when, the
+  /// last sample is there.
+  kStoppedByUser,
 };
 /// "success", "step-failure", "step-size-too-small", "max-steps",
-/// "event-accumulation", "not-index-one", "uncertified".
+/// "event-accumulation", "not-index-one", "uncertified", "stopped-by-user".
 std::string_view ToString(IntegrationStatus status);
 
 /// A change of the active set (the mode) of u, or a jump of the state.
@@ -51,9 +55,12 @@ enum class EventKind {
   /// below its diode's source), x⁺ = x⁻ + B η with the impulse η (index −1).
   /// The rows at its time: x⁻ first, then x⁺.
   kJump,
+  /// A user root function g_k crossed zero (observer.hpp's UserEvents;
+  /// index: k). A kModify event's rows at its time: x⁻, then x⁺.
+  kUser,
 };
 /// "reached-lower", "reached-upper", "left-bound", "constraint-active",
-/// "constraint-released", "jump".
+/// "constraint-released", "jump", "user".
 std::string_view ToString(EventKind kind);
 
 struct Event {

@@ -16,6 +16,10 @@ void AutoOptions::Validate() const {
   } catch (const InvalidInputError& error) {
     throw InvalidInputError(std::string("AutoOptions.event.") + error.what());
   }
+  DVI_THROW_UNLESS(event.observation.empty(),
+                   "AutoOptions.event.observation: observers and user events are not yet "
+                   "supported by the automatic driver (use IntegrateEventDriven or "
+                   "EventDrivenIntegrator)");
   TimeSteppingOptions stepping_checked = stepping;
   stepping_checked.output_times.clear();  // ignored: event.output_times serve both
   stepping_checked.initial_guess.resize(0);  // ignored: each interval's is set

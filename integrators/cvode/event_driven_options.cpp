@@ -35,6 +35,7 @@ void EventDrivenOptions::Validate() const {
                    "zeno_window: " << zeno_window << " is outside [0, 1]");
   DVI_THROW_UNLESS(std::isfinite(x0_error) && x0_error >= 0,
                    "x0_error: " << x0_error << " is not a finite error >= 0");
+  observation.Validate();
 }
 
 }  // namespace dvi

@@ -21,6 +21,7 @@
 #include "cvode/smooth_switch.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "events/event_times.hpp"
+#include "events/user_roots.hpp"
 #include "events/zeno_prediction.hpp"
 #include "modes/active_set_solve.hpp"
 #include "modes/mode_selection.hpp"
@@ -211,7 +212,7 @@ bool EventDrivenRun::Start(double t, const Eigen::VectorXd& x_start) {
   if (dvi_.m == 0) {
     index_one_reason_ = "m = 0: an ODE, one mode";
     std::copy(x_start.data(), x_start.data() + x_start.size(), y_.data());
-    Sample(t, x_start, Eigen::VectorXd());
+    Sample(t, x_start, Eigen::VectorXd(), ObservationPoint::kStart);
     return true;
   }
   const Eigen::VectorXd warm = Eigen::VectorXd::Zero(dvi_.m);
@@ -252,7 +253,7 @@ bool EventDrivenRun::Start(double t, const Eigen::VectorXd& x_start) {
                             : "u0 not strongly regular at t = " + FormatTime(t) +
                                   "; mode by look-ahead along the flow";
   std::copy(x.data(), x.data() + x.size(), y_.data());
-  Sample(t, x, system_.u());
+  Sample(t, x, system_.u(), ObservationPoint::kStart);
   return true;
 }
 
@@ -387,7 +388,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
   std::string zeno;
   if (!same_time && Accumulating(t, zeno))
     return Fail(IntegrationStatus::kEventAccumulation, at() + zeno);
-  Sample(t, x, system_.u());
+  Sample(t, x, system_.u(), ObservationPoint::kEvent);
   return true;
 }
 
@@ -426,13 +427,17 @@ bool EventDrivenRun::Begin() {
   data_.system = &system_;
   data_.x.resize(x0_.size());
   data_.roots.resize(2 * dvi_.m);
+  if (user_roots_ > 0) data_.user_events = &observation_.user_events;
   t_ = t0_;
   mode_start_ = t0_;
   if (!EnterSparseJacobian()) return false;
   SUNMatrix matrix = klu_ ? klu_->matrix() : dense_->matrix();
   SUNLinearSolver solver = klu_ ? klu_->solver() : dense_->solver();
-  std::vector<int> directions(2 * dvi_.m, -1);  // the root functions are positive in the mode
-  std::vector<int> roots(2 * dvi_.m);
+  // The mode's root functions are positive in it; the user's after them.
+  std::vector<int> directions(2 * dvi_.m, -1);
+  const std::vector<int> user_directions = UserRootDirections(observation_.user_events);
+  directions.insert(directions.end(), user_directions.begin(), user_directions.end());
+  root_info_.resize(directions.size());
   Eigen::Map<Eigen::VectorXd>(atol_.data(), x0_.size()) = atol_per_state_;
   if (!Check(CVodeSetErrHandlerFn(cvode, ModeErrorHandler, &data_), "CVodeSetErrHandlerFn") ||
       !Check(CVodeInit(cvode, ModeRhsCallback, t0_, y_.get()), "CVodeInit") ||
@@ -445,8 +450,9 @@ bool EventDrivenRun::Begin() {
       !Check(CVodeSetStopTime(cvode, stop_time_), "CVodeSetStopTime") ||
       !Check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn"))
     return false;
-  if (dvi_.m > 0 &&
-      (!Check(CVodeRootInit(cvode, 2 * dvi_.m, ModeRootCallback), "CVodeRootInit") ||
+  if (!directions.empty() &&
+      (!Check(CVodeRootInit(cvode, static_cast<int>(directions.size()), ModeRootCallback),
+              "CVodeRootInit") ||
        !Check(CVodeSetRootDirection(cvode, directions.data()), "CVodeSetRootDirection")))
     return false;
   // The error estimate is not projected: in a mode whose constraints fix
@@ -462,7 +468,7 @@ bool EventDrivenRun::Begin() {
        !ProjectReducedModesOnly()))
     return false;
   segment_open_ = true;
-  return true;
+  return Observe();
 }
 
 bool EventDrivenRun::SetStopTime(double t) {
@@ -486,7 +492,7 @@ bool EventDrivenRun::Restart(double t, const Eigen::VectorXd& x) {
   mode_start_ = t_;
   segment_open_ = true;
   unresolved_steps_ = 0;
-  return true;
+  return Observe();
 }
 
 std::pair<double, double> EventDrivenRun::DenseSpan() const {
@@ -495,6 +501,12 @@ std::pair<double, double> EventDrivenRun::DenseSpan() const {
   CVodeGetLastStep(cvode_.get(), &h);
   // After a root CVODE's step ends past t_ (the root), in the old mode.
   return {std::max(t_n - h, mode_start_), t_};
+}
+
+bool EventDrivenRun::MultiplierAt(double t, const Eigen::VectorXd& x, Eigen::VectorXd& u) {
+  if (!system_.Solve(t, x)) return false;
+  u = system_.u();
+  return true;
 }
 
 void EventDrivenRun::InterpolateState(double t, Eigen::VectorXd& x) {
@@ -531,6 +543,8 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
   }
   t_ = t_reached;
   bool event = flag == CV_ROOT_RETURN;
+  // A root return may be a user's root alone (events/user_roots.hpp).
+  int user_event = event && user_roots_ > 0 ? ReportedUserRoot(event) : -1;
   if (!event && data_.root_time == t_ && data_.root_undefined) {
     double last_defined = t_;
     if (LocateMissedRoot(t_, last_defined) != MissedRoot::kLocated) {
@@ -555,12 +569,15 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
       event = LocateMissedRoot(second, last_defined) == MissedRoot::kLocated;
     if (event) DropSamplesFrom(t_);
   }
+  if (user_roots_ > 0) user_event = FirstUserRoot(user_event, event);
   RecordStep(t_);
-  if (event) {
+  if (event || user_event >= 0) {
     SampleOutputs(t_);
+    if (!Observe()) return Advance::kUserStop;
     AddCvodeStats();
     step_ends_.Forget();  // the next step starts in another mode
     Eigen::VectorXd x = y;
+    if (!event) return HandleUserEvent(user_event, x);
     const Eigen::VectorXd x_left = x, u_left = system_.u();
     const Mode mode_left = system_.mode();
     const bool left_reduced = system_.reduced();
@@ -572,19 +589,22 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
       // CVODE's stage states; the row's u is the VI's at x_left (the
       // spiral's x⁻ was 0.011 stale at its Zeno stop), where it solves.
       const SolveResult at_stop = system_.problem().SolveVi(t_, x_left, u_left);
-      Sample(t_, x_left, at_stop.solved() ? at_stop.z : u_left);
+      Sample(t_, x_left, at_stop.solved() ? at_stop.z : u_left, ObservationPoint::kEvent);
       return Advance::kFailed;
     }
     std::copy(x.data(), x.data() + x.size(), y_.data());
+    if (user_event >= 0) return HandleUserEvent(user_event, x);  // at the mode's event
     // An event this close to the stop time ends the step there (the run,
     // at t_end): CVODE cannot start a step shorter than its minimum
     // (CV_TOO_CLOSE), and x moves by O(gap).
     const bool at_stop = stop_time_ - t_ <= SameTimeWidth(stop_time_, t_end_ - t0_);
     if (at_stop) {
-      if (trajectory_.times.back() < stop_time_) Sample(stop_time_, x, system_.u());
+      if (trajectory_.times.back() < stop_time_)
+        Sample(stop_time_, x, system_.u(), ObservationPoint::kStep);
       t_ = stop_time_;
-      if (t_ >= t_end_) return Advance::kEnded;
     }
+    if (!Observe()) return Advance::kUserStop;
+    if (at_stop && t_ >= t_end_) return Advance::kEnded;
     // Issue 31: across a switch the flow is smooth over (the new field
     // matches CVODE's interpolant to its local error) CVODE goes on at
     // its order and step instead of restarting at order 1.
@@ -610,7 +630,8 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
     return at_stop ? Advance::kStopped : Advance::kEvent;
   }
   const bool at_stop = flag == CV_TSTOP_RETURN || t_ >= stop_time_;
-  if (at_stop || options_.output_times.empty()) {
+  const bool sampled = at_stop || options_.output_times.empty();
+  if (sampled || observation_.observer) {
     const Eigen::VectorXd x = y;
     if (!system_.Solve(t_, x)) {
       std::ostringstream message;
@@ -619,8 +640,12 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
       Fail(IntegrationStatus::kStepFailure, message.str());
       return Advance::kFailed;
     }
-    Sample(t_, x, system_.u());
+    if (sampled)
+      Sample(t_, x, system_.u(), ObservationPoint::kStep);
+    else if (!ObserveStepEnd(x))
+      return Advance::kUserStop;
   }
+  if (!Observe()) return Advance::kUserStop;
   if (!at_stop) return Advance::kStep;
   if (t_ < t_end_) return Advance::kStopped;
   AddCvodeStats();

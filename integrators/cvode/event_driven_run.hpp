@@ -67,9 +67,11 @@ class EventDrivenRun {
   Trajectory Run();
 
   /// What one StepOnce did: an accepted step inside the mode, a step ending
-  /// at an event (the new mode entered), a step ending at the stop time
-  /// before t_end, the end of the run, or a failure (trajectory's status).
-  enum class Advance { kStep, kEvent, kStopped, kEnded, kFailed };
+  /// at an event (the new mode entered, or a user event's new state), a
+  /// step ending at the stop time before t_end, the end of the run, a
+  /// failure (trajectory's status), or a stop by the observer or a user
+  /// event (kStoppedByUser).
+  enum class Advance { kStep, kEvent, kStopped, kEnded, kFailed, kUserStop };
   /// Selects the mode at (t0, x0), samples it and sets CVODE up; false on
   /// failure.
   bool Begin();
@@ -84,6 +86,9 @@ class EventDrivenRun {
   /// x at t in DenseSpan() by CVODE's interpolant (CVodeGetDky), x = y at
   /// time() itself. @pre t in DenseSpan().
   void InterpolateState(double t, Eigen::VectorXd& x);
+  /// u at (t, x) by the current mode's equations; false if its Newton
+  /// fails there.
+  bool MultiplierAt(double t, const Eigen::VectorXd& x, Eigen::VectorXd& u);
   /// The samples so far, with the statistics and the interval.
   Trajectory Snapshot() const;
   double time() const { return t_; }
@@ -116,7 +121,27 @@ class EventDrivenRun {
   bool Accumulating(double t, std::string& why);
   bool Check(int flag, const char* call);
   void Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
-              const Eigen::Ref<const Eigen::VectorXd>& u);
+              const Eigen::Ref<const Eigen::VectorXd>& u, ObservationPoint point);
+  /// Keeps the first `rows` samples (and their points).
+  void KeepRows(std::size_t rows);
+  /// Hands the samples not yet observed to the observer, in order; false
+  /// if it stopped the run (the samples after its stop are dropped, t_ and
+  /// y_ moved there, status kStoppedByUser).
+  bool Observe();
+  /// The observer at the end of a step that is not sampled (output times
+  /// given), x there; false as Observe.
+  bool ObserveStepEnd(const Eigen::VectorXd& x);
+  /// At CVODE's root return: the first user event it reports (-1: none),
+  /// its time and state kept; mode_root: whether a mode's root function
+  /// crossed too.
+  int ReportedUserRoot(bool& mode_root);
+  /// The step's user event against the mode's (event): CVODE's (reported)
+  /// or one it missed within the step (LocateMissedUserRoot); the earlier
+  /// of the two is handled, both at one time. Moves t_ and y_ to it.
+  int FirstUserRoot(int reported, bool& event);
+  /// User event k at (t_, x): recorded and sampled, then the run stops or
+  /// restarts at the modified state.
+  Advance HandleUserEvent(int k, const Eigen::VectorXd& x);
   double SampleOutputs(double before);
   double StepViolation();
   bool StepClear(double t_n, double h);
@@ -159,6 +184,17 @@ class EventDrivenRun {
   double stop_time_ = t_end_;
   std::chrono::steady_clock::time_point start_clock_;
   double mode_start_ = 0;  // where the current mode was entered
+
+  // The observer and the user's root functions (options_.observation).
+  const ObservationOptions& observation_ = options_.observation;
+  const int user_roots_ = static_cast<int>(observation_.user_events.events.size());
+  std::vector<ObservationPoint> row_points_;  // one per sample
+  std::size_t observed_rows_ = 0;             // samples handed to the observer
+  std::vector<int> root_info_;                // CVodeGetRootInfo's
+  double user_root_time_ = NAN;               // ReportedUserRoot's time and state
+  Eigen::VectorXd user_root_x_;
+  int user_burst_ = 0;                        // user events in a row at one time
+  double last_user_event_time_ = NAN;
 
   SunContext context_;
   SerialVector y_{x0_.size(), context_.get()};

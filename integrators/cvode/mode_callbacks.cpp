@@ -8,6 +8,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "events/user_roots.hpp"
 #include "sundials/callbacks.hpp"
 
 namespace dvi::internal {
@@ -106,12 +107,16 @@ int ModeRootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
   return GuardedCallback(data.error, [&] {
     if (!Load(data, t, y)) return NonFinite(data, t, "root functions", false);
     if (!data.system->Solve(t, data.x)) return -1;
+    const int mode_roots = 2 * data.system->m();
+    if (data.user_events)
+      EvaluateUserRoots(*data.user_events, t, data.x, data.system->u(), g + mode_roots);
+    if (mode_roots == 0) return 0;
     data.system->Roots(t, data.x, g);
     data.root_time = t;
-    std::copy(g, g + 2 * data.system->m(), data.roots.data());
-    data.least_root = *std::min_element(g, g + 2 * data.system->m());
-    data.root_undefined = std::any_of(g, g + 2 * data.system->m(),
-                                      [](double value) { return std::isnan(value); });
+    std::copy(g, g + mode_roots, data.roots.data());
+    data.least_root = *std::min_element(g, g + mode_roots);
+    data.root_undefined =
+        std::any_of(g, g + mode_roots, [](double value) { return std::isnan(value); });
     return 0;
   });
 }

@@ -10,6 +10,7 @@
 #include <sundials/sundials_nvector.h>
 
 #include "dvi/complementarity_problem.hpp"
+#include "dvi/observer.hpp"
 #include "modes/box_mode.hpp"
 
 namespace dvi::internal {
@@ -41,6 +42,9 @@ struct ModeCallbackData {
   Eigen::VectorXd roots;
   double least_root = 0;
   bool root_undefined = false;
+  // The user's root functions, after the mode's 2m (events/user_roots.hpp);
+  // null without any.
+  const UserEvents* user_events = nullptr;
   std::exception_ptr error;
   std::string cvode_message;
   std::string non_finite;  // set by NonFinite
@@ -66,7 +70,8 @@ int ModeDenseJacobianCallback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix Jac
 /// CVLsJacFn for KLU: the mode's Jacobian formed at its entry (sparse_J).
 int ModeSparseJacobianCallback(sunrealtype, N_Vector, N_Vector, SUNMatrix Jac, void* user_data,
                                N_Vector, N_Vector, N_Vector);
-/// CVRootFn: the mode's 2m root functions, all positive inside it.
+/// CVRootFn: the mode's 2m root functions, all positive inside it, then
+/// the user's (user_events).
 int ModeRootCallback(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data);
 /// CVProjFn: a reduced mode back onto Φ(t, x) = 0.
 int ModeProjectionCallback(sunrealtype t, N_Vector y, N_Vector corr, sunrealtype, N_Vector err,

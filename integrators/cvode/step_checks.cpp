@@ -105,9 +105,7 @@ bool EventDrivenRun::StillHolds() {
   const auto kept = std::upper_bound(trajectory_.times.begin(), trajectory_.times.end(),
                                      mode_start_) -
                     trajectory_.times.begin();
-  trajectory_.times.resize(kept);
-  trajectory_.states.resize(kept);
-  trajectory_.multipliers.resize(kept);
+  KeepRows(static_cast<std::size_t>(kept));
   std::ostringstream message;
   message << "event: mode " << ModeLetters(system_.mode()) << ", entered at t = " << mode_start_
           << ", no longer holds at t = " << t_ << " and no root was crossed: " << why
@@ -175,7 +173,7 @@ bool EventDrivenRun::FailWhereFIsUndefined(double last_defined) {
     std::copy(dky_.data(), dky_.data() + x.size(), x.data());
     if (system_.Solve(last_defined, x)) {
       SampleOutputs(last_defined);
-      Sample(last_defined, x, system_.u());
+      Sample(last_defined, x, system_.u(), ObservationPoint::kStep);
     }
   }
   return Fail(IntegrationStatus::kStepFailure,

@@ -13,10 +13,20 @@
 namespace dvi::internal {
 
 void EventDrivenRun::Sample(double t, const Eigen::Ref<const Eigen::VectorXd>& x,
-                            const Eigen::Ref<const Eigen::VectorXd>& u) {
+                            const Eigen::Ref<const Eigen::VectorXd>& u,
+                            ObservationPoint point) {
   trajectory_.times.push_back(t);
   trajectory_.states.push_back(x);
   trajectory_.multipliers.push_back(u);
+  row_points_.push_back(point);
+}
+
+void EventDrivenRun::KeepRows(std::size_t rows) {
+  trajectory_.times.resize(rows);
+  trajectory_.states.resize(rows);
+  trajectory_.multipliers.resize(rows);
+  row_points_.resize(rows);
+  observed_rows_ = std::min(observed_rows_, rows);
 }
 
 // Dense output of the current step at the requested times before `before`
@@ -52,6 +62,7 @@ double EventDrivenRun::SampleOutputs(double before) {
   std::vector<double>& sample_times = trajectory_.times;
   const std::size_t first_sample = sample_times.size();
   sample_times.insert(sample_times.end(), served.begin, served.end);
+  row_points_.resize(sample_times.size(), ObservationPoint::kOutputTime);
   const Eigen::Map<const Eigen::ArrayXd> step_times(sample_times.data() + first_sample,
                                                     static_cast<Eigen::Index>(count));
   auto X = trajectory_.states.Extend(count, x0_.size());
@@ -107,9 +118,7 @@ double EventDrivenRun::SampleOutputs(double before) {
           system_.FSlack(t_n, Eigen::VectorXd(X.col(samples - 1)), state_error));
     }
   }
-  sample_times.resize(first_sample + kept);
-  trajectory_.states.resize(first_sample + kept);
-  trajectory_.multipliers.resize(first_sample + kept);
+  KeepRows(first_sample + kept);
   return out < 0 ? NAN : sample_times[first_sample + static_cast<std::size_t>(out)];
 }
 
@@ -157,9 +166,7 @@ void EventDrivenRun::DropSamplesFrom(double t) {
   const std::size_t kept = static_cast<std::size_t>(
       std::lower_bound(trajectory_.times.begin(), trajectory_.times.end(), t) -
       trajectory_.times.begin());
-  trajectory_.times.resize(kept);
-  trajectory_.states.resize(kept);
-  trajectory_.multipliers.resize(kept);
+  KeepRows(kept);
   outputs_.RetakeFrom(t);
 }
 
