@@ -56,6 +56,15 @@ void DefConstructor(py::class_<EventStepper>& stepper, const char* doc) {
               py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), doc);
 }
 
+// The enumerators as Python objects, made once when the module loads (and
+// never freed: they live as long as the interpreter's enum type): step()
+// and advance_to() hand out these, not a new instance per call.
+const py::object* outcome_objects = nullptr;
+
+py::object OutcomeObject(StepOutcome outcome) {
+  return outcome_objects[static_cast<int>(outcome)];
+}
+
 py::list ModeNames(const Mode& mode) {
   py::list names;
   for (const MultiplierBound bound : mode) names.append(std::string(ToString(bound)));
@@ -72,6 +81,9 @@ void BindSteppers(py::module_& module) {
       .value("STOP_TIME", StepOutcome::kStopTime, "reached the time advance_to asked for")
       .value("END", StepOutcome::kEnd, "reached t_end: the run is over")
       .value("FAILURE", StepOutcome::kFailure, "the run failed: status and message say why");
+  outcome_objects = new py::object[5]{outcome.attr("STEP"), outcome.attr("EVENT"),
+                                     outcome.attr("STOP_TIME"), outcome.attr("END"),
+                                     outcome.attr("FAILURE")};
   // Replaces enum_'s own __str__ ("StepOutcome.STEP"): dvi's ToString.
   py::setattr(outcome, "__str__",
               py::cpp_function([](StepOutcome value) { return std::string(ToString(value)); },
@@ -87,12 +99,15 @@ void BindSteppers(py::module_& module) {
   DefConstructor<FilippovSystem>(stepper, "A Filippov system as its separable DVI");
   stepper
       .def(
-          "step", [](EventStepper& self) { return self.Released([&] { return self.integrator.Step(); }); },
+          "step",
+          [](EventStepper& self) {
+            return OutcomeObject(self.Released([&] { return self.integrator.Step(); }));
+          },
           "One CVODE step (and the event at its end), never past t_end or a pending stop")
       .def(
           "advance_to",
           [](EventStepper& self, double t) {
-            return self.Released([&] { return self.integrator.AdvanceTo(t); });
+            return OutcomeObject(self.Released([&] { return self.integrator.AdvanceTo(t); }));
           },
           py::arg("t"), "Steps until t, stopping exactly there (CVODE's stop time)")
       .def(
