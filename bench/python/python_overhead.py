@@ -52,7 +52,7 @@ def bindings_overhead():
     return median(own), median(ratios)
 
 
-STOPS = (1, 100, 1000, 10000)
+STOPS = (100, 1000, 10000)
 
 
 def stepper_overhead():
