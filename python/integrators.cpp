@@ -32,7 +32,7 @@ void DefIntegrator(py::module_& module, const char* name, const char* doc,
     module.def(
         name,
         [name, read, integrate](const Problem& problem, const Eigen::VectorXd& x0, double t0,
-                          double t_end, const py::kwargs& kwargs) {
+                                double t_end, const py::kwargs& kwargs) {
           const Options options = read(kwargs, name, x0.size());
           if constexpr (std::is_same_v<Problem, Lcs>) {
             py::gil_scoped_release released_here;

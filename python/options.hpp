@@ -18,7 +18,8 @@ namespace dvi::python {
 /// numpy array of `states` entries: atol_per_state, and atol their largest,
 /// as a scene's array). @throws InvalidInputError on an unknown keyword, a
 /// wrong type or an atol of another length.
-EventDrivenOptions EventOptions(const py::kwargs& kwargs, const char* function, Eigen::Index states);
+EventDrivenOptions EventOptions(const py::kwargs& kwargs, const char* function,
+                                Eigen::Index states);
 ModeDaeOptions DaeOptions(const py::kwargs& kwargs, const char* function, Eigen::Index states);
 TimeSteppingOptions SteppingOptions(const py::kwargs& kwargs, const char* function,
                                     Eigen::Index states);

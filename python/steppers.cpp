@@ -4,9 +4,10 @@
 // integrate_event takes, and dvi.StepOutcome. An Lcs's integrator steps
 // with the GIL released, as integrate_event runs it (no Python inside); one
 // of Python callables holds it. One thread at a time per integrator object.
+#include <sstream>
 #include <string>
 #include <type_traits>
-#include <utility>
+#include <vector>
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -43,26 +44,39 @@ void DefConstructor(py::class_<EventStepper>& stepper, const char* doc) {
                 const EventDrivenOptions options =
                     EventOptions(kwargs, "EventDrivenIntegrator", x0.size());
                 constexpr bool kCallsPython = !std::is_same_v<Problem, Lcs>;
-                // Its start selects the mode (a VI solve at t0): released as its steps.
-                if constexpr (kCallsPython) {
-                  return EventStepper{EventDrivenIntegrator(AsDvi(problem), x0, t0, t_end, options),
-                                      true};
-                } else {
-                  py::gil_scoped_release released_here;
-                  return EventStepper{EventDrivenIntegrator(problem, x0, t0, t_end, options),
-                                      false};
-                }
+                const auto start = [&] {
+                  return EventStepper{
+                      EventDrivenIntegrator(AsDvi(problem), x0, t0, t_end, options),
+                      kCallsPython};
+                };
+                // The start selects the mode (a VI solve at t0): released as a step.
+                if constexpr (kCallsPython) return start();
+                py::gil_scoped_release released_here;
+                return start();
               }),
               py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), doc);
 }
 
 // The enumerators as Python objects, made once when the module loads (and
-// never freed: they live as long as the interpreter's enum type): step()
-// and advance_to() hand out these, not a new instance per call.
-const py::object* outcome_objects = nullptr;
+// never freed: they live as long as the interpreter's enum type), indexed
+// by value: step() and advance_to() hand out these, not a new instance per
+// call (which doubled a no-op advance_to's time).
+std::vector<py::object>* outcome_objects = nullptr;
 
+void KeepOutcomeObjects(const py::enum_<StepOutcome>& outcome) {
+  outcome_objects = new std::vector<py::object>;
+  for (const auto& member : py::dict(outcome.attr("__members__"))) {
+    const auto index = static_cast<std::size_t>(member.second.cast<StepOutcome>());
+    if (index >= outcome_objects->size()) outcome_objects->resize(index + 1);
+    (*outcome_objects)[index] = py::reinterpret_borrow<py::object>(member.second);
+  }
+}
+
+// An enumerator not bound (yet) in BindSteppers: pybind11's own cast.
 py::object OutcomeObject(StepOutcome outcome) {
-  return outcome_objects[static_cast<int>(outcome)];
+  const auto index = static_cast<std::size_t>(outcome);
+  const bool kept = index < outcome_objects->size() && (*outcome_objects)[index];
+  return kept ? (*outcome_objects)[index] : py::cast(outcome);
 }
 
 py::list ModeNames(const Mode& mode) {
@@ -81,9 +95,7 @@ void BindSteppers(py::module_& module) {
       .value("STOP_TIME", StepOutcome::kStopTime, "reached the time advance_to asked for")
       .value("END", StepOutcome::kEnd, "reached t_end: the run is over")
       .value("FAILURE", StepOutcome::kFailure, "the run failed: status and message say why");
-  outcome_objects = new py::object[5]{outcome.attr("STEP"), outcome.attr("EVENT"),
-                                     outcome.attr("STOP_TIME"), outcome.attr("END"),
-                                     outcome.attr("FAILURE")};
+  KeepOutcomeObjects(outcome);
   // Replaces enum_'s own __str__ ("StepOutcome.STEP"): dvi's ToString.
   py::setattr(outcome, "__str__",
               py::cpp_function([](StepOutcome value) { return std::string(ToString(value)); },
@@ -142,9 +154,10 @@ void BindSteppers(py::module_& module) {
           "The samples, events and statistics from t0 to t")
       .def("__repr__", [](const EventStepper& self) {
         const EventDrivenIntegrator& integrator = self.integrator;
-        return "<dvi.EventDrivenIntegrator t = " + std::to_string(integrator.t()) + " of " +
-               std::to_string(integrator.t_end()) + ", mode " + ModeLetters(integrator.mode()) +
-               ", " + std::string(ToString(integrator.status())) + ">";
+        std::ostringstream text;
+        text << "<dvi.EventDrivenIntegrator t = " << integrator.t() << " of " << integrator.t_end()
+             << ", mode " << ModeLetters(integrator.mode()) << ", " << integrator.status() << ">";
+        return text.str();
       });
 }
 

@@ -211,6 +211,7 @@ def test_a_callables_exception_reaches_the_caller():
 def test_bad_arguments_raise_naming_the_problem():
     integrator = dvi.EventDrivenIntegrator(clamp_lcs(), [1.0], 0.0, 2.0)
     integrator.advance_to(0.5)
+    assert repr(integrator) == "<dvi.EventDrivenIntegrator t = 0.5 of 2, mode l, success>"
     with pytest.raises(ValueError, match="AdvanceTo: t is NaN"):
         integrator.advance_to(math.nan)
     with pytest.raises(ValueError, match="before the current time 0.5"):
@@ -228,7 +229,8 @@ def test_bad_arguments_raise_naming_the_problem():
         integrator.reinit(2.0, [1.0])
     with pytest.raises(ValueError, match="x0 has 2 entries, expected 1"):
         dvi.EventDrivenIntegrator(clamp_lcs(), [1.0, 2.0], 0.0, 2.0)
-    with pytest.raises(dvi.InvalidInputError, match="EventDrivenIntegrator: unknown keyword.*rtoll"):
+    with pytest.raises(dvi.InvalidInputError,
+                       match="EventDrivenIntegrator: unknown keyword.*rtoll"):
         dvi.EventDrivenIntegrator(clamp_lcs(), [1.0], 0.0, 2.0, rtoll=1e-6)
     with pytest.raises(ValueError, match="output_times has 2 entries; the stepper samples every"):
         dvi.EventDrivenIntegrator(clamp_lcs(), [1.0], 0.0, 2.0, output_times=[0.0, 2.0])
