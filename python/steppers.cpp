@@ -22,18 +22,34 @@
 namespace dvi::python {
 namespace {
 
-// The integrator and whether its problem calls Python (a Dvi or a Filippov
-// system of callables); an Lcs's does not.
+// The integrator, whether its problem calls Python (a Dvi or a Filippov
+// system of callables; an Lcs's does not), and the Python exception a
+// callable raised in an earlier step, if any.
 struct EventStepper {
   EventDrivenIntegrator integrator;
   bool calls_python;
+  std::string raised;
 
-  // run() with the GIL released unless the problem calls Python.
+  // run() (a step, a stop, a restart) with the GIL released unless the
+  // problem calls Python. A callable's exception stops the run where it
+  // was raised: the C++ run keeps it and would raise it again from its next
+  // step, which pybind11 cannot (it aborts the interpreter), so later calls
+  // raise InvalidInputError naming it instead.
   template <typename Run>
-  auto Released(Run run) {
-    if (calls_python) return run();
-    py::gil_scoped_release released_here;
-    return run();
+  auto Call(Run run) {
+    if (!raised.empty())
+      throw InvalidInputError("EventDrivenIntegrator: a callable raised " + raised +
+                              " in an earlier call; the run cannot go on (trajectory() holds it "
+                              "up to there)");
+    try {
+      if (calls_python) return run();
+      py::gil_scoped_release released_here;
+      return run();
+    } catch (py::error_already_set& error) {
+      raised = py::str(error.type().attr("__name__")).cast<std::string>() + ": " +
+               py::str(error.value()).cast<std::string>();
+      throw;
+    }
   }
 };
 
@@ -47,7 +63,7 @@ void DefConstructor(py::class_<EventStepper>& stepper, const char* doc) {
                 const auto start = [&] {
                   return EventStepper{
                       EventDrivenIntegrator(AsDvi(problem), x0, t0, t_end, options),
-                      kCallsPython};
+                      kCallsPython, {}};
                 };
                 // The start selects the mode (a VI solve at t0): released as a step.
                 if constexpr (kCallsPython) return start();
@@ -113,19 +129,19 @@ void BindSteppers(py::module_& module) {
       .def(
           "step",
           [](EventStepper& self) {
-            return OutcomeObject(self.Released([&] { return self.integrator.Step(); }));
+            return OutcomeObject(self.Call([&] { return self.integrator.Step(); }));
           },
           "One CVODE step (and the event at its end), never past t_end or a pending stop")
       .def(
           "advance_to",
           [](EventStepper& self, double t) {
-            return OutcomeObject(self.Released([&] { return self.integrator.AdvanceTo(t); }));
+            return OutcomeObject(self.Call([&] { return self.integrator.AdvanceTo(t); }));
           },
           py::arg("t"), "Steps until t, stopping exactly there (CVODE's stop time)")
       .def(
           "reinit",
           [](EventStepper& self, double t, const Eigen::VectorXd& x) {
-            self.Released([&] { self.integrator.Reinit(t, x); });
+            self.Call([&] { self.integrator.Reinit(t, x); });
           },
           py::arg("t"), py::arg("x"),
           "Restarts at (t, x) after the state or a parameter changed; the VI selects the mode anew")

@@ -206,6 +206,16 @@ def test_a_callables_exception_reaches_the_caller():
     integrator = dvi.EventDrivenIntegrator(problem, [3.0], 0.0, 1.0)
     with pytest.raises(ZeroDivisionError, match="boom in f"):
         integrator.advance_to(1.0)
+    # The run stops there: later calls name the exception (they aborted the
+    # interpreter before, pybind11 raising the same exception twice).
+    for call in (integrator.step, lambda: integrator.advance_to(1.0),
+                 lambda: integrator.reinit(0.75, [2.0])):
+        with pytest.raises(ValueError, match="a callable raised ZeroDivisionError: boom in f in "
+                                             "an earlier call; the run cannot go on"):
+            call()
+    run = integrator.trajectory()
+    assert 0 < run.times[-1] <= 0.5 + 1e-12 < integrator.t_end
+    assert abs(run.states[-1, 0] - (3 - run.times[-1])) <= STATE_ERROR
 
 
 def test_bad_arguments_raise_naming_the_problem():
