@@ -296,8 +296,10 @@ def test_per_state_atol_reaches_adaptive_stepping():
     each = dvi.integrate_stepping(two_scales(), TWO_SCALES_X0, 0.0, 5.0, adaptive=True,
                                   rtol=1e-4, atol=PER_STATE_ATOL)
     assert scalar.succeeded and each.succeeded, (scalar.message, each.message)
-    assert small_state_error(each.times, each.states) < small_state_error(scalar.times,
-                                                                         scalar.states)
+    assert small_state_error(scalar.times, scalar.states) > CONTROLLED  # measured 1.9
+    # Step doubling on a first-order scheme: its global error runs above the
+    # BDFs' (measured 1.0e-2 in 1256 steps, where the scalar atol took 26).
+    assert small_state_error(each.times, each.states) <= 3 * CONTROLLED
 
 
 @pytest.mark.parametrize("integrate", [dvi.integrate_event, dvi.integrate_ida,
