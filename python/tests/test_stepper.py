@@ -1,7 +1,11 @@
 # SPDX-License-Identifier: Apache-2.0
 """dvi.EventDrivenIntegrator (issue 33): the stepper from Python against
 exact solutions and against the one-shot integrate_event, and its errors."""
+import json
 import math
+import os
+import pathlib
+import subprocess
 
 import numpy as np
 import pytest
@@ -172,6 +176,27 @@ def test_hundred_advance_to_calls_match_one_call():
     assert abs(split.event_times[0] - 2.0) <= ROOT_TIME_ERROR
     assert abs(split.event_times[0] - one_shot.event_times[0]) <= ROOT_TIME_ERROR
     assert split.stats["steps"] >= one_shot.stats["steps"]
+
+
+@pytest.mark.parametrize("stops", [100, 1000])
+def test_advance_to_from_python_is_the_cxx_stepper_bit_for_bit(stops):
+    """bench/python/advance_to_cxx makes the same AdvanceTo calls from C++ on
+    the diode bridge (examples/circuits, the scene's matrices)."""
+    program = os.environ.get("DVI_ADVANCE_TO_CXX")
+    if not program or not os.path.exists(program):
+        pytest.skip("bench/advance_to_cxx is not built (DVI_BUILD_BENCHMARKS=OFF)")
+    cxx = json.loads(subprocess.run([program, str(stops)], check=True, capture_output=True,
+                                    text=True).stdout)[str(stops)]
+    scene = json.load(open(pathlib.Path(__file__).resolve().parents[2] /
+                           "examples/scenes/diode_bridge.json"))
+    p, horizon = scene["problem"], scene["horizon"]
+    lcs = dvi.Lcs(A=np.array(p["A"]), B=np.array(p["B"]), C=np.array(p["C"]),
+                  D=np.array(p["D"]))
+    integrator = dvi.EventDrivenIntegrator(lcs, scene["x0"], 0.0, horizon, ode="adams")
+    for k in range(1, stops + 1):
+        integrator.advance_to(horizon * k / stops)
+    assert integrator.stats["steps"] == cxx["steps"]
+    assert list(integrator.x) == cxx["final"]  # 17 digits: the same doubles
 
 
 def test_state_at_is_at_the_integrators_accuracy():
