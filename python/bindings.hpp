@@ -10,6 +10,7 @@
 
 #include "dvi/error.hpp"
 #include "dvi/enum_output.hpp"
+#include "dvi/trajectory.hpp"
 
 namespace dvi::python {
 
@@ -18,9 +19,14 @@ namespace py = pybind11;
 void BindProblems(py::module_& module);
 void BindResults(py::module_& module);
 void BindIntegrators(py::module_& module);
+/// dvi.EventDrivenIntegrator and dvi.StepOutcome: the resumable stepper.
+void BindSteppers(py::module_& module);
 void BindSolve(py::module_& module);
 /// dvi.Scene (when the module is built with dvisim's scene reader).
 void BindScenes(py::module_& module);
+
+/// A run's statistics as the dict Trajectory.stats and the steppers' stats give.
+py::dict StatsRecord(const IntegrationStats& stats);
 
 /// The enumerator whose ToString is name; InvalidInputError naming the
 /// keyword and the choices otherwise.

@@ -24,6 +24,7 @@ PYBIND11_MODULE(dvi, module) {
   dvi::python::BindProblems(module);
   dvi::python::BindResults(module);
   dvi::python::BindIntegrators(module);
+  dvi::python::BindSteppers(module);
   dvi::python::BindSolve(module);
 #ifdef DVI_PYTHON_SCENES
   dvi::python::BindScenes(module);

@@ -32,6 +32,19 @@ py::dict Measure(const CertifiedMeasure& m) {
 
 }  // namespace
 
+py::dict StatsRecord(const IntegrationStats& s) {
+  return Record({{"steps", py::cast(s.steps)},
+                 {"rejected_steps", py::cast(s.rejected_steps)},
+                 {"rhs_evals", py::cast(s.rhs_evals)},
+                 {"jacobian_evals", py::cast(s.jacobian_evals)},
+                 {"vi_solves", py::cast(s.vi_solves)},
+                 {"solver_iterations", py::cast(s.solver_iterations)},
+                 {"max_residual", py::cast(s.max_residual)},
+                 {"max_constraint_drift", py::cast(s.max_constraint_drift)},
+                 {"reduced_modes", py::cast(s.reduced_modes)},
+                 {"wall_seconds", py::cast(s.wall_seconds)}});
+}
+
 void BindResults(py::module_& module) {
   py::class_<Trajectory>(module, "Trajectory",
                          "An integration's result: samples, events, intervals, statistics, "
@@ -77,21 +90,7 @@ void BindResults(py::module_& module) {
                                            : py::none()}}));
                                return intervals;
                              })
-      .def_property_readonly("stats",
-                             [](const Trajectory& run) {
-                               const IntegrationStats& s = run.stats;
-                               return Record(
-                                   {{"steps", py::cast(s.steps)},
-                                    {"rejected_steps", py::cast(s.rejected_steps)},
-                                    {"rhs_evals", py::cast(s.rhs_evals)},
-                                    {"jacobian_evals", py::cast(s.jacobian_evals)},
-                                    {"vi_solves", py::cast(s.vi_solves)},
-                                    {"solver_iterations", py::cast(s.solver_iterations)},
-                                    {"max_residual", py::cast(s.max_residual)},
-                                    {"max_constraint_drift", py::cast(s.max_constraint_drift)},
-                                    {"reduced_modes", py::cast(s.reduced_modes)},
-                                    {"wall_seconds", py::cast(s.wall_seconds)}});
-                             })
+      .def_property_readonly("stats", [](const Trajectory& run) { return StatsRecord(run.stats); })
       .def_property_readonly("certificate",
                              [](const Trajectory& run) {
                                const Certificate& c = run.certificate;

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Python's cost (issue 33): the bindings on an Lcs (no callables) against
-the run's own time, and a DVI of Python callables against the same DVI as C++
-functors and as scene expressions. Usage (after building):
+the run's own time, advance_to from Python against AdvanceTo from C++, and
+a DVI of Python callables against the same DVI as C++ functors and as scene
+expressions. Usage (after building):
 
     PYTHONPATH=build/python /usr/bin/python3 bench/python/python_overhead.py build
 """
@@ -49,6 +50,35 @@ def bindings_overhead():
         own.append(run.stats["wall_seconds"])
         ratios.append(total / run.stats["wall_seconds"] - 1)
     return median(own), median(ratios)
+
+
+STOPS = (100, 1000, 10000)
+
+
+def stepper_overhead():
+    """advance_to from Python against AdvanceTo from C++ (advance_to_cxx): the
+    diode bridge on an EventDrivenIntegrator, advanced to t_end in N equal
+    calls, construction included; CPU seconds (medians), the same steps and
+    final state on both sides."""
+    lcs, x0, horizon = diode_bridge()
+    cxx = json.loads(subprocess.run([os.path.join(BUILD, "bench/advance_to_cxx"),
+                                     *map(str, STOPS)], check=True, capture_output=True,
+                                    text=True).stdout)
+    rows = []
+    for stops in STOPS:
+        cpu = []
+        for run in range(REPEATS + 1):  # the first untimed, as TimeRuns
+            start = time.process_time()
+            integrator = dvi.EventDrivenIntegrator(lcs, x0, 0.0, horizon, ode="adams")
+            for k in range(1, stops + 1):
+                integrator.advance_to(horizon * k / stops)
+            final, steps = integrator.x, integrator.stats["steps"]
+            if run:
+                cpu.append(time.process_time() - start)
+        reference = cxx[str(stops)]
+        assert steps == reference["steps"] and list(final) == reference["final"], (stops, final)
+        rows.append((stops, steps, reference["cpu"], median(cpu)))
+    return rows
 
 
 def saturation_python():
@@ -114,6 +144,11 @@ def main():
     own, ratio = bindings_overhead()
     print(f"diode bridge (auto, 1001 outputs): run {own * 1e3:.2f} ms, "
           f"bindings add {ratio * 100:.1f} %")
+    print("diode bridge on dvi.EventDrivenIntegrator, N advance_to calls to t_end (CPU time):")
+    for stops, steps, cxx_cpu, python_cpu in stepper_overhead():
+        print(f"  N = {stops:5d} ({steps:5d} steps): C++ {cxx_cpu * 1e3:7.2f} ms, "
+              f"Python {python_cpu * 1e3:7.2f} ms, {(python_cpu / cxx_cpu - 1) * 100:+6.1f} %, "
+              f"{(python_cpu - cxx_cpu) / stops * 1e6:+.2f} us per call")
     python, cxx, scene = callables_against_cxx_and_scene()
     print("saturated decay, time-stepping h = 1e-3 over [0, 4] (4000 steps):")
     print(f"  C++ functors {cxx['stepping'] * 1e3:.2f} ms, scene expressions {scene * 1e3:.2f} ms, "

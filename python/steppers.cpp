@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: Apache-2.0
+// The resumable integrators as Python objects: dvi.EventDrivenIntegrator
+// (event_driven_integrator.hpp) with its options as the keyword arguments
+// integrate_event takes, and dvi.StepOutcome. An Lcs's integrator steps
+// with the GIL released, as integrate_event runs it (no Python inside); one
+// of Python callables holds it. One thread at a time per integrator object.
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "dvi/event_driven_integrator.hpp"
+#include "dvi/filippov.hpp"
+#include "dvi/step_outcome.hpp"
+#include "options.hpp"
+#include "problem_forms.hpp"
+
+namespace dvi::python {
+namespace {
+
+// The integrator, whether its problem calls Python (a Dvi or a Filippov
+// system of callables; an Lcs's does not), and the Python exception a
+// callable raised in an earlier step, if any.
+struct EventStepper {
+  EventDrivenIntegrator integrator;
+  bool calls_python;
+  std::string raised;
+
+  // run() (a step, a stop, a restart) with the GIL released unless the
+  // problem calls Python. A callable's exception stops the run where it
+  // was raised: the C++ run keeps it and would raise it again from its next
+  // step, which pybind11 cannot (it aborts the interpreter), so later calls
+  // raise InvalidInputError naming it instead.
+  template <typename Run>
+  auto Call(Run run) {
+    if (!raised.empty())
+      throw InvalidInputError("EventDrivenIntegrator: a callable raised " + raised +
+                              " in an earlier call; the run cannot go on (trajectory() holds it "
+                              "up to there)");
+    try {
+      if (calls_python) return run();
+      py::gil_scoped_release released_here;
+      return run();
+    } catch (py::error_already_set& error) {
+      raised = py::str(error.type().attr("__name__")).cast<std::string>() + ": " +
+               py::str(error.value()).cast<std::string>();
+      throw;
+    }
+  }
+};
+
+template <typename Problem>
+void DefConstructor(py::class_<EventStepper>& stepper, const char* doc) {
+  stepper.def(py::init([](const Problem& problem, const Eigen::VectorXd& x0, double t0,
+                          double t_end, const py::kwargs& kwargs) {
+                const EventDrivenOptions options =
+                    EventOptions(kwargs, "EventDrivenIntegrator", x0.size());
+                constexpr bool kCallsPython = !std::is_same_v<Problem, Lcs>;
+                const auto start = [&] {
+                  return EventStepper{
+                      EventDrivenIntegrator(AsDvi(problem), x0, t0, t_end, options),
+                      kCallsPython, {}};
+                };
+                // The start selects the mode (a VI solve at t0): released as a step.
+                if constexpr (kCallsPython) return start();
+                py::gil_scoped_release released_here;
+                return start();
+              }),
+              py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), doc);
+}
+
+// The enumerators as Python objects, made once when the module loads (and
+// never freed: they live as long as the interpreter's enum type), indexed
+// by value: step() and advance_to() hand out these, not a new instance per
+// call (which doubled a no-op advance_to's time).
+std::vector<py::object>* outcome_objects = nullptr;
+
+void KeepOutcomeObjects(const py::enum_<StepOutcome>& outcome) {
+  outcome_objects = new std::vector<py::object>;
+  for (const auto& member : py::dict(outcome.attr("__members__"))) {
+    const auto index = static_cast<std::size_t>(member.second.cast<StepOutcome>());
+    if (index >= outcome_objects->size()) outcome_objects->resize(index + 1);
+    (*outcome_objects)[index] = py::reinterpret_borrow<py::object>(member.second);
+  }
+}
+
+// An enumerator not bound (yet) in BindSteppers: pybind11's own cast.
+py::object OutcomeObject(StepOutcome outcome) {
+  const auto index = static_cast<std::size_t>(outcome);
+  const bool kept = index < outcome_objects->size() && (*outcome_objects)[index];
+  return kept ? (*outcome_objects)[index] : py::cast(outcome);
+}
+
+py::list ModeNames(const Mode& mode) {
+  py::list names;
+  for (const MultiplierBound bound : mode) names.append(std::string(ToString(bound)));
+  return names;
+}
+
+}  // namespace
+
+void BindSteppers(py::module_& module) {
+  py::enum_<StepOutcome> outcome(module, "StepOutcome",
+                                 "What one step() or advance_to() did; str() gives dvi's name");
+  outcome.value("STEP", StepOutcome::kStep, "an accepted step inside the current mode")
+      .value("EVENT", StepOutcome::kEvent, "a step that ended at a mode change")
+      .value("STOP_TIME", StepOutcome::kStopTime, "reached the time advance_to asked for")
+      .value("END", StepOutcome::kEnd, "reached t_end: the run is over")
+      .value("FAILURE", StepOutcome::kFailure, "the run failed: status and message say why");
+  KeepOutcomeObjects(outcome);
+  // Replaces enum_'s own __str__ ("StepOutcome.STEP"): dvi's ToString.
+  py::setattr(outcome, "__str__",
+              py::cpp_function([](StepOutcome value) { return std::string(ToString(value)); },
+                               py::name("__str__"), py::is_method(outcome)));
+
+  py::class_<EventStepper> stepper(
+      module, "EventDrivenIntegrator",
+      "The event-driven integrator (Sect. 5) as an object to step, stop and resume: step(), "
+      "advance_to(t), reinit(t, x); options as integrate_event's keywords (no output_times: "
+      "every step is sampled)");
+  DefConstructor<Lcs>(stepper, "An Lcs (2.8) on a box K");
+  DefConstructor<Dvi>(stepper, "A Dvi of Python callables on a box K");
+  DefConstructor<FilippovSystem>(stepper, "A Filippov system as its separable DVI");
+  stepper
+      .def(
+          "step",
+          [](EventStepper& self) {
+            return OutcomeObject(self.Call([&] { return self.integrator.Step(); }));
+          },
+          "One CVODE step (and the event at its end), never past t_end or a pending stop")
+      .def(
+          "advance_to",
+          [](EventStepper& self, double t) {
+            return OutcomeObject(self.Call([&] { return self.integrator.AdvanceTo(t); }));
+          },
+          py::arg("t"), "Steps until t, stopping exactly there (CVODE's stop time)")
+      .def(
+          "reinit",
+          [](EventStepper& self, double t, const Eigen::VectorXd& x) {
+            self.Call([&] { self.integrator.Reinit(t, x); });
+          },
+          py::arg("t"), py::arg("x"),
+          "Restarts at (t, x) after the state or a parameter changed; the VI selects the mode anew")
+      .def_property_readonly("t", [](const EventStepper& self) { return self.integrator.t(); })
+      .def_property_readonly("t_end",
+                             [](const EventStepper& self) { return self.integrator.t_end(); })
+      .def_property_readonly("x", [](const EventStepper& self) { return self.integrator.x(); },
+                             "The state at t")
+      .def_property_readonly("u", [](const EventStepper& self) { return self.integrator.u(); },
+                             "The multiplier at t")
+      .def(
+          "state_at", [](const EventStepper& self, double t) { return self.integrator.StateAt(t); },
+          py::arg("t"),
+          "x(t) in the last step of the current mode, at the integrator's accuracy (CVodeGetDky); "
+          "earlier times: trajectory().state_at")
+      .def_property_readonly(
+          "mode", [](const EventStepper& self) { return ModeNames(self.integrator.mode()); },
+          "Per component of u: \"free\", \"lower\" or \"upper\" (bound)")
+      .def_property_readonly(
+          "status",
+          [](const EventStepper& self) { return std::string(ToString(self.integrator.status())); })
+      .def_property_readonly(
+          "stats", [](const EventStepper& self) { return StatsRecord(self.integrator.stats()); })
+      .def(
+          "trajectory", [](const EventStepper& self) { return self.integrator.trajectory(); },
+          "The samples, events and statistics from t0 to t")
+      .def("__repr__", [](const EventStepper& self) {
+        const EventDrivenIntegrator& integrator = self.integrator;
+        std::ostringstream text;
+        text << "<dvi.EventDrivenIntegrator t = " << integrator.t() << " of " << integrator.t_end()
+             << ", mode " << ModeLetters(integrator.mode()) << ", " << integrator.status() << ">";
+        return text.str();
+      });
+}
+
+}  // namespace dvi::python
