@@ -165,8 +165,12 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
                  next_mode_.empty() ? nullptr : &next_mode_);
   if (selection == Selection::kChosen &&
       TryMode(t, x, mode, vi.z, look_ahead_why)) {
-    if (!regular.holds) ++look_ahead_selections_;
-    system_.FreeHeldComponents(t, x, vi.w, mode);
+    // A free direction leaves u not unique: only where u is not strongly
+    // regular can a held component be one (Proposition 5.1).
+    if (!regular.holds) {
+      ++look_ahead_selections_;
+      system_.FreeHeldComponents(t, x, vi.w, mode);
+    }
     return true;
   }
   std::ostringstream message;

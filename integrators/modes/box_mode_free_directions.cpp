@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "modes/box_mode.hpp"
 
@@ -31,35 +32,59 @@ constexpr int kMaxGaussNewtonIterations = 50;
 // to the largest, is zero: the root function does not bound the direction.
 constexpr double kSlopeTolerance = 1e-10;
 
+// The free directions of a mode: a basis of null(G_u) (a × k, unit
+// columns) when G_u (a × a) is singular at kRankTolerance and f_u on the
+// free columns (n × a) vanishes on it; empty otherwise (G_u regular, or a
+// null vector moves the flow: the differentiation procedure's case).
+Eigen::MatrixXd FreeDirections(const Eigen::MatrixXd& Gu, const Eigen::MatrixXd& fu_free) {
+  const Eigen::Index a = Gu.rows();
+  if (a == 0) return {};
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
+  lu.setThreshold(kRankTolerance);
+  if (lu.rank() == a) return {};
+  Eigen::MatrixXd N = lu.kernel();
+  const double scale = fu_free.cwiseAbs().maxCoeff();
+  const Eigen::MatrixXd moves = fu_free * N;
+  for (Eigen::Index k = 0; k < N.cols(); ++k) {
+    const double move = moves.col(k).lpNorm<Eigen::Infinity>() / N.col(k).lpNorm<Eigen::Infinity>();
+    if (move > kRankTolerance * scale) return {};
+  }
+  for (Eigen::Index k = 0; k < N.cols(); ++k) N.col(k).normalize();
+  return N;
+}
+
+// Whether an LCS mode (G_u = M[A, A], f_u = B[:, A]) has free directions,
+// from the matrices alone: a candidate without any is not entered
+// (entering would set the current mode's split aside and split its own).
+bool LcsModeHasFreeDirections(const SparseMatrix& M, const SparseMatrix& B, const Mode& mode) {
+  std::vector<int> free;
+  for (int j = 0; j < static_cast<int>(mode.size()); ++j)
+    if (mode[j] == MultiplierBound::kFree) free.push_back(j);
+  const int a = static_cast<int>(free.size());
+  Eigen::MatrixXd Gu(a, a), fu_free(B.rows(), a);
+  for (int k = 0; k < a; ++k) {
+    for (int i = 0; i < a; ++i) Gu(i, k) = M.coeff(free[i], free[k]);
+    fu_free.col(k) = Eigen::VectorXd(B.col(free[k]));
+  }
+  return FreeDirections(Gu, fu_free).cols() > 0;
+}
+
 }  // namespace
 
 bool BoxModeSystem::FindFreeDirections(double t, const Eigen::VectorXd& x,
                                        const Eigen::MatrixXd& Gu) {
-  free_directions_.resize(0, 0);
   const int a = static_cast<int>(free_.size());
-  if (a == 0) return false;
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(Gu);
-  lu.setThreshold(kRankTolerance);
-  if (lu.rank() == a) return false;
-  const Eigen::MatrixXd N = lu.kernel();  // a × k, columns a basis of null(G_u)
   // f_u on the free columns: B_A for an LCS.
   Eigen::MatrixXd fu_free(n(), a);
   if (affine()) {
     for (int i = 0; i < a; ++i) fu_free.col(i) = Eigen::VectorXd(problem_.flow().B.col(free_[i]));
-  } else {
+  } else if (a > 0) {
     Eigen::MatrixXd fx, fu;
     problem_.SmallFJacobians(t, x, u_, fx, fu);
     for (int i = 0; i < a; ++i) fu_free.col(i) = fu.col(free_[i]);
   }
-  const double scale = fu_free.cwiseAbs().maxCoeff();
-  const Eigen::MatrixXd moves = fu_free * N;
-  for (int k = 0; k < N.cols(); ++k) {
-    const double move = moves.col(k).lpNorm<Eigen::Infinity>() / N.col(k).lpNorm<Eigen::Infinity>();
-    if (move > kRankTolerance * scale) return false;  // the differentiation procedure's case
-  }
-  free_directions_ = N;
-  for (int k = 0; k < N.cols(); ++k) free_directions_.col(k).normalize();
-  return true;
+  free_directions_ = FreeDirections(Gu, fu_free);
+  return HasFreeDirections();
 }
 
 bool BoxModeSystem::SolveAlongFreeDirections(double t, const Eigen::VectorXd& x,
@@ -146,11 +171,17 @@ bool BoxModeSystem::FreeHeldComponents(double t, const Eigen::VectorXd& x,
       continue;
     Mode candidate = mode;
     candidate[j] = MultiplierBound::kFree;
+    if (affine() && !LcsModeHasFreeDirections(problem_.lcs_rows().M, problem_.flow().B, candidate))
+      continue;
     Enter(candidate, u);
     if (Solve(t, x) && HasFreeDirections() && Holds(t, x, nullptr)) mode = std::move(candidate);
   }
   if (mode == entered) {
+    // Back in the mode the caller solved, solved again: Enter left its
+    // split rows among the kept ones (KeepSplit), and its Jacobian (KLU's
+    // included) is formed from them.
     Enter(entered, u);
+    Solve(t, x);
     return false;
   }
   Enter(mode, u);
