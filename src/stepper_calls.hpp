@@ -46,6 +46,19 @@ dvi::StepOutcome ToStepOutcome(Advance advance) {
   return dvi::StepOutcome::kFailure;
 }
 
+/// run.StepOnce() as a StepOutcome; an exception of the problem's
+/// functions ends the run (`last` = kFailure: later calls answer that)
+/// and is passed on.
+template <typename Run>
+dvi::StepOutcome Stepped(Run& run, dvi::StepOutcome& last) {
+  try {
+    return ToStepOutcome(run.StepOnce());
+  } catch (...) {
+    last = dvi::StepOutcome::kFailure;
+    throw;
+  }
+}
+
 /// Step(): one StepOnce of `run` (time(), t_end(), stop_time(),
 /// SetStopTime(t) → bool, StepOnce()), never past its stop time; a stop
 /// time reached gives way to the horizon (CVODE and IDA keep a stop time
@@ -56,7 +69,7 @@ dvi::StepOutcome StepRun(Run& run, dvi::StepOutcome& last) {
   if (Over(last)) return last;
   if (run.stop_time() <= run.time() && !run.SetStopTime(run.t_end()))
     return last = dvi::StepOutcome::kFailure;
-  return last = ToStepOutcome(run.StepOnce());
+  return last = Stepped(run, last);
 }
 
 /// AdvanceTo(t): StepOnce until the stop time t; kStopTime, kEnd or kFailure.
@@ -68,7 +81,7 @@ dvi::StepOutcome AdvanceRun(Run& run, dvi::StepOutcome& last, double t) {
   if (!run.SetStopTime(t)) return last = dvi::StepOutcome::kFailure;
   dvi::StepOutcome outcome = dvi::StepOutcome::kStep;
   while (outcome == dvi::StepOutcome::kStep || outcome == dvi::StepOutcome::kEvent)
-    outcome = last = ToStepOutcome(run.StepOnce());
+    outcome = last = Stepped(run, last);
   return outcome;
 }
 

@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -285,6 +286,27 @@ TEST(EventDrivenIntegrator, ReinitAfterAParameterChangeMatchesTheExactSolution) 
     const double exact = t <= 1 ? 3 - t : t <= 1.5 ? 2 - 2 * (t - 1) : std::exp(-2 * (t - 1.5));
     EXPECT_NEAR(trajectory.states[k](0), exact, kStateError) << "t = " << t;
   }
+}
+
+// A function of the problem that throws ends the run there: the exception
+// reaches the caller once, later calls answer kFailure (they rethrew the
+// same exception before), and the samples up to the throw are kept.
+TEST(EventDrivenIntegrator, AnExceptionOfTheProblemEndsTheRunOnce) {
+  Dvi dvi = SaturatedDecay();
+  dvi.f = [](double t, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    if (t > 0.5) throw std::runtime_error("boom in f");
+    out(0) = u(0);
+  };
+  EventDrivenIntegrator integrator(dvi, Eigen::VectorXd::Constant(1, 3.0), 0.0, 1.0);
+  EXPECT_THROW(integrator.AdvanceTo(1.0), std::runtime_error);
+  EXPECT_EQ(integrator.Step(), StepOutcome::kFailure);
+  EXPECT_EQ(integrator.AdvanceTo(1.0), StepOutcome::kFailure);
+  EXPECT_EQ(integrator.status(), IntegrationStatus::kStepFailure);
+  const Trajectory run = integrator.trajectory();
+  EXPECT_NE(run.message.find("threw"), std::string::npos) << run.message;
+  ASSERT_GT(run.times.size(), 1u);
+  EXPECT_LE(run.times.back(), 0.5 + 1e-12);
+  EXPECT_NEAR(run.states.back()(0), 3 - run.times.back(), 1e-8);
 }
 
 TEST(EventDrivenIntegrator, InvalidCallsAreNamed) {

@@ -51,7 +51,13 @@ bool EventDrivenRun::Fail(IntegrationStatus status, const std::string& message) 
 }
 
 bool EventDrivenRun::Check(int flag, const char* call) {
-  if (data_.error) std::rethrow_exception(data_.error);
+  if (data_.error) {
+    // Passed on to the caller once; the run has failed here.
+    const std::exception_ptr error = std::exchange(data_.error, nullptr);
+    Fail(IntegrationStatus::kStepFailure, std::string("event: a function of the problem threw in ") +
+                                              call + " after t = " + FormatTime(t_));
+    std::rethrow_exception(error);
+  }
   if (flag >= 0) return true;
   std::ostringstream message;
   message << "event: " << call << " failed at t = " << t_ << ": "
