@@ -71,20 +71,6 @@ TEST(FreeDirections, DcBridgeBlocksThenClampsAtLn2) {
   }
 }
 
-// The largest |x − x_ref| over the rows after the jump, relative to each
-// state's range (the zoo bench's measure).
-double ZooError(const zoo::ZooModel& model, const Trajectory& run) {
-  const auto reference = model.reference();
-  Eigen::VectorXd range = Eigen::VectorXd::Zero(model.n());
-  for (const double t : Grid(model.horizon, 1001)) range = range.cwiseMax(reference.X(t).cwiseAbs());
-  double worst = 0;
-  for (std::size_t k = 1; k < run.times.size(); ++k)
-    worst = std::max(worst, ((run.states[k] - reference.X(run.times[k])).cwiseAbs().array() /
-                             range.array())
-                                .maxCoeff());
-  return worst;
-}
-
 // The scenes as dvisim runs them (rtol 1e-10 alone: atol = 1e-16; the
 // sine's rate from its expression).
 TEST(FreeDirections, ZooRectifiersFromRestRunEventDrivenToTheirExactSolutions) {
@@ -103,7 +89,7 @@ TEST(FreeDirections, ZooRectifiersFromRestRunEventDrivenToTheirExactSolutions) {
                     : IntegrateEventDriven(lcs, scene.x0, 0, model.horizon, options.event);
       const std::string what = std::string(key) + (automatic ? " auto" : " event");
       ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
-      const double error = ZooError(model, run);
+      const double error = zoo::ErrorAfterJump(model, run);
       std::ostringstream measured;
       measured << "error " << error << ", VI residual " << run.stats.max_residual;
       RecordProperty(what, measured.str());

@@ -397,18 +397,6 @@ Lcs ZooLcs(const zoo::ZooModel& model) {
   return lcs;
 }
 
-double ZooError(const zoo::ZooModel& model, const Trajectory& run) {
-  const auto reference = model.reference();
-  Eigen::VectorXd range = Eigen::VectorXd::Zero(model.n());
-  for (const double t : Grid(model.horizon, 1001)) range = range.cwiseMax(reference.X(t).cwiseAbs());
-  double worst = 0;
-  for (std::size_t k = 1; k < run.times.size(); ++k)
-    worst = std::max(worst, ((run.states[k] - reference.X(run.times[k])).cwiseAbs().array() /
-                             range.array())
-                                .maxCoeff());
-  return worst;
-}
-
 TEST(StateJump, HalfWaveRectifierFromRestEventDrivenAndAuto) {
   const zoo::ZooModel model = zoo::ZooModelNamed("half_wave_rectifier");
   const Eigen::VectorXd x_plus = model.x0 + Eigen::MatrixXd(model.lcs.B) * model.jump_impulse;
@@ -422,7 +410,7 @@ TEST(StateJump, HalfWaveRectifierFromRestEventDrivenAndAuto) {
     const std::string what = automatic ? "auto" : "event";
     ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
     ExpectJumpRecorded(run, model.x0, x_plus, model.jump_impulse, what);
-    EXPECT_LE(ZooError(model, run), kZooGoal) << what;
+    EXPECT_LE(zoo::ErrorAfterJump(model, run), kZooGoal) << what;
     for (const MethodInterval& interval : run.intervals)
       EXPECT_EQ(interval.method, IntegrationMethod::kEventDriven) << what << interval.reason;
     EXPECT_TRUE(run.certificate.certified()) << what;
@@ -448,7 +436,7 @@ TEST(StateJump, RectifiersFromRestSteppingIsSecondOrderFromTheJump) {
       ASSERT_TRUE(run.succeeded()) << key << ": " << run.message;
       ExpectJumpRecorded(run, model.x0, x_plus, model.jump_impulse, key);
       EXPECT_TRUE(run.certificate.certified()) << key;
-      errors[level] = ZooError(model, run);
+      errors[level] = zoo::ErrorAfterJump(model, run);
     }
     EXPECT_NEAR(std::log2(errors[0] / errors[1]), 2.0, kOrderSlack)
         << key << ": " << errors[0] << " → " << errors[1];

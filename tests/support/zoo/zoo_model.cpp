@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "support/zoo/zoo_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -81,6 +82,20 @@ ZooModel ZooModelNamed(const std::string& key) {
     if (model.key == key) return std::move(model);
   }
   throw std::invalid_argument("no zoo model named \"" + key + "\"");
+}
+
+double ErrorAfterJump(const ZooModel& model, const Trajectory& run) {
+  const auto reference = model.reference();
+  Eigen::VectorXd range = Eigen::VectorXd::Zero(model.n());
+  constexpr int kRangeTimes = 1001;
+  for (int k = 0; k < kRangeTimes; ++k)
+    range = range.cwiseMax(reference.X(model.horizon * k / (kRangeTimes - 1)).cwiseAbs());
+  double worst = 0;
+  for (std::size_t k = 1; k < run.times.size(); ++k)
+    worst = std::max(worst, ((run.states[k] - reference.X(run.times[k])).cwiseAbs().array() /
+                             range.array())
+                                .maxCoeff());
+  return worst;
 }
 
 }  // namespace dvi::zoo

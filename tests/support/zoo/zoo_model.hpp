@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/lcs.hpp"
+#include "dvi/trajectory.hpp"
 #include "support/zoo/piecewise_linear_reference.hpp"
 
 namespace dvi::zoo {
@@ -83,5 +84,10 @@ OrthantLcs ToOrthant(const Lcs& lcs);
 std::vector<ZooModel> ZooModels();
 /// The one named `key`. @throws std::invalid_argument if none is.
 ZooModel ZooModelNamed(const std::string& key);
+
+/// The largest |x − x_ref| of run's rows after its first (the start's
+/// jump), relative to each state's range max |x_ref| over 1001 equally
+/// spaced times (the zoo bench's measure).
+double ErrorAfterJump(const ZooModel& model, const Trajectory& run);
 
 }  // namespace dvi::zoo
