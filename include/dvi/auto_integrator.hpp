@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <memory>
+
+#include <Eigen/Dense>
+
+#include "dvi/auto_options.hpp"
+#include "dvi/dvi_problem.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/mode.hpp"
+#include "dvi/step_outcome.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi {
+
+/// The automatic driver of IntegrateAuto (auto_driver.hpp, method `auto`)
+/// as an object to step, stop and resume, as EventDrivenIntegrator is for
+/// the event-driven scheme: IntegrateAuto runs the same hand-over logic
+/// (event-driven intervals, certified time-stepping windows, the Zeno
+/// extrapolation) to t_end, and records the same intervals (method and
+/// reason).
+///
+///   AutoIntegrator integrator(lcs, x0, 0.0, 10.0, options);
+///   for (double t : sampling_times) {
+///     integrator.AdvanceTo(t);              // stops exactly at t
+///     x = controller(integrator.x());
+///     integrator.Reinit(t, x);              // the VI selects the mode anew
+///   }
+///   Trajectory trajectory = integrator.trajectory();
+///
+/// The event-driven intervals are EventDrivenIntegrators: a Step is one
+/// CVODE step, and AdvanceTo stops exactly at its time (CVODE's stop time,
+/// which shortens a step: a split run equals the one-shot run to the
+/// tolerance, not to the bit). A time-stepping window and a Zeno
+/// extrapolation are computed whole in the call that enters them (a window
+/// is re-run at h/2, h/4, … until its certificate holds, so it cannot stop
+/// inside); t() then passes through them: AdvanceTo(t) to a time inside
+/// one stops at t, x() and u() being the part's dense output there ((7.1):
+/// the line between its steps), and the next Step goes to its end, where
+/// event-driven integration resumes. trajectory() holds such a part whole.
+///
+/// Scope: K a box, no source breakpoints, empty event.output_times (every
+/// step is sampled), a consistent x0 (an LCS's state jump at the start) and
+/// an LCS IntegrateAuto runs on CVODE (not on IDA: n + m ≥ 200 with sparse
+/// solvers allowed). IntegrateAuto takes all of these; the object refuses
+/// them by name. Observers and user events are refused as by IntegrateAuto
+/// (AutoOptions::Validate).
+class AutoIntegrator {
+ public:
+  /// Starts the first event-driven interval at (t0, x0) (its mode selected;
+  /// a failure there hands over to time-stepping at the first Step).
+  /// @throws InvalidInputError on an invalid problem, x0, t0/t_end or
+  /// options, and outside the scope above (naming the option).
+  AutoIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
+                 const AutoOptions& options = {});
+  AutoIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
+                 const AutoOptions& options = {});
+  AutoIntegrator(AutoIntegrator&&) noexcept;
+  AutoIntegrator& operator=(AutoIntegrator&&) noexcept;
+  ~AutoIntegrator();
+
+  /// One CVODE step in an event-driven interval (kStep, kEvent); where the
+  /// interval fails, the hand-over: a window or an extrapolation computed
+  /// and passed (kStep), or event-driven on toward a Zeno accumulation
+  /// (kEvent). kEnd at t_end; kFailure where the run ends short of it
+  /// (status() says why); then the same again without stepping.
+  StepOutcome Step();
+  /// Steps until t; kStopTime (t() == t), kEnd at t_end, or kFailure.
+  /// @throws InvalidInputError if t is NaN, before t() or after t_end.
+  StepOutcome AdvanceTo(double t);
+  /// Restarts the event-driven interval at (t, x) after the caller changed
+  /// the state or a parameter (EventDrivenIntegrator::Reinit: the VI at
+  /// (t, x) selects the mode; where none is found, the next Step hands over
+  /// to time-stepping).
+  /// @throws InvalidInputError if t is not in [t(), t_end), x has not n
+  /// finite entries, the run is over, or t() is inside a window or an
+  /// extrapolation (named, with its end: AdvanceTo there first).
+  void Reinit(double t, const Eigen::VectorXd& x);
+
+  double t() const;
+  double t_end() const;
+  Eigen::VectorXd x() const;
+  Eigen::VectorXd u() const;
+  /// Live dense output: in an event-driven interval, the
+  /// EventDrivenIntegrator's (the current mode's last step); in a window or
+  /// an extrapolation, the part from its start to t().
+  /// @throws InvalidInputError if t is outside that span (named).
+  Eigen::VectorXd StateAt(double t) const;
+  Eigen::VectorXd MultiplierAt(double t) const;
+  /// The current mode. @throws InvalidInputError unless method() is
+  /// kEventDriven with the run going on.
+  const Mode& mode() const;
+  /// The method at t(): event-driven, time-stepping (a window) or
+  /// zeno-extrapolation; once over, the last interval's.
+  IntegrationMethod method() const;
+  IntegrationStatus status() const;
+  IntegrationStats stats() const;
+  /// The run from t0: the finished intervals, windows and extrapolations
+  /// with their certificate and records (method, reason) as IntegrateAuto
+  /// makes them, then the live interval's rows (not yet checked against the
+  /// VI: that happens when it ends) with its record so far.
+  Trajectory trajectory() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace dvi

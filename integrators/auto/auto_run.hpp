@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "dvi/auto_options.hpp"
+#include "dvi/mode.hpp"
+#include "dvi/step_outcome.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi::internal {
+
+/// One event-driven interval of the automatic driver, from where it starts
+/// to where it ends or fails: a resumable integrator stepped call by call
+/// (AutoIntegrator: EventDrivenIntegrator), or a run made whole at its start
+/// (IntegrateAuto, whose intervals sample output times and lift non-box K).
+/// Its rows are not checked against the VI (EventMethod::certify does that
+/// when it is over).
+class EventInterval {
+ public:
+  virtual ~EventInterval() = default;
+  /// As the integrator objects' (StepOutcome): kEnd or kFailure once over.
+  virtual dvi::StepOutcome Step() = 0;
+  virtual dvi::StepOutcome AdvanceTo(double t) = 0;
+  virtual void Reinit(double t, const Eigen::VectorXd& x) = 0;
+  virtual double t() const = 0;
+  virtual Eigen::VectorXd x() const = 0;
+  virtual Eigen::VectorXd u() const = 0;
+  virtual Eigen::VectorXd StateAt(double t) const = 0;
+  virtual Eigen::VectorXd MultiplierAt(double t) const = 0;
+  virtual const Mode& mode() const = 0;
+  /// The interval so far.
+  virtual Trajectory trajectory() const = 0;
+  /// The interval, once over (it may be moved out).
+  virtual Trajectory Take() = 0;
+};
+
+/// An event-driven back-end: `start` begins an interval at (t, x) with
+/// `options` (the run's, or a copy with its output times clipped, a Zeno
+/// window and x0_error; it outlives the interval); `certify` checks the
+/// first `rows` of a finished one against the VI (the row where a failed
+/// run stops gives way to time-stepping's).
+struct EventMethod {
+  std::function<std::unique_ptr<EventInterval>(double t, const Eigen::VectorXd& x,
+                                               const EventDrivenOptions& options)>
+      start;
+  std::function<void(Trajectory& part, std::size_t rows, const EventDrivenOptions& options)>
+      certify;
+};
+/// Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`, its u⁰
+/// warm-started from u_a, with the step (and, adaptive, the step-doubling
+/// tolerances) of the options times `refinement`.
+using SteppingMethod = std::function<Trajectory(
+    double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a, double t_b,
+    const std::vector<double>& outputs, double refinement)>;
+
+/// The automatic driver's run (method `auto`) as a state machine: an
+/// event-driven interval from the current state; where it fails, a
+/// certified time-stepping window (past the predicted accumulation time of
+/// a Zeno sequence) or the Zeno extrapolation, then event-driven again.
+/// IntegrateAuto steps it to the end (its intervals whole), AutoIntegrator
+/// call by call. A window and an extrapolation are computed whole in the
+/// call that enters them (a window is re-run at h/2, h/4, … for its
+/// certificate); t() then passes through them: AdvanceTo(t) stops inside
+/// one at t, its state the part's dense output there, the next Step goes
+/// to its end. `options` outlive the run; the checks of the arguments are
+/// the caller's.
+class AutoRun {
+ public:
+  AutoRun(EventMethod event, SteppingMethod stepping, const Eigen::VectorXd& x0, double t0,
+          double t_end, const AutoOptions& options);
+
+  dvi::StepOutcome Step();
+  /// @throws InvalidInputError as the integrator objects' AdvanceTo.
+  dvi::StepOutcome AdvanceTo(double t);
+  /// Restarts the live event-driven interval at (t, x).
+  /// @throws InvalidInputError as the objects' Reinit, and inside a window
+  /// or an extrapolation (named, with its end).
+  void Reinit(double t, const Eigen::VectorXd& x);
+
+  double t() const;
+  double t_end() const { return t_end_; }
+  Eigen::VectorXd x() const;
+  Eigen::VectorXd u() const;
+  /// The live event-driven interval's dense output, or x and u on the part
+  /// the run is passing through (window, extrapolation) up to t().
+  /// @throws InvalidInputError outside that span (named).
+  Eigen::VectorXd StateAt(double t) const;
+  Eigen::VectorXd MultiplierAt(double t) const;
+  /// The live event-driven interval's mode. @throws InvalidInputError in a
+  /// window, an extrapolation or after the end.
+  const Mode& mode() const;
+  /// The method at t(): the one running, or (over) the last interval's.
+  IntegrationMethod method() const;
+  IntegrationStatus status() const;
+  /// The run so far: the finished parts (a window or extrapolation whole),
+  /// then the live interval's rows, unchecked, with its interval record.
+  Trajectory trajectory() const;
+  /// The run once over, moved out.
+  Trajectory Take();
+
+ private:
+  enum class Phase {
+    kEventDriven,  // interval_ is live
+    kPassing,      // a computed part (window, extrapolation) up to passing_to_
+    kOver,
+  };
+  const EventDrivenOptions& RunOptions() const;
+  void StartInterval();
+  // The interval is over: its certificate, interval record, and the
+  // hand-over (Drive's loop body).
+  void Conclude();
+  // The cursor to the end of the part it is passing; the next interval.
+  dvi::StepOutcome PassPart();
+  dvi::StepOutcome Ended() const;
+  void EnterPart(IntegrationMethod method, double from, double to, bool goes_on);
+
+  const EventMethod event_;
+  const SteppingMethod stepping_;
+  const AutoOptions& options_;
+  const double t0_, t_end_;
+  const double same_time_;
+  const double base_window_;
+  Trajectory whole_;
+  // Where the current (or next) event-driven interval starts.
+  double t_;
+  Eigen::VectorXd x_;
+  double window_;
+  int handovers_ = 0;
+  // Why the current event-driven interval began where it did (none: t0).
+  std::string resumed_;
+  // A Zeno sequence whose run stopped short of output rows before t*: its
+  // switches so far, and the zeno_window that lets the next run from its
+  // last switch go on past those rows (< 0: the caller's).
+  std::vector<double> zeno_times_;
+  std::vector<Eigen::VectorXd> zeno_states_;
+  double zeno_window_ = -1;
+  // The error of x where the next run starts: an extrapolated x(t*)'s.
+  double x0_error_ = 0;
+  // The interval's options: the caller's where clipping keeps all their
+  // times (the first interval, as a rule: no copy of a long list), else
+  // `clipped_`.
+  bool as_given_ = true;
+  EventDrivenOptions clipped_;
+  std::unique_ptr<EventInterval> interval_;
+  Phase phase_ = Phase::kEventDriven;
+  // The part being passed: its method, span, the cursor in it, and whether
+  // an event-driven interval follows it.
+  IntegrationMethod passing_method_ = IntegrationMethod::kTimeStepping;
+  double passing_from_ = 0, passing_to_ = 0, cursor_ = 0;
+  bool passing_goes_on_ = false;
+  dvi::StepOutcome last_ = dvi::StepOutcome::kStep;
+};
+
+}  // namespace dvi::internal
