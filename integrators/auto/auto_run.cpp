@@ -237,12 +237,9 @@ void AutoRun::EnterPart(IntegrationMethod method, double from, double to, bool g
 
 StepOutcome AutoRun::PassPart() {
   cursor_ = passing_to_;
-  if (!passing_goes_on_) {
-    phase_ = Phase::kOver;
-    return Ended();
-  }
-  StartInterval();
-  return StepOutcome::kStep;
+  if (passing_goes_on_) return StepOutcome::kStep;
+  phase_ = Phase::kOver;
+  return Ended();
 }
 
 StepOutcome AutoRun::Ended() const {
@@ -434,10 +431,10 @@ void AutoRun::Conclude() {
 }
 
 StepOutcome AutoRun::Step() {
-  switch (phase_) {
-    case Phase::kOver: return last_;
-    case Phase::kPassing: return last_ = PassPart();
-    case Phase::kEventDriven: break;
+  if (phase_ == Phase::kOver) return last_;
+  if (phase_ == Phase::kPassing) {
+    if (cursor_ < passing_to_) return last_ = PassPart();
+    StartInterval();  // at the part's end: event-driven resumes
   }
   const StepOutcome outcome = interval_->Step();
   if (!Over(outcome)) return last_ = outcome;
@@ -460,7 +457,9 @@ StepOutcome AutoRun::AdvanceTo(double t) {
         return last_ = StepOutcome::kStopTime;
       }
       last_ = PassPart();
-      continue;
+      if (phase_ == Phase::kOver || t == passing_to_)
+        return phase_ == Phase::kOver ? last_ : (last_ = StepOutcome::kStopTime);
+      StartInterval();
     }
     if (interval_->t() == t) return last_ = StepOutcome::kStopTime;
     const StepOutcome outcome = interval_->AdvanceTo(t);
@@ -472,12 +471,13 @@ StepOutcome AutoRun::AdvanceTo(double t) {
 
 void AutoRun::Reinit(double t, const Eigen::VectorXd& x) {
   CheckReinit(last_, t, x, this->t(), t_end_, x_.size());
-  DVI_THROW_UNLESS(phase_ == Phase::kEventDriven,
+  DVI_THROW_UNLESS(phase_ == Phase::kEventDriven || cursor_ == passing_to_,
                    "Reinit: t() = " << this->t() << " is inside the "
                                     << ToString(passing_method_) << " part ["
                                     << passing_from_ << ", " << passing_to_
                                     << "], computed whole; AdvanceTo(" << passing_to_
                                     << ") first, where event-driven integration resumes");
+  if (phase_ == Phase::kPassing) StartInterval();
   interval_->Reinit(t, x);
 }
 
@@ -490,33 +490,57 @@ double AutoRun::t() const {
   return whole_.times.empty() ? t_ : whole_.times.back();
 }
 
+// On a part the run passes: a window's rows and dense output; past the
+// last row (an extrapolation: rows only at output times), the
+// extrapolation's own x̂, linear to (t*, x*), and u the last row's
+// (ExtrapolatedRows).
+Eigen::VectorXd AutoRun::PassingState(double t) const {
+  if (whole_.times.empty()) return x_;
+  const double last = whole_.times.back();
+  if (t <= last) return whole_.StateAt(t);
+  const Eigen::VectorXd x_last(whole_.states.back());
+  return x_last + (x_ - x_last) * ((t - last) / (passing_to_ - last));
+}
+
+Eigen::VectorXd AutoRun::PassingMultiplier(double t) const {
+  if (whole_.times.empty()) return Eigen::VectorXd();
+  return t <= whole_.times.back() ? whole_.MultiplierAt(t)
+                                  : Eigen::VectorXd(whole_.multipliers.back());
+}
+
 Eigen::VectorXd AutoRun::x() const {
   if (phase_ == Phase::kEventDriven) return interval_->x();
-  if (whole_.times.empty()) return x_;
-  return phase_ == Phase::kPassing ? whole_.StateAt(cursor_)
-                                   : Eigen::VectorXd(whole_.states.back());
+  if (phase_ == Phase::kPassing) return PassingState(cursor_);
+  return whole_.times.empty() ? x_ : Eigen::VectorXd(whole_.states.back());
 }
 
 Eigen::VectorXd AutoRun::u() const {
   if (phase_ == Phase::kEventDriven) return interval_->u();
-  if (whole_.times.empty()) return Eigen::VectorXd();
-  return phase_ == Phase::kPassing ? whole_.MultiplierAt(cursor_)
-                                   : Eigen::VectorXd(whole_.multipliers.back());
+  if (phase_ == Phase::kPassing) return PassingMultiplier(cursor_);
+  return whole_.times.empty() ? Eigen::VectorXd() : Eigen::VectorXd(whole_.multipliers.back());
+}
+
+void AutoRun::CheckPassingSpan(const char* call, double t) const {
+  DVI_THROW_UNLESS(phase_ == Phase::kPassing && t >= passing_from_ && t <= cursor_,
+                   call << ": t = " << t
+                        << (phase_ == Phase::kOver
+                                ? std::string(" is after the run's end")
+                                : " is outside the part the run is passing, [" +
+                                      std::to_string(passing_from_) + ", " +
+                                      std::to_string(cursor_) + "]")
+                        << " (trajectory().StateAt interpolates the samples)");
 }
 
 Eigen::VectorXd AutoRun::StateAt(double t) const {
   if (phase_ == Phase::kEventDriven) return interval_->StateAt(t);
-  DVI_THROW_UNLESS(phase_ == Phase::kPassing && t >= passing_from_ && t <= cursor_,
-                   "StateAt: t = " << t << " is outside the part the run is passing, ["
-                                   << passing_from_ << ", " << this->t()
-                                   << "] (trajectory().StateAt interpolates the samples)");
-  return whole_.StateAt(t);
+  CheckPassingSpan("StateAt", t);
+  return PassingState(t);
 }
 
 Eigen::VectorXd AutoRun::MultiplierAt(double t) const {
   if (phase_ == Phase::kEventDriven) return interval_->MultiplierAt(t);
-  StateAt(t);  // the same span
-  return whole_.MultiplierAt(t);
+  CheckPassingSpan("MultiplierAt", t);
+  return PassingMultiplier(t);
 }
 
 const Mode& AutoRun::mode() const {

@@ -66,10 +66,10 @@ using SteppingMethod = std::function<Trajectory(
 /// IntegrateAuto steps it to the end (its intervals whole), AutoIntegrator
 /// call by call. A window and an extrapolation are computed whole in the
 /// call that enters them (a window is re-run at h/2, h/4, … for its
-/// certificate); t() then passes through them: AdvanceTo(t) stops inside
-/// one at t, its state the part's dense output there, the next Step goes
-/// to its end. `options` outlive the run; the checks of the arguments are
-/// the caller's.
+/// certificate), and the call ends at its end (t() there, method() its
+/// method; the next call resumes event-driven integration), or inside it
+/// at the time AdvanceTo asks for, the state there the part's dense output.
+/// `options` outlive the run; the checks of the arguments are the caller's.
 class AutoRun {
  public:
   AutoRun(EventMethod event, SteppingMethod stepping, const Eigen::VectorXd& x0, double t0,
@@ -115,8 +115,13 @@ class AutoRun {
   // The interval is over: its certificate, interval record, and the
   // hand-over (Drive's loop body).
   void Conclude();
-  // The cursor to the end of the part it is passing; the next interval.
+  // The cursor to the end of the part it is passing (the next Step starts
+  // the event-driven interval there), or the run's end.
   dvi::StepOutcome PassPart();
+  Eigen::VectorXd PassingState(double t) const;
+  Eigen::VectorXd PassingMultiplier(double t) const;
+  // @throws InvalidInputError unless t is in the passed part's span so far.
+  void CheckPassingSpan(const char* call, double t) const;
   dvi::StepOutcome Ended() const;
   void EnterPart(IntegrationMethod method, double from, double to, bool goes_on);
 
