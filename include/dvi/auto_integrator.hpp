@@ -36,9 +36,11 @@ namespace dvi {
 /// extrapolation are computed whole in the call that enters them (a window
 /// is re-run at h/2, h/4, … until its certificate holds, so it cannot stop
 /// inside); t() then passes through them: AdvanceTo(t) to a time inside
-/// one stops at t, x() and u() being the part's dense output there ((7.1):
-/// the line between its steps), and the next Step goes to its end, where
-/// event-driven integration resumes. trajectory() holds such a part whole.
+/// one stops at t, x() and u() being the part's dense output there (a
+/// window's x̂ᴴ, (7.1); an extrapolation's line from its last switch to
+/// (t*, x*), within its certified bound), and the next Step goes to its
+/// end, where event-driven integration resumes. trajectory() holds such a
+/// part whole.
 ///
 /// Scope: K a box, no source breakpoints, empty event.output_times (every
 /// step is sampled), a consistent x0 (an LCS's state jump at the start) and
@@ -61,10 +63,12 @@ class AutoIntegrator {
   ~AutoIntegrator();
 
   /// One CVODE step in an event-driven interval (kStep, kEvent); where the
-  /// interval fails, the hand-over: a window or an extrapolation computed
-  /// and passed (kStep), or event-driven on toward a Zeno accumulation
-  /// (kEvent). kEnd at t_end; kFailure where the run ends short of it
-  /// (status() says why); then the same again without stepping.
+  /// interval ends short of t_end, the hand-over: a window or an
+  /// extrapolation computed whole, the call ending at its end (kStep,
+  /// method() naming it; the next call resumes event-driven there), or
+  /// event-driven on toward a Zeno accumulation (kEvent). kEnd at t_end;
+  /// kFailure where the run ends short of it (status() says why); then the
+  /// same again without stepping.
   StepOutcome Step();
   /// Steps until t; kStopTime (t() == t), kEnd at t_end, or kFailure.
   /// @throws InvalidInputError if t is NaN, before t() or after t_end.
@@ -75,7 +79,8 @@ class AutoIntegrator {
   /// to time-stepping).
   /// @throws InvalidInputError if t is not in [t(), t_end), x has not n
   /// finite entries, the run is over, or t() is inside a window or an
-  /// extrapolation (named, with its end: AdvanceTo there first).
+  /// extrapolation (named, with its end: AdvanceTo there first; at its end
+  /// Reinit restarts the event-driven interval that resumes there).
   void Reinit(double t, const Eigen::VectorXd& x);
 
   double t() const;
