@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The resumable integrators as Python objects: dvi.EventDrivenIntegrator
-// (event_driven_integrator.hpp) with its options as the keyword arguments
-// integrate_event takes, and dvi.StepOutcome. An Lcs's integrator steps
+// (event_driven_integrator.hpp) and dvi.AutoIntegrator (auto_integrator.hpp)
+// with their options as the keyword arguments integrate_event and
+// integrate_auto take, and dvi.StepOutcome. An Lcs's integrator steps
 // with the GIL released, as integrate_event runs it (no Python inside); one
 // of Python callables holds it. One thread at a time per integrator object.
 #include <sstream>
@@ -13,6 +14,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "dvi/auto_integrator.hpp"
 #include "dvi/event_driven_integrator.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/step_outcome.hpp"
@@ -22,11 +24,39 @@
 namespace dvi::python {
 namespace {
 
+// Per integrator object: its Python name and its options from the keywords
+// of the one-shot function it steps.
+template <typename Integrator>
+struct Kind;
+template <>
+struct Kind<EventDrivenIntegrator> {
+  static constexpr const char* kName = "EventDrivenIntegrator";
+  static EventDrivenOptions Options(const py::kwargs& kwargs, Eigen::Index states) {
+    return EventOptions(kwargs, kName, states);
+  }
+  // Where the run is: the mode.
+  static std::string Where(const EventDrivenIntegrator& integrator) {
+    return "mode " + ModeLetters(integrator.mode());
+  }
+};
+template <>
+struct Kind<AutoIntegrator> {
+  static constexpr const char* kName = "AutoIntegrator";
+  static AutoOptions Options(const py::kwargs& kwargs, Eigen::Index states) {
+    return AutomaticOptions(kwargs, kName, states);
+  }
+  // Where the run is: the method running at t (or the last one's).
+  static std::string Where(const AutoIntegrator& integrator) {
+    return std::string(ToString(integrator.method()));
+  }
+};
+
 // The integrator, whether its problem calls Python (a Dvi or a Filippov
 // system of callables; an Lcs's does not), and the Python exception a
 // callable raised in an earlier step, if any.
-struct EventStepper {
-  EventDrivenIntegrator integrator;
+template <typename Integrator>
+struct Stepper {
+  Integrator integrator;
   bool calls_python;
   std::string raised;
 
@@ -38,7 +68,8 @@ struct EventStepper {
   template <typename Run>
   auto Call(Run run) {
     if (!raised.empty())
-      throw InvalidInputError("EventDrivenIntegrator: a callable raised " + raised +
+      throw InvalidInputError(std::string(Kind<Integrator>::kName) + ": a callable raised " +
+                              raised +
                               " in an earlier call; the run cannot go on (trajectory() holds it "
                               "up to there)");
     try {
@@ -53,17 +84,15 @@ struct EventStepper {
   }
 };
 
-template <typename Problem>
-void DefConstructor(py::class_<EventStepper>& stepper, const char* doc) {
+template <typename Integrator, typename Problem>
+void DefConstructor(py::class_<Stepper<Integrator>>& stepper, const char* doc) {
   stepper.def(py::init([](const Problem& problem, const Eigen::VectorXd& x0, double t0,
                           double t_end, const py::kwargs& kwargs) {
-                const EventDrivenOptions options =
-                    EventOptions(kwargs, "EventDrivenIntegrator", x0.size());
+                const auto options = Kind<Integrator>::Options(kwargs, x0.size());
                 constexpr bool kCallsPython = !std::is_same_v<Problem, Lcs>;
                 const auto start = [&] {
-                  return EventStepper{
-                      EventDrivenIntegrator(AsDvi(problem), x0, t0, t_end, options),
-                      kCallsPython, {}};
+                  return Stepper<Integrator>{
+                      Integrator(AsDvi(problem), x0, t0, t_end, options), kCallsPython, {}};
                 };
                 // The start selects the mode (a VI solve at t0): released as a step.
                 if constexpr (kCallsPython) return start();
@@ -101,6 +130,64 @@ py::list ModeNames(const Mode& mode) {
   return names;
 }
 
+// The calls every stepper object has, as the C++ object's.
+template <typename Integrator>
+void DefMembers(py::class_<Stepper<Integrator>>& stepper) {
+  using Self = Stepper<Integrator>;
+  stepper
+      .def(
+          "step",
+          [](Self& self) {
+            return OutcomeObject(self.Call([&] { return self.integrator.Step(); }));
+          },
+          "One step (CVODE's, and the event at its end), never past t_end or a pending stop")
+      .def(
+          "advance_to",
+          [](Self& self, double t) {
+            return OutcomeObject(self.Call([&] { return self.integrator.AdvanceTo(t); }));
+          },
+          py::arg("t"), "Steps until t, stopping exactly there (CVODE's stop time)")
+      .def(
+          "reinit",
+          [](Self& self, double t, const Eigen::VectorXd& x) {
+            self.Call([&] { self.integrator.Reinit(t, x); });
+          },
+          py::arg("t"), py::arg("x"),
+          "Restarts at (t, x) after the state or a parameter changed; the VI selects the mode "
+          "anew")
+      .def_property_readonly("t", [](const Self& self) { return self.integrator.t(); })
+      .def_property_readonly("t_end",
+                             [](const Self& self) { return self.integrator.t_end(); })
+      .def_property_readonly("x", [](const Self& self) { return self.integrator.x(); },
+                             "The state at t")
+      .def_property_readonly("u", [](const Self& self) { return self.integrator.u(); },
+                             "The multiplier at t")
+      .def(
+          "state_at", [](const Self& self, double t) { return self.integrator.StateAt(t); },
+          py::arg("t"),
+          "x(t) in the last step of the current mode, at the integrator's accuracy (CVodeGetDky; "
+          "auto: or on the window being passed); earlier times: trajectory().state_at")
+      .def_property_readonly(
+          "mode", [](const Self& self) { return ModeNames(self.integrator.mode()); },
+          "Per component of u: \"free\", \"lower\" or \"upper\" (bound)")
+      .def_property_readonly(
+          "status",
+          [](const Self& self) { return std::string(ToString(self.integrator.status())); })
+      .def_property_readonly(
+          "stats", [](const Self& self) { return StatsRecord(self.integrator.stats()); })
+      .def(
+          "trajectory", [](const Self& self) { return self.integrator.trajectory(); },
+          "The samples, events and statistics from t0 to t")
+      .def("__repr__", [](const Self& self) {
+        const Integrator& integrator = self.integrator;
+        std::ostringstream text;
+        text << "<dvi." << Kind<Integrator>::kName << " t = " << integrator.t() << " of "
+             << integrator.t_end() << ", " << Kind<Integrator>::Where(integrator) << ", "
+             << integrator.status() << ">";
+        return text.str();
+      });
+}
+
 }  // namespace
 
 void BindSteppers(py::module_& module) {
@@ -117,64 +204,33 @@ void BindSteppers(py::module_& module) {
               py::cpp_function([](StepOutcome value) { return std::string(ToString(value)); },
                                py::name("__str__"), py::is_method(outcome)));
 
-  py::class_<EventStepper> stepper(
+  py::class_<Stepper<EventDrivenIntegrator>> stepper(
       module, "EventDrivenIntegrator",
       "The event-driven integrator (Sect. 5) as an object to step, stop and resume: step(), "
       "advance_to(t), reinit(t, x); options as integrate_event's keywords (no output_times: "
       "every step is sampled)");
-  DefConstructor<Lcs>(stepper, "An Lcs (2.8) on a box K");
-  DefConstructor<Dvi>(stepper, "A Dvi of Python callables on a box K");
-  DefConstructor<FilippovSystem>(stepper, "A Filippov system as its separable DVI");
-  stepper
-      .def(
-          "step",
-          [](EventStepper& self) {
-            return OutcomeObject(self.Call([&] { return self.integrator.Step(); }));
-          },
-          "One CVODE step (and the event at its end), never past t_end or a pending stop")
-      .def(
-          "advance_to",
-          [](EventStepper& self, double t) {
-            return OutcomeObject(self.Call([&] { return self.integrator.AdvanceTo(t); }));
-          },
-          py::arg("t"), "Steps until t, stopping exactly there (CVODE's stop time)")
-      .def(
-          "reinit",
-          [](EventStepper& self, double t, const Eigen::VectorXd& x) {
-            self.Call([&] { self.integrator.Reinit(t, x); });
-          },
-          py::arg("t"), py::arg("x"),
-          "Restarts at (t, x) after the state or a parameter changed; the VI selects the mode anew")
-      .def_property_readonly("t", [](const EventStepper& self) { return self.integrator.t(); })
-      .def_property_readonly("t_end",
-                             [](const EventStepper& self) { return self.integrator.t_end(); })
-      .def_property_readonly("x", [](const EventStepper& self) { return self.integrator.x(); },
-                             "The state at t")
-      .def_property_readonly("u", [](const EventStepper& self) { return self.integrator.u(); },
-                             "The multiplier at t")
-      .def(
-          "state_at", [](const EventStepper& self, double t) { return self.integrator.StateAt(t); },
-          py::arg("t"),
-          "x(t) in the last step of the current mode, at the integrator's accuracy (CVodeGetDky); "
-          "earlier times: trajectory().state_at")
-      .def_property_readonly(
-          "mode", [](const EventStepper& self) { return ModeNames(self.integrator.mode()); },
-          "Per component of u: \"free\", \"lower\" or \"upper\" (bound)")
-      .def_property_readonly(
-          "status",
-          [](const EventStepper& self) { return std::string(ToString(self.integrator.status())); })
-      .def_property_readonly(
-          "stats", [](const EventStepper& self) { return StatsRecord(self.integrator.stats()); })
-      .def(
-          "trajectory", [](const EventStepper& self) { return self.integrator.trajectory(); },
-          "The samples, events and statistics from t0 to t")
-      .def("__repr__", [](const EventStepper& self) {
-        const EventDrivenIntegrator& integrator = self.integrator;
-        std::ostringstream text;
-        text << "<dvi.EventDrivenIntegrator t = " << integrator.t() << " of " << integrator.t_end()
-             << ", mode " << ModeLetters(integrator.mode()) << ", " << integrator.status() << ">";
-        return text.str();
-      });
+  DefConstructor<EventDrivenIntegrator, Lcs>(stepper, "An Lcs (2.8) on a box K");
+  DefConstructor<EventDrivenIntegrator, Dvi>(stepper, "A Dvi of Python callables on a box K");
+  DefConstructor<EventDrivenIntegrator, FilippovSystem>(stepper,
+                                                        "A Filippov system as its separable DVI");
+  DefMembers(stepper);
+
+  py::class_<Stepper<AutoIntegrator>> automatic(
+      module, "AutoIntegrator",
+      "The automatic driver (integrate_auto) as an object to step, stop and resume: step(), "
+      "advance_to(t), reinit(t, x), method; options as integrate_auto's keywords (no "
+      "output_times: every step is sampled)");
+  DefConstructor<AutoIntegrator, Lcs>(automatic, "An Lcs (2.8) on a box K");
+  DefConstructor<AutoIntegrator, Dvi>(automatic, "A Dvi of Python callables on a box K");
+  DefConstructor<AutoIntegrator, FilippovSystem>(automatic,
+                                                 "A Filippov system as its separable DVI");
+  DefMembers(automatic);
+  automatic.def_property_readonly(
+      "method",
+      [](const Stepper<AutoIntegrator>& self) {
+        return std::string(ToString(self.integrator.method()));
+      },
+      "The method at t: \"event\", \"stepping\" (a window) or \"zeno-extrapolation\"");
 }
 
 }  // namespace dvi::python
