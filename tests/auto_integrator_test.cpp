@@ -9,6 +9,7 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,47 @@ TEST(AutoIntegrator, SteppedToTheEndItIsIntegrateAuto) {
     ExpectSameIntervals(stepped.trajectory(), one_shot);
     EXPECT_NE(std::find(seen.begin(), seen.end(), c.handover), seen.end());
   }
+}
+
+// A general Dvi (the spiral's through Lcs::ToDvi: functors, no matrices)
+// takes the same path as IntegrateAuto's Dvi overload.
+TEST(AutoIntegrator, AGeneralDviSteppedToTheEndIsIntegrateAuto) {
+  const zoo::ZooModel model = zoo::ZooModelNamed("filippov_spiral");
+  const Dvi dvi = model.lcs.ToDvi();
+  const AutoOptions options = WindowOptions(model);
+  const Trajectory one_shot = IntegrateAuto(dvi, model.x0, 0, model.horizon, options);
+  ASSERT_TRUE(one_shot.succeeded()) << one_shot.message;
+  ASSERT_TRUE(HasMethod(one_shot, IntegrationMethod::kTimeStepping));
+  AutoIntegrator integrator(dvi, model.x0, 0, model.horizon, options);
+  EXPECT_EQ(integrator.AdvanceTo(model.horizon), StepOutcome::kEnd);
+  ExpectSameTrajectory(integrator.trajectory(), one_shot);
+  ExpectSameIntervals(integrator.trajectory(), one_shot);
+}
+
+// An exception of the problem's functions ends the run where it was thrown,
+// once (as EventDrivenIntegrator's): later calls answer kFailure, and the
+// rows up to there are kept.
+TEST(AutoIntegrator, AnExceptionOfTheProblemEndsTheRunOnce) {
+  const zoo::ZooModel model = zoo::ZooModelNamed("filippov_spiral");
+  Dvi dvi = model.lcs.ToDvi();
+  dvi.f = [f = dvi.f](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                      Eigen::VectorXd& out) {
+    if (t > 0.5) throw std::runtime_error("boom in f");
+    f(t, x, u, out);
+  };
+  AutoIntegrator integrator(dvi, model.x0, 0, model.horizon, ZenoOptions(model));
+  EXPECT_THROW(integrator.AdvanceTo(1.0), std::runtime_error);
+  EXPECT_EQ(integrator.AdvanceTo(1.0), StepOutcome::kFailure);
+  EXPECT_EQ(integrator.Step(), StepOutcome::kFailure);
+  const Trajectory trajectory = integrator.trajectory();
+  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+  EXPECT_NE(trajectory.message.find("threw"), std::string::npos) << trajectory.message;
+  ASSERT_FALSE(trajectory.times.empty());
+  // The last accepted step's end (0.0895: CVODE's steps on the straight
+  // lines are long; its next one evaluated f past 0.5).
+  EXPECT_GT(trajectory.times.back(), 0.0);
+  EXPECT_LE(trajectory.times.back(), 0.5);
+  ExpectThrowNaming([&] { integrator.Reinit(1.0, model.x0); }, "the run has failed");
 }
 
 // Each run is within its tolerance (rtol 1e-10) of the exact solution; the

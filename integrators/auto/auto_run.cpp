@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -430,7 +431,43 @@ void AutoRun::Conclude() {
   EnterPart(IntegrationMethod::kTimeStepping, t_a, t_stepped, stepped && t_b < t_end_);
 }
 
+void AutoRun::EndOnException() {
+  if (phase_ == Phase::kEventDriven && interval_) {
+    Trajectory part = interval_->Take();
+    if (!part.times.empty() && part.times.back() > t_)
+      whole_.intervals.push_back({t_, part.times.back(), IntegrationMethod::kEventDriven,
+                                  resumed_ + OwnReason(part, "event-driven")});
+    AppendPart(whole_, std::move(part));
+  }
+  interval_.reset();
+  if (whole_.succeeded()) {
+    whole_.status = IntegrationStatus::kStepFailure;
+    whole_.message = "auto: a function of the problem threw after t = " + Short(t());
+  }
+  phase_ = Phase::kOver;
+  last_ = StepOutcome::kFailure;
+}
+
+template <typename Call>
+StepOutcome AutoRun::Guarded(Call call) {
+  try {
+    return call();
+  } catch (...) {
+    EndOnException();
+    throw;
+  }
+}
+
 StepOutcome AutoRun::Step() {
+  return Guarded([this] { return StepOnce(); });
+}
+
+StepOutcome AutoRun::AdvanceTo(double t) {
+  CheckAdvanceTime(t, this->t(), t_end_);
+  return Guarded([this, t] { return AdvanceUntil(t); });
+}
+
+StepOutcome AutoRun::StepOnce() {
   if (phase_ == Phase::kOver) return last_;
   if (phase_ == Phase::kPassing) {
     if (cursor_ < passing_to_) return last_ = PassPart();
@@ -447,8 +484,7 @@ StepOutcome AutoRun::Step() {
   return last_ = StepOutcome::kEvent;  // on event-driven toward a Zeno accumulation
 }
 
-StepOutcome AutoRun::AdvanceTo(double t) {
-  CheckAdvanceTime(t, this->t(), t_end_);
+StepOutcome AutoRun::AdvanceUntil(double t) {
   while (true) {
     if (phase_ == Phase::kOver) return last_;
     if (phase_ == Phase::kPassing) {

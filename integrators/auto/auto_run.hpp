@@ -75,6 +75,8 @@ class AutoRun {
   AutoRun(EventMethod event, SteppingMethod stepping, const Eigen::VectorXd& x0, double t0,
           double t_end, const AutoOptions& options);
 
+  /// An exception of the problem's functions ends the run where it was
+  /// thrown (kFailure from then on) and is passed on, once.
   dvi::StepOutcome Step();
   /// @throws InvalidInputError as the integrator objects' AdvanceTo.
   dvi::StepOutcome AdvanceTo(double t);
@@ -110,6 +112,14 @@ class AutoRun {
     kPassing,      // a computed part (window, extrapolation) up to passing_to_
     kOver,
   };
+  // Step and AdvanceTo after the argument checks, in Guarded: an exception
+  // ends the run (EndOnException: the live interval's rows kept) and is
+  // passed on.
+  dvi::StepOutcome StepOnce();
+  dvi::StepOutcome AdvanceUntil(double t);
+  template <typename Call>
+  dvi::StepOutcome Guarded(Call call);
+  void EndOnException();
   const EventDrivenOptions& RunOptions() const;
   void StartInterval();
   // The interval is over: its certificate, interval record, and the
