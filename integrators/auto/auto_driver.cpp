@@ -47,6 +47,7 @@ class WholeInterval final : public internal::EventInterval {
   const Mode& mode() const override {
     throw InvalidInputError("mode: an interval of IntegrateAuto runs whole and keeps no mode");
   }
+  IntegrationStatus status() const override { return run_.status; }
   Trajectory trajectory() const override { return run_; }
   Trajectory Take() override { return std::move(run_); }
 

@@ -30,6 +30,7 @@ class LiveInterval final : public internal::EventInterval {
   Eigen::VectorXd StateAt(double t) const override { return integrator_.StateAt(t); }
   Eigen::VectorXd MultiplierAt(double t) const override { return integrator_.MultiplierAt(t); }
   const Mode& mode() const override { return integrator_.mode(); }
+  IntegrationStatus status() const override { return integrator_.status(); }
   Trajectory trajectory() const override { return integrator_.trajectory(); }
   Trajectory Take() override { return integrator_.trajectory(); }
 
@@ -60,8 +61,8 @@ void CheckScope(const Dvi& dvi, const AutoOptions& options) {
 // The problem, the options and the run, which refers to them: on the heap,
 // so that moving the integrator does not move them.
 struct AutoIntegrator::State {
-  State(Dvi problem, std::optional<Lcs> linear, const AutoOptions& run_options)
-      : dvi(std::move(problem)), lcs(std::move(linear)), options(run_options) {}
+  State(Dvi problem, std::optional<Lcs> linear, const AutoOptions& run_options, double t_end)
+      : dvi(std::move(problem)), lcs(std::move(linear)), options(run_options), run_t_end(t_end) {}
 
   internal::EventMethod Method() const {
     const Lcs* linear = lcs ? &*lcs : nullptr;
@@ -78,7 +79,7 @@ struct AutoIntegrator::State {
   const Dvi dvi;                 // the problem, an LCS's through ToDvi
   const std::optional<Lcs> lcs;  // the LCS, when it is one (its matrices and KLU)
   const AutoOptions options;
-  double run_t_end = 0;
+  const double run_t_end;
   std::optional<internal::AutoRun> run;
 };
 
@@ -86,8 +87,7 @@ AutoIntegrator::AutoIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double
                                double t_end, const AutoOptions& options) {
   internal::CheckAutoStart(dvi, x0, t0, t_end, options);
   CheckScope(dvi, options);
-  state_ = std::make_unique<State>(dvi, std::nullopt, options);
-  state_->run_t_end = t_end;
+  state_ = std::make_unique<State>(dvi, std::nullopt, options, t_end);
   state_->run.emplace(state_->Method(), internal::SteppingOf(state_->dvi, state_->options), x0,
                       t0, t_end, state_->options);
 }
@@ -109,8 +109,7 @@ AutoIntegrator::AutoIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double
                        << t0
                        << " (the LCS's state jumps there); the object starts from a consistent "
                           "x0 (IntegrateAuto records the jump)");
-  state_ = std::make_unique<State>(std::move(dvi), lcs, options);
-  state_->run_t_end = t_end;
+  state_ = std::make_unique<State>(std::move(dvi), lcs, options, t_end);
   state_->run.emplace(state_->Method(), internal::SteppingOf(*state_->lcs, state_->options), x0,
                       t0, t_end, state_->options);
 }

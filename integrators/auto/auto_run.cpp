@@ -601,7 +601,7 @@ IntegrationMethod AutoRun::method() const {
 }
 
 IntegrationStatus AutoRun::status() const {
-  return phase_ == Phase::kEventDriven ? interval_->trajectory().status : whole_.status;
+  return phase_ == Phase::kEventDriven ? interval_->status() : whole_.status;
 }
 
 Trajectory AutoRun::trajectory() const {

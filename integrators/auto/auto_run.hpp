@@ -34,6 +34,7 @@ class EventInterval {
   virtual Eigen::VectorXd StateAt(double t) const = 0;
   virtual Eigen::VectorXd MultiplierAt(double t) const = 0;
   virtual const Mode& mode() const = 0;
+  virtual IntegrationStatus status() const = 0;
   /// The interval so far.
   virtual Trajectory trajectory() const = 0;
   /// The interval, once over (it may be moved out).
