@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -71,6 +72,49 @@ TEST(SmoothSwitch, TheBridgeUnderAdamsIsWithinTheGoalOfThePhysicalLimitOraclesEv
                 oracle.steps, oracle_error, double(event.stats.rhs_evals) / double(oracle.rhs_evals));
     EXPECT_LE(double(event.stats.rhs_evals), kGoal * double(oracle.rhs_evals));
   }
+}
+
+// Issue 31's own grid: the oracle-limit stepping to each switch (its stop
+// time) with x at every step's end, as `auto` without output times, the
+// floor of the headline at 300× Siconos. Measured at rtol 1e-8, atol 1e-10
+// (bench/dae_headline/bridge_event_calls 1e-8 0 oracle-limit): 512 steps,
+// |v − v_exact| 6.1e-7 V at the steps' ends.
+TEST(SmoothSwitch, TheOracleLimitOnItsOwnGridSamplesEveryStepsEnd) {
+  const circuits::DiodeBridgeParameters bridge;
+  const double t_end = 5e-3;
+  baselines::BaselineProblem problem{circuits::DiodeBridge(bridge),
+                                     circuits::DiodeBridgeInitialState(bridge), 0, t_end, {}};
+  EventDrivenOptions reference;
+  reference.rtol = 1e-12;
+  reference.atol = 1e-14;
+  reference.method = OdeMethod::kAdams;
+  const Trajectory tight = IntegrateEventDriven(std::get<Lcs>(problem.dvi), problem.x0, 0, t_end,
+                                                reference);
+  ASSERT_TRUE(tight.succeeded()) << tight.message;
+  const std::vector<baselines::ModeSegment> schedule = baselines::ScheduleOfEvents(problem, tight);
+  baselines::OracleOptions limit{baselines::OracleRestarts::kWhereRateJumps, OdeMethod::kAdams};
+  limit.own_grid = true;
+  const baselines::BaselineRun run = baselines::RunOracleCvode(problem, schedule, 1e-8, 1e-10, limit);
+  ASSERT_TRUE(run.failure.empty()) << run.failure;
+  ASSERT_EQ(run.times.size(), run.states.size());
+  EXPECT_EQ(static_cast<long>(run.times.size()), run.steps + 1);  // x0 and every step's end
+  EXPECT_EQ(run.times.front(), 0);
+  EXPECT_EQ(run.times.back(), t_end);
+  EXPECT_TRUE(std::is_sorted(run.times.begin(), run.times.end()));
+  // Every switch time is a step's end (the stop time there).
+  for (std::size_t k = 1; k < schedule.size(); ++k)
+    EXPECT_TRUE(std::binary_search(run.times.begin(), run.times.end(), schedule[k].from))
+        << schedule[k].from;
+  double error = 0;
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    error = std::max(error, std::abs(run.states[k](0) -
+                                     circuits::DiodeBridgeExactState(bridge, run.times[k])(0)));
+  EXPECT_LT(error, 1e-6);
+  EXPECT_GT(run.steps, 300);
+  // The own grid takes no output times.
+  problem.output_times = {0, t_end};
+  EXPECT_THROW(baselines::RunOracleCvode(problem, schedule, 1e-8, 1e-10, limit),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -94,15 +94,15 @@ class CvodeSolver {
   }
   void SetStopTime(double stop) { Check(CVodeSetStopTime(cvode_, stop), "CVodeSetStopTime"); }
 
-  // x at t (CVODE's interpolant when it stepped past t). False, with why,
-  // when CVode fails.
-  bool AdvanceTo(double t, std::string& failure) {
-    double reached = 0;
-    const int flag = CVode(cvode_, t, y_, &reached, CV_NORMAL);
+  // x at t (CVODE's interpolant when it stepped past t), or with
+  // CV_ONE_STEP one step towards t, x at its end (time()). False, with
+  // why, when CVode fails.
+  bool AdvanceTo(double t, std::string& failure, int task = CV_NORMAL) {
+    const int flag = CVode(cvode_, t, y_, &reached_, task);
     if (flag >= 0) return true;
     char* name = CVodeGetReturnFlagName(flag);
     std::ostringstream why;
-    why << "CVode: " << name << " at t = " << reached;
+    why << "CVode: " << name << " at t = " << reached_;
     std::free(name);
     failure = why.str();
     return false;
@@ -111,6 +111,7 @@ class CvodeSolver {
   Eigen::VectorXd State() const {
     return Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(y_), N_VGetLength(y_));
   }
+  double time() const { return reached_; }
   long steps() const {
     long steps = 0;
     CVodeGetNumSteps(cvode_, &steps);
@@ -128,6 +129,7 @@ class CvodeSolver {
   SUNMatrix matrix_ = nullptr;
   SUNLinearSolver solver_ = nullptr;
   long steps_before_restart_ = 0;
+  double reached_ = 0;
 };
 
 // Whether x' jumps at segment.from, x the state there (OracleRestarts::
@@ -168,6 +170,9 @@ BaselineRun RunPlainCvode(const BaselineProblem& problem, double rtol, double at
 
 BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<ModeSegment>& schedule,
                            double rtol, double atol, const OracleOptions& options) {
+  if (options.own_grid && !problem.output_times.empty())
+    throw std::invalid_argument("RunOracleCvode: the own grid takes no output times (" +
+                                std::to_string(problem.output_times.size()) + " given)");
   BaselineRun run;
   IndexOneRhs rhs = MakeRhs(problem);
   rhs.FreezeMode(true);
@@ -176,6 +181,10 @@ BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<Mod
   const std::vector<double>& times = problem.output_times;
   std::size_t next = 0;
   for (; next < times.size() && times[next] <= problem.t0; ++next) run.states.push_back(problem.x0);
+  if (options.own_grid) {
+    run.times.push_back(problem.t0);
+    run.states.push_back(problem.x0);
+  }
   // Newton's first start is the VI's u at x0 (u = 0 can make a KKT mode's
   // Jacobian singular, e.g. on a ball); x is continuous at a switch, so u
   // restarts from its last value there.
@@ -205,16 +214,25 @@ BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<Mod
       else
         cvode.Restart(segment.from, segment.to, x_switch);
     }
-    const auto advance = [&](double t) {
-      bool advanced = cvode.AdvanceTo(t, run.failure);
+    const auto advance = [&](double t, int task = CV_NORMAL) {
+      bool advanced = cvode.AdvanceTo(t, run.failure, task);
       if (!advanced && kept_untried) {
         run.failure.clear();
         cvode.Restart(segment.from, segment.to, x_switch);
-        advanced = cvode.AdvanceTo(t, run.failure);
+        advanced = cvode.AdvanceTo(t, run.failure, task);
       }
       kept_untried = false;
       return advanced;
     };
+    if (options.own_grid) {
+      // Step by step to the switch (the stop time ends the last step there).
+      for (double reached = segment.from; reached < segment.to && advance(segment.to, CV_ONE_STEP);
+           reached = cvode.time()) {
+        run.times.push_back(cvode.time());
+        run.states.push_back(cvode.State());
+      }
+      continue;
+    }
     bool at_end = false, advanced = false;
     for (; next < times.size() && times[next] <= segment.to; ++next) {
       // An output time at the segment's start up to round-off (the schedule

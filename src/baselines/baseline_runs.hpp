@@ -45,6 +45,9 @@ struct ModeSegment {
 /// the work, and why it stopped early (empty on success).
 struct BaselineRun {
   std::vector<Eigen::VectorXd> states;
+  /// The times of `states` where they are not the problem's output times:
+  /// each step's end of an oracle on its own grid (OracleOptions::own_grid).
+  std::vector<double> times;
   long rhs_evals = 0;  ///< IndexOneRhs::Evaluate calls (Jacobians included for rosenbrock4).
   long steps = 0;
   std::string failure;
@@ -74,12 +77,16 @@ constexpr double kRateJump = 1e-6;
 struct OracleOptions {
   OracleRestarts restarts = OracleRestarts::kEverySwitch;
   OdeMethod method = OdeMethod::kBdf;  ///< CVODE's family in every mode.
+  /// The step's own grid (issue 31): no output times (the problem's must be
+  /// empty), x at every step's end (CV_ONE_STEP) in run.states at run.times.
+  bool own_grid = false;
 };
 
 /// As RunPlainCvode on each segment of `schedule` (covering [t0, t_end] in
 /// order) with that mode frozen (IndexOneRhs::FreezeMode) and the stop time
 /// set at each switch time, so no step crosses a kink; CVodeReInit there as
 /// options.restarts says.
+/// @throws std::invalid_argument for options.own_grid with output times.
 BaselineRun RunOracleCvode(const BaselineProblem& problem, const std::vector<ModeSegment>& schedule,
                            double rtol, double atol, const OracleOptions& options = {});
 /// odeint::make_dense_output(atol, rtol, runge_kutta_dopri5) with
