@@ -460,6 +460,9 @@ bool EventDrivenRun::Begin() {
       !Check(CVodeSetStopTime(cvode, stop_time_), "CVodeSetStopTime") ||
       !Check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn"))
     return false;
+  // CVODE's history in place for each step's Taylor coefficients
+  // (ReadTaylor); CVodeGetDky where it is not found.
+  nordsieck_.Locate(cvode);
   if (!directions.empty() &&
       (!Check(CVodeRootInit(cvode, static_cast<int>(directions.size()), ModeRootCallback),
               "CVodeRootInit") ||

@@ -14,6 +14,7 @@
 
 #include "cvode/cvode_memory.hpp"
 #include "cvode/mode_callbacks.hpp"
+#include "cvode/nordsieck_array.hpp"
 #include "dvi/dvi.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/lcs.hpp"
@@ -159,9 +160,12 @@ class EventDrivenRun {
     int q = 0;
   };
   Step LastStep() const;
-  /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step (read once per
-  /// step); false if CVODE refuses one.
-  bool ReadTaylor(double t_n, int q);
+  /// taylor_ = y⁽ᵏ⁾(t_n)/k!, k = 0…q, of the last step (length h; read
+  /// once per step): from the Nordsieck array in place where it was found
+  /// (nordsieck_), else by CVodeGetDky; false if CVODE refuses one.
+  bool ReadTaylor(double t_n, double h, int q);
+  /// The columns first…q of taylor_ by CVodeGetDky.
+  bool TaylorByDky(double t_n, int q, int first);
   /// Whether taylor_ holds the step ending at t_n, of order q.
   bool HasTaylor(double t_n, int q) const {
     return taylor_time_ == t_n && taylor_.cols() == q + 1;
@@ -207,6 +211,10 @@ class EventDrivenRun {
   // not allocate.
   std::vector<char> step_kept_;
   Eigen::MatrixXd taylor_;  // the last step's interpolant, by ReadTaylor
+  // CVODE's Nordsieck array (located in Begin), and whether its Taylor
+  // coefficients have been checked against CVodeGetDky's in this run.
+  NordsieckArray nordsieck_;
+  bool nordsieck_checked_ = false;
   double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
   Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
   // The certificate's scratch: x, u, x' and f where a defect is measured,

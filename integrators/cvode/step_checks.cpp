@@ -27,7 +27,7 @@ double EventDrivenRun::StepViolation() {
   if (!(h > 0) || dvi_.m == 0) return NAN;
   const bool exact = system_.CoversSteps();
   if (!(exact && system_.HasDenseRows()) && StepClear(t_n, h)) return NAN;
-  if (!ReadTaylor(t_n, q)) return NAN;
+  if (!ReadTaylor(t_n, h, q)) return NAN;
   if (!exact) {
     Eigen::VectorXd& end_roots = step_ends_.end_roots();
     if (!step_ends_.HasEnd(t_n)) {  // StepClear could not take them

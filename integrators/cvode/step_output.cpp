@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "certify.hpp"
@@ -49,7 +50,7 @@ double EventDrivenRun::SampleOutputs(double before) {
   const auto [t_n, h_u, q] = LastStep();
   // StepViolation may have read the polynomial already.
   const bool by_polynomial =
-      HasTaylor(t_n, q) || (static_cast<int>(due.size()) > q + 1 && ReadTaylor(t_n, q));
+      HasTaylor(t_n, q) || (static_cast<int>(due.size()) > q + 1 && ReadTaylor(t_n, h_u, q));
   // CVodeGetDky's own bound of the step, with its slack. A time the step's
   // interpolant cannot serve (outside it, or where the mode's Newton fails)
   // is left unsampled rather than guessed.
@@ -179,7 +180,7 @@ void EventDrivenRun::RecordStep(double end) {
   if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
   const auto [t_n, h, q] = LastStep();
   const double begin = std::max(t_n - h, recorded_until_);
-  if (!(h > 0) || !(end > begin) || !ReadTaylor(t_n, q)) return;
+  if (!(h > 0) || !(end > begin) || !ReadTaylor(t_n, h, q)) return;
   recorded_until_ = end;
   Eigen::MatrixXd& scaled = scaled_taylor_;
   scaled = taylor_;
@@ -212,24 +213,41 @@ EventDrivenRun::Step EventDrivenRun::LastStep() const {
   return step;
 }
 
-bool EventDrivenRun::ReadTaylor(double t_n, int q) {
+bool EventDrivenRun::ReadTaylor(double t_n, double h, int q) {
   if (HasTaylor(t_n, q)) return true;
   taylor_time_ = NAN;
   taylor_.resize(x0_.size(), q + 1);
   // A step that ended at t_n (not at a root or the stop time within it) left
-  // y(t_n) in y_: one CVodeGetDky call fewer per step.
+  // y(t_n) in y_: one column fewer to read.
   int first = 0;
   if (t_n == t_) {
     taylor_.col(0) = Eigen::Map<const Eigen::VectorXd>(y_.data(), x0_.size());
     first = 1;
   }
+  if (!nordsieck_.Taylor(h, q, first, taylor_)) {
+    if (!TaylorByDky(t_n, q, first)) return false;
+  } else if (!nordsieck_checked_) {
+    // The array's first read of the run against CVodeGetDky's, to the bit;
+    // another layout (or h other than the last step's) falls back for the
+    // rest of the run.
+    nordsieck_checked_ = true;
+    const Eigen::MatrixXd by_array = taylor_;
+    if (!TaylorByDky(t_n, q, first)) return false;
+    if (std::memcmp(by_array.data(), taylor_.data(), sizeof(double) * taylor_.size()) != 0)
+      nordsieck_.Forget();
+  }
+  taylor_time_ = t_n;
+  return true;
+}
+
+bool EventDrivenRun::TaylorByDky(double t_n, int q, int first) {
   double factorial = 1;
+  for (int k = 1; k < first; ++k) factorial *= k;
   for (int k = first; k <= q; ++k) {
     if (k > 1) factorial *= k;
     if (CVodeGetDky(cvode_.get(), t_n, k, dky_.get()) != CV_SUCCESS) return false;
     taylor_.col(k) = Eigen::Map<const Eigen::VectorXd>(dky_.data(), x0_.size()) / factorial;
   }
-  taylor_time_ = t_n;
   return true;
 }
 
