@@ -97,6 +97,8 @@ class EventDrivenRun {
   double t_end() const { return t_end_; }
   const BoxModeSystem& system() const { return system_; }
   const Trajectory& samples() const { return trajectory_; }
+  /// How many steps LocateMissedRoot has scanned for a root CVODE missed.
+  long missed_root_scans() const { return missed_root_scans_; }
 
  private:
   bool Start(double t, const Eigen::VectorXd& x_start);
@@ -117,6 +119,7 @@ class EventDrivenRun {
   bool StillHolds();
   enum class MissedRoot { kLocated, kNone, kUndefined };
   MissedRoot LocateMissedRoot(double t_until, double& last_defined);
+  bool BeganBeforeMode(double t_n, double h) const;
   bool FailWhereFIsUndefined(double last_defined);
   bool StepsResolveTime();
   bool Accumulating(double t, std::string& why);
@@ -188,6 +191,7 @@ class EventDrivenRun {
   double stop_time_ = t_end_;
   std::chrono::steady_clock::time_point start_clock_;
   double mode_start_ = 0;  // where the current mode was entered
+  long missed_root_scans_ = 0;
 
   // The observer and the user's root functions (options_.observation).
   const ObservationOptions& observation_ = options_.observation;

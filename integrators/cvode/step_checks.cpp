@@ -21,13 +21,17 @@ namespace dvi::internal {
 // costs more than a small LCS's few products (reading the step's
 // polynomial is O(q² n)), a step whose root functions stay clear of their
 // bounds by their slopes (StepClear) is passed first. NaN when none is
-// found.
+// found. A step that began before the mode (a switch that kept CVODE's
+// history: CVODE returns the rest of the step it had taken) is checked from
+// the mode's start: before it the mode left held, and this one's root
+// functions there are negative without any root missed.
 double EventDrivenRun::StepViolation() {
-  const auto [t_n, h, q] = LastStep();
+  const auto [t_n, h_step, q] = LastStep();
+  const double h = BeganBeforeMode(t_n, h_step) ? t_n - mode_start_ : h_step;
   if (!(h > 0) || dvi_.m == 0) return NAN;
   const bool exact = system_.CoversSteps();
-  if (!(exact && system_.HasDenseRows()) && StepClear(t_n, h)) return NAN;
-  if (!ReadTaylor(t_n, h, q)) return NAN;
+  if (!(exact && system_.HasDenseRows()) && StepClear(t_n, h_step)) return NAN;
+  if (!ReadTaylor(t_n, h_step, q)) return NAN;
   if (!exact) {
     Eigen::VectorXd& end_roots = step_ends_.end_roots();
     if (!step_ends_.HasEnd(t_n)) {  // StepClear could not take them
@@ -54,6 +58,13 @@ double EventDrivenRun::StepViolation() {
   const double state_error = options_.rtol * size + options_.LargestAtol();
   return system_.FirstViolationInStep(taylor_, t_n, h,
                                       system_.FSlack(t_n, step_end_, state_error));
+}
+
+// Whether the step of length h ending at t_n began before the current mode
+// by more than a root time's round-off (a step taken after a restart at
+// mode_start_ begins there up to round-off).
+bool EventDrivenRun::BeganBeforeMode(double t_n, double h) const {
+  return mode_start_ - (t_n - h) > RootTimeTolerance(t_n, h);
 }
 
 // Whether the root functions stay clear of their bounds over the last
@@ -151,7 +162,9 @@ EventDrivenRun::MissedRoot EventDrivenRun::LocateMissedRoot(double t_until, doub
       if (g_start[k] > 0 && g[k] <= 0) crossed = true;
     return !crossed;
   };
-  const double t_start = t_n - h_last;
+  ++missed_root_scans_;
+  // The step's part in this mode (StepViolation).
+  const double t_start = BeganBeforeMode(t_n, h_last) ? mode_start_ : t_n - h_last;
   last_defined = t_start;
   if (!roots_at(t_start, g_start)) return MissedRoot::kUndefined;
   const auto [good, bad] = BracketFirstFailure(
