@@ -11,8 +11,8 @@
 // CVODE only where x' jumps: never on the bridge) or oracle (restarts at
 // every switch); RUNS > 0 times that many runs after an untimed one
 // (median wall and CPU ms; default 0: one untimed run). The oracle's
-// schedule comes from an event run at rtol 1e-12 (left out of its counts:
-// annotate RunOracleCvode). Prints the run's max |v − v_exact| over its
+// schedule comes from an event run at rtol 1e-12 (BridgeSchedule; left out
+// of its counts: annotate RunOracleCvode). Prints the run's max |v − v_exact| over its
 // samples, events, steps, RHS evaluations, VI solves and solver iterations.
 #include <cmath>
 #include <cstdio>
@@ -22,18 +22,16 @@
 #include <vector>
 
 #include "baseline_runs.hpp"
+#include "bridge_schedule.hpp"
 #include "circuits/diode_bridge.hpp"
 #include "dvi/auto_driver.hpp"
-#include "dvi/event_driven.hpp"
 #include "error_norms.hpp"
-#include "oracle_schedule.hpp"
 #include "timing.hpp"
 
 namespace {
 
 constexpr double kHorizon = 5e-3;  // dae_headline's kBridgeHorizon
 constexpr double kAtolPerRtol = 1e-2;  // issue 31's protocol
-constexpr double kScheduleRtol = 1e-12;  // the oracle's reference event run
 
 // max |v − v_exact| over x(t_k) = states[k].
 template <class States>
@@ -74,19 +72,8 @@ int main(int argc, char** argv) {
   };
 
   if (method != "auto") {
-    dvi::baselines::BaselineProblem problem{lcs, x0, 0, kHorizon, output_times};
-    dvi::EventDrivenOptions reference;
-    reference.method = dvi::OdeMethod::kAdams;
-    reference.rtol = kScheduleRtol;
-    reference.atol = kScheduleRtol * kAtolPerRtol;
-    reference.dense_output = dvi::DenseOutputPolicy::kNever;
-    const dvi::Trajectory tight = dvi::IntegrateEventDriven(lcs, x0, 0, kHorizon, reference);
-    if (!tight.succeeded()) {
-      std::fprintf(stderr, "the oracle's reference run failed: %s\n", tight.message.c_str());
-      return 1;
-    }
-    const std::vector<dvi::baselines::ModeSegment> schedule =
-        dvi::baselines::ScheduleOfEvents(problem, tight);
+    const dvi::baselines::BaselineProblem problem{lcs, x0, 0, kHorizon, output_times};
+    const std::vector<dvi::baselines::ModeSegment> schedule = dvi::bench::BridgeSchedule(problem);
     dvi::baselines::OracleOptions options;
     options.restarts = method == "oracle" ? dvi::baselines::OracleRestarts::kEverySwitch
                                           : dvi::baselines::OracleRestarts::kWhereRateJumps;
