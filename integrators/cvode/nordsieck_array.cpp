@@ -5,6 +5,7 @@
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
 
 namespace dvi::internal {
 
@@ -13,11 +14,16 @@ namespace {
 // How many pointer-sized words of CVODE's memory block are searched for zn:
 // SUNDIALS 6.4 has it at word 14, after the problem's specification.
 constexpr int kSearchedWords = 64;
+// The SUNDIALS major version whose CVodeGetDky arithmetic Taylor repeats
+// (Debian's 6.4.1, checked by nordsieck_array_test); another reads by
+// CVodeGetDky.
+constexpr bool kCheckedVersion = SUNDIALS_VERSION_MAJOR == 6;
 
 }  // namespace
 
 bool NordsieckArray::Locate(void* cvode) {
   zn_ = nullptr;
+  if (!kCheckedVersion || cvode == nullptr) return false;
   double t = 0, gamma = 0, rl1 = 0;
   N_Vector zn0 = nullptr, y = nullptr, f = nullptr, zn1 = nullptr;
   void* user_data = nullptr;

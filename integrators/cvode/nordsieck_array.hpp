@@ -16,7 +16,9 @@ namespace dvi::internal {
 /// libsundials-dev ships no cvode_impl.h, so no private header: the array
 /// is the N_Vector slots zn[0], zn[1] next to each other, looked for by the
 /// two public pointers among the block's first words (SUNDIALS 2 … 7 keep
-/// zn there, a fixed array of the struct). Owns nothing.
+/// zn there, a fixed array of the struct), on SUNDIALS 6 only (the version
+/// whose CVodeGetDky it repeats; EventDrivenRun also compares its first
+/// read with CVodeGetDky's, bit for bit). Owns nothing.
 class NordsieckArray {
  public:
   /// Looks zn up in cvode's memory (after CVodeInit, which allocates it);
