@@ -281,7 +281,8 @@ TEST_P(ZooReference, SceneWritesTheSameModel) {
 }
 
 // The orthant form (Siconos' LCP in bench/zoo) holds on the reference, with
-// v_j = h_j − u_j and z_j = max(F_j, 0) for each box component.
+// v_j = h_j − u_j and z_j = max(F_j, 0) for each box component, v_j and z_j
+// u_j's positive and negative parts for a free one.
 TEST_P(ZooReference, OrthantFormHoldsOnTheReference) {
   const OrthantLcs orthant = ToOrthant(model_.lcs);
   const auto [lower, upper] = model_.lcs.K.BoxBounds();
@@ -291,9 +292,13 @@ TEST_P(ZooReference, OrthantFormHoldsOnTheReference) {
     Eigen::VectorXd uo(mo);
     uo.head(m) = u;
     for (int j = 0, extra = 0; j < m; ++j) {
-      if (!std::isfinite(upper(j))) continue;
-      uo(j) = upper(j) - u(j);
-      uo(m + extra++) = std::max(w(j), 0.0);
+      if (std::isfinite(upper(j))) {
+        uo(j) = upper(j) - u(j);
+        uo(m + extra++) = std::max(w(j), 0.0);
+      } else if (lower(j) == -HUGE_VAL) {  // free: u_j = v_j − z_j
+        uo(j) = std::max(u(j), 0.0);
+        uo(m + extra++) = std::max(-u(j), 0.0);
+      }
     }
     ASSERT_LE((orthant.u_map * uo + orthant.u_offset - u).lpNorm<Eigen::Infinity>(),
               kRoundoff * (1 + u.lpNorm<Eigen::Infinity>()));

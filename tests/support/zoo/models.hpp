@@ -22,6 +22,7 @@ ZooModel RelayChattering();     // relay_feedback.cpp
 ZooModel TwistingController();  // twisting_controller.cpp
 ZooModel FilippovSpiral();      // filippov_spiral.cpp
 ZooModel ColpittsOscillator();  // colpitts_oscillator.cpp
+ZooModel ResonantInverter();    // resonant_inverter.cpp
 
 /// The two rectifiers' circuit values: a 10 V, 50 Hz mains-like source
 /// switched on at 60°, a 100 μF filter and a 1 kΩ load.

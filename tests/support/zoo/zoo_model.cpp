@@ -26,47 +26,47 @@ Eigen::VectorXd ZooModel::W(double t, const Eigen::VectorXd& x, const Eigen::Vec
 }
 
 OrthantLcs ToOrthant(const Lcs& lcs) {
-  const int n = lcs.n(), m = lcs.m();
+  const int m = lcs.m();
   if (!lcs.K.IsBox()) throw std::invalid_argument("ToOrthant: K is not a box");
   const auto [lower, upper] = lcs.K.BoxBounds();
-  std::vector<int> boxed;  // components with two finite bounds
+  std::vector<int> split;  // components with a second pair: boxed or free
   for (int j = 0; j < m; ++j) {
-    if (std::isfinite(lower(j)) && std::isfinite(upper(j))) {
-      boxed.push_back(j);
+    const bool boxed = std::isfinite(lower(j)) && std::isfinite(upper(j));
+    const bool free = lower(j) == -HUGE_VAL && upper(j) == HUGE_VAL;
+    if (boxed || free) {
+      split.push_back(j);
     } else if (!(lower(j) == 0 && upper(j) == HUGE_VAL)) {
       throw std::invalid_argument("ToOrthant: u" + std::to_string(j + 1) +
-                                  " is neither in [0, ∞) nor in a finite interval");
+                                  " is neither in [0, ∞), in a finite interval nor free");
     }
   }
-  const int k = static_cast<int>(boxed.size()), mo = m + k;
-  // u = S ũ + c on the first m components of the new u (S = diag(±1)), and
-  // each box row of w flips sign (its pair is v_j ⊥ z_j − F_j).
-  Eigen::VectorXd sign = Eigen::VectorXd::Ones(m), offset = Eigen::VectorXd::Zero(m);
-  for (const int j : boxed) {
-    sign(j) = -1;
-    offset(j) = upper(j);
+  const int k = static_cast<int>(split.size()), mo = m + k;
+  // u = U ũ + c, and w̃ = R (C x + D u + q) + E ũ + e: R flips a box row's
+  // sign (its pair is v_j ⊥ z_j − F_j) and copies a free row, negated, to
+  // its second pair.
+  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(m, mo), R = Eigen::MatrixXd::Zero(mo, m),
+                  E = Eigen::MatrixXd::Zero(mo, mo);
+  Eigen::VectorXd offset = Eigen::VectorXd::Zero(m), e = Eigen::VectorXd::Zero(mo);
+  for (int j = 0; j < m; ++j) U(j, j) = R(j, j) = 1;
+  for (int i = 0; i < k; ++i) {
+    const int j = split[static_cast<std::size_t>(i)];
+    if (std::isfinite(upper(j))) {
+      U(j, j) = R(j, j) = -1;
+      offset(j) = upper(j);
+      E(j, m + i) = 1;       // + z_j in v_j's row
+      E(m + i, j) = -1;      // (h_j − l_j) − v_j
+      e(m + i) = upper(j) - lower(j);
+    } else {
+      U(j, m + i) = -1;  // u_j = v_j − z_j
+      R(m + i, j) = -1;  // 0 ≤ z_j ⊥ −F_j ≥ 0
+    }
   }
   const Eigen::MatrixXd A(lcs.A), B(lcs.B), C(lcs.C), D(lcs.D);
-  const Eigen::MatrixXd BS = B * sign.asDiagonal();
-  Eigen::MatrixXd Bo = Eigen::MatrixXd::Zero(n, mo), Co = Eigen::MatrixXd::Zero(mo, n),
-                  Do = Eigen::MatrixXd::Zero(mo, mo);
-  Eigen::VectorXd po = lcs.p + B * offset, qo = Eigen::VectorXd::Zero(mo);
-  Bo.leftCols(m) = BS;
-  Co.topRows(m) = sign.asDiagonal() * C;
-  Do.topLeftCorner(m, m) = sign.asDiagonal() * D * sign.asDiagonal();
-  qo.head(m) = sign.asDiagonal() * (lcs.q + D * offset);
-  for (int i = 0; i < k; ++i) {
-    const int j = boxed[static_cast<std::size_t>(i)];
-    Do(j, m + i) = 1;       // + z_j in v_j's row
-    Do(m + i, j) = -1;      // (h_j − l_j) − v_j
-    qo(m + i) = upper(j) - lower(j);
-  }
   OrthantLcs out;
-  out.lcs = Lcs::Dense(A, Bo, Co, Do, po, qo);
-  out.q_source_map = Eigen::MatrixXd::Zero(mo, m);
-  out.q_source_map.topRows(m) = sign.asDiagonal();
-  out.u_map = Eigen::MatrixXd::Zero(m, mo);
-  out.u_map.leftCols(m) = sign.asDiagonal();
+  out.lcs = Lcs::Dense(A, B * U, R * C, R * D * U + E, lcs.p + B * offset,
+                       R * (lcs.q + D * offset) + e);
+  out.q_source_map = R;
+  out.u_map = U;
   out.u_offset = offset;
   return out;
 }
@@ -74,7 +74,7 @@ OrthantLcs ToOrthant(const Lcs& lcs) {
 std::vector<ZooModel> ZooModels() {
   return {HalfWaveRectifier(), BridgeRectifier(), RlcDiode(),         BuckConverter(),
           BoostConverter(),    RelayPlain(),      RelaySliding(),     RelayChattering(),
-          TwistingController(), FilippovSpiral(), ColpittsOscillator()};
+          TwistingController(), FilippovSpiral(), ColpittsOscillator(), ResonantInverter()};
 }
 
 ZooModel ZooModelNamed(const std::string& key) {

@@ -69,7 +69,9 @@ struct ZooModel {
 /// with two complementarity pairs, as FilippovSignLcs does for sgn,
 ///   0 ≤ v_j ⊥ z_j − F_j ≥ 0,   0 ≤ z_j ⊥ (h_j − l_j) − v_j ≥ 0,
 /// (F_j > 0 gives v_j = h_j − l_j, u_j = l_j; F_j < 0 gives v_j = 0, u_j = h_j;
-/// F_j = 0 any v_j). The new u is (u with v_j in place of u_j, then the z_j).
+/// F_j = 0 any v_j), and each free component u_j = v_j − z_j with the pairs
+///   0 ≤ v_j ⊥ F_j ≥ 0,   0 ≤ z_j ⊥ −F_j ≥ 0.
+/// The new u is (u with v_j in place of u_j, then the z_j).
 struct OrthantLcs {
   Lcs lcs;
   Eigen::MatrixXd q_source_map;  ///< The orthant LCS's q source = q_source_map · q_source(t).
@@ -77,7 +79,7 @@ struct OrthantLcs {
   Eigen::VectorXd u_offset;
 };
 /// @throws std::invalid_argument for a component bounded on one side other
-/// than [0, ∞), or free.
+/// than [0, ∞).
 OrthantLcs ToOrthant(const Lcs& lcs);
 
 /// Every model of the zoo, in the order of the tables.
