@@ -282,7 +282,9 @@ void AutoRun::Conclude() {
   // The multiplier there, from the run or, where it stopped at its start,
   // from the interval before: where event-driven integration stops the VI
   // is degenerate, and a cold Newton start can fail on it (the half-bridge
-  // of auto_driver_test) where this guess solves it at once.
+  // inverter's did, stalling on the zero column of D for the free leg
+  // voltage, before its commutations ran event-driven) where this guess
+  // solves it at once.
   const Eigen::VectorXd u_a = !run.times.empty()      ? Eigen::VectorXd(run.multipliers.back())
                               : !whole_.times.empty() ? Eigen::VectorXd(whole_.multipliers.back())
                                                       : Eigen::VectorXd();

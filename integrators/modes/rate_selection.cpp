@@ -29,17 +29,91 @@ struct Continuation {
   Eigen::MatrixXd derivatives;
 };
 
-// The options of each component: free or at a bound where F vanishes,
-// the bound its w's sign holds otherwise.
+// The components whose F vanishes at another solution than vi.z, found
+// along the segments of SOL through it: for an LCS, with a the components
+// strictly inside their bounds and d a null vector of M[a, a] (the rank
+// deficiency that makes (a) of strong regularity fail), u = vi.z + s d
+// solves the LCP for s ≥ 0 while u_a stays inside its bounds and every other
+// w_j = vi.w_j + s (M d)_j keeps its sign; at the segment's end some w_j
+// reaches 0, and the mode continuing the solution may have u_j off its
+// bound. The half-bridge inverter's leg voltage v_o (free, its column of D
+// zero on its own row) lies anywhere in [−v2, v1] when i_L = 0 and both
+// diodes block: the solver returns one end, where one diode's row vanishes,
+// and at a commutation the mode that continues has the other diode
+// conducting, whose row vanishes only at the other end. Each null vector of
+// an LU basis is walked both ways (the segments' ends, not every vertex of a
+// larger face); a nonlinear F is left to vi.z alone (its segments are not
+// straight), as is a block larger than kMaxWalkedComponents.
+constexpr int kMaxWalkedComponents = 64;
+
+std::vector<char> VanishingElsewhere(const ModeProblem& problem, const SolveResult& vi) {
+  const int m = problem.m();
+  std::vector<char> vanishing(m, 0);
+  if (!problem.affine()) return vanishing;
+  const double tolerance = problem.BoundTolerance();
+  const Eigen::VectorXd &lower = problem.lower(), &upper = problem.upper();
+  std::vector<int> inside, position(m, -1);
+  for (int j = 0; j < m; ++j) {
+    if (vi.z(j) - lower(j) > tolerance && upper(j) - vi.z(j) > tolerance) {
+      position[j] = static_cast<int>(inside.size());
+      inside.push_back(j);
+    }
+  }
+  const int a = static_cast<int>(inside.size());
+  if (a == 0 || a > kMaxWalkedComponents) return vanishing;
+  const SparseMatrix& M = problem.lcs_rows().M;
+  Eigen::MatrixXd M_aa = Eigen::MatrixXd::Zero(a, a);
+  for (Eigen::Index k = 0; k < M.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(M, k); it; ++it)
+      if (position[it.row()] >= 0 && position[it.col()] >= 0)
+        M_aa(position[it.row()], position[it.col()]) = it.value();
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(M_aa);
+  lu.setThreshold(kRankTolerance);
+  if (lu.dimensionOfKernel() == 0) return vanishing;
+  const Eigen::MatrixXd null = lu.kernel();
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  for (Eigen::Index c = 0; c < null.cols(); ++c) {
+    for (const double sign : {1.0, -1.0}) {
+      Eigen::VectorXd d = Eigen::VectorXd::Zero(m);
+      for (int i = 0; i < a; ++i) d(inside[i]) = sign * null(i, c);
+      const Eigen::VectorXd rate = M * d;
+      const double negligible = kRateTolerance * rate.lpNorm<Eigen::Infinity>();
+      // The segment's length: u_a inside its bounds, the other w_j of
+      // their signs (w_j ≥ 0 at a lower bound, ≤ 0 at an upper one).
+      double length = kInfinity;
+      for (int j = 0; j < m; ++j) {
+        if (position[j] >= 0) {
+          if (d(j) > 0) length = std::min(length, (upper(j) - vi.z(j)) / d(j));
+          if (d(j) < 0) length = std::min(length, (lower(j) - vi.z(j)) / d(j));
+        } else if (lower(j) != upper(j)) {
+          const double side = vi.z(j) - lower(j) <= upper(j) - vi.z(j) ? 1.0 : -1.0;
+          if (side * rate(j) < -negligible)
+            length = std::min(length, std::max(side * vi.w(j), 0.0) / (-side * rate(j)));
+        }
+      }
+      if (!(length > 0 && length < kInfinity)) continue;
+      for (int j = 0; j < m; ++j)
+        if (position[j] < 0 && std::abs(rate(j)) > negligible &&
+            std::abs(vi.w(j) + length * rate(j)) <= tolerance)
+          vanishing[j] = 1;
+    }
+  }
+  return vanishing;
+}
+
+// The options of each component: free or at a bound where F vanishes (at
+// vi.z or at the end of a segment of SOL through it), the bound its w's
+// sign holds otherwise.
 std::vector<std::vector<MultiplierBound>> ComponentOptions(const ModeProblem& problem,
                                                            const SolveResult& vi) {
   const double tolerance = problem.BoundTolerance();
+  const std::vector<char> elsewhere = VanishingElsewhere(problem, vi);
   std::vector<std::vector<MultiplierBound>> options(problem.m());
   for (int j = 0; j < problem.m(); ++j) {
     const double lower = problem.lower()(j), upper = problem.upper()(j);
     if (lower == upper) {
       options[j] = {MultiplierBound::kLower};  // fixed: no mode to decide
-    } else if (std::abs(vi.w(j)) > tolerance) {
+    } else if (std::abs(vi.w(j)) > tolerance && !elsewhere[j]) {
       options[j] = {vi.w(j) > 0 ? MultiplierBound::kLower : MultiplierBound::kUpper};
     } else {
       if (std::isfinite(lower)) options[j].push_back(MultiplierBound::kLower);
