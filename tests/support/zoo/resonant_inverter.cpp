@@ -19,7 +19,7 @@
 // (i1 = −i_L > 0, v_o = v1), and rest (i_L ≡ 0, v_o = v_Cl, both blocking,
 // −v2 ≤ v_Cl ≤ v1). From x0 = (24, 24, 30, 0) D2 conducts until i_L reaches
 // 0 with v_Cl above v1: D1 takes over at once (a commutation, i_L crosses 0
-// with slope (v1 − v_Cl)/L < 0); twice, then at t = 2.348 ms i_L reaches 0
+// with slope (v1 − v_Cl)/L < 0); twice, then at t = 2.3474 ms i_L reaches 0
 // with v_Cl between the rails and the load rests to the horizon. Charge is
 // conserved: (v1 − v2)' = −i_L/C1 and v_Cl' = i_L/Cl, so
 // v1 − v2 + (Cl/C1) v_Cl = 0 throughout.
