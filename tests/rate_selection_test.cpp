@@ -5,6 +5,7 @@
 // refuses, naming the condition, where the flow itself is not unique.
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <sstream>
 #include <string>
 #include <variant>
@@ -159,12 +160,11 @@ struct ZooRun {
   double error = 0;  // max over rows and states of |x − x_ref| / max |x_ref|
 };
 
-// The zoo model's scene as dvisim runs it (its rtol, its h for auto's
+// lcs (the zoo model's, with its sources) from x0 with the options of a
+// zoo scene (`event` or `auto`, the scene's rtol and its h for auto's
 // windows), output at 1001 times, against the model's exact solution.
-ZooRun RunZooScene(const zoo::ZooModel& model, bool automatic) {
-  const dvisim::Scene scene = dvisim::ReadScene(std::string(DVI_EXAMPLES_DIR) + "/scenes/zoo/" +
-                                                model.key + ".json");
-  const Lcs& lcs = std::get<Lcs>(scene.problem);
+ZooRun RunZooModel(const zoo::ZooModel& model, const Lcs& lcs, const Eigen::VectorXd& x0,
+                   const dvisim::Scene& scene, bool automatic) {
   EventDrivenOptions event = scene.event;
   for (int k = 0; k <= 1000; ++k) event.output_times.push_back(model.horizon * k / 1000);
   ZooRun run;
@@ -172,9 +172,9 @@ ZooRun RunZooScene(const zoo::ZooModel& model, bool automatic) {
     AutoOptions options;
     options.event = event;
     options.stepping = scene.stepping;
-    run.trajectory = IntegrateAuto(lcs, scene.x0, 0, model.horizon, options);
+    run.trajectory = IntegrateAuto(lcs, x0, 0, model.horizon, options);
   } else {
-    run.trajectory = IntegrateEventDriven(lcs, scene.x0, 0, model.horizon, event);
+    run.trajectory = IntegrateEventDriven(lcs, x0, 0, model.horizon, event);
   }
   const zoo::PiecewiseLinearReference reference = model.reference();
   Eigen::VectorXd range = Eigen::VectorXd::Zero(model.n());
@@ -194,6 +194,17 @@ ZooRun RunZooScene(const zoo::ZooModel& model, bool automatic) {
     EXPECT_NE(near, run.trajectory.events.end()) << "no event at the switch t = " << segment.t1;
   }
   return run;
+}
+
+dvisim::Scene ZooScene(const zoo::ZooModel& model) {
+  return dvisim::ReadScene(std::string(DVI_EXAMPLES_DIR) + "/scenes/zoo/" + model.key + ".json");
+}
+
+// The zoo model's scene as dvisim runs it (zoo_reference_test checks that
+// the scene's problem is the model's).
+ZooRun RunZooScene(const zoo::ZooModel& model, bool automatic) {
+  const dvisim::Scene scene = ZooScene(model);
+  return RunZooModel(model, std::get<Lcs>(scene.problem), scene.x0, scene, automatic);
 }
 
 TEST(RateSelection, BoostConverterRunsEventDrivenThroughDiscontinuousConduction) {
@@ -219,15 +230,19 @@ TEST(RateSelection, BoostConverterUnderAutoIsEventDrivenAndExact) {
 // refused (`event`) or time-stepped (`auto`, 0.4 ms of error 5e-2). Goal:
 // every switch to 1e-9 s, x to 1e-8 of each state's range, the charge
 // invariant, certified, all event-driven.
-void ExpectInverterExact(bool automatic) {
-  const zoo::ZooModel model = zoo::ResonantInverter();
-  const ZooRun run = RunZooScene(model, automatic);
+// The model (its own Lcs, at its scene's options) against its exact solution.
+void ExpectInverterExact(const zoo::ZooModel& model, const zoo::InverterValues& c,
+                         bool automatic, double tolerance, const std::string& label = "measured") {
+  const ZooRun run = RunZooModel(model, model.lcs, model.x0, ZooScene(model), automatic);
   const Trajectory& trajectory = run.trajectory;
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  EXPECT_LE(run.error, 1e-8);
-  // v1 − v2 + (Cl/C1) v_Cl = 0 (Cl/C1 = 0.1), to the state's accuracy.
+  EXPECT_LE(run.error, tolerance);
+  // Charge: C1 v1' − C2 v2' = i1 − i2 = −i_L = −Cl v_Cl', so
+  // C1 v1 − C2 v2 + Cl v_Cl keeps its value (0 from the balanced link and
+  // the empty load capacitor), to the state's accuracy: in volts on C1,
+  const double charge0 = model.x0(0) - c.C2 / c.C1 * model.x0(1) + c.Cl / c.C1 * model.x0(3);
   for (const Eigen::VectorXd& x : trajectory.states)
-    EXPECT_NEAR(x(0) - x(1) + 0.1 * x(3), 0, 1e-7);
+    EXPECT_NEAR(x(0) - c.C2 / c.C1 * x(1) + c.Cl / c.C1 * x(3), charge0, 1e-7);
   EXPECT_TRUE(trajectory.certificate.certified()) << trajectory.Report(ReportDetail::kFull);
   for (const MethodInterval& interval : trajectory.intervals)
     EXPECT_EQ(interval.method, IntegrationMethod::kEventDriven) << interval.reason;
@@ -241,16 +256,47 @@ void ExpectInverterExact(bool automatic) {
   for (std::size_t k = 0; k < events.size(); ++k)
     switch_error = std::max(switch_error, std::abs(events[k] - switches[k]));
   std::ostringstream measured;
-  measured << "x error " << run.error << " of the range, switch times within " << switch_error
-           << " s";
-  ::testing::Test::RecordProperty("measured", measured.str());
+  measured << "x error " << run.error << " of the range, " << switches.size()
+           << " switch times within " << switch_error << " s";
+  ::testing::Test::RecordProperty(label, measured.str());
 }
 
 TEST(RateSelection, ResonantInverterRunsEventDrivenThroughItsCommutations) {
-  ExpectInverterExact(false);
+  ExpectInverterExact(zoo::ResonantInverter(), {}, false, 1e-8);
 }
 
-TEST(RateSelection, ResonantInverterUnderAutoIsEventDrivenAndExact) { ExpectInverterExact(true); }
+TEST(RateSelection, ResonantInverterUnderAutoIsEventDrivenAndExact) {
+  ExpectInverterExact(zoo::ResonantInverter(), {}, true, 1e-8);
+}
+
+// Random cross-checks of the rule: inverters with random link, load and
+// shutdown current (either sign: D1 or D2 conducting first), at the zoo
+// scene's tolerances, each against its exact solution: 2 to 10 switches
+// (measured: x within 8e-10 – 1.3e-8 of the range, switch times within
+// 5e-13 s). The global error grows with the ring periods CVODE crosses at
+// rtol 1e-10; 1e-7 is 8 times the largest measured, 10 below the issue's
+// goal of 1e-6.
+TEST(RateSelection, RandomResonantInvertersRunEventDrivenToTheirExactSolutions) {
+  std::mt19937 rng(30);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const auto between = [&](double low, double high) { return low * std::pow(high / low, unit(rng)); };
+  for (int trial = 0; trial < 8; ++trial) {
+    zoo::InverterValues c;
+    c.Vdc = between(12, 100);
+    c.C1 = between(2e-4, 5e-3);
+    c.C2 = between(2e-4, 5e-3);
+    c.R = between(0.005, 0.2);
+    c.L = between(2e-4, 5e-3);
+    c.Cl = between(2e-5, 5e-4);
+    c.i0 = (unit(rng) < 0.5 ? -1 : 1) * between(5, 60);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": Vdc " + std::to_string(c.Vdc) + ", C1 " +
+                 std::to_string(c.C1) + ", C2 " + std::to_string(c.C2) + ", R " +
+                 std::to_string(c.R) + ", L " + std::to_string(c.L) + ", Cl " +
+                 std::to_string(c.Cl) + ", i0 " + std::to_string(c.i0));
+    ExpectInverterExact(zoo::ResonantInverter(c), c, false, 1e-7,
+                        "trial " + std::to_string(trial));
+  }
+}
 
 }  // namespace
 }  // namespace dvi

@@ -22,7 +22,6 @@ ZooModel RelayChattering();     // relay_feedback.cpp
 ZooModel TwistingController();  // twisting_controller.cpp
 ZooModel FilippovSpiral();      // filippov_spiral.cpp
 ZooModel ColpittsOscillator();  // colpitts_oscillator.cpp
-ZooModel ResonantInverter();    // resonant_inverter.cpp
 
 /// The two rectifiers' circuit values: a 10 V, 50 Hz mains-like source
 /// switched on at 60°, a 100 μF filter and a 1 kΩ load.
@@ -34,6 +33,21 @@ struct RectifierValues {
   double C = 100e-6;             // filter [F]
   double Source(double t) const { return Vs * std::sin(omega * t + phase); }
 };
+
+/// The resonant inverter's circuit values (resonant_inverter.cpp): a 48 V
+/// split link, a 503 Hz series-resonant load carrying 30 A at shutdown.
+struct InverterValues {
+  double Vdc = 48;   // source [V]
+  double Rs = 0.1;   // source resistance [Ω]
+  double C1 = 1e-3;  // upper link capacitor [F]
+  double C2 = 1e-3;  // lower link capacitor [F]
+  double R = 0.05;   // load resistance [Ω]
+  double L = 1e-3;   // load inductance [H]
+  double Cl = 1e-4;  // load capacitor [F]
+  double i0 = 30;    // load current at shutdown [A]
+};
+/// The zoo's model has the default values; others for random cross-checks.
+ZooModel ResonantInverter(const InverterValues& values = {});  // resonant_inverter.cpp
 
 /// The flow of z = (v, sin(ωt + φ), cos(ωt + φ), 1) with v' = 0, for the
 /// rectifiers' modes to fill in v's row.

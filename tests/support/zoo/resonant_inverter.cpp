@@ -22,7 +22,10 @@
 // with slope (v1 − v_Cl)/L < 0); twice, then at t = 2.3474 ms i_L reaches 0
 // with v_Cl between the rails and the load rests to the horizon. Charge is
 // conserved: (v1 − v2)' = −i_L/C1 and v_Cl' = i_L/Cl, so
-// v1 − v2 + (Cl/C1) v_Cl = 0 throughout.
+// v1 − v2 + (Cl/C1) v_Cl = 0 throughout. Other values (InverterValues,
+// models.hpp) serve random cross-checks; where the link's relaxation brings
+// a rail to a resting v_Cl, that rail's diode conducts again.
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -30,23 +33,9 @@
 #include "support/zoo/models.hpp"
 
 namespace dvi::zoo {
-namespace {
 
-struct Inverter {
-  double Vdc = 48;   // [V]
-  double Rs = 0.1;   // [Ω]
-  double C1 = 1e-3;  // [F]
-  double C2 = 1e-3;  // [F]
-  double R = 0.05;   // [Ω]
-  double L = 1e-3;   // [H]
-  double Cl = 1e-4;  // [F]
-  double i0 = 30;    // load current at shutdown [A]
-};
-
-}  // namespace
-
-ZooModel ResonantInverter() {
-  const Inverter c;
+ZooModel ResonantInverter(const InverterValues& values) {
+  const InverterValues& c = values;
   ZooModel model;
   model.key = "resonant_inverter";
   model.title = "half-bridge inverter, series-resonant load (commutations, rest at i_L = 0)";
@@ -110,9 +99,11 @@ ZooModel ResonantInverter() {
     const LinearMode rest = linear("rest", U, G);
     rules.modes = {d2, d1, rest};
     rules.after_guard = [](int mode, int guard, double t, Eigen::VectorXd& z) {
-      if (mode == kRest || guard != 0)
-        throw std::logic_error("resonant_inverter: guard " + std::to_string(guard) + " of mode " +
-                               std::to_string(mode) + " reached 0 at t = " + std::to_string(t));
+      // At rest v_o = v_Cl reaches a rail as the link relaxes: that rail's
+      // diode conducts, i_L leaving 0 at second order.
+      if (mode == kRest) return ModeEntry{guard == 0 ? kD1 : kD2, {0}};
+      if (guard != 0)
+        throw std::logic_error("resonant_inverter: v1 + v2 reached 0 at t = " + std::to_string(t));
       z(2) = 0;  // i_L reached 0, exactly
       // The rest holds where v_o = v_Cl lies between the rails; else the
       // other diode takes over (i_L goes on through 0).
@@ -120,10 +111,12 @@ ZooModel ResonantInverter() {
       if (mode == kD2) return v_Cl <= v1 ? ModeEntry{kRest, {}} : ModeEntry{kD1, {0}};
       return v_Cl >= -v2 ? ModeEntry{kRest, {}} : ModeEntry{kD2, {0}};
     };
-    rules.sample_spacing = 2e-6;  // the link's time constant Rs·C1/2 = 50 μs over 25
+    // The link's time constant Rs·C1/2 (50 μs) over 25, at most.
+    rules.sample_spacing = std::min(2e-6, c.Rs * std::min(c.C1, c.C2) / 50);
     Eigen::VectorXd z0(5);
     z0 << x0, 1;
-    return PiecewiseLinearReference(rules, z0, ModeEntry{kD2, {}}, horizon);
+    // i0 > 0 leaves the leg through D2, i0 < 0 enters it through D1.
+    return PiecewiseLinearReference(rules, z0, ModeEntry{c.i0 > 0 ? kD2 : kD1, {}}, horizon);
   };
   return model;
 }
