@@ -30,26 +30,27 @@ struct Continuation {
 };
 
 // The components whose F vanishes at another solution than vi.z, found
-// along the segments of SOL through it: for an LCS, with a the components
-// strictly inside their bounds and d a null vector of M[a, a] (the rank
+// along the segments of SOL through it: with a the components strictly
+// inside their bounds and d a null vector of J[a, a], J = ∂F/∂u (the rank
 // deficiency that makes (a) of strong regularity fail), u = vi.z + s d
-// solves the LCP for s ≥ 0 while u_a stays inside its bounds and every other
-// w_j = vi.w_j + s (M d)_j keeps its sign; at the segment's end some w_j
-// reaches 0, and the mode continuing the solution may have u_j off its
-// bound. The half-bridge inverter's leg voltage v_o (free, its column of D
-// zero on its own row) lies anywhere in [−v2, v1] when i_L = 0 and both
-// diodes block: the solver returns one end, where one diode's row vanishes,
-// and at a commutation the mode that continues has the other diode
-// conducting, whose row vanishes only at the other end. Each null vector of
-// an LU basis is walked both ways (the segments' ends, not every vertex of a
-// larger face); a nonlinear F is left to vi.z alone (its segments are not
-// straight), as is a block larger than kMaxWalkedComponents.
+// solves the VI for s ≥ 0 while u_a stays inside its bounds and every other
+// w_j = vi.w_j + s (J d)_j keeps its sign — exactly for an LCS, to first
+// order otherwise, so that for a nonlinear F the segment's end is checked
+// by F itself. At the end some w_j reaches 0, and the mode continuing the
+// solution may have u_j off its bound. The half-bridge inverter's leg
+// voltage v_o (free, its column of D zero on its own row) lies anywhere in
+// [−v2, v1] when i_L = 0 and both diodes block: the solver returns one end,
+// where one diode's row vanishes, and at a commutation the mode that
+// continues has the other diode conducting, whose row vanishes only at the
+// other end. Each null vector of an LU basis is walked both ways (the
+// segments' ends, not every vertex of a larger face); a block larger than
+// kMaxWalkedComponents is left to vi.z alone.
 constexpr int kMaxWalkedComponents = 64;
 
-std::vector<char> VanishingElsewhere(const ModeProblem& problem, const SolveResult& vi) {
+std::vector<char> VanishingElsewhere(const ModeProblem& problem, double t,
+                                     const Eigen::VectorXd& x, const SolveResult& vi) {
   const int m = problem.m();
   std::vector<char> vanishing(m, 0);
-  if (!problem.affine()) return vanishing;
   const double tolerance = problem.BoundTolerance();
   const Eigen::VectorXd &lower = problem.lower(), &upper = problem.upper();
   std::vector<int> inside, position(m, -1);
@@ -61,22 +62,26 @@ std::vector<char> VanishingElsewhere(const ModeProblem& problem, const SolveResu
   }
   const int a = static_cast<int>(inside.size());
   if (a == 0 || a > kMaxWalkedComponents) return vanishing;
-  const SparseMatrix& M = problem.lcs_rows().M;
-  Eigen::MatrixXd M_aa = Eigen::MatrixXd::Zero(a, a);
-  for (Eigen::Index k = 0; k < M.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(M, k); it; ++it)
+  // J as an LCS's sparse M, or F's dense Jacobian (m is small on that path).
+  const SparseMatrix J = problem.affine()
+                             ? problem.lcs_rows().M
+                             : SparseMatrix(problem.MultiplierJacobian(t, x, vi.z).sparseView());
+  Eigen::MatrixXd J_aa = Eigen::MatrixXd::Zero(a, a);
+  for (Eigen::Index k = 0; k < J.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(J, k); it; ++it)
       if (position[it.row()] >= 0 && position[it.col()] >= 0)
-        M_aa(position[it.row()], position[it.col()]) = it.value();
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(M_aa);
+        J_aa(position[it.row()], position[it.col()]) = it.value();
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(J_aa);
   lu.setThreshold(kRankTolerance);
   if (lu.dimensionOfKernel() == 0) return vanishing;
   const Eigen::MatrixXd null = lu.kernel();
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd w_end;
   for (Eigen::Index c = 0; c < null.cols(); ++c) {
     for (const double sign : {1.0, -1.0}) {
       Eigen::VectorXd d = Eigen::VectorXd::Zero(m);
       for (int i = 0; i < a; ++i) d(inside[i]) = sign * null(i, c);
-      const Eigen::VectorXd rate = M * d;
+      const Eigen::VectorXd rate = J * d;
       const double negligible = kRateTolerance * rate.lpNorm<Eigen::Infinity>();
       // The segment's length: u_a inside its bounds, the other w_j of
       // their signs (w_j ≥ 0 at a lower bound, ≤ 0 at an upper one).
@@ -92,10 +97,19 @@ std::vector<char> VanishingElsewhere(const ModeProblem& problem, const SolveResu
         }
       }
       if (!(length > 0 && length < kInfinity)) continue;
-      for (int j = 0; j < m; ++j)
-        if (position[j] < 0 && std::abs(rate(j)) > negligible &&
-            std::abs(vi.w(j) + length * rate(j)) <= tolerance)
+      // w at the end: F there, or (an LCS) its exact affine step.
+      if (problem.affine())
+        w_end = vi.w + length * rate;
+      else
+        problem.EvalF(t, x, vi.z + length * d, w_end);
+      for (int j = 0; j < m; ++j) {
+        // A first-order walk on a √ε-accurate Jacobian misses the end by
+        // about kRateTolerance of the distance walked.
+        const double walked = length * std::abs(rate(j));
+        if (position[j] < 0 && walked > 0 &&
+            std::abs(w_end(j)) <= tolerance + kRateTolerance * walked)
           vanishing[j] = 1;
+      }
     }
   }
   return vanishing;
@@ -105,9 +119,10 @@ std::vector<char> VanishingElsewhere(const ModeProblem& problem, const SolveResu
 // vi.z or at the end of a segment of SOL through it), the bound its w's
 // sign holds otherwise.
 std::vector<std::vector<MultiplierBound>> ComponentOptions(const ModeProblem& problem,
+                                                           double t, const Eigen::VectorXd& x,
                                                            const SolveResult& vi) {
   const double tolerance = problem.BoundTolerance();
-  const std::vector<char> elsewhere = VanishingElsewhere(problem, vi);
+  const std::vector<char> elsewhere = VanishingElsewhere(problem, t, x, vi);
   std::vector<std::vector<MultiplierBound>> options(problem.m());
   for (int j = 0; j < problem.m(); ++j) {
     const double lower = problem.lower()(j), upper = problem.upper()(j);
@@ -201,7 +216,7 @@ RateSelection SelectModeByRates(BoxModeSystem& system, double t, const Eigen::Ve
                                 const SolveResult& vi, double rate_step, double state_tolerance,
                                 Mode& mode, std::string* why) {
   const std::vector<std::vector<MultiplierBound>> options =
-      ComponentOptions(system.problem(), vi);
+      ComponentOptions(system.problem(), t, x, vi);
   long candidates = 1;
   int open = 0;
   for (const auto& choices : options) {

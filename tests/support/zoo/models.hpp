@@ -45,6 +45,7 @@ struct InverterValues {
   double L = 1e-3;   // load inductance [H]
   double Cl = 1e-4;  // load capacitor [F]
   double i0 = 30;    // load current at shutdown [A]
+  double Rd = 0;     // diode on-resistance [Ω] (0: ideal)
 };
 /// The zoo's model has the default values; others for random cross-checks.
 ZooModel ResonantInverter(const InverterValues& values = {});  // resonant_inverter.cpp

@@ -11,7 +11,8 @@
 // voltage (free) and the diode currents:
 //   C1 v1' = i_s + i1,  C2 v2' = i_s + i2,  i_s = (Vdc − v1 − v2)/Rs,
 //   L i_L' = v_o − R i_L − v_Cl,  Cl v_Cl' = i_L,
-//   0 = i_L + i1 − i2 (v_o free),  0 ≤ i1 ⊥ v1 − v_o ≥ 0,  0 ≤ i2 ⊥ v_o + v2 ≥ 0.
+//   0 = i_L + i1 − i2 (v_o free),  0 ≤ i1 ⊥ v1 − v_o ≥ 0,  0 ≤ i2 ⊥ v_o + v2 ≥ 0
+// (diodes of on-resistance Rd, InverterValues: + Rd i1 and + Rd i2 there).
 // D is skew (monotone, not P): where i_L = 0 with both diodes blocking, v_o
 // is anywhere in [−v2, v1] and enters the flow; the node's row is then a
 // constraint on x (index two) and i_L' = 0 fixes v_o = v_Cl + R i_L.
@@ -51,8 +52,8 @@ ZooModel ResonantInverter(const InverterValues& values) {
   B(2, 0) = 1 / c.L;
   C(0, 2) = C(1, 0) = C(2, 1) = 1;
   D << 0, 1, -1,  //
-      -1, 0, 0,   //
-      1, 0, 0;
+      -1, c.Rd, 0,  //
+      1, 0, c.Rd;
   const Eigen::Vector4d p(c.Vdc / (c.Rs * c.C1), c.Vdc / (c.Rs * c.C2), 0, 0);
   model.lcs = Lcs::Dense(A, B, C, D, p);
   model.lcs.K = ConvexSet::Box(Eigen::Vector3d(-HUGE_VAL, 0, 0), Eigen::Vector3d::Constant(HUGE_VAL));
@@ -74,20 +75,22 @@ ZooModel ResonantInverter(const InverterValues& values) {
       result.M.topRows(4) += B * U;
       return result;
     };
-    // D2 conducts: v_o = −v2, i2 = i_L ≥ 0; D1 blocks with v1 − v_o = v1 + v2 ≥ 0.
+    // D2 conducts: i2 = i_L ≥ 0, v_o = −v2 − Rd i2; D1 blocks with
+    // v1 − v_o = v1 + v2 + Rd i_L ≥ 0.
     Eigen::MatrixXd U(3, 5), G(2, 5);
-    U << 0, -1, 0, 0, 0,  //
-        0, 0, 0, 0, 0,    //
+    U << 0, -1, -c.Rd, 0, 0,  //
+        0, 0, 0, 0, 0,        //
         0, 0, 1, 0, 0;
     G << 0, 0, 1, 0, 0,  //
-        1, 1, 0, 0, 0;
+        1, 1, c.Rd, 0, 0;
     const LinearMode d2 = linear("D2 conducting", U, G);
-    // D1 conducts: v_o = v1, i1 = −i_L ≥ 0; D2 blocks with v_o + v2 = v1 + v2 ≥ 0.
-    U << 1, 0, 0, 0, 0,  //
-        0, 0, -1, 0, 0,  //
+    // D1 conducts: i1 = −i_L ≥ 0, v_o = v1 + Rd i1; D2 blocks with
+    // v_o + v2 = v1 + v2 − Rd i_L ≥ 0.
+    U << 1, 0, -c.Rd, 0, 0,  //
+        0, 0, -1, 0, 0,      //
         0, 0, 0, 0, 0;
     G << 0, 0, -1, 0, 0,  //
-        1, 1, 0, 0, 0;
+        1, 1, -c.Rd, 0, 0;
     const LinearMode d1 = linear("D1 conducting", U, G);
     // Rest: i_L ≡ 0, v_o = v_Cl + R i_L (i_L' = 0), both diodes blocking:
     // v1 − v_o ≥ 0 and v_o + v2 ≥ 0.
