@@ -18,7 +18,10 @@ namespace dvi::internal {
 /// every mode the VI solution vi at (t, x) allows is tried: a component
 /// whose F vanishes (|w_j| within the bound tolerance) may be free or at
 /// either finite bound, whatever u_j the solver returned (u is only one of
-/// many solutions); the others keep the bound their w's sign holds. A
+/// many solutions), and so may one whose F vanishes at the end of a segment
+/// of SOL through vi.z (along a null vector of ∂F/∂u on the components
+/// inside their bounds: the inverter's leg voltage between its rails); the
+/// others keep the bound their w's sign holds. A
 /// candidate continues the solution when its equations are solved (a
 /// singular one reduced by BoxModeSystem's differentiation procedure), it
 /// holds at (t, x), and every root function at zero there is
