@@ -15,6 +15,7 @@ ZooModel HalfWaveRectifier();   // half_wave_rectifier.cpp
 ZooModel BridgeRectifier();     // bridge_rectifier.cpp
 ZooModel RlcDiode();            // rlc_diode.cpp
 ZooModel BuckConverter();       // buck_converter.cpp
+ZooModel BuckConverterAutonomous();  // buck_converter_autonomous.cpp
 ZooModel BoostConverter();      // boost_converter.cpp
 ZooModel RelayPlain();          // relay_feedback.cpp
 ZooModel RelaySliding();        // relay_feedback.cpp

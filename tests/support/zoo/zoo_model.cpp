@@ -72,8 +72,9 @@ OrthantLcs ToOrthant(const Lcs& lcs) {
 }
 
 std::vector<ZooModel> ZooModels() {
-  return {HalfWaveRectifier(), BridgeRectifier(), RlcDiode(),         BuckConverter(),
-          BoostConverter(),    RelayPlain(),      RelaySliding(),     RelayChattering(),
+  return {HalfWaveRectifier(),  BridgeRectifier(), RlcDiode(),
+          BuckConverter(),      BuckConverterAutonomous(),
+          BoostConverter(),     RelayPlain(),      RelaySliding(),     RelayChattering(),
           TwistingController(), FilippovSpiral(), ColpittsOscillator()};
 }
 
