@@ -23,7 +23,8 @@ namespace {
 
 constexpr const char* kKey = "buck_converter_autonomous";
 
-// The reference's mode indices (buck_converter_autonomous.cpp).
+// The reference's modes (buck_converter_autonomous.cpp): converter + 3·carrier,
+// the converter's third the switch open with the diode blocking.
 constexpr int kDiscontinuous = 2;
 
 TEST(AutonomousBuck, ConductsDiscontinuouslyInEveryPeriod) {
@@ -31,7 +32,7 @@ TEST(AutonomousBuck, ConductsDiscontinuouslyInEveryPeriod) {
   const zoo::PiecewiseLinearReference reference = model.reference();
   int blocking = 0;
   for (const zoo::Segment& segment : reference.segments())
-    if (segment.mode == kDiscontinuous) ++blocking;
+    if (segment.mode % 3 == kDiscontinuous) ++blocking;
   // 30 carrier periods; the current reaches 0 once in each after the
   // start-up.s first periods of full duty.
   EXPECT_GE(blocking, 25);
@@ -39,15 +40,23 @@ TEST(AutonomousBuck, ConductsDiscontinuouslyInEveryPeriod) {
   RecordProperty("blocking intervals", blocking);
 }
 
-// At rtol 1e-10 alone (the scene's), every switch of the reference is an
-// event, the states are within 1e-8 of each state's range of the exact
-// solution, the VI holds to round-off and the run is certified. On main at
-// 71d9f50 both failed at t = 0.00266921: "not index one: u is not strongly
-// regular …; differentiation procedure (Theorem 5.3, Sect. 5.4), pass 1: the
-// modified LCP is not solved (max-iterations, residual 10.8318); the
-// look-ahead fails (the look-ahead VI at t = 0.00266924 is not solved
-// (max-iterations, residual 0.00187464)) …" — semismooth Newton stalled on
-// the box MCPs of mode selection, with no pivoting fallback there.
+// At the scene's rtol 1e-10 (Adams, atol 1e-13), every switch of the
+// reference is an event, the VI holds to round-off, the run is certified,
+// and the circuit's states i and v are within 1e-8 of their ranges. The
+// carrier is a free oscillator: its phase error accumulates, at CVODE's
+// local error per step, over the 30 periods (3.9e-8 of its amplitude
+// measured, Adams; 1.8e-7 under BDF), so it is held to 1e-7; the switch
+// times it shifts are within what i and v are held to.
+//
+// On main at 71d9f50 event and auto failed at t = 3.39026e-05, the first
+// blocking interval's end: "not index one: u is not strongly regular ((a)
+// fails: J_αα (1×1) has rank 0 …); differentiation procedure (Theorem 5.3,
+// Sect. 5.4), pass 1: the modified LCP is not solved (max-iterations,
+// residual 13.0595); the look-ahead fails (the look-ahead VI at t =
+// 3.39326e-05 is not solved (max-iterations, residual 0.00266473)); mode
+// selection by the rates: none of the 6 candidate modes continues" —
+// semismooth Newton stalled on the box MCPs of mode selection, with no
+// pivoting fallback there.
 TEST(AutonomousBuck, RunsEventDrivenToItsExactSolution) {
   const zoo::ZooModel model = zoo::ZooModelNamed(kKey);
   const dvisim::Scene scene =
@@ -64,12 +73,13 @@ TEST(AutonomousBuck, RunsEventDrivenToItsExactSolution) {
                                : IntegrateEventDriven(lcs, scene.x0, 0, model.horizon, options.event);
     const std::string what = automatic ? "auto" : "event";
     ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
-    const double error = zoo::ErrorAfterJump(model, run);
+    const Eigen::VectorXd errors = zoo::StateErrorsAfterJump(model, run);
     std::ostringstream measured;
-    measured << "error " << error << ", VI residual " << run.stats.max_residual << ", events "
-             << run.events.size();
+    measured << "errors (i, v, c1, c2) " << errors.transpose() << ", VI residual "
+             << run.stats.max_residual << ", events " << run.events.size();
     RecordProperty(what, measured.str());
-    EXPECT_LE(error, 1e-8) << what;
+    EXPECT_LE(errors.head(2).maxCoeff(), 1e-8) << what << ": " << measured.str();
+    EXPECT_LE(errors.tail(2).maxCoeff(), 1e-7) << what << ": " << measured.str();
     EXPECT_LE(run.stats.max_residual, 1e-9) << what;
     std::set<double> switches;
     for (const Event& event : run.events) switches.insert(event.time);
