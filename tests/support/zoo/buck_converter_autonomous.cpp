@@ -79,29 +79,9 @@ ZooModel BuckConverterAutonomous() {
     common(1, 1) = -1 / (c.R * c.C);
     common(2, 3) = c.omega;
     common(3, 2) = -c.omega;
-    Eigen::RowVectorXd h(5), current = Eigen::RowVectorXd::Zero(5),
-                       voltage = Eigen::RowVectorXd::Zero(5);
-    h << 0, -c.K, -1, 0, c.K * c.Vref - c.Vr / 2;  // K (Vref − v) − r
-    current(0) = 1;
-    voltage(1) = 1;
-    LinearMode on{"switch closed", common, Eigen::MatrixXd(2, 5), Eigen::MatrixXd::Zero(3, 5)};
-    on.M(0, 1) = -1 / c.L;
-    on.M(0, 4) = c.Vin / c.L;
-    on.U(0, 0) = 1;      // i_S = i
-    on.U(1, 4) = c.Vin;  // v_x = Vin
-    on.U(2, 4) = 1;      // s = 1
-    on.guards << h, current;
-    LinearMode off{"switch open, diode conducting", common, Eigen::MatrixXd(2, 5),
-                   Eigen::MatrixXd::Zero(3, 5)};
-    off.M(0, 1) = -1 / c.L;  // v_x = 0
-    off.U(2, 4) = -1;
-    off.guards << -h, current;
-    LinearMode dcm{"switch open, diode blocking", common, Eigen::MatrixXd(2, 5),
-                   Eigen::MatrixXd::Zero(3, 5)};
-    dcm.U(1, 1) = 1;  // v_x = v holds i ≡ 0
-    dcm.U(2, 4) = -1;
-    dcm.guards << -h, voltage;
-    rules.modes = {on, off, dcm};
+    Eigen::RowVectorXd h(5);
+    h << 0, -c.K, -1, 0, c.K * c.Vref - c.Vr / 2;  // K (Vref − v) − ρ
+    rules.modes = BuckModes(c.L, c.Vin, common, h);
     rules.after_guard = [](int mode, int guard, double t, Eigen::VectorXd& z) {
       if (guard == 0) {
         if (mode == kOn) return ModeEntry{kOffContinuous, {0}};
