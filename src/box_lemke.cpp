@@ -6,9 +6,17 @@
 #include <vector>
 
 #include "dvi/complementarity_problem.hpp"
+#include "dvi/solution_diagnostics.hpp"
 #include "dvi/solve.hpp"
 
 namespace dvi::internal {
+namespace {
+
+// The index sets' tolerance relative to the solver's, as semismooth
+// Newton's (semismooth_newton.cpp): the sets of either answer agree.
+constexpr double kIndexSetFactor = 10.0;
+
+}  // namespace
 
 SolveResult SolveBoxMcpByLemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
                                const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
@@ -81,10 +89,22 @@ SolveResult SolveBoxMcpByLemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& 
     residual = std::max(residual, std::abs(result.z[j] - std::clamp(result.z[j] - result.w[j],
                                                                      lower[j], upper[j])));
   result.residual = residual;
-  result.has_index_sets = false;
+  result.has_index_sets = true;
+  result.index_sets =
+      BoxIndexSets(lower, upper, result.z, result.w, kIndexSetFactor * options.tolerance);
   result.certificate.resize(0);
   result.method = SolverMethod::kLemke;  // on the box MCP's equivalent LCP
   return result;
+}
+
+SolveResult WithPivotingFallback(SolveResult newton, const Eigen::MatrixXd& M,
+                                 const Eigen::VectorXd& q, const Eigen::VectorXd& lower,
+                                 const Eigen::VectorXd& upper, const SolverOptions& options) {
+  if (newton.solved() || options.method != SolverMethod::kAuto) return newton;
+  SolveResult lemke = SolveBoxMcpByLemke(M, q, lower, upper, options);
+  if (!lemke.solved()) return newton;
+  lemke.message += " (after newton: " + newton.message + ")";
+  return lemke;
 }
 
 }  // namespace dvi::internal

@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "box_lemke.hpp"
 #include "dvi/solve.hpp"
 #include "forward_differences.hpp"
 
@@ -193,14 +194,27 @@ SolveResult ModeProblem::SolveBoxProblem(const BoxMcp& mcp, const Eigen::VectorX
   ++solver_calls_;
   SolverOptions solver = solver_;
   if (tolerance > 0) solver.tolerance = tolerance;
-  if (!affine_orthant_ || !mcp.jacobian) return dvi::Solve(mcp, solver, warm);
+  if (!affine_ || !mcp.jacobian) return dvi::Solve(mcp, solver, warm);
+  // F affine in u: w = M u + q with q = F(0), M = ∂F/∂u.
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m());
   Lcp lcp;
   lcp.q.resize(m());
   lcp.M.resize(m(), m());
-  mcp.F(zero, lcp.q);
-  mcp.jacobian(zero, lcp.M);
-  return dvi::Solve(lcp, solver, warm);
+  const auto affine_parts = [&] {
+    mcp.F(zero, lcp.q);
+    mcp.jacobian(zero, lcp.M);
+  };
+  if (affine_orthant_) {
+    affine_parts();
+    return dvi::Solve(lcp, solver, warm);  // with the LCP's own Lemke fallback
+  }
+  SolveResult newton = dvi::Solve(mcp, solver, warm);
+  if (newton.solved()) return newton;
+  // Issue 30: where Newton stalls on a box problem of mode selection (the
+  // modified LCP of a not strongly regular u, Sect. 5.4, or the look-ahead
+  // VI), the pivoting method decides it, as it does time-stepping's.
+  affine_parts();
+  return WithPivotingFallback(std::move(newton), lcp.M, lcp.q, mcp.lower, mcp.upper, solver);
 }
 
 Eigen::MatrixXd ModeProblem::MultiplierJacobian(double t, const Eigen::VectorXd& x,

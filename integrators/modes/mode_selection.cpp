@@ -6,6 +6,7 @@
 #include <sstream>
 #include <utility>
 
+#include "box_lemke.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
 #include "modes/active_set_solve.hpp"
@@ -60,9 +61,9 @@ bool ResolveByRates(const ModeProblem& problem, double t, const Eigen::VectorXd&
     lower(a) = mode[j] == MultiplierBound::kLower ? 0.0 : -kInfinity;
     upper(a) = mode[j] == MultiplierBound::kUpper ? 0.0 : kInfinity;
   }
-  const SolveResult rates = dvi::Solve(
-      BoxMcp::Affine(std::move(M), std::move(q), std::move(lower), std::move(upper)), problem.solver(),
-      Eigen::VectorXd::Zero(s));
+  const SolveResult rates = WithPivotingFallback(
+      dvi::Solve(BoxMcp::Affine(M, q, lower, upper), problem.solver(), Eigen::VectorXd::Zero(s)), M,
+      q, lower, upper, problem.solver());
   ++*vi_solves;
   *iterations += rates.iterations;
   if (!rates.solved()) return false;

@@ -216,13 +216,9 @@ class DenseLcsMethod : public LcsMethod {
                       const Eigen::VectorXd& warm_start) const {
     if (shape_.orthant) return Solve(Lcp{M, q}, solver_, warm_start);
     if (!shape_.box) return Solve(Vi::Affine(M, q, lcs_.K), solver_, warm_start);
-    SolveResult newton =
-        Solve(BoxMcp::Affine(M, q, shape_.lower, shape_.upper), solver_, warm_start);
-    if (newton.solved() || solver_.method != SolverMethod::kAuto) return newton;
-    SolveResult lemke = SolveBoxMcpByLemke(M, q, shape_.lower, shape_.upper, solver_);
-    if (!lemke.solved()) return newton;
-    lemke.message += " (after newton: " + newton.message + ")";
-    return lemke;
+    return WithPivotingFallback(
+        Solve(BoxMcp::Affine(M, q, shape_.lower, shape_.upper), solver_, warm_start), M, q,
+        shape_.lower, shape_.upper, solver_);
   }
 
   Eigen::MatrixXd D_;

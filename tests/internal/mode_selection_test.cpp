@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 // modes/mode_problem and modes/mode_selection alone, without an integrator:
 // the mode chosen at a state, in the three ways Sect. 5 chooses it.
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include "dvi/dvi_problem.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/solve.hpp"
 #include "dvi/mode.hpp"
 #include "modes/mode_problem.hpp"
 #include "modes/mode_selection.hpp"
@@ -106,6 +110,71 @@ TEST(ModeProblem, TheTimeDerivativeOfFWithoutF_tIsTheCentralDifferencesOwnAccura
   problem.FTimeDerivative(0.7, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), Ft);
   constexpr double kCentralDifferenceError = 1e-10;  // ε^{2/3} ≈ 4e-11, times a few
   EXPECT_NEAR(Ft(0), -std::cos(0.7), kCentralDifferenceError);
+}
+
+// The look-ahead VI of the autonomous buck converter (the zoo's
+// buck_converter_autonomous) where the switch closes on a blocking diode,
+// t = 3.39326e-05: u = (i_S, v_x, s) ∈ [0, ∞)² × [−1, 1], F = D u + q with
+// D = [[0, 1, −24], [−1, 0, 0], [0, 0, 0]], q = (0, 0, −0.00266…), the
+// state's C x folded into q. Its solutions are u = (0, v_x, 1) for every
+// v_x ≥ 24 (s at 1 as q3 < 0; −i_S ≥ 0 holds i_S at 0; then v_x − 24 ≥ 0):
+// not unique, the Jacobian singular there, and semismooth Newton returns
+// max-iterations (main at 71d9f50 stopped the run on it). The mode
+// problem's box solve pivots then, and answers one of them.
+Lcs BuckLookAhead(double q3) {
+  Eigen::MatrixXd D(3, 3);
+  D << 0, 1, -24, -1, 0, 0, 0, 0, 0;
+  return Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 3),
+                    Eigen::MatrixXd::Zero(3, 1), D, Eigen::VectorXd::Zero(1),
+                    Eigen::Vector3d(0, 0, q3));
+}
+const Eigen::Vector3d kBuckLower(0, 0, -1), kBuckUpper(HUGE_VAL, HUGE_VAL, 1);
+const Eigen::Vector3d kBuckWarm(0, 10.940509581777057, -1);  // the event's u
+constexpr double kBuckQ3 = -0.0026647271343711587;
+
+TEST(ModeProblem, PivotsWhereNewtonStallsOnABoxProblem) {
+  const Lcs lcs = BuckLookAhead(kBuckQ3);
+  const SolveResult newton =
+      Solve(BoxMcp::Affine(Eigen::MatrixXd(lcs.D), lcs.q, kBuckLower, kBuckUpper), SolverOptions(),
+            kBuckWarm);
+  ASSERT_EQ(newton.status, SolveStatus::kMaxIterations)
+      << "the test needs a box MCP Newton does not solve: " << newton.message;
+  const Dvi dvi = lcs.ToDvi();
+  const ModeProblem problem(dvi, kBuckLower, kBuckUpper, SolverOptions(), true, &lcs);
+  const SolveResult vi = problem.SolveVi(0, Eigen::VectorXd::Zero(1), kBuckWarm);
+  ASSERT_TRUE(vi.solved()) << vi.message;
+  EXPECT_EQ(vi.method, SolverMethod::kLemke);
+  // Lemke pivots on data of size ≤ 24: exact but for a few roundings.
+  constexpr double kRoundoff = 1e-12;
+  EXPECT_NEAR(vi.z(0), 0, kRoundoff);
+  EXPECT_GE(vi.z(1), 24 - kRoundoff);
+  EXPECT_NEAR(vi.z(2), 1, kRoundoff);
+  EXPECT_LE(vi.residual, kRoundoff);
+  // Its index sets are the box MCP's, for the strong-regularity test: v_x
+  // between its bounds (α), s at its upper bound with F < 0 (γ).
+  ASSERT_TRUE(vi.has_index_sets);
+  const auto in = [](const std::vector<int>& set, int j) {
+    return std::find(set.begin(), set.end(), j) != set.end();
+  };
+  EXPECT_TRUE(in(vi.index_sets.alpha, 1));
+  EXPECT_TRUE(in(vi.index_sets.gamma, 2));
+}
+
+// Where the pivoting method proves the box MCP infeasible, the answer stays
+// Newton's, unsolved: q1 = −13 < 0 cannot be met with i_S ≥ 0 when v_x = 11
+// and s = 1 (the buck's modified LCP of that event, infeasible in u alone).
+TEST(ModeProblem, KeepsNewtonsAnswerWhereThePivotingMethodFindsNoSolution) {
+  Eigen::MatrixXd D(3, 3);
+  D << 0, 1, -24, 0, 1000, 0, 0, 0, 0;
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 3),
+                             Eigen::MatrixXd::Zero(3, 1), D, Eigen::VectorXd::Zero(1),
+                             Eigen::Vector3d(0, -11000, -2));
+  const Dvi dvi = lcs.ToDvi();
+  const ModeProblem problem(dvi, kBuckLower, kBuckUpper, SolverOptions(), true, &lcs);
+  const SolveResult vi = problem.SolveVi(0, Eigen::VectorXd::Zero(1), Eigen::Vector3d(0, 24, 1));
+  EXPECT_FALSE(vi.solved());
+  EXPECT_EQ(vi.status, SolveStatus::kMaxIterations) << vi.message;
+  EXPECT_EQ(vi.method, SolverMethod::kNewton);
 }
 
 }  // namespace

@@ -40,6 +40,32 @@ struct Buck {
 
 }  // namespace
 
+std::vector<LinearMode> BuckModes(double L, double Vin, const Eigen::MatrixXd& common,
+                                  const Eigen::RowVectorXd& h) {
+  const Eigen::Index d = common.rows(), one = d - 1;
+  Eigen::RowVectorXd current = Eigen::RowVectorXd::Zero(d), voltage = current;
+  current(0) = 1;
+  voltage(1) = 1;
+  LinearMode on{"switch closed", common, Eigen::MatrixXd(2, d), Eigen::MatrixXd::Zero(3, d)};
+  on.M(0, 1) = -1 / L;
+  on.M(0, one) = Vin / L;
+  on.U(0, 0) = 1;      // i_S = i
+  on.U(1, one) = Vin;  // v_x = Vin
+  on.U(2, one) = 1;    // s = 1
+  on.guards << h, current;
+  LinearMode off{"switch open, diode conducting", common, Eigen::MatrixXd(2, d),
+                 Eigen::MatrixXd::Zero(3, d)};
+  off.M(0, 1) = -1 / L;  // v_x = 0
+  off.U(2, one) = -1;
+  off.guards << -h, current;
+  LinearMode dcm{"switch open, diode blocking", common, Eigen::MatrixXd(2, d),
+                 Eigen::MatrixXd::Zero(3, d)};
+  dcm.U(1, 1) = 1;  // v_x = v holds i ≡ 0
+  dcm.U(2, one) = -1;
+  dcm.guards << -h, voltage;
+  return {on, off, dcm};
+}
+
 ZooModel BuckConverter() {
   const Buck c;
   ZooModel model;
@@ -72,26 +98,8 @@ ZooModel BuckConverter() {
     common(1, 0) = 1 / c.C;
     common(1, 1) = -1 / (c.R * c.C);
     common(2, 3) = c.Vr / c.T;
-    Eigen::RowVector4d h(0, -c.K, -1, c.K * c.Vref);  // K (Vref − v) − ρ
-    Eigen::RowVector4d current(1, 0, 0, 0);
-    LinearMode on{"switch closed", common, Eigen::MatrixXd(2, 4), Eigen::MatrixXd::Zero(3, 4)};
-    on.M(0, 1) = -1 / c.L;
-    on.M(0, 3) = c.Vin / c.L;
-    on.U(0, 0) = 1;      // i_S = i
-    on.U(1, 3) = c.Vin;  // v_x = Vin
-    on.U(2, 3) = 1;      // s = 1
-    on.guards << h, current;
-    LinearMode off{"switch open, diode conducting", common, Eigen::MatrixXd(2, 4),
-                   Eigen::MatrixXd::Zero(3, 4)};
-    off.M(0, 1) = -1 / c.L;  // v_x = 0
-    off.U(2, 3) = -1;
-    off.guards << -h, current;
-    LinearMode dcm{"switch open, diode blocking", common, Eigen::MatrixXd(2, 4),
-                   Eigen::MatrixXd::Zero(3, 4)};
-    dcm.U(1, 1) = 1;  // v_x = v holds i ≡ 0
-    dcm.U(2, 3) = -1;
-    dcm.guards << -h, Eigen::RowVector4d(0, 1, 0, 0);
-    rules.modes = {on, off, dcm};
+    const Eigen::RowVector4d h(0, -c.K, -1, c.K * c.Vref);  // K (Vref − v) − ρ
+    rules.modes = BuckModes(c.L, c.Vin, common, h);
     rules.after_guard = [](int mode, int guard, double t, Eigen::VectorXd& z) {
       if (guard == 0) return mode == kOn ? ModeEntry{kOffContinuous, {0}} : ModeEntry{kOn, {0}};
       if (mode == kOffContinuous) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "support/zoo/zoo_model.hpp"
 
@@ -15,6 +16,7 @@ ZooModel HalfWaveRectifier();   // half_wave_rectifier.cpp
 ZooModel BridgeRectifier();     // bridge_rectifier.cpp
 ZooModel RlcDiode();            // rlc_diode.cpp
 ZooModel BuckConverter();       // buck_converter.cpp
+ZooModel BuckConverterAutonomous();  // buck_converter_autonomous.cpp
 ZooModel BoostConverter();      // boost_converter.cpp
 ZooModel RelayPlain();          // relay_feedback.cpp
 ZooModel RelaySliding();        // relay_feedback.cpp
@@ -22,6 +24,15 @@ ZooModel RelayChattering();     // relay_feedback.cpp
 ZooModel TwistingController();  // twisting_controller.cpp
 ZooModel FilippovSpiral();      // filippov_spiral.cpp
 ZooModel ColpittsOscillator();  // colpitts_oscillator.cpp
+
+/// The buck converter's three modes (buck_converter.cpp) in a z = (i, v, …,
+/// 1) whose last entry is the constant 1: the switch closed (L i' = Vin − v),
+/// open with the diode conducting (L i' = −v), open with the diode blocking
+/// (i' = 0, v_x = v). `common` holds the other rows of z' = M z (v's and the
+/// carrier's), `h` the comparator's K (Vref − v) − ρ as a row on z. Guards:
+/// (h, i), (−h, i), (−h, v); U gives u = (i_S, v_x, s).
+std::vector<LinearMode> BuckModes(double L, double Vin, const Eigen::MatrixXd& common,
+                                  const Eigen::RowVectorXd& h);
 
 /// The two rectifiers' circuit values: a 10 V, 50 Hz mains-like source
 /// switched on at 60°, a 100 μF filter and a 1 kΩ load.

@@ -72,9 +72,10 @@ OrthantLcs ToOrthant(const Lcs& lcs) {
 }
 
 std::vector<ZooModel> ZooModels() {
-  return {HalfWaveRectifier(), BridgeRectifier(), RlcDiode(),         BuckConverter(),
-          BoostConverter(),    RelayPlain(),      RelaySliding(),     RelayChattering(),
-          TwistingController(), FilippovSpiral(), ColpittsOscillator(), ResonantInverter()};
+  return {HalfWaveRectifier(),  BridgeRectifier(),  RlcDiode(),
+          BuckConverter(),      BuckConverterAutonomous(),
+          BoostConverter(),     RelayPlain(),       RelaySliding(),       RelayChattering(),
+          TwistingController(), FilippovSpiral(),   ColpittsOscillator(), ResonantInverter()};
 }
 
 ZooModel ZooModelNamed(const std::string& key) {
@@ -84,18 +85,21 @@ ZooModel ZooModelNamed(const std::string& key) {
   throw std::invalid_argument("no zoo model named \"" + key + "\"");
 }
 
-double ErrorAfterJump(const ZooModel& model, const Trajectory& run) {
+Eigen::VectorXd StateErrorsAfterJump(const ZooModel& model, const Trajectory& run) {
   const auto reference = model.reference();
   Eigen::VectorXd range = Eigen::VectorXd::Zero(model.n());
   constexpr int kRangeTimes = 1001;
   for (int k = 0; k < kRangeTimes; ++k)
     range = range.cwiseMax(reference.X(model.horizon * k / (kRangeTimes - 1)).cwiseAbs());
-  double worst = 0;
+  Eigen::VectorXd worst = Eigen::VectorXd::Zero(model.n());
   for (std::size_t k = 1; k < run.times.size(); ++k)
-    worst = std::max(worst, ((run.states[k] - reference.X(run.times[k])).cwiseAbs().array() /
-                             range.array())
-                                .maxCoeff());
+    worst = worst.cwiseMax(
+        ((run.states[k] - reference.X(run.times[k])).cwiseAbs().array() / range.array()).matrix());
   return worst;
+}
+
+double ErrorAfterJump(const ZooModel& model, const Trajectory& run) {
+  return StateErrorsAfterJump(model, run).maxCoeff();
 }
 
 }  // namespace dvi::zoo

@@ -91,5 +91,7 @@ ZooModel ZooModelNamed(const std::string& key);
 /// jump), relative to each state's range max |x_ref| over 1001 equally
 /// spaced times (the zoo bench's measure).
 double ErrorAfterJump(const ZooModel& model, const Trajectory& run);
+/// The same per state (its largest entry is ErrorAfterJump).
+Eigen::VectorXd StateErrorsAfterJump(const ZooModel& model, const Trajectory& run);
 
 }  // namespace dvi::zoo
