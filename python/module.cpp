@@ -23,6 +23,7 @@ PYBIND11_MODULE(dvi, module) {
   });
   dvi::python::BindProblems(module);
   dvi::python::BindResults(module);
+  dvi::python::BindObservation(module);
   dvi::python::BindIntegrators(module);
   dvi::python::BindSteppers(module);
   dvi::python::BindSolve(module);

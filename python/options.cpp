@@ -9,6 +9,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include "observation.hpp"
+
 namespace dvi::python {
 namespace {
 
@@ -106,6 +108,14 @@ void TakeEvent(Keywords& keywords, EventDrivenOptions& options, Eigen::Index sta
                     {LinearSolver::kAuto, LinearSolver::kDense, LinearSolver::kKlu});
 }
 
+// observer= and events= as any options' ObservationOptions.
+void TakeObservation(Keywords& keywords, ObservationOptions& observation, Eigen::Index states) {
+  py::object observer = py::none(), events = py::none();
+  keywords.Take("observer", observer);
+  keywords.Take("events", events);
+  observation = ObservationFrom(observer, events, keywords.function(), states);
+}
+
 void TakeStepping(Keywords& keywords, TimeSteppingOptions& options) {
   keywords.Take("h", options.h);
   keywords.Take("theta", options.theta);
@@ -124,6 +134,7 @@ EventDrivenOptions EventOptions(const py::kwargs& kwargs, const char* function,
   Keywords keywords(kwargs, function);
   EventDrivenOptions options;
   TakeEvent(keywords, options, states);
+  TakeObservation(keywords, options.observation, states);
   keywords.Finish();
   return options;
 }

@@ -79,7 +79,7 @@ def test_stepping_to_the_end_is_the_one_shot_run(problem, x0):
 
 def test_step_outcome_is_an_enum_whose_str_is_dvis_name():
     assert [str(o) for o in dvi.StepOutcome.__members__.values()] == [
-        "step", "event", "stop-time", "end", "failure"]
+        "step", "event", "stop-time", "end", "failure", "user-stop"]
     assert dvi.StepOutcome.STOP_TIME != dvi.StepOutcome.END
 
 
