@@ -16,6 +16,7 @@
 #include "dvi/mode_dae.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/time_stepping.hpp"
+#include "messages.hpp"
 #include "options.hpp"
 #include "problem_forms.hpp"
 
@@ -35,11 +36,13 @@ void DefIntegrator(py::module_& module, const char* name, const char* doc,
         name,
         [name, read, integrate](const Problem& problem, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const py::kwargs& kwargs) {
-          const Options options = read(kwargs, name, x0.size());
-          if (!std::is_same_v<Problem, Lcs> || Observed(options))
+          return CallNaming(name, [&] {
+            const Options options = read(kwargs, name, x0.size());
+            if (!std::is_same_v<Problem, Lcs> || Observed(options))
+              return integrate(problem, x0, t0, t_end, options);
+            py::gil_scoped_release released_here;
             return integrate(problem, x0, t0, t_end, options);
-          py::gil_scoped_release released_here;
-          return integrate(problem, x0, t0, t_end, options);
+          });
         },
         py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), overload_doc);
   };

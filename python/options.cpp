@@ -78,8 +78,8 @@ void TakeAtol(Keywords& keywords, IntegrationOptions& options, Eigen::Index stat
                             std::to_string(per_state.size()) + " entries for " +
                             std::to_string(states) + " states (give a number or one per state)");
   options.atol_per_state = per_state;
-  // A non-finite entry is left to Validate, which names it.
-  if (per_state.allFinite()) options.atol = per_state.maxCoeff();
+  // A non-finite or negative entry is left to Validate, which names it.
+  if (per_state.allFinite() && per_state.minCoeff() >= 0) options.atol = per_state.maxCoeff();
 }
 
 void TakeSolver(Keywords& keywords, SolverOptions& solver) {

@@ -19,6 +19,7 @@
 #include "dvi/event_driven_integrator.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/step_outcome.hpp"
+#include "messages.hpp"
 #include "options.hpp"
 #include "problem_forms.hpp"
 
@@ -90,16 +91,18 @@ void DefConstructor(py::class_<Stepper<Integrator>>& stepper, const char* doc) {
   stepper.def(
       py::init([](const Problem& problem, const Eigen::VectorXd& x0, double t0, double t_end,
                   const py::kwargs& kwargs) {
-        const auto options = Kind<Integrator>::Options(kwargs, x0.size());
-        const bool calls_python = !std::is_same_v<Problem, Lcs> || Observed(options);
-        const auto start = [&] {
-          return Stepper<Integrator>{Integrator(AsDvi(problem), x0, t0, t_end, options),
-                                     calls_python, {}};
-        };
-        // The start selects the mode (a VI solve at t0, observed): as a step.
-        if (calls_python) return start();
-        py::gil_scoped_release released_here;
-        return start();
+        return CallNaming(Kind<Integrator>::kName, [&] {
+          const auto options = Kind<Integrator>::Options(kwargs, x0.size());
+          const bool calls_python = !std::is_same_v<Problem, Lcs> || Observed(options);
+          const auto start = [&] {
+            return Stepper<Integrator>{Integrator(AsDvi(problem), x0, t0, t_end, options),
+                                       calls_python, {}};
+          };
+          // The start selects the mode (a VI solve at t0, observed): as a step.
+          if (calls_python) return start();
+          py::gil_scoped_release released_here;
+          return start();
+        });
       }),
       py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), doc);
 }
