@@ -258,3 +258,23 @@ def test_bad_observers_and_events_are_named():
         dvi.UserEvent(lambda t, x, u: x[0], modify=lambda t, x: x)
     with pytest.raises(dvi.InvalidInputError, match="integrate_auto: unknown keyword.*observer"):
         dvi.integrate_auto(diode(), [1.0], 0.0, 2.0, observer=print)
+
+
+def test_observed_lcs_runs_hold_the_gil_in_threads():
+    """An observed Lcs run keeps the GIL (its observer is Python): two
+    threads integrating at once each see their own whole run."""
+    import threading
+
+    counts, runs = [[], []], [None, None]
+
+    def work(k):
+        runs[k] = dvi.integrate_event(diode(), [1.0], 0.0, 2.0, rtol=RTOL, atol=ATOL,
+                                      observer=lambda obs: counts[k].append(obs.t))
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    for k in range(2):
+        assert runs[k].succeeded and counts[k] == list(runs[k].times)
