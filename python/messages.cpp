@@ -14,12 +14,13 @@ namespace {
 // fields' names), SolverOptions' fields are the solver_* keywords, a
 // per-state atol is atol's list, the C++ functions and methods are the
 // module's.
-constexpr std::array<std::pair<std::string_view, std::string_view>, 17> kRenames{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 18> kRenames{{
     {"AutoOptions.event.", ""},
     {"AutoOptions.stepping.", ""},
     {"AutoOptions.", ""},
     {"SolverOptions::tolerance = ", "solver_tolerance: "},
     {"SolverOptions::max_iterations = ", "solver_max_iterations: "},
+    {"options.event.", ""},
     {"options.output_times", "output_times"},
     {"atol_per_state[", "atol["},
     {"IntegrateEventDriven", "integrate_event"},
