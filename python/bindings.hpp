@@ -10,6 +10,7 @@
 
 #include "dvi/error.hpp"
 #include "dvi/enum_output.hpp"
+#include "dvi/mode.hpp"
 #include "dvi/trajectory.hpp"
 
 namespace dvi::python {
@@ -21,12 +22,16 @@ void BindResults(py::module_& module);
 void BindIntegrators(py::module_& module);
 /// dvi.EventDrivenIntegrator and dvi.StepOutcome: the resumable stepper.
 void BindSteppers(py::module_& module);
+/// dvi.Observation and dvi.UserEvent: observers and user events (observation.hpp).
+void BindObservation(py::module_& module);
 void BindSolve(py::module_& module);
 /// dvi.Scene (when the module is built with dvisim's scene reader).
 void BindScenes(py::module_& module);
 
 /// A run's statistics as the dict Trajectory.stats and the steppers' stats give.
 py::dict StatsRecord(const IntegrationStats& stats);
+/// Per component of u: "free", "lower" or "upper" (a stepper's or an observation's mode).
+py::list ModeNames(const Mode& mode);
 
 /// The enumerator whose ToString is name; InvalidInputError naming the
 /// keyword and the choices otherwise.

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // The integrators with their options as keyword arguments. The GIL is
-// released around an Lcs's integration, which calls no Python; a Dvi,
-// Filippov system or projected dynamics of Python callables holds it (each
-// callable needs it, and re-taking it per call would cost more).
+// released around an Lcs's integration without observer or user events,
+// which calls no Python; a Dvi, Filippov system or projected dynamics of
+// Python callables, or an observed run, holds it (each callable needs it,
+// and re-taking it per call would cost more).
 #include <type_traits>
 
 #include <pybind11/eigen.h>
@@ -15,6 +16,7 @@
 #include "dvi/mode_dae.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "dvi/time_stepping.hpp"
+#include "messages.hpp"
 #include "options.hpp"
 #include "problem_forms.hpp"
 
@@ -22,7 +24,8 @@ namespace dvi::python {
 namespace {
 
 // One overload of `name` per problem type, options from the keywords by
-// `read`. The GIL is released around an Lcs's integration only (see above).
+// `read`. The GIL is released around an unobserved Lcs's integration only
+// (see above).
 template <typename... Problems, typename Options, typename Integrate>
 void DefIntegrator(py::module_& module, const char* name, const char* doc,
                    Options (*read)(const py::kwargs&, const char*, Eigen::Index),
@@ -33,13 +36,13 @@ void DefIntegrator(py::module_& module, const char* name, const char* doc,
         name,
         [name, read, integrate](const Problem& problem, const Eigen::VectorXd& x0, double t0,
                                 double t_end, const py::kwargs& kwargs) {
-          const Options options = read(kwargs, name, x0.size());
-          if constexpr (std::is_same_v<Problem, Lcs>) {
+          return CallNaming(name, [&] {
+            const Options options = read(kwargs, name, x0.size());
+            if (!std::is_same_v<Problem, Lcs> || Observed(options))
+              return integrate(problem, x0, t0, t_end, options);
             py::gil_scoped_release released_here;
             return integrate(problem, x0, t0, t_end, options);
-          } else {
-            return integrate(problem, x0, t0, t_end, options);
-          }
+          });
         },
         py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), overload_doc);
   };

@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // The Python module `dvi` (docs/python.md): problems, integrators, results
 // as numpy arrays, static solves. dvi's InvalidInputError is a ValueError
-// carrying dvi's message.
+// carrying dvi's message in the module's names (messages.hpp).
 #include <pybind11/pybind11.h>
 
 #include "bindings.hpp"
 #include "dvi/error.hpp"
 #include "dvi/version.hpp"
+#include "messages.hpp"
 
 PYBIND11_MODULE(dvi, module) {
   namespace py = pybind11;
@@ -18,11 +19,12 @@ PYBIND11_MODULE(dvi, module) {
     try {
       if (error) std::rethrow_exception(error);
     } catch (const dvi::InvalidInputError& bad) {
-      invalid_input(bad.what());
+      invalid_input(dvi::python::PythonMessage(bad.what()).c_str());
     }
   });
   dvi::python::BindProblems(module);
   dvi::python::BindResults(module);
+  dvi::python::BindObservation(module);
   dvi::python::BindIntegrators(module);
   dvi::python::BindSteppers(module);
   dvi::python::BindSolve(module);

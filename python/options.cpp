@@ -9,6 +9,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include "observation.hpp"
+
 namespace dvi::python {
 namespace {
 
@@ -76,8 +78,8 @@ void TakeAtol(Keywords& keywords, IntegrationOptions& options, Eigen::Index stat
                             std::to_string(per_state.size()) + " entries for " +
                             std::to_string(states) + " states (give a number or one per state)");
   options.atol_per_state = per_state;
-  // A non-finite entry is left to Validate, which names it.
-  if (per_state.allFinite()) options.atol = per_state.maxCoeff();
+  // A non-finite or negative entry is left to Validate, which names it.
+  if (per_state.allFinite() && per_state.minCoeff() >= 0) options.atol = per_state.maxCoeff();
 }
 
 void TakeSolver(Keywords& keywords, SolverOptions& solver) {
@@ -106,6 +108,14 @@ void TakeEvent(Keywords& keywords, EventDrivenOptions& options, Eigen::Index sta
                     {LinearSolver::kAuto, LinearSolver::kDense, LinearSolver::kKlu});
 }
 
+// observer= and events= as any options' ObservationOptions.
+void TakeObservation(Keywords& keywords, ObservationOptions& observation, Eigen::Index states) {
+  py::object observer = py::none(), events = py::none();
+  keywords.Take("observer", observer);
+  keywords.Take("events", events);
+  observation = ObservationFrom(observer, events, keywords.function(), states);
+}
+
 void TakeStepping(Keywords& keywords, TimeSteppingOptions& options) {
   keywords.Take("h", options.h);
   keywords.Take("theta", options.theta);
@@ -124,6 +134,7 @@ EventDrivenOptions EventOptions(const py::kwargs& kwargs, const char* function,
   Keywords keywords(kwargs, function);
   EventDrivenOptions options;
   TakeEvent(keywords, options, states);
+  TakeObservation(keywords, options.observation, states);
   keywords.Finish();
   return options;
 }

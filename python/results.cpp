@@ -45,6 +45,12 @@ py::dict StatsRecord(const IntegrationStats& s) {
                  {"wall_seconds", py::cast(s.wall_seconds)}});
 }
 
+py::list ModeNames(const Mode& mode) {
+  py::list names;
+  for (const MultiplierBound bound : mode) names.append(std::string(ToString(bound)));
+  return names;
+}
+
 void BindResults(py::module_& module) {
   py::class_<Trajectory>(module, "Trajectory",
                          "An integration's result: samples, events, intervals, statistics, "

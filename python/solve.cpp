@@ -8,6 +8,7 @@
 #include "bindings.hpp"
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/solve.hpp"
+#include "messages.hpp"
 
 namespace dvi::python {
 namespace {
@@ -48,9 +49,16 @@ void BindSolve(py::module_& module) {
   module.def(
       "solve",
       [](const Lcp& lcp, const std::string& solver, double tolerance, int max_iterations) {
-        const SolverOptions options = Options(solver, tolerance, max_iterations);
-        py::gil_scoped_release released;
-        return Solve(lcp, options);
+        // Its keywords are SolverOptions' fields by their own names.
+        return CallNaming(
+            "solve",
+            [&] {
+              const SolverOptions options = Options(solver, tolerance, max_iterations);
+              py::gil_scoped_release released;
+              return Solve(lcp, options);
+            },
+            {{"SolverOptions::tolerance = ", "tolerance: "},
+             {"SolverOptions::max_iterations = ", "max_iterations: "}});
       },
       py::arg("problem"), py::arg("solver") = "auto", py::arg("tolerance") = SolverOptions{}.tolerance,
       py::arg("max_iterations") = 0, "Solves a static problem (dvi::Solve)");

@@ -4,7 +4,8 @@
 // with their options as the keyword arguments integrate_event and
 // integrate_auto take, and dvi.StepOutcome. An Lcs's integrator steps
 // with the GIL released, as integrate_event runs it (no Python inside); one
-// of Python callables holds it. One thread at a time per integrator object.
+// of Python callables, or with an observer or user events, holds it. One
+// thread at a time per integrator object.
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -18,6 +19,7 @@
 #include "dvi/event_driven_integrator.hpp"
 #include "dvi/filippov.hpp"
 #include "dvi/step_outcome.hpp"
+#include "messages.hpp"
 #include "options.hpp"
 #include "problem_forms.hpp"
 
@@ -51,9 +53,9 @@ struct Kind<AutoIntegrator> {
   }
 };
 
-// The integrator, whether its problem calls Python (a Dvi or a Filippov
-// system of callables; an Lcs's does not), and the Python exception a
-// callable raised in an earlier step, if any.
+// The integrator, whether its run calls Python (a Dvi or a Filippov system
+// of callables, an observer or user events; an Lcs alone does not), and the
+// Python exception a callable raised in an earlier step, if any.
 template <typename Integrator>
 struct Stepper {
   Integrator integrator;
@@ -86,20 +88,23 @@ struct Stepper {
 
 template <typename Integrator, typename Problem>
 void DefConstructor(py::class_<Stepper<Integrator>>& stepper, const char* doc) {
-  stepper.def(py::init([](const Problem& problem, const Eigen::VectorXd& x0, double t0,
-                          double t_end, const py::kwargs& kwargs) {
-                const auto options = Kind<Integrator>::Options(kwargs, x0.size());
-                constexpr bool kCallsPython = !std::is_same_v<Problem, Lcs>;
-                const auto start = [&] {
-                  return Stepper<Integrator>{
-                      Integrator(AsDvi(problem), x0, t0, t_end, options), kCallsPython, {}};
-                };
-                // The start selects the mode (a VI solve at t0): released as a step.
-                if constexpr (kCallsPython) return start();
-                py::gil_scoped_release released_here;
-                return start();
-              }),
-              py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), doc);
+  stepper.def(
+      py::init([](const Problem& problem, const Eigen::VectorXd& x0, double t0, double t_end,
+                  const py::kwargs& kwargs) {
+        return CallNaming(Kind<Integrator>::kName, [&] {
+          const auto options = Kind<Integrator>::Options(kwargs, x0.size());
+          const bool calls_python = !std::is_same_v<Problem, Lcs> || Observed(options);
+          const auto start = [&] {
+            return Stepper<Integrator>{Integrator(AsDvi(problem), x0, t0, t_end, options),
+                                       calls_python, {}};
+          };
+          // The start selects the mode (a VI solve at t0, observed): as a step.
+          if (calls_python) return start();
+          py::gil_scoped_release released_here;
+          return start();
+        });
+      }),
+      py::arg("problem"), py::arg("x0"), py::arg("t0"), py::arg("t_end"), doc);
 }
 
 // The enumerators as Python objects, made once when the module loads (and
@@ -122,12 +127,6 @@ py::object OutcomeObject(StepOutcome outcome) {
   const auto index = static_cast<std::size_t>(outcome);
   const bool kept = index < outcome_objects->size() && (*outcome_objects)[index];
   return kept ? (*outcome_objects)[index] : py::cast(outcome);
-}
-
-py::list ModeNames(const Mode& mode) {
-  py::list names;
-  for (const MultiplierBound bound : mode) names.append(std::string(ToString(bound)));
-  return names;
 }
 
 // The calls every stepper object has, as the C++ object's.
@@ -197,7 +196,9 @@ void BindSteppers(py::module_& module) {
       .value("EVENT", StepOutcome::kEvent, "a step that ended at a mode change")
       .value("STOP_TIME", StepOutcome::kStopTime, "reached the time advance_to asked for")
       .value("END", StepOutcome::kEnd, "reached t_end: the run is over")
-      .value("FAILURE", StepOutcome::kFailure, "the run failed: status and message say why");
+      .value("FAILURE", StepOutcome::kFailure, "the run failed: status and message say why")
+      .value("USER_STOP", StepOutcome::kUserStop,
+             "the observer or a user event with action \"stop\" ended the run: t is where");
   KeepOutcomeObjects(outcome);
   // Replaces enum_'s own __str__ ("StepOutcome.STEP"): dvi's ToString.
   py::setattr(outcome, "__str__",
