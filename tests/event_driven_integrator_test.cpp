@@ -288,6 +288,38 @@ TEST(EventDrivenIntegrator, ReinitAfterAParameterChangeMatchesTheExactSolution) 
   }
 }
 
+// Reinit at a time after t() integrates there first, as the time-stepping
+// and IDA integrators do: x = 3 − t to x(1.5) = 1.5 (the old state, sampled
+// at 1.5 after the steps from 0), then the new x = 5 − (t − 1.5) to 3.5 at
+// t = 3. Before, the run jumped from t = 0 to 1.5: no row inside (0, 1.5)
+// and x0 = 3 as the old state at 1.5.
+TEST(EventDrivenIntegrator, ReinitAtALaterTimeIntegratesThereFirst) {
+  EventDrivenIntegrator integrator(SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 3,
+                                   TightOptions());
+  integrator.Reinit(1.5, Eigen::VectorXd::Constant(1, 5));
+  EXPECT_EQ(integrator.t(), 1.5);
+  EXPECT_EQ(integrator.x()(0), 5);
+  ASSERT_EQ(integrator.AdvanceTo(3), StepOutcome::kEnd);
+  const Trajectory trajectory = integrator.trajectory();
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  std::vector<double> at_reinit;
+  long inside = 0;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k], x = trajectory.states[k](0);
+    if (t == 1.5) at_reinit.push_back(x);
+    inside += t > 0 && t < 1.5;
+    if (t != 1.5) {
+      EXPECT_NEAR(x, t < 1.5 ? 3 - t : 5 - (t - 1.5), kStateError) << "t = " << t;
+    }
+  }
+  EXPECT_GT(inside, 0) << "no step between t0 and the Reinit time";
+  ASSERT_EQ(at_reinit.size(), 2u);
+  EXPECT_NEAR(at_reinit[0], 1.5, kStateError);
+  EXPECT_EQ(at_reinit[1], 5);
+  EXPECT_NEAR(trajectory.states.back()(0), 3.5, kStateError);
+  EXPECT_TRUE(trajectory.events.empty());  // x stays above 1: u = −1 throughout
+}
+
 // A function of the problem that throws ends the run there: the exception
 // reaches the caller once, later calls answer kFailure (they rethrew the
 // same exception before), and the samples up to the throw are kept.

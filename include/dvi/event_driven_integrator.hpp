@@ -62,9 +62,11 @@ class EventDrivenIntegrator {
   /// @throws InvalidInputError if t is NaN, before t() or after t_end.
   StepOutcome AdvanceTo(double t);
   /// Restarts at (t, x) after the caller changed the state or a parameter
-  /// the problem's functions read: the VI at (t, x) selects the mode as at
-  /// the start, and CVODE restarts there (CVodeReInit). The samples keep
-  /// the old state at t, then the new one.
+  /// the problem's functions read: integrates to t first if t > t() (as
+  /// AdvanceTo(t)), then the VI at (t, x) selects the mode as at the start,
+  /// and CVODE restarts there (CVodeReInit). The samples keep the old state
+  /// at t, then the new one. A failure or stop of the steps to t is
+  /// status(), and the restart is not made.
   /// @throws InvalidInputError if t is not in [t(), t_end), x has not n
   /// finite entries, or the run has ended or failed.
   void Reinit(double t, const Eigen::VectorXd& x);

@@ -118,6 +118,7 @@ void EventDrivenIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   State& state = *state_;
   internal::EventDrivenRun& run = state.run;
   internal::CheckReinit(state.last, t, x, run.time(), run.t_end(), state.dvi.n);
+  if (t > run.time() && AdvanceTo(t) != StepOutcome::kStopTime) return;
   if (!run.Restart(t, x)) state.last = NotStarted(run);
 }
 
