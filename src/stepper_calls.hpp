@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/step_outcome.hpp"
+#include "dvi/trajectory.hpp"
 
 namespace dvi::internal {
 
@@ -31,9 +32,7 @@ void CheckReinit(dvi::StepOutcome last, double t, const Eigen::VectorXd& x, doub
                  double t_end, Eigen::Index n);
 
 /// A run's StepOnce answer (Run::Advance: kStep, kEvent, kStopped, kEnded,
-/// kFailed) as the public StepOutcome. A run with more answers (the
-/// event-driven one's kUserStop) overloads it next to its Advance, where
-/// StepRun/AdvanceRun find it by argument-dependent lookup.
+/// kUserStop, kFailed) as the public StepOutcome.
 template <typename Advance>
 dvi::StepOutcome ToStepOutcome(Advance advance) {
   switch (advance) {
@@ -41,9 +40,18 @@ dvi::StepOutcome ToStepOutcome(Advance advance) {
     case Advance::kEvent: return dvi::StepOutcome::kEvent;
     case Advance::kStopped: return dvi::StepOutcome::kStopTime;
     case Advance::kEnded: return dvi::StepOutcome::kEnd;
+    case Advance::kUserStop: return dvi::StepOutcome::kUserStop;
     case Advance::kFailed: return dvi::StepOutcome::kFailure;
   }
   return dvi::StepOutcome::kFailure;
+}
+
+/// A start or restart of `run` that did not succeed: stopped by the
+/// observer (kUserStop), or failed.
+template <typename Run>
+dvi::StepOutcome NotStarted(const Run& run) {
+  return run.samples().status == IntegrationStatus::kStoppedByUser ? dvi::StepOutcome::kUserStop
+                                                                    : dvi::StepOutcome::kFailure;
 }
 
 /// run.StepOnce() as a StepOutcome; an exception of the problem's

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "dvi/integration_options.hpp"
+#include "dvi/observer.hpp"
 
 namespace dvi {
 
@@ -15,6 +16,10 @@ struct ModeDaeOptions : IntegrationOptions {
   /// kAuto and kKlu factor the sparse Jacobian by KLU, at any size; kDense
   /// uses a dense solver (small systems).
   LinearSolver linear_solver = LinearSolver::kAuto;
+  /// Observer and user events (observer.hpp), as EventDrivenOptions::
+  /// observation: the user's g is located by IDA's rootfinding next to the
+  /// modes' root functions (IDARootInit on both).
+  ObservationOptions observation;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

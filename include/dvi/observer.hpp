@@ -12,7 +12,7 @@
 
 namespace dvi {
 
-/// Where the event-driven integrator hands the solution to an observer.
+/// Where an integrator hands the solution to an observer.
 enum class ObservationPoint {
   kStart,       ///< t0, and the restart of Reinit or of a modifying user event.
   kStep,        ///< The end of an accepted step (and the time AdvanceTo stops at).
@@ -85,10 +85,11 @@ struct UserEvents {
   bool empty() const { return events.empty(); }
 };
 
-/// Observer and user events of an event-driven run (EventDrivenOptions::
-/// observation; IntegrateEventDriven and EventDrivenIntegrator alike).
-/// Scope: K a box (the KKT lifting of other sets changes u), and not
-/// under the automatic driver yet.
+/// Observer and user events of a run: EventDrivenOptions::observation
+/// (IntegrateEventDriven and EventDrivenIntegrator alike; K a box there: the
+/// KKT lifting of other sets changes u), TimeSteppingOptions::observation
+/// and ModeDaeOptions::observation (the one-shot functions and the
+/// integrator objects). Not under the automatic driver yet.
 struct ObservationOptions {
   Observer observer;  ///< Empty: none.
   UserEvents user_events;

@@ -8,6 +8,7 @@
 
 #include "dvi/enum_output.hpp"
 #include "dvi/integration_options.hpp"
+#include "dvi/observer.hpp"
 
 namespace dvi {
 
@@ -83,6 +84,16 @@ struct TimeSteppingOptions : IntegrationOptions {
   /// Called about every 0.2 % of the horizon with the current time (for a
   /// progress bar). Optional.
   std::function<void(double t)> progress;
+
+  /// Observer and user events (observer.hpp), as EventDrivenOptions::
+  /// observation: the observer sees every row (kStart, kOutputTime, kEvent
+  /// at a recorded mode change or user event, kStep) and every accepted
+  /// step's end (each half of an adaptive pair), in time order. A user
+  /// root g_k is evaluated at each step's end (with its x and ū); a sign
+  /// change within the step is located by stepping again from the step's
+  /// start with h' = t_e − t_i (the θ-step is a function of h; Illinois
+  /// secant on h' to 100 ε (|t| + h)), and the step to t_e replaces it.
+  ObservationOptions observation;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

@@ -28,6 +28,10 @@ void AutoOptions::Validate() const {
   } catch (const InvalidInputError& error) {
     throw InvalidInputError(std::string("AutoOptions.stepping.") + error.what());
   }
+  DVI_THROW_UNLESS(stepping.observation.empty(),
+                   "AutoOptions.stepping.observation: observers and user events are not yet "
+                   "supported by the automatic driver (use IntegrateTimeStepping or "
+                   "TimeSteppingIntegrator)");
   DVI_THROW_UNLESS(std::isfinite(stepping_window) && stepping_window > 0 && stepping_window <= 1,
                    "AutoOptions.stepping_window: " << stepping_window << " is outside (0, 1]");
   for (const auto& [name, value] : {std::pair{"window_rtol", window_rtol}, {"window_atol", window_atol}})

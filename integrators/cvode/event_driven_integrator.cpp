@@ -12,26 +12,6 @@
 #include "dvi/error.hpp"
 #include "stepper_calls.hpp"
 
-namespace dvi::internal {
-
-// EventDrivenRun's answers as StepOutcome, its observer's stop included
-// (found by StepRun/AdvanceRun through the argument's type, before the
-// template for runs without one).
-static dvi::StepOutcome ToStepOutcome(EventDrivenRun::Advance advance) {
-  using Advance = EventDrivenRun::Advance;
-  switch (advance) {
-    case Advance::kUserStop: return dvi::StepOutcome::kUserStop;
-    case Advance::kStep: return dvi::StepOutcome::kStep;
-    case Advance::kEvent: return dvi::StepOutcome::kEvent;
-    case Advance::kStopped: return dvi::StepOutcome::kStopTime;
-    case Advance::kEnded: return dvi::StepOutcome::kEnd;
-    case Advance::kFailed: return dvi::StepOutcome::kFailure;
-  }
-  return dvi::StepOutcome::kFailure;
-}
-
-}  // namespace dvi::internal
-
 namespace dvi {
 
 // The run keeps references to its problem, x0 and options: they live here,
@@ -71,13 +51,6 @@ void CheckStepperScope(const Dvi& dvi, const EventDrivenOptions& options) {
                           "AdvanceTo)");
 }
 
-// A start or restart that did not succeed: stopped by the observer, or
-// failed.
-StepOutcome NotStarted(const internal::EventDrivenRun& run) {
-  return run.samples().status == IntegrationStatus::kStoppedByUser ? StepOutcome::kUserStop
-                                                                    : StepOutcome::kFailure;
-}
-
 }  // namespace
 
 EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
@@ -89,7 +62,7 @@ EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::Vector
   CheckStepperScope(dvi, options);
   internal::CheckEventDrivenStart(dvi, nullptr, x0, t0, t_end, options);
   state_ = std::make_unique<State>(dvi, std::nullopt, x0, t0, t_end, options);
-  if (!state_->run.Begin()) state_->last = NotStarted(state_->run);
+  if (!state_->run.Begin()) state_->last = internal::NotStarted(state_->run);
 }
 
 EventDrivenIntegrator::EventDrivenIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
@@ -101,7 +74,7 @@ EventDrivenIntegrator::EventDrivenIntegrator(const Lcs& lcs, const Eigen::Vector
   std::optional<Lcs> affine;
   if (lcs.time_invariant()) affine = lcs;
   state_ = std::make_unique<State>(dvi, std::move(affine), x0, t0, t_end, options);
-  if (!state_->run.Begin()) state_->last = NotStarted(state_->run);
+  if (!state_->run.Begin()) state_->last = internal::NotStarted(state_->run);
 }
 
 EventDrivenIntegrator::EventDrivenIntegrator(EventDrivenIntegrator&&) noexcept = default;
@@ -119,7 +92,7 @@ void EventDrivenIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   internal::EventDrivenRun& run = state.run;
   internal::CheckReinit(state.last, t, x, run.time(), run.t_end(), state.dvi.n);
   if (t > run.time() && AdvanceTo(t) != StepOutcome::kStopTime) return;
-  if (!run.Restart(t, x)) state.last = NotStarted(run);
+  if (!run.Restart(t, x)) state.last = internal::NotStarted(run);
 }
 
 double EventDrivenIntegrator::t() const { return state_->run.time(); }

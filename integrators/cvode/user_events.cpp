@@ -102,14 +102,12 @@ int EventDrivenRun::FirstUserRoot(int reported, bool& event) {
 EventDrivenRun::Advance EventDrivenRun::HandleUserEvent(int k, const Eigen::VectorXd& x_root) {
   const UserEvent& event = observation_.user_events.events[static_cast<std::size_t>(k)];
   Eigen::VectorXd x = x_root;
-  std::ostringstream what;
-  what << "user event " << k << " (g_" << k << " " << ToString(event.direction) << ") at t = "
-       << FormatTime(t_);
+  const std::string what = DescribeUserEvent(observation_.user_events, k, t_);
   // A mode's event at this time has sampled it already, in the new mode.
   if (trajectory_.times.back() < t_) {
     if (!system_.Solve(t_, x)) {
       Fail(IntegrationStatus::kStepFailure,
-           what.str() + ": Newton on the mode's free components did not converge there");
+           what + ": Newton on the mode's free components did not converge there");
       return Advance::kFailed;
     }
     Sample(t_, x, system_.u(), ObservationPoint::kEvent);
@@ -126,7 +124,7 @@ EventDrivenRun::Advance EventDrivenRun::HandleUserEvent(int k, const Eigen::Vect
   if (user_burst_ >= options_.max_event_burst ||
       static_cast<long>(trajectory_.events.size()) > options_.max_events) {
     std::ostringstream message;
-    message << what.str() << ": " << user_burst_ << " user event(s) at this time, "
+    message << what << ": " << user_burst_ << " user event(s) at this time, "
             << trajectory_.events.size() << " events in all (max_event_burst "
             << options_.max_event_burst << ", max_events " << options_.max_events
             << "): the modified state crosses g again at once";
@@ -134,17 +132,10 @@ EventDrivenRun::Advance EventDrivenRun::HandleUserEvent(int k, const Eigen::Vect
     return Advance::kFailed;
   }
   if (event.action == UserEventAction::kStop) {
-    Fail(IntegrationStatus::kStoppedByUser, what.str() + ", whose action is stop");
+    Fail(IntegrationStatus::kStoppedByUser, what + ", whose action is stop");
     return Advance::kUserStop;
   }
-  const Eigen::VectorXd x_new = observation_.user_events.modify(t_, x, k);
-  DVI_THROW_UNLESS(x_new.size() == x.size(), "observation.user_events.modify returned "
-                                                 << x_new.size() << " entries at " << what.str()
-                                                 << ", expected " << x.size());
-  for (Eigen::Index i = 0; i < x_new.size(); ++i)
-    DVI_THROW_UNLESS(std::isfinite(x_new(i)), "observation.user_events.modify: x("
-                                                  << i << ") = " << x_new(i) << " at "
-                                                  << what.str() << " is not finite");
+  const Eigen::VectorXd x_new = ModifiedState(observation_.user_events, t_, x, k, what);
   // As at an event this close to the stop time (StepOnce): CVODE cannot
   // start a step shorter than its minimum; x moves by O(gap).
   const bool at_stop = stop_time_ - t_ <= SameTimeWidth(stop_time_, horizon);

@@ -2,8 +2,10 @@
 #include "events/user_roots.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "check.hpp"
+#include "events/event_times.hpp"
 #include "events/missed_root.hpp"
 
 namespace dvi::internal {
@@ -72,6 +74,59 @@ UserRoot LocateMissedUserRoot(const UserEvents& events, double t_start, double t
     return {true, bracket.bad, crossing()};
   }
   return {};
+}
+
+std::string DescribeUserEvent(const UserEvents& events, int k, double t) {
+  std::ostringstream what;
+  what << "user event " << k << " (g_" << k << " "
+       << ToString(events.events[static_cast<std::size_t>(k)].direction) << ") at t = " << t;
+  return what.str();
+}
+
+Eigen::VectorXd ModifiedState(const UserEvents& events, double t, const Eigen::VectorXd& x,
+                              int k, const std::string& what) {
+  Eigen::VectorXd x_new = events.modify(t, x, k);
+  DVI_THROW_UNLESS(x_new.size() == x.size(), "observation.user_events.modify returned "
+                                                 << x_new.size() << " entries at " << what
+                                                 << ", expected " << x.size());
+  for (Eigen::Index i = 0; i < x_new.size(); ++i)
+    DVI_THROW_UNLESS(std::isfinite(x_new(i)), "observation.user_events.modify: x("
+                                                  << i << ") = " << x_new(i) << " at " << what
+                                                  << " is not finite");
+  return x_new;
+}
+
+double LocateCrossing(EventDirection direction, double a, double g_a, double b, double g_b,
+                      double tolerance, const std::function<double(double s)>& g) {
+  // The bracket [a, b]: no crossing from g(a) at a, one by b.
+  int kept = 0;  // which end was kept by the last iteration: −1 a, +1 b
+  for (int evaluation = 0; evaluation < 200 && b - a > tolerance; ++evaluation) {
+    double s = b - g_b * (b - a) / (g_b - g_a);
+    // Within the bracket, away from its ends by a fraction of the tolerance
+    // (a secant that keeps one end converges on it from one side).
+    const double margin = std::min(tolerance / 2, (b - a) / 4);
+    if (!(s > a + margin)) s = a + margin;
+    if (!(s < b - margin)) s = b - margin;
+    const double g_s = g(s);
+    if (CrossesZero(direction, g_a, g_s)) {
+      b = s;
+      g_b = g_s;
+      if (kept == -1) g_a /= 2;  // Illinois: a kept twice
+      kept = -1;
+    } else {
+      a = s;
+      g_a = g_s;
+      if (kept == 1) g_b /= 2;
+      kept = 1;
+    }
+  }
+  return b;
+}
+
+bool UserEventBurst::Count(double t, double horizon) {
+  count_ = count_ > 0 && t - last_ <= SameTimeWidth(t, horizon) ? count_ + 1 : 1;
+  last_ = t;
+  return count_ < kMax;
 }
 
 }  // namespace dvi::internal

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -46,5 +47,40 @@ struct UserRoot {
 UserRoot LocateMissedUserRoot(const UserEvents& events, double t_start, double t_end,
                               double tolerance,
                               const std::function<bool(double t, double* g)>& roots_at);
+
+/// "user event k (g_k falling) at t = …", naming an event in messages.
+std::string DescribeUserEvent(const UserEvents& events, int k, double t);
+
+/// The state UserEvents::modify gives at event k (kModify) from x at t.
+/// @throws InvalidInputError if it has another size than x or an entry
+/// that is not finite (named, with `what`, DescribeUserEvent's).
+Eigen::VectorXd ModifiedState(const UserEvents& events, double t, const Eigen::VectorXd& x,
+                              int k, const std::string& what);
+
+/// The root of a continuous g within [a, b] where CrossesZero(direction,
+/// g(a), g(b)): the Illinois variant of the secant method (Hiebert &
+/// Shampine's, as CVODE's and IDA's root finders use), which keeps the
+/// bracket and halves the weight of an end kept twice. Returns the first
+/// point found past the root, within `tolerance` of it (the crossing has
+/// happened there, as a root finder reports it). g(s) may be expensive (a
+/// time-stepping step of size s − a): the secant converges superlinearly,
+/// and at once for a g linear in s. At most 200 evaluations.
+double LocateCrossing(EventDirection direction, double a, double g_a, double b, double g_b,
+                      double tolerance, const std::function<double(double s)>& g);
+
+/// User events at one time (event times within SameTimeWidth of each
+/// other): a modified state that g crosses again at once fires at that
+/// time for ever, and a run ends after kMax of them.
+class UserEventBurst {
+ public:
+  static constexpr int kMax = 64;
+  /// Counts an event at t in a run over `horizon`; true while below kMax.
+  bool Count(double t, double horizon);
+  int count() const { return count_; }
+
+ private:
+  int count_ = 0;
+  double last_ = 0;
+};
 
 }  // namespace dvi::internal

@@ -6,6 +6,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "events/user_roots.hpp"
 #include "sundials/callbacks.hpp"
 
 namespace dvi::internal {
@@ -48,10 +49,17 @@ int ModeDaeJacobianCallback(realtype, realtype cj, N_Vector, N_Vector, N_Vector,
   });
 }
 
-int ModeDaeRootCallback(realtype, N_Vector y, N_Vector, realtype* g, void* user_data) {
+int ModeDaeRootCallback(realtype t, N_Vector y, N_Vector, realtype* g, void* user_data) {
   auto& data = *static_cast<ModeDaeCallbackData*>(user_data);
   return GuardedCallback(data.error, [&] {
-    data.dae->Roots(N_VGetArrayPointer(y), g);
+    const double* values = N_VGetArrayPointer(y);
+    data.dae->Roots(values, g);
+    if (data.user_events && !data.user_events->empty()) {
+      const int n = data.dae->n(), m = data.dae->m();
+      data.user_x = Eigen::Map<const Eigen::VectorXd>(values, n);
+      data.user_u = Eigen::Map<const Eigen::VectorXd>(values + n, m);
+      EvaluateUserRoots(*data.user_events, t, data.user_x, data.user_u, g + 2 * m);
+    }
     return 0;
   });
 }

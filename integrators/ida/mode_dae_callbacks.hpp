@@ -7,6 +7,9 @@
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nvector.h>
 
+#include <Eigen/Dense>
+
+#include "dvi/observer.hpp"
 #include "ida/lcs_mode_dae.hpp"
 
 namespace dvi::internal {
@@ -21,6 +24,9 @@ namespace dvi::internal {
 /// are stored and rethrown after IDASolve returns.
 struct ModeDaeCallbackData {
   LcsModeDae* dae = nullptr;
+  /// The user's root functions after the mode's 2m (none if null or empty).
+  const UserEvents* user_events = nullptr;
+  Eigen::VectorXd user_x, user_u;  // their arguments, kept allocated
   bool sparse = true;
   long residual_evals = 0;
   long jacobian_evals = 0;
@@ -33,7 +39,8 @@ int ModeDaeResidualCallback(sunrealtype, N_Vector y, N_Vector yp, N_Vector res, 
 /// IDALsJacFn: the mode's Jacobian into IDA's matrix.
 int ModeDaeJacobianCallback(sunrealtype, sunrealtype cj, N_Vector, N_Vector, N_Vector,
                             SUNMatrix J, void* user_data, N_Vector, N_Vector, N_Vector);
-/// IDARootFn: the mode's 2m root functions, all positive inside it.
+/// IDARootFn: the mode's 2m root functions, all positive inside it, then
+/// the user's g(t, x, u) (events/user_roots.hpp), u IDA's algebraic part.
 int ModeDaeRootCallback(sunrealtype, N_Vector y, N_Vector, sunrealtype* g, void* user_data);
 /// IDAErrHandlerFn: keeps IDA's message for the run's failure.
 void ModeDaeErrorHandler(int, const char*, const char* function, char* message, void* user_data);

@@ -18,7 +18,7 @@ struct ModeDaeIntegrator::State {
   State(const Lcs& problem, const Eigen::VectorXd& start, double t0, double t_end,
         const ModeDaeOptions& run_options)
       : lcs(problem), x0(start), options(run_options), run(lcs, x0, t0, t_end, options) {
-    if (!run.Begin()) last = StepOutcome::kFailure;
+    if (!run.Begin()) last = internal::NotStarted(run);
   }
 
   const Lcs lcs;
@@ -63,7 +63,7 @@ void ModeDaeIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   internal::ModeDaeRun& run = state.run;
   internal::CheckReinit(state.last, t, x, run.time(), run.t_end(), state.lcs.n());
   if (t > run.time() && AdvanceTo(t) != StepOutcome::kStopTime) return;
-  if (!run.Restart(t, x)) state.last = StepOutcome::kFailure;
+  if (!run.Restart(t, x)) state.last = internal::NotStarted(run);
 }
 
 double ModeDaeIntegrator::t() const { return state_->run.time(); }

@@ -14,6 +14,7 @@ void ModeDaeOptions::Validate() const {
                        linear_solver == LinearSolver::kKlu,
                    "linear_solver: " << static_cast<int>(linear_solver)
                                      << " is not a LinearSolver");
+  observation.Validate();
 }
 
 }  // namespace dvi

@@ -14,11 +14,12 @@
 
 namespace dvi::internal {
 
-void ModeDaeRun::Sample(double t) {
+void ModeDaeRun::Sample(double t, ObservationPoint point) {
   const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
   trajectory_.times.push_back(t);
   trajectory_.states.push_back(y.head(n_));
   trajectory_.multipliers.push_back(ConsistentMultiplier(y));
+  observations_.Row(trajectory_.times.size() - 1, point, dae_.mode());
 }
 
 // IDA's u is algebraic and held by Newton only to about rtol |u| + atol:
@@ -52,6 +53,7 @@ void ModeDaeRun::SampleOutputs(double before) {
     trajectory_.times.push_back(t);
     trajectory_.states.push_back(y.head(n_));
     trajectory_.multipliers.push_back(ConsistentMultiplier(y));
+    observations_.Row(trajectory_.times.size() - 1, ObservationPoint::kOutputTime, dae_.mode());
     if (!(std::abs(t - middle) >= std::abs(nearest - middle))) nearest = t;
   }
   if (!std::isnan(nearest)) MeasureDefect(nearest);

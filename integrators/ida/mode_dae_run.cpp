@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <ida/ida_ls.h>
 
 #include "events/event_times.hpp"
+#include "events/user_roots.hpp"
 #include "sundials/callbacks.hpp"
 
 namespace dvi::internal {
@@ -122,7 +124,12 @@ bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen
   // Lipschitz across events and fully determined by x inside a mode.
   Eigen::Map<Eigen::VectorXd> id(id_.data(), dae_.size());
   id << Eigen::VectorXd::Ones(n_), Eigen::VectorXd::Zero(m_);
+  // The modes' 2m root functions, falling, then the user's (CVODE's
+  // combination, cvode/mode_callbacks.cpp).
   std::vector<int> directions(2 * static_cast<std::size_t>(m_), -1);
+  const std::vector<int> user = UserRootDirections(options_.observation.user_events);
+  directions.insert(directions.end(), user.begin(), user.end());
+  const int root_count = static_cast<int>(directions.size());
   Eigen::Map<Eigen::VectorXd> atol(atol_.data(), dae_.size());
   atol << options_.AbsoluteTolerances(n_), Eigen::VectorXd::Constant(m_, options_.atol);
   return Check(IDAInit(ida, ModeDaeResidualCallback, t, y_.get(), yp_.get()), "IDAInit") &&
@@ -136,9 +143,11 @@ bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen
          Check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps") &&
          Check(IDASetMaxStep(ida, options_.h_max), "IDASetMaxStep") &&
          Check(IDASetStopTime(ida, stop_time_), "IDASetStopTime") &&
-         Check(IDARootInit(ida, 2 * m_, m_ > 0 ? ModeDaeRootCallback : nullptr), "IDARootInit") &&
-         (m_ == 0 || (Check(IDASetRootDirection(ida, directions.data()), "IDASetRootDirection") &&
-                      Check(IDASetNoInactiveRootWarn(ida), "IDASetNoInactiveRootWarn")));
+         Check(IDARootInit(ida, root_count, root_count > 0 ? ModeDaeRootCallback : nullptr),
+               "IDARootInit") &&
+         (root_count == 0 ||
+          (Check(IDASetRootDirection(ida, directions.data()), "IDASetRootDirection") &&
+           Check(IDASetNoInactiveRootWarn(ida), "IDASetNoInactiveRootWarn")));
 }
 
 bool ModeDaeRun::Start() {
@@ -148,7 +157,7 @@ bool ModeDaeRun::Start() {
     return false;
   Eigen::VectorXd x = x0_;
   if (!EnterMode(t0_, mode, x, u)) return false;
-  Sample(t0_);
+  Sample(t0_, ObservationPoint::kStart);
   return true;
 }
 
@@ -182,19 +191,19 @@ bool ModeDaeRun::HandleRoot(double t, const std::vector<int>& roots) {
   last_event_time_ = t;
   const bool revisited = !modes_at_event_time_.Enter(same_time, old_mode, mode);
   if (revisited || same_time_events_ > kMaxSameTimeEvents) {
-    Sample(t);
+    Sample(t, ObservationPoint::kEvent);
     message << "chattering: " << same_time_events_ << " mode changes at this instant"
             << (revisited ? ", the last re-entering a mode it left" : "");
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
   AppendModeChangeEvents(t, old_mode, mode, trajectory_.events);
   if (static_cast<long>(trajectory_.events.size()) > options_.max_events) {
-    Sample(t);
+    Sample(t, ObservationPoint::kEvent);
     message << "more than max_events = " << options_.max_events << " events";
     return Fail(IntegrationStatus::kEventAccumulation, message.str());
   }
   if (!EnterMode(t, mode, x, u)) return false;
-  Sample(t);
+  Sample(t, ObservationPoint::kEvent);
   return true;
 }
 
@@ -222,9 +231,13 @@ bool ModeDaeRun::FirstStepOverflows() {
 ModeDaeRun::Advance ModeDaeRun::StepOnce() {
   IntegrationStats& stats = trajectory_.stats;
   const std::size_t events_before = trajectory_.events.size();
+  // A step's answer once the observer has seen what it recorded.
+  const auto observed = [&](Advance advance) {
+    return advance == Advance::kFailed || Observed() ? advance : Advance::kUserStop;
+  };
   const auto ended = [&](bool ok) {
     if (!ok) return Advance::kFailed;
-    return trajectory_.events.size() > events_before ? Advance::kEvent : Advance::kStep;
+    return observed(trajectory_.events.size() > events_before ? Advance::kEvent : Advance::kStep);
   };
   while (true) {
     if (Steps() >= options_.max_steps) {
@@ -264,12 +277,24 @@ ModeDaeRun::Advance ModeDaeRun::StepOnce() {
     const bool stopped = flag == IDA_TSTOP_RETURN || t_return >= stop_time_;
     const bool done = stopped && stop_time_ >= t_end_;
     bool root = false;
+    int user_root = -1;
     if (flag == IDA_ROOT_RETURN) {
-      std::vector<int> roots(2 * static_cast<std::size_t>(m_), 0);
+      std::vector<int> roots(2 * static_cast<std::size_t>(m_) +
+                                 options_.observation.user_events.events.size(),
+                             0);
       if (!Check(IDAGetRootInfo(ida_.get(), roots.data()), "IDAGetRootInfo"))
         return Advance::kFailed;
+      user_root = ReportedUserRoot(roots);
       double t_root = t_return;
-      const ConsistentRoot located = LocateConsistentRoot(t_root, roots);
+      ConsistentRoot located = ConsistentRoot::kNone;
+      if (std::any_of(roots.begin(), roots.begin() + 2 * m_, [](int found) { return found != 0; }))
+        located = LocateConsistentRoot(t_root, roots);
+      if (located == ConsistentRoot::kLater && user_root >= 0) {
+        // The user's root comes first; the mode's is found again after it.
+        located = ConsistentRoot::kNone;
+        if (!Check(IDAGetDky(ida_.get(), t_return, 0, y_.get()), "IDAGetDky"))
+          return Advance::kFailed;
+      }
       if (located == ConsistentRoot::kLater) {
         SampleOutputs(t_root);
         RecordStep(t_root);
@@ -278,14 +303,67 @@ ModeDaeRun::Advance ModeDaeRun::StepOnce() {
       root = located != ConsistentRoot::kNone;
       if (root && !HandleRoot(t_root, roots)) return Advance::kFailed;
     }
-    if (!root && options_.output_times.empty() && !done) Sample(t_return);
-    if (done) {
-      Sample(t_end_);
-      return Advance::kEnded;
+    if (user_root >= 0) {
+      const Advance advance = HandleUserEvent(user_root, t_return);
+      if (advance != Advance::kEvent || t_ < stop_time_) return advance;
+      return stop_time_ >= t_end_ ? Advance::kEnded : Advance::kStopped;
     }
-    if (stopped) return Advance::kStopped;
+    if (!root && !done) {
+      if (options_.output_times.empty()) {
+        Sample(t_return, ObservationPoint::kStep);
+      } else if (observations_.active()) {
+        const Eigen::Map<const Eigen::VectorXd> y(y_.data(), dae_.size());
+        observations_.StepEnd(t_return, y.head(n_), ConsistentMultiplier(y), dae_.mode());
+      }
+    }
+    if (done) {
+      Sample(t_end_, ObservationPoint::kStep);
+      return observed(Advance::kEnded);
+    }
+    if (stopped) return observed(Advance::kStopped);
     return ended(true);
   }
+}
+
+bool ModeDaeRun::Observed() {
+  const std::optional<RowObservations::Stop> stop = observations_.Flush(trajectory_);
+  if (!stop) return true;
+  EndAtStop(trajectory_, *stop);
+  t_ = trajectory_.times.back();
+  std::ostringstream message;
+  message << "the observer stopped the run at t = " << t_ << " (" << ToString(stop->point) << ")";
+  return Fail(IntegrationStatus::kStoppedByUser, message.str());
+}
+
+int ModeDaeRun::ReportedUserRoot(const std::vector<int>& roots) const {
+  const auto user = roots.begin() + 2 * m_;
+  const auto found = std::find_if(user, roots.end(), [](int root) { return root != 0; });
+  return found == roots.end() ? -1 : static_cast<int>(found - user);
+}
+
+ModeDaeRun::Advance ModeDaeRun::HandleUserEvent(int k, double t) {
+  const UserEvents& events = options_.observation.user_events;
+  t_ = t;
+  // A mode's event at this time has sampled it already, in the new mode.
+  if (trajectory_.times.back() < t) Sample(t, ObservationPoint::kEvent);
+  trajectory_.events.push_back({t, EventKind::kUser, k});
+  if (!Observed()) return Advance::kUserStop;
+  const std::string what = DescribeUserEvent(events, k, t);
+  if (!user_burst_.Count(t, t_end_ - t0_)) {
+    Fail(IntegrationStatus::kEventAccumulation,
+         "mode-dae: " + what + ": " + std::to_string(user_burst_.count()) +
+             " user events at this time: the modified state crosses g again at once");
+    return Advance::kFailed;
+  }
+  if (events.events[static_cast<std::size_t>(k)].action == UserEventAction::kStop) {
+    Fail(IntegrationStatus::kStoppedByUser, what + ", whose action is stop");
+    return Advance::kUserStop;
+  }
+  const Eigen::VectorXd x =
+      ModifiedState(events, t, Eigen::Map<const Eigen::VectorXd>(y_.data(), n_), k, what);
+  if (Restart(t, x)) return Advance::kEvent;
+  return trajectory_.status == IntegrationStatus::kStoppedByUser ? Advance::kUserStop
+                                                                 : Advance::kFailed;
 }
 
 bool ModeDaeRun::SetStopTime(double t) {
@@ -296,7 +374,7 @@ bool ModeDaeRun::SetStopTime(double t) {
 bool ModeDaeRun::Begin() {
   start_clock_ = std::chrono::steady_clock::now();
   started_ = Start();
-  return started_;
+  return started_ && Observed();
 }
 
 // The caller's restart: the mode at (t, x) as at the start (ChooseMode from
@@ -311,8 +389,8 @@ bool ModeDaeRun::Restart(double t, const Eigen::VectorXd& x) {
   if (!ChooseMode(t, x_start, warm, std::vector<bool>(m_, false), mode, u) ||
       !EnterMode(t, mode, x_start, u))
     return false;
-  Sample(t);
-  return true;
+  Sample(t, ObservationPoint::kStart);
+  return Observed();
 }
 
 std::pair<double, double> ModeDaeRun::DenseSpan() const {

@@ -16,8 +16,10 @@
 #include "dvi/mode_dae.hpp"
 #include "dvi/trajectory.hpp"
 #include "events/mode_changes.hpp"
+#include "events/observed_rows.hpp"
 #include "events/output_schedule.hpp"
 #include "events/step_ends.hpp"
+#include "events/user_roots.hpp"
 #include "ida/ida_memory.hpp"
 #include "ida/lcs_mode_dae.hpp"
 #include "ida/mode_dae_callbacks.hpp"
@@ -56,6 +58,7 @@ class ModeDaeRun {
         m_(lcs.m()),
         u_tolerance_(kBoundFactor * std::max(options.atol, options.solver.tolerance)) {
     data_.dae = &dae_;
+    data_.user_events = &options.observation.user_events;
     data_.sparse = options.linear_solver != LinearSolver::kDense;
     if (data_.sparse)
       klu_ = std::make_unique<KluLinearSolver>(y_.get(), dae_.size(), 1, context_.get());
@@ -67,16 +70,21 @@ class ModeDaeRun {
   Trajectory Run();
 
   /// What one StepOnce did (as EventDrivenRun::Advance).
-  enum class Advance { kStep, kEvent, kStopped, kEnded, kFailed };
+  enum class Advance { kStep, kEvent, kStopped, kEnded, kUserStop, kFailed };
   /// Selects the mode at (t0, x0), samples it and sets IDA up; false on failure.
   bool Begin();
   /// One IDA step (and the root at its end), never past the stop time;
-  /// every step is sampled. @pre Begin succeeded, the run not over.
+  /// every step is sampled. A user root IDA reports (ModeDaeOptions::
+  /// observation) is recorded as a kUser event after a mode's at the same
+  /// time, and acted on (stop, or Restart from the modified state); the
+  /// observer sees what the step recorded. @pre Begin succeeded, the run
+  /// not over.
   Advance StepOnce();
   /// IDA's stop time (IDASetStopTime), time() < t <= t_end.
   bool SetStopTime(double t);
   /// Restarts at (t, x), time() <= t < t_end, as at the start: the mode the
-  /// modified LCP proposes there, consistent values, IDA restarted.
+  /// modified LCP proposes there, consistent values, IDA restarted. False
+  /// on failure or where the observer stops the run at its row.
   bool Restart(double t, const Eigen::VectorXd& x);
   /// The samples so far with the statistics, the interval and the wall time.
   Trajectory Snapshot() const;
@@ -113,7 +121,16 @@ class ModeDaeRun {
   bool Check(int flag, const char* call);
   bool FirstStepOverflows();
   bool ModeStillHolds();
-  void Sample(double t);
+  void Sample(double t, ObservationPoint point);
+  // Hands the queued rows and step ends to the observer; false (the run
+  // over, kStoppedByUser) where it stops.
+  bool Observed();
+  // The first user root of IDAGetRootInfo's `roots` (after the mode's 2m),
+  // or −1.
+  int ReportedUserRoot(const std::vector<int>& roots) const;
+  // The user event k at t (y_ the state there) recorded, observed and acted
+  // on: kEvent (modified and restarted), kUserStop or kFailed.
+  Advance HandleUserEvent(int k, double t);
   void SampleOutputs(double before);
   void RecordStep(double end);
   void MeasureDefect(double t);
@@ -150,6 +167,8 @@ class ModeDaeRun {
   IdaMemory ida_{context_.get()};
   ModeDaeCallbackData data_;
 
+  RowObservations observations_{options_.observation.observer};
+  UserEventBurst user_burst_;
   double last_event_time_ = 0;
   int same_time_events_ = 0;
   ModesAtOneTime modes_at_event_time_;

@@ -17,15 +17,16 @@ SteppingRecorder::SteppingRecorder(const OneStepMethod& method,
       options_(options),
       certifier_(certifier),
       trajectory_(trajectory),
-      keeps_dense_(KeepsDenseOutput(options.dense_output, options.output_times)) {}
+      keeps_dense_(KeepsDenseOutput(options.dense_output, options.output_times)),
+      observations_(options.observation.observer) {}
 
 void SteppingRecorder::Start(double t0, const StepOutcome& initial) {
   last_ = {t0, initial.x, initial.u, nullptr};  // u⁰ solves the VI at x⁰ itself
-  Sample(last_);
   if (options_.record_events) {
     method_.ModeAt(initial, vi_mode_);
     mode_ = vi_mode_;
   }
+  Sample(last_, ObservationPoint::kStart);
   while (next_output_ < options_.output_times.size() &&
          options_.output_times[next_output_] <= t0)
     ++next_output_;
@@ -33,16 +34,17 @@ void SteppingRecorder::Start(double t0, const StepOutcome& initial) {
 
 void SteppingRecorder::Restart(double t, const StepOutcome& initial) {
   last_ = {t, initial.x, initial.u, nullptr};
-  Sample(last_, true);
   steps_since_start_ = 0;
   if (options_.record_events) {
     method_.ModeAt(initial, vi_mode_);
     mode_ = vi_mode_;
   }
+  Sample(last_, ObservationPoint::kStart, true);
 }
 
 void SteppingRecorder::Accept(double t, double h, const Eigen::VectorXd& x,
-                              const Eigen::VectorXd& u, const StepOutcome& outcome) {
+                              const Eigen::VectorXd& u, const StepOutcome& outcome,
+                              bool user_event) {
   const double t_next = t + h;
   IntegrationStats& stats = trajectory_.stats;
   ++stats.steps;
@@ -76,18 +78,24 @@ void SteppingRecorder::Accept(double t, double h, const Eigen::VectorXd& x,
 
   ModeChange mode_change;
   if (options_.record_events) mode_change = RecordModeChange(t, t_next, outcome);
-  if (mode_change.at_start) Sample(last_);
+  if (mode_change.at_start) Sample(last_, ObservationPoint::kEvent);
   const std::vector<double>& outputs = options_.output_times;
   while (next_output_ < outputs.size() && outputs[next_output_] < t_next) {
     // x̂ᴴ is linear on [t, t + h]; ûᴴ = ū^{i+1} on (t, t + h].
     const double s = (outputs[next_output_] - t) / h;
-    Sample({outputs[next_output_], (1 - s) * x + s * outcome.x, applied, &step_});
+    Sample({outputs[next_output_], (1 - s) * x + s * outcome.x, applied, &step_},
+           ObservationPoint::kOutputTime);
     ++next_output_;
   }
   const bool asked = next_output_ < outputs.size() && outputs[next_output_] == t_next;
   if (asked) ++next_output_;
   last_ = {t_next, outcome.x, std::move(applied), &step_};
-  if (outputs.empty() || asked || mode_change.at_end) Sample(last_);
+  if (mode_change.at_end || user_event)
+    Sample(last_, ObservationPoint::kEvent);
+  else if (outputs.empty() || asked)
+    Sample(last_, asked ? ObservationPoint::kOutputTime : ObservationPoint::kStep);
+  else
+    observations_.StepEnd(t_next, last_.x, last_.u, mode_.bounds);
 }
 
 void SteppingRecorder::Jump(double t, const StateJump& jump) {
@@ -102,10 +110,19 @@ void SteppingRecorder::Jump(double t, const StateJump& jump) {
 }
 
 void SteppingRecorder::Finish(double t, const Eigen::VectorXd& x) {
-  Sample({t, x, last_.u, last_.step});
+  Sample({t, x, last_.u, last_.step}, ObservationPoint::kStep);
 }
 
-void SteppingRecorder::Sample(const Point& point, bool again) {
+std::optional<ObservationPoint> SteppingRecorder::Observe() {
+  const std::optional<RowObservations::Stop> stop = observations_.Flush(trajectory_);
+  if (!stop) return std::nullopt;
+  EndAtStop(trajectory_, *stop);
+  last_ = {trajectory_.times.back(), trajectory_.states.back(), trajectory_.multipliers.back(),
+           nullptr};
+  return stop->point;
+}
+
+void SteppingRecorder::Sample(const Point& point, ObservationPoint observed, bool again) {
   if (!trajectory_.times.empty() &&
       (again ? trajectory_.times.back() > point.t : trajectory_.times.back() >= point.t))
     return;
@@ -120,6 +137,7 @@ void SteppingRecorder::Sample(const Point& point, bool again) {
   trajectory_.times.push_back(point.t);
   trajectory_.states.push_back(point.x);
   trajectory_.multipliers.push_back(point.u);
+  observations_.Row(trajectory_.times.size() - 1, observed, mode_.bounds);
 }
 
 // The mode of ū^{i+1} from those of u^i (vi_mode_) and u^{i+1} (next_vi_mode_).

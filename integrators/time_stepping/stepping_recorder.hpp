@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -9,6 +10,7 @@
 #include "certify.hpp"
 #include "dvi/time_stepping_options.hpp"
 #include "dvi/trajectory.hpp"
+#include "events/observed_rows.hpp"
 #include "schemes/one_step_method.hpp"
 #include "state_jump.hpp"
 
@@ -37,15 +39,22 @@ class SteppingRecorder {
   /// x, u) after the one the run reached there, its mode read anew (no event),
   /// and the next step certified as a first one.
   void Restart(double t, const StepOutcome& initial);
-  /// Records the accepted step (t, x, u) → (t + h, outcome).
+  /// Records the accepted step (t, x, u) → (t + h, outcome); its end is
+  /// sampled as a kEvent row where a user event ends it (user_event).
   void Accept(double t, double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-              const StepOutcome& outcome);
+              const StepOutcome& outcome, bool user_event = false);
   /// A state jump at t, the last step's end: its event and VI work.
   void Jump(double t, const StateJump& jump);
   /// The row at the run's end t (none if it is sampled already).
   void Finish(double t, const Eigen::VectorXd& x);
   /// The multiplier of the last row recorded or due (ū of the last step).
   const Eigen::VectorXd& last_u() const { return last_.u; }
+
+  /// Hands the rows and step ends recorded since the last call to the
+  /// observer (TimeSteppingOptions::observation); where it answers kStop,
+  /// the samples end there (that row, or the step end sampled as the last
+  /// row) and it returns the point, else nothing.
+  std::optional<ObservationPoint> Observe();
 
  private:
   // What a row is certified against: its step, from (t_i, x^i, u^i) to
@@ -68,7 +77,7 @@ class SteppingRecorder {
 
   // Appends the row unless one is at or after point.t (a restart's row,
   // `again`, may share the last row's time).
-  void Sample(const Point& point, bool again = false);
+  void Sample(const Point& point, ObservationPoint observed, bool again = false);
   void AppliedMode();
   ModeChange RecordModeChange(double t, double t_next, const StepOutcome& outcome);
 
@@ -88,6 +97,7 @@ class SteppingRecorder {
   // Modes of the VI's u^i and of ū^i, and scratch for the next step's.
   StepMode vi_mode_, next_vi_mode_, mode_, next_mode_;
   long steps_since_start_ = 0;  // steps since the start or the last restart
+  RowObservations observations_;
 };
 
 }  // namespace dvi::internal

@@ -3,10 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <string>
 #include <utility>
 
 #include "check.hpp"
+#include "events/event_times.hpp"
+#include "events/user_roots.hpp"
 #include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 
@@ -184,7 +188,8 @@ bool SteppingRun::Begin(const Eigen::VectorXd& x0) {
     Fail(IntegrationStatus::kMaxSteps, message.str());
     return false;
   }
-  return true;
+  EvaluateUserRootsAt(t0_, current_, current_.u, g_);
+  return Observed();
 }
 
 // Step ends are t_run_ + k·h_ since the last change of h_, not a running
@@ -240,12 +245,15 @@ std::string SteppingRun::RestartFrom(const char* after, const Eigen::VectorXd& x
   return "";
 }
 
-bool SteppingRun::Restart(const Eigen::VectorXd& x) {
+bool SteppingRun::Restart(const Eigen::VectorXd& x) { return RestartAfter("Reinit", x); }
+
+bool SteppingRun::RestartAfter(const std::string& cause, const Eigen::VectorXd& x) {
   Eigen::VectorXd start = x;
   bool jumped = false;
-  std::string failure = JumpAt("the state Reinit set", start, jumped);
+  std::string failure = JumpAt(("the state " + cause + " set").c_str(), start, jumped);
   if (failure.empty())
-    failure = RestartFrom(jumped ? "after the state jump of Reinit" : "at Reinit", start);
+    failure = RestartFrom(
+        ((jumped ? "after the state jump of " : "at ") + cause).c_str(), start);
   if (!failure.empty()) {
     Fail(IntegrationStatus::kStepFailure, std::move(failure));
     return false;
@@ -254,7 +262,103 @@ bool SteppingRun::Restart(const Eigen::VectorXd& x) {
   ChangeH(h_);
   previous_t_ = t_;
   previous_x_ = current_.x;
-  return true;
+  EvaluateUserRootsAt(t_, current_, current_.u, g_);
+  return Observed();
+}
+
+bool SteppingRun::Observed() {
+  const std::optional<ObservationPoint> stop = recorder_.Observe();
+  if (!stop) return true;
+  t_ = previous_t_ = trajectory_.times.back();
+  current_.x = trajectory_.states.back();
+  previous_x_ = current_.x;
+  Fail(IntegrationStatus::kStoppedByUser, "the observer stopped the run at t = " + TimeText(t_) +
+                                              " (" + std::string(ToString(*stop)) + ")");
+  return false;
+}
+
+bool SteppingRun::TakeStep(double h, StepOutcome& first, StepOutcome& end) {
+  IntegrationStats& stats = trajectory_.stats;
+  if (!options_.adaptive) {
+    end = Finite(method_.Step(t_, h, current_.x, current_.u));
+    Count(end, stats);
+    return end.solved;
+  }
+  first = Finite(method_.Step(t_, h / 2, current_.x, current_.u));
+  Count(first, stats);
+  if (!first.solved) return false;
+  end = Finite(method_.Step(t_ + h / 2, h / 2, first.x, first.u));
+  Count(end, stats);
+  return end.solved;
+}
+
+void SteppingRun::EvaluateUserRootsAt(double t, const StepOutcome& end,
+                                      const Eigen::VectorXd& u_before, Eigen::VectorXd& g) {
+  const UserEvents& events = options_.observation.user_events;
+  if (events.empty()) return;
+  const double gamma = method_.multiplier_weight();
+  const Eigen::VectorXd applied = gamma == 1 ? end.u : gamma * end.u + (1 - gamma) * u_before;
+  g.resize(static_cast<Eigen::Index>(events.events.size()));
+  EvaluateUserRoots(events, t, end.x, applied, g.data());
+}
+
+// The step is a function of its size h' ([Seed] (7.2), (3.3)): g along it,
+// g_k(t_ + h', x(h'), ū(h')), is continuous in h' and located on it as a
+// root finder locates one on an interpolant.
+int SteppingRun::UserEventInStep(double& t_next, StepOutcome& first, StepOutcome& end) {
+  const UserEvents& events = options_.observation.user_events;
+  if (events.empty()) return -1;
+  EvaluateUserRootsAt(t_next, end, options_.adaptive ? first.u : current_.u, g_next_);
+  double t_event = t_next;
+  int event = -1;
+  StepOutcome at_first, at_end;
+  Eigen::VectorXd g_at;
+  for (std::size_t k = 0; k < events.events.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    const EventDirection direction = events.events[k].direction;
+    if (!CrossesZero(direction, g_(i), g_next_(i))) continue;
+    const double t = LocateCrossing(
+        direction, t_, g_(i), t_next, g_next_(i), RootTimeTolerance(t_next, t_next - t_),
+        [&](double s) {
+          if (!TakeStep(s - t_, at_first, at_end)) return double{NAN};  // as not crossed
+          EvaluateUserRootsAt(s, at_end, options_.adaptive ? at_first.u : current_.u, g_at);
+          return g_at(i);
+        });
+    if (t < t_event || event < 0) {
+      t_event = t;
+      event = static_cast<int>(k);
+    }
+  }
+  if (event < 0) {
+    g_.swap(g_next_);
+    return -1;
+  }
+  // (A step to t_event that fails leaves the event at the step's end.)
+  if (t_event < t_next && TakeStep(t_event - t_, at_first, at_end)) {
+    first = std::move(at_first);
+    end = std::move(at_end);
+    t_next = t_event;
+  }
+  return event;
+}
+
+SteppingRun::Advance SteppingRun::HandleUserEvent(int k) {
+  const UserEvents& events = options_.observation.user_events;
+  trajectory_.events.push_back({t_, EventKind::kUser, k});
+  if (!Observed()) return Advance::kUserStop;
+  const std::string what = DescribeUserEvent(events, k, t_);
+  if (!user_burst_.Count(t_, span_))
+    return Fail(IntegrationStatus::kEventAccumulation,
+                what + ": " + std::to_string(user_burst_.count()) +
+                    " user events at this time: the modified state crosses g again at once");
+  if (events.events[static_cast<std::size_t>(k)].action == UserEventAction::kStop) {
+    Fail(IntegrationStatus::kStoppedByUser, what + ", whose action is stop");
+    return Advance::kUserStop;
+  }
+  const Eigen::VectorXd x = ModifiedState(events, t_, current_.x, k, what);
+  if (RestartAfter("user event " + std::to_string(k) + "'s modify", x)) return Advance::kEvent;
+  return trajectory_.status == IntegrationStatus::kStoppedByUser ? Advance::kUserStop
+                                                                 : Advance::kFailed;
 }
 
 Eigen::VectorXd SteppingRun::StateAt(double t) const {
@@ -267,6 +371,7 @@ SteppingRun::Advance SteppingRun::StepOnce() {
   IntegrationStats& stats = trajectory_.stats;
   const std::size_t events_before = trajectory_.events.size();
   double error = 0;  // the scaled local error of an accepted step-doubling pair
+  int user_event = -1;  // the user root the step ends at
   for (;;) {
     if (stats.steps >= options_.max_steps)
       return Fail(IntegrationStatus::kMaxSteps, "reached max_steps = " +
@@ -279,7 +384,7 @@ SteppingRun::Advance SteppingRun::StepOnce() {
                       : std::min(h_, stop_ - t_);
     const bool clipped = step != h_ && stop_ < t_end_;
     double breakpoint = 0;
-    const bool ends_at_breakpoint = ToBreakpoint(step, breakpoint);
+    bool ends_at_breakpoint = ToBreakpoint(step, breakpoint);
     if (!(t_ + step / 2 > t_)) {
       std::ostringstream message;
       message.precision(10);
@@ -288,13 +393,13 @@ SteppingRun::Advance SteppingRun::StepOnce() {
       return Fail(IntegrationStatus::kStepSizeTooSmall, message.str());
     }
     if (!options_.adaptive) {
-      StepOutcome next = Finite(method_.Step(t_, step, current_.x, current_.u));
-      Count(next, stats);
-      if (!next.solved)
+      StepOutcome next, unused;
+      if (!TakeStep(step, unused, next))
         return Fail(IntegrationStatus::kStepFailure,
                     FailureMessage(stats.steps + 1, t_, step, next));
-      const double t_next = ends_at_breakpoint ? breakpoint : NextGridTime(step);
-      recorder_.Accept(t_, t_next - t_, current_.x, current_.u, next);
+      double t_next = ends_at_breakpoint ? breakpoint : NextGridTime(step);
+      user_event = UserEventInStep(t_next, unused, next);
+      recorder_.Accept(t_, t_next - t_, current_.x, current_.u, next, user_event >= 0);
       previous_t_ = t_;
       previous_x_.swap(current_.x);  // current_.x is replaced next
       t_ = t_next;
@@ -302,11 +407,9 @@ SteppingRun::Advance SteppingRun::StepOnce() {
     } else {
       // Step doubling: one step of size `step` against two of step/2.
       StepOutcome coarse = Finite(method_.Step(t_, step, current_.x, current_.u));
-      StepOutcome first = Finite(method_.Step(t_, step / 2, current_.x, current_.u));
-      StepOutcome second;
-      if (first.solved) second = Finite(method_.Step(t_ + step / 2, step / 2, first.x, first.u));
-      for (const StepOutcome* outcome : {&coarse, &first, &second}) Count(*outcome, stats);
-      const bool solved = coarse.solved && first.solved && second.solved;
+      Count(coarse, stats);
+      StepOutcome first, second;
+      const bool solved = TakeStep(step, first, second) && coarse.solved;
       error =
           solved ? ScaledError(coarse.x, second.x, method_.order(), options_) : 1e300;
       if (error > 1) {
@@ -325,16 +428,18 @@ SteppingRun::Advance SteppingRun::StepOnce() {
         }
         continue;
       }
-      const double t_next = ends_at_breakpoint ? breakpoint : NextGridTime(step);
+      double t_next = ends_at_breakpoint ? breakpoint : NextGridTime(step);
+      user_event = UserEventInStep(t_next, first, second);
       const double t_half = t_ + (t_next - t_) / 2;
       recorder_.Accept(t_, t_half - t_, current_.x, current_.u, first);
-      recorder_.Accept(t_half, t_next - t_half, first.x, first.u, second);
+      recorder_.Accept(t_half, t_next - t_half, first.x, first.u, second, user_event >= 0);
       previous_t_ = t_half;
       previous_x_.swap(first.x);
       t_ = t_next;
       current_ = std::move(second);
     }
-    if (ends_at_breakpoint || clipped) ChangeH(h_);
+    if (user_event >= 0 && t_ < breakpoint) ends_at_breakpoint = false;
+    if (ends_at_breakpoint || clipped || user_event >= 0) ChangeH(h_);
     if (ends_at_breakpoint) {
       Eigen::VectorXd x = current_.x;
       bool jumped = false;
@@ -352,13 +457,19 @@ SteppingRun::Advance SteppingRun::StepOnce() {
     options_.progress(t_);
     next_progress_ = t_ + progress_every_;
   }
+  if (user_event >= 0) {
+    const Advance advance = HandleUserEvent(user_event);
+    if (advance != Advance::kEvent) return advance;
+  }
   if (!(t_end_ - t_ > end_slack_)) {
     t_ = t_end_;
     recorder_.Finish(t_end_, current_.x);
+    if (!Observed()) return Advance::kUserStop;
     Conclude(trajectory_);
     over_ = true;
     return Advance::kEnded;
   }
+  if (!Observed()) return Advance::kUserStop;
   if (!(stop_ - t_ > end_slack_)) return Advance::kStopped;
   return trajectory_.events.size() > events_before ? Advance::kEvent : Advance::kStep;
 }

@@ -14,6 +14,7 @@
 #include "certify.hpp"
 #include "dvi/time_stepping_options.hpp"
 #include "dvi/trajectory.hpp"
+#include "events/user_roots.hpp"
 #include "schemes/one_step_method.hpp"
 #include "source_breakpoints.hpp"
 #include "state_jump.hpp"
@@ -46,9 +47,11 @@ using JumpRule = std::function<StateJump(double t, const Eigen::VectorXd& x_minu
 class SteppingRun {
  public:
   /// What one StepOnce did (as EventDrivenRun::Advance): an accepted step,
-  /// one that recorded a mode change, one that reached the stop time before
-  /// t_end, the end of the run, or a failure (the trajectory's status).
-  enum class Advance { kStep, kEvent, kStopped, kEnded, kFailed };
+  /// one that recorded a mode change or a user event, one that reached the
+  /// stop time before t_end, the end of the run, a stop by the observer or a
+  /// user event (TimeSteppingOptions::observation), or a failure (the
+  /// trajectory's status).
+  enum class Advance { kStep, kEvent, kStopped, kEnded, kUserStop, kFailed };
 
   /// @throws InvalidInputError on a span within 1e-12 |t_end|, output times
   /// outside [t0, t_end], or an initial_guess of the wrong size or not finite.
@@ -63,7 +66,7 @@ class SteppingRun {
 
   /// Solves the VI at (t0, x0) for u⁰ and samples the start (from x⁺ where
   /// jump_at finds x0 inconsistent); false (the run over, with its status)
-  /// on failure.
+  /// on failure or where the observer stops the run there.
   bool Begin(const Eigen::VectorXd& x0);
   /// The time the next steps stop at, time() < stop <= t_end (t_end at
   /// first); true (as EventDrivenRun's, which CVODE may refuse).
@@ -72,12 +75,17 @@ class SteppingRun {
     return true;
   }
   /// One accepted step (adaptive: one step-doubling pair, after its
-  /// rejections), never past the stop time. @pre the run is not over.
+  /// rejections), never past the stop time; a step over which a user root
+  /// crosses zero is taken again to the crossing, which is recorded as a
+  /// kUser event and acted on (stop, or restart from the modified state
+  /// as Restart does). The observer sees what the step recorded.
+  /// @pre the run is not over.
   Advance StepOnce();
   /// Restarts at (time(), x) after the caller changed x or the problem: an
   /// inconsistent x jumps first (jump_at), the VI there gives u, the row
   /// (time(), x) follows the old one, and the step grid starts anew there.
-  /// False (the run over) when the jump or the VI fails.
+  /// False (the run over) when the jump or the VI fails, or the observer
+  /// stops the run at the restart's row.
   bool Restart(const Eigen::VectorXd& x);
 
   /// The samples so far, concluded (status, interval, certificate, wall
@@ -108,6 +116,27 @@ class SteppingRun {
   std::string JumpAt(const char* where, Eigen::VectorXd& x, bool& jumped);
   // The VI at (t_, x) from the current u; the failure, empty if none.
   std::string RestartFrom(const char* after, const Eigen::VectorXd& x);
+  // Restart after `cause` (Reinit, a user event's modify) set x.
+  bool RestartAfter(const std::string& cause, const Eigen::VectorXd& x);
+
+  // Observer and user events (TimeSteppingOptions::observation).
+  // Hands the recorder's rows and step ends to the observer; false (the run
+  // over, kStoppedByUser) where it stops.
+  bool Observed();
+  // The step of size h from (t_, current_) as the run takes it: one θ-step
+  // (end), or the step-doubling pair's halves (first, end); false if a VI
+  // failed.
+  bool TakeStep(double h, StepOutcome& first, StepOutcome& end);
+  // g(t, x, ū) at a step's end, ū from end.u and u_before (γ).
+  void EvaluateUserRootsAt(double t, const StepOutcome& end, const Eigen::VectorXd& u_before,
+                           Eigen::VectorXd& g);
+  // The user root crossing zero first over the step [t_, t_next] to `end`
+  // (first: an adaptive pair's first half), or −1; the step is then taken
+  // again to that crossing (t_next, first and end changed).
+  int UserEventInStep(double& t_next, StepOutcome& first, StepOutcome& end);
+  // The event k at t_ recorded, observed and acted on: kEvent (modified and
+  // restarted), kUserStop or kFailed.
+  Advance HandleUserEvent(int k);
 
   OneStepMethod& method_;
   const TimeSteppingOptions& options_;
@@ -130,6 +159,10 @@ class SteppingRun {
   // The jump of an inconsistent x0 (x_minus_) at t0, recorded by Conclude.
   std::optional<StateJump> start_jump_;
   Eigen::VectorXd x_minus_;
+  // The user roots at t_ and at a step's end, and the user events at one
+  // time so far (a modified state that crosses g again at once).
+  Eigen::VectorXd g_, g_next_;
+  UserEventBurst user_burst_;
 };
 
 }  // namespace dvi::internal

@@ -24,7 +24,7 @@ struct TimeSteppingIntegrator::State {
         n(x0.size()),
         run(*setup.method, t0, t_end, options, std::move(*setup.certifier), setup.breakpoints,
             setup.jump_at) {
-    if (!run.Begin(x0)) last = StepOutcome::kFailure;
+    if (!run.Begin(x0)) last = internal::NotStarted(run);
   }
 
   const TimeSteppingOptions options;
@@ -71,7 +71,7 @@ void TimeSteppingIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
   internal::SteppingRun& run = state.run;
   internal::CheckReinit(state.last, t, x, run.time(), run.t_end(), state.n);
   if (t > run.time() && AdvanceTo(t) != StepOutcome::kStopTime) return;
-  if (!run.Restart(x)) state.last = StepOutcome::kFailure;
+  if (!run.Restart(x)) state.last = internal::NotStarted(run);
 }
 
 double TimeSteppingIntegrator::t() const { return state_->run.time(); }

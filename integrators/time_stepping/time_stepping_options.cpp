@@ -39,6 +39,7 @@ void TimeSteppingOptions::Validate() const {
   DVI_THROW_UNLESS(gamma >= 0 && gamma <= 1, "gamma: " << gamma << " is outside [0, 1]");
   DVI_THROW_UNLESS(std::isfinite(h_min) && h_min >= 0, "h_min: " << h_min << " is negative or not finite");
   DVI_THROW_UNLESS(h_max == 0 || h_max >= h_min, "h_max: " << h_max << " is below h_min = " << h_min);
+  observation.Validate();
 }
 
 }  // namespace dvi
