@@ -37,7 +37,10 @@ class ModeDaeIntegrator {
   ~ModeDaeIntegrator();
 
   /// One IDA step (and the event at its end), never past t_end or a pending
-  /// AdvanceTo time. After kEnd or kFailure it returns the same again.
+  /// AdvanceTo time: kStep, kEvent (a mode change or a user event),
+  /// kStopTime, kEnd, kUserStop (options.observation's observer or a
+  /// stopping user event ended the run) or kFailure. After kEnd, kUserStop
+  /// or kFailure it returns the same again.
   StepOutcome Step();
   /// Steps until t (IDASetStopTime: the last step ends exactly at t);
   /// kStopTime (kEnd at t_end), or kFailure.

@@ -54,9 +54,10 @@ class TimeSteppingIntegrator {
 
   /// One accepted step (adaptive: one step-doubling pair after its
   /// rejections, recorded as its two halves), never past t_end or a pending
-  /// AdvanceTo time: kStep, kEvent (the step recorded a mode change),
-  /// kStopTime, kEnd or kFailure. After kEnd or kFailure it returns the same
-  /// again without stepping.
+  /// AdvanceTo time: kStep, kEvent (the step recorded a mode change or a
+  /// user event), kStopTime, kEnd, kUserStop (options.observation's observer
+  /// or a stopping user event ended the run) or kFailure. After kEnd,
+  /// kUserStop or kFailure it returns the same again without stepping.
   StepOutcome Step();
   /// Steps until t (the last step ends exactly at t); kStopTime (kEnd at
   /// t_end), or kFailure.
