@@ -176,6 +176,26 @@ TEST(ModeDaeUserEvents, SampledDataRelayControllerMatchesTheExactSolution) {
   EXPECT_EQ(integrator.trajectory().times, run.times);
 }
 
+// A clamped diode (v' = −v − 1 + u, 0 ≤ u ⊥ v ≥ 0 from v = 0: u = 1,
+// x' = 0) lets IDA's steps grow across several periods of
+// g = sin(2πt/0.8): a step whose ends both have g > 0 crosses it twice.
+// The scan of each step's interpolant finds the rising root at 0.8 that
+// IDA's sign test at step ends misses.
+TEST(ModeDaeUserEvents, RootCrossedTwiceWithinOneStepIsLocated) {
+  const Eigen::MatrixXd one = Eigen::MatrixXd::Ones(1, 1);
+  const Lcs diode = Lcs::Dense(-one, one, one, 0 * one, Eigen::VectorXd::Constant(1, -1));
+  ModeDaeOptions options = Tight();
+  options.observation.user_events.g = [](double t, const Eigen::VectorXd&,
+                                         const Eigen::VectorXd&) {
+    return Eigen::VectorXd::Constant(1, std::sin(2 * M_PI * t / 0.8));
+  };
+  options.observation.user_events.events = {{EventDirection::kRising, UserEventAction::kStop}};
+  const Trajectory run = IntegrateModeDae(diode, Eigen::VectorXd::Zero(1), 0, 3, options);
+  EXPECT_EQ(run.status, IntegrationStatus::kStoppedByUser) << run.message;
+  EXPECT_NEAR(run.times.back(), 0.8, kEventTimeError);
+  EXPECT_LE(run.stats.steps, 12) << "steps this few span the period";
+}
+
 TEST(ModeDaeUserEvents, InvalidUseIsNamed) {
   ModeDaeOptions options = Tight();
   options.observation.user_events.events = {{EventDirection::kBoth, UserEventAction::kModify}};

@@ -252,9 +252,24 @@ ModeDaeRun::Advance ModeDaeRun::StepOnce() {
     if (flag == IDA_ILL_INPUT && RestartAtZeroRoot()) continue;
     if (!Check(flag, "IDASolve")) return Advance::kFailed;
     t_ = t_return;
+    // A user event k at t: after its action, the stop time reached there.
+    const auto user_event = [&](int k, double t) {
+      const Advance advance = HandleUserEvent(k, t);
+      if (advance != Advance::kEvent || t_ < stop_time_) return advance;
+      return stop_time_ >= t_end_ ? Advance::kEnded : Advance::kStopped;
+    };
     if (flag != IDA_ROOT_RETURN) {
       std::vector<int> roots;
       const double missed = MissedRoot(roots);
+      const UserRoot user = MissedUserRoot();
+      if (user.found && !(missed <= user.time)) {  // before a missed mode root, if any
+        if (!Check(IDAGetDky(ida_.get(), user.time, 0, y_.get()), "IDAGetDky"))
+          return Advance::kFailed;
+        SampleOutputs(user.time);
+        t_ = user.time;
+        RecordStep(user.time);
+        return user_event(user.event, user.time);
+      }
       if (!std::isnan(missed) && IDAGetDky(ida_.get(), missed, 0, y_.get()) == IDA_SUCCESS) {
         SampleOutputs(missed);
         t_ = missed;
@@ -303,11 +318,7 @@ ModeDaeRun::Advance ModeDaeRun::StepOnce() {
       root = located != ConsistentRoot::kNone;
       if (root && !HandleRoot(t_root, roots)) return Advance::kFailed;
     }
-    if (user_root >= 0) {
-      const Advance advance = HandleUserEvent(user_root, t_return);
-      if (advance != Advance::kEvent || t_ < stop_time_) return advance;
-      return stop_time_ >= t_end_ ? Advance::kEnded : Advance::kStopped;
-    }
+    if (user_root >= 0) return user_event(user_root, t_return);
     if (!root && !done) {
       if (options_.output_times.empty()) {
         Sample(t_return, ObservationPoint::kStep);
@@ -333,6 +344,28 @@ bool ModeDaeRun::Observed() {
   std::ostringstream message;
   message << "the observer stopped the run at t = " << t_ << " (" << ToString(stop->point) << ")";
   return Fail(IntegrationStatus::kStoppedByUser, message.str());
+}
+
+// IDA compares the user's g at step ends only: one crossed twice within
+// the step is scanned for on its interpolant (as the CVODE run does).
+UserRoot ModeDaeRun::MissedUserRoot() {
+  const UserEvents& events = options_.observation.user_events;
+  void* ida = ida_.get();
+  double t_n = 0, h = 0;
+  if (events.empty() || IDAGetCurrentTime(ida, &t_n) != IDA_SUCCESS ||
+      IDAGetLastStep(ida, &h) != IDA_SUCCESS || !(h > 0))
+    return {};
+  Eigen::VectorXd x(n_), u(m_);
+  const auto roots_at = [&](double t, double* g) {
+    if (IDAGetDky(ida, t, 0, dky_.get()) != IDA_SUCCESS) return false;
+    const Eigen::Map<const Eigen::VectorXd> y(dky_.data(), dae_.size());
+    x = y.head(n_);
+    u = y.tail(m_);
+    EvaluateUserRoots(events, t, x, u, g);
+    return true;
+  };
+  return LocateMissedUserRoot(events, std::max(t_n - h, mode_start_), t_,
+                              RootTimeTolerance(t_n, h), roots_at);
 }
 
 int ModeDaeRun::ReportedUserRoot(const std::vector<int>& roots) const {

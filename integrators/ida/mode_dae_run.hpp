@@ -128,6 +128,8 @@ class ModeDaeRun {
   // The first user root of IDAGetRootInfo's `roots` (after the mode's 2m),
   // or −1.
   int ReportedUserRoot(const std::vector<int>& roots) const;
+  // A user root crossed within the last step that IDA did not report.
+  UserRoot MissedUserRoot();
   // The user event k at t (y_ the state there) recorded, observed and acted
   // on: kEvent (modified and restarted), kUserStop or kFailed.
   Advance HandleUserEvent(int k, double t);
