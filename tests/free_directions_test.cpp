@@ -106,5 +106,91 @@ TEST(FreeDirections, ZooRectifiersFromRestRunEventDrivenToTheirExactSolutions) {
   }
 }
 
+// The DC bridge on KLU (CVODE's sparse path, linear_solver kKlu): while
+// all diodes block, G_u = D_44 = 0 and the flow's Jacobian is still A (B_α
+// kills the free direction), at ln 2 the clamp.
+TEST(FreeDirections, DcBridgeOnKluBlocksThenClampsAtLn2) {
+  EventDrivenOptions options;
+  options.rtol = 1e-10;
+  options.atol = 1e-12;
+  options.linear_solver = LinearSolver::kKlu;
+  options.output_times = Grid(2, 201);
+  const Trajectory run = IntegrateEventDriven(DcBridge(), Eigen::VectorXd::Constant(1, 2), 0, 2,
+                                              options);
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  ASSERT_FALSE(run.events.empty());
+  EXPECT_NEAR(run.events.front().time, std::log(2.0), 1e-9);
+  for (std::size_t k = 0; k < run.times.size(); ++k) {
+    const double t = run.times[k];
+    EXPECT_NEAR(run.states[k](0), t < std::log(2.0) ? 2 * std::exp(-t) : 1.0, 1e-8) << t;
+  }
+}
+
+// The DC bridge feeding a chain of `nodes` RC cells (C = 1, R = 1 between
+// neighbours, a leak of 1 to ground at every node, the bridge's filter the
+// first node), every node charged to 2: the chain decays uniformly,
+// v_k = 2 e^{−t}, until the filter reaches E = 1 at ln 2 and D1/D4 clamp
+// it; the chain then relaxes towards the clamp.
+Lcs BridgeLadder(int nodes) {
+  std::vector<Eigen::Triplet<double>> a;
+  for (int k = 0; k < nodes; ++k) {
+    a.emplace_back(k, k, -1.0);
+    if (k > 0) {
+      a.emplace_back(k, k, -1.0);
+      a.emplace_back(k, k - 1, 1.0);
+    }
+    if (k + 1 < nodes) {
+      a.emplace_back(k, k, -1.0);
+      a.emplace_back(k, k + 1, 1.0);
+    }
+  }
+  SparseMatrix A(nodes, nodes), B(nodes, 4), C(4, nodes);
+  A.setFromTriplets(a.begin(), a.end());
+  B.insert(0, 0) = 1;
+  B.insert(0, 1) = 1;
+  C.insert(0, 0) = 1;
+  C.insert(1, 0) = 1;
+  const Lcs bridge = DcBridge();
+  return Lcs::Sparse(A, B, C, bridge.D, Eigen::VectorXd(), bridge.q);
+}
+
+// n + m = 201: auto runs it on IDA (mode DAEs), event on KLU (n ≥ 100).
+TEST(FreeDirections, BridgeLadderRunsEventDrivenOnTheSparsePaths) {
+  const int nodes = 197;
+  const double horizon = 2, t_star = std::log(2.0);
+  const Lcs ladder = BridgeLadder(nodes);
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(nodes, 2);
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  options.event.output_times = Grid(horizon, 101);
+  options.event.linear_solver = LinearSolver::kDense;
+  const Trajectory dense = IntegrateEventDriven(ladder, x0, 0, horizon, options.event);
+  ASSERT_TRUE(dense.succeeded()) << dense.message;
+  ASSERT_FALSE(dense.events.empty());
+  EXPECT_NEAR(dense.events.front().time, t_star, 1e-9);
+  options.event.linear_solver = LinearSolver::kAuto;
+  for (const bool automatic : {false, true}) {
+    const Trajectory run = automatic ? IntegrateAuto(ladder, x0, 0, horizon, options)
+                                     : IntegrateEventDriven(ladder, x0, 0, horizon, options.event);
+    const std::string what = automatic ? "auto" : "event";
+    ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
+    ASSERT_FALSE(run.events.empty()) << what;
+    EXPECT_NEAR(run.events.front().time, t_star, 1e-9) << what;
+    double error = 0;
+    for (std::size_t k = 0; k < run.times.size(); ++k) {
+      const double t = run.times[k];
+      error = std::max(error, (run.states[k] - dense.StateAt(t)).lpNorm<Eigen::Infinity>());
+      if (t < t_star) {
+        EXPECT_NEAR(run.states[k](nodes - 1), 2 * std::exp(-t), 1e-8) << what << " at t = " << t;
+      }
+    }
+    EXPECT_LE(error, 1e-8) << what;
+    RecordProperty(what + " error against the dense run", std::to_string(error));
+    for (const MethodInterval& interval : run.intervals)
+      EXPECT_NE(interval.method, IntegrationMethod::kTimeStepping) << what << interval.reason;
+  }
+}
+
 }  // namespace
 }  // namespace dvi

@@ -154,7 +154,10 @@ class BoxModeSystem {
   /// constant inside the mode. Formed from sparse products and the dense
   /// a×a G_u, never an n×n dense matrix; every diagonal entry is stored (a
   /// zero if need be), so that CVODE's I − γJ keeps J's pattern, which KLU's
-  /// reused analysis needs. False when G_u is singular.
+  /// reused analysis needs. In a mode with free directions (Proposition
+  /// 5.1) G_u⁻¹ is G_u's pseudo-inverse: B_α kills the free directions, so
+  /// the placement along them does not enter J. False when G_u is singular
+  /// otherwise.
   /// @pre affine; Solve succeeded in the current mode.
   bool SparseRhsJacobian(SparseMatrix& J) const;
   /// The 2m root functions; @pre Solve(t, x) succeeded.
