@@ -192,5 +192,58 @@ TEST(FreeDirections, BridgeLadderRunsEventDrivenOnTheSparsePaths) {
   }
 }
 
+// Two free directions whose polytope is a thin slanted strip closing as x
+// grows: x' = 1 from x0 = 0 and u ≥ 0 with
+//   w1 = −u3 + u4 + u5,  w2 = u3 − u4 + u5   (D skew),
+//   w3 = u1 − u2 + ε,  w4 = u2 − u1 + ε,  w5 = L − x − u1 − u2.
+// In the mode {u1, u2 free} G_u = D[12, 12] = 0 and B = 0: u1, u2 lie
+// anywhere in the strip |u1 − u2| ≤ ε, 0 ≤ u1 + u2 ≤ L − x, which is not
+// empty until x = L: no event before t = L. Placed one direction at a time,
+// u stays on the strip's diagonal wherever its end u1 + u2 = L − x lets it
+// (each direction's interval is [u_other − ε, u_other + ε]) and moves at
+// most ε per solve: once a step moves the end by more, both intervals are
+// empty and u ends outside the strip (on 71d9f50: the VI residual 2.5e-4 at
+// the horizon, the output uncertified). At the strip's Chebyshev centre it
+// stays inside.
+TEST(FreeDirections, TwoFreeDirectionsInAThinStripArePlacedJointly) {
+  constexpr double kWidth = 1e-3, kLength = 1, kHorizon = 0.9995;
+  Eigen::MatrixXd F(3, 2), D = Eigen::MatrixXd::Zero(5, 5);
+  F << 1, -1, -1, 1, -1, -1;
+  D.bottomLeftCorner(3, 2) = F;
+  D.topRightCorner(2, 3) = -F.transpose();
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(5, 1);
+  C(4, 0) = -1;
+  Eigen::VectorXd q(5);
+  q << 0, 0, kWidth, kWidth, kLength;
+  const Lcs strip = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 5), C, D,
+                               Eigen::VectorXd::Ones(1), q);
+  for (const bool automatic : {false, true}) {
+    AutoOptions options;
+    options.event.rtol = 1e-10;
+    options.event.atol = 1e-12;
+    options.event.output_times = Grid(kHorizon, 201);
+    const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(1);
+    const Trajectory run = automatic
+                               ? IntegrateAuto(strip, x0, 0, kHorizon, options)
+                               : IntegrateEventDriven(strip, x0, 0, kHorizon, options.event);
+    const std::string what = automatic ? "auto" : "event";
+    ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
+    EXPECT_EQ(run.events.size(), 0u) << what << ": first at t = " << run.events.front().time;
+    // u in the strip to the solver's tolerance (1e-10).
+    constexpr double kSlack = 1e-10;
+    for (std::size_t k = 0; k < run.times.size(); ++k) {
+      const double t = run.times[k];
+      EXPECT_NEAR(run.states[k](0), t, 1e-12) << what << " at t = " << t;
+      const Eigen::VectorXd& u = run.multipliers[k];
+      EXPECT_GE(u.minCoeff(), -kSlack) << what << " at t = " << t;
+      EXPECT_LE(std::abs(u(0) - u(1)), kWidth + kSlack) << what << " at t = " << t;
+      EXPECT_LE(u(0) + u(1), kLength - t + kSlack) << what << " at t = " << t;
+    }
+    EXPECT_TRUE(run.certificate.certified()) << what << ": VI ratio " << run.certificate.vi.ratio;
+    for (const MethodInterval& interval : run.intervals)
+      EXPECT_EQ(interval.method, IntegrationMethod::kEventDriven) << what << interval.reason;
+  }
+}
+
 }  // namespace
 }  // namespace dvi

@@ -9,12 +9,15 @@
 //
 // u_A solves G = 0 by Gauss–Newton with the minimum-norm step (a complete
 // orthogonal decomposition of G_u: the steps never move u along the null
-// space), and then, along each free direction in turn, u is placed at the
-// MIDDLE of the interval in which every root function of the mode stays
-// non-negative (the free components' bounds, the bound rows' F of the sign
-// that holds them): the mode then holds as long as that interval is not
-// empty, and its root functions reach zero where the interval closes (both
-// of its ends meet), which is where the mode ends. A null vector that moves
+// space), and then u is placed at the CENTRE of the set in which every
+// root function of the mode stays non-negative (the free components'
+// bounds, the bound rows' F of the sign that holds them): along one free
+// direction the middle of an interval, along k > 1 the Chebyshev centre of
+// a polytope in ℝᵏ (chebyshev_centre.hpp), all directions jointly. The mode
+// then holds as long as that set is not empty, and its root functions reach
+// zero where it closes, which is where the mode ends (placed one direction
+// at a time, u can reach a facet while the polytope is still open along
+// another direction: a spurious end). A null vector that moves
 // the flow is not a free direction: where the differentiation procedure
 // (Theorems 5.2/5.3) does not remove it, the flow is not unique.
 #include <algorithm>
@@ -23,6 +26,7 @@
 #include <vector>
 
 #include "modes/box_mode.hpp"
+#include "modes/chebyshev_centre.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -33,7 +37,7 @@ constexpr int kMaxGaussNewtonIterations = 50;
 constexpr double kSlopeTolerance = 1e-10;
 
 // The free directions of a mode: a basis of null(G_u) (a × k, unit
-// columns) when G_u (a × a) is singular at kRankTolerance and f_u on the
+// columns, orthonormal when k > 1) when G_u (a × a) is singular at kRankTolerance and f_u on the
 // free columns (n × a) vanishes on it; empty otherwise (G_u regular, or a
 // null vector moves the flow: the differentiation procedure's case).
 Eigen::MatrixXd FreeDirections(const Eigen::MatrixXd& Gu, const Eigen::MatrixXd& fu_free) {
@@ -50,6 +54,10 @@ Eigen::MatrixXd FreeDirections(const Eigen::MatrixXd& Gu, const Eigen::MatrixXd&
     if (move > kRankTolerance * scale) return {};
   }
   for (Eigen::Index k = 0; k < N.cols(); ++k) N.col(k).normalize();
+  // Several: an orthonormal basis, so that distances in s (the Chebyshev
+  // centre of SolveAlongFreeDirections) are distances in u.
+  if (N.cols() > 1)
+    N = Eigen::HouseholderQR<Eigen::MatrixXd>(N).householderQ() * Eigen::MatrixXd::Identity(a, N.cols());
   return N;
 }
 
@@ -117,44 +125,77 @@ bool BoxModeSystem::SolveAlongFreeDirections(double t, const Eigen::VectorXd& x,
              "free components is singular and F there is not consistent)";
     return false;
   }
-  // Each free direction d: every root function is affine in s along
-  // u + s d (exactly for an LCS; to first order otherwise), g + s·slope.
+  // Every root function is affine in s along u + N s (exactly for an LCS;
+  // to first order otherwise): g + S s, one row of S per root function
+  // that a free direction moves.
   Eigen::VectorXd F;
   problem_.EvalF(t, x, u, F);
   Eigen::MatrixXd Fx, Fu;
   problem_.FJacobians(t, x, u, Fx, Fu);
-  const double inf = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < free_directions_.cols(); ++k) {
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(m());
-    for (int i = 0; i < a; ++i) d(free_[i]) = free_directions_(i, k);
-    const Eigen::VectorXd slopes = Fu * d;
-    const double slope_scale =
-        kSlopeTolerance * std::max({1.0, slopes.lpNorm<Eigen::Infinity>(), d.lpNorm<Eigen::Infinity>()});
-    double low = -inf, high = inf;
-    const auto bound = [&](double value, double slope) {  // value + s·slope ≥ 0
-      if (slope > slope_scale) low = std::max(low, -value / slope);
-      if (slope < -slope_scale) high = std::min(high, -value / slope);
-    };
-    for (int j = 0; j < m(); ++j) {
-      if (mode_[j] == MultiplierBound::kFree) {
-        if (std::isfinite(problem_.lower()(j))) bound(u(j) - problem_.lower()(j), d(j));
-        if (std::isfinite(problem_.upper()(j))) bound(problem_.upper()(j) - u(j), -d(j));
-      } else if (problem_.lower()(j) != problem_.upper()(j)) {
-        const double sign = mode_[j] == MultiplierBound::kLower ? 1.0 : -1.0;
-        bound(sign * F(j), sign * slopes(j));
-      }
+  const Eigen::Index k = free_directions_.cols();
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(m(), k);
+  for (int i = 0; i < a; ++i) N.row(free_[i]) = free_directions_.row(i);
+  const Eigen::MatrixXd FuN = Fu * N;
+  std::vector<double> values;
+  std::vector<Eigen::RowVectorXd> slopes;
+  const auto add = [&](double value, const Eigen::RowVectorXd& slope) {  // value + slope·s ≥ 0
+    values.push_back(value);
+    slopes.push_back(slope);
+  };
+  for (int j = 0; j < m(); ++j) {
+    if (mode_[j] == MultiplierBound::kFree) {
+      if (std::isfinite(problem_.lower()(j))) add(u(j) - problem_.lower()(j), N.row(j));
+      if (std::isfinite(problem_.upper()(j))) add(problem_.upper()(j) - u(j), -N.row(j));
+    } else if (problem_.lower()(j) != problem_.upper()(j)) {
+      const double sign = mode_[j] == MultiplierBound::kLower ? 1.0 : -1.0;
+      add(sign * F(j), sign * FuN.row(j));
     }
-    // The middle of [low, high]; unbounded on one side, the nearest point
-    // of it to where u is; unbounded on both, u stays.
-    double s = 0;
-    if (std::isfinite(low) && std::isfinite(high))
-      s = 0.5 * (low + high);
-    else if (std::isfinite(low))
-      s = std::max(0.0, low);
-    else if (std::isfinite(high))
-      s = std::min(0.0, high);
-    u += s * d;
-    F += s * slopes;
+  }
+  double largest = std::max(1.0, FuN.cwiseAbs().maxCoeff());
+  std::vector<Eigen::Index> moved;
+  for (std::size_t i = 0; i < slopes.size(); ++i)
+    if (slopes[i].norm() > kSlopeTolerance * largest) moved.push_back(static_cast<Eigen::Index>(i));
+  Eigen::MatrixXd S(moved.size(), k);
+  Eigen::VectorXd g(moved.size());
+  for (std::size_t r = 0; r < moved.size(); ++r) {
+    S.row(r) = slopes[moved[r]];
+    g(r) = values[moved[r]];
+  }
+  Eigen::VectorXd s;
+  double radius = 0;
+  if (k > 1 && ChebyshevCentre(S, g, s, radius)) {
+    // Several directions jointly: the centre of the polytope of s where
+    // every root function is non-negative, the point farthest from all of
+    // its facets. The mode then holds until the polytope is empty; placed
+    // one direction at a time, u could reach a facet first (an interval
+    // along one direction closes while the polytope is still open along
+    // the others, a slanted strip: free_directions_test).
+    u += N * s;
+  } else {
+    // One direction (the Chebyshev centre of an interval is its middle), or
+    // a polytope without a centre (holding balls of every radius): along
+    // each direction in turn, the middle of its interval; unbounded on one
+    // side, the nearest point of it to where u is; unbounded on both, u
+    // stays.
+    const double inf = std::numeric_limits<double>::infinity();
+    for (Eigen::Index d = 0; d < k; ++d) {
+      double low = -inf, high = inf;
+      for (Eigen::Index r = 0; r < S.rows(); ++r) {
+        const double slope = S(r, d);
+        if (std::abs(slope) <= kSlopeTolerance * largest) continue;
+        if (slope > 0) low = std::max(low, -g(r) / slope);
+        if (slope < 0) high = std::min(high, -g(r) / slope);
+      }
+      double step = 0;
+      if (std::isfinite(low) && std::isfinite(high))
+        step = 0.5 * (low + high);
+      else if (std::isfinite(low))
+        step = std::max(0.0, low);
+      else if (std::isfinite(high))
+        step = std::min(0.0, high);
+      u += step * N.col(d);
+      g += step * S.col(d);
+    }
   }
   Accept(t, x);
   return true;
