@@ -17,6 +17,7 @@
 
 #include "dvi/auto_driver.hpp"
 #include "dvi/event_driven.hpp"
+#include "dvi/mode_dae.hpp"
 #include "scene_file.hpp"
 #include "support/zoo/zoo_model.hpp"
 
@@ -152,6 +153,18 @@ Lcs BridgeLadder(int nodes) {
   C.insert(1, 0) = 1;
   const Lcs bridge = DcBridge();
   return Lcs::Sparse(A, B, C, bridge.D, Eigen::VectorXd(), bridge.q);
+}
+
+// IDA's mode DAEs in (x, u) need u unique: the blocking bridge is refused,
+// naming Proposition 5.1's case and the path that integrates it.
+TEST(FreeDirections, ModeDaeRefusesTheBlockingBridgeNamingTheOptionThatWorks) {
+  ModeDaeOptions options;
+  const Trajectory run =
+      IntegrateModeDae(DcBridge(), Eigen::VectorXd::Constant(1, 2), 0, 2, options);
+  EXPECT_EQ(run.status, IntegrationStatus::kNotIndexOne);
+  EXPECT_NE(run.message.find("is not unique"), std::string::npos) << run.message;
+  EXPECT_NE(run.message.find("Proposition 5.1"), std::string::npos) << run.message;
+  EXPECT_NE(run.message.find("IntegrateEventDriven"), std::string::npos) << run.message;
 }
 
 // n + m = 201: auto runs it on IDA (mode DAEs), event on KLU (n ≥ 100).
