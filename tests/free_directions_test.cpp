@@ -205,6 +205,54 @@ TEST(FreeDirections, BridgeLadderRunsEventDrivenOnTheSparsePaths) {
   }
 }
 
+// Two DC bridges side by side, their filters charged to 2 and 3: both
+// block (two free directions, V_b of each, separable: no root function
+// moves both) until each filter reaches E = 1, at ln 2 and ln 3. Separable
+// directions are placed each at the middle of its own interval (the centre
+// of their box of feasible V_b): the bridge that clamps first does not pull
+// the other's V_b onto an end of its interval.
+TEST(FreeDirections, TwoSeparateBridgesClampAtLn2AndLn3) {
+  const Lcs one = DcBridge();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(2, 8), C = Eigen::MatrixXd::Zero(8, 2),
+                  D = Eigen::MatrixXd::Zero(8, 8);
+  Eigen::VectorXd q(8);
+  for (int k = 0; k < 2; ++k) {
+    B.block(k, 4 * k, 1, 4) = Eigen::MatrixXd(one.B);
+    C.block(4 * k, k, 4, 1) = Eigen::MatrixXd(one.C);
+    D.block(4 * k, 4 * k, 4, 4) = Eigen::MatrixXd(one.D);
+    q.segment(4 * k, 4) = one.q;
+  }
+  const Lcs two = Lcs::Dense(-Eigen::MatrixXd::Identity(2, 2), B, C, D, Eigen::VectorXd(), q);
+  const double horizon = 1.5;
+  for (const bool automatic : {false, true}) {
+    AutoOptions options;
+    options.event.rtol = 1e-10;
+    options.event.atol = 1e-12;
+    options.event.output_times = Grid(horizon, 151);
+    const Eigen::Vector2d x0(2, 3);
+    const Trajectory run = automatic ? IntegrateAuto(two, x0, 0, horizon, options)
+                                     : IntegrateEventDriven(two, x0, 0, horizon, options.event);
+    const std::string what = automatic ? "auto" : "event";
+    ASSERT_TRUE(run.succeeded()) << what << ": " << run.message;
+    std::set<double> times;
+    for (const Event& event : run.events) times.insert(event.time);
+    ASSERT_EQ(times.size(), 2u) << what;
+    EXPECT_NEAR(*times.begin(), std::log(2.0), 1e-9) << what;
+    EXPECT_NEAR(*times.rbegin(), std::log(3.0), 1e-9) << what;
+    for (std::size_t k = 0; k < run.times.size(); ++k) {
+      const double t = run.times[k];
+      EXPECT_NEAR(run.states[k](0), std::max(2 * std::exp(-t), 1.0), 1e-8) << what << t;
+      EXPECT_NEAR(run.states[k](1), std::max(3 * std::exp(-t), 1.0), 1e-8) << what << t;
+      // While both block, each V_b in the middle of its [0, v − E].
+      if (t < std::log(2.0)) {
+        EXPECT_NEAR(run.multipliers[k](3), (run.states[k](0) - 1) / 2, 1e-10) << what << t;
+        EXPECT_NEAR(run.multipliers[k](7), (run.states[k](1) - 1) / 2, 1e-10) << what << t;
+      }
+    }
+    EXPECT_TRUE(run.certificate.certified()) << what;
+  }
+}
+
 // Two free directions whose polytope is a thin slanted strip closing as x
 // grows: x' = 1 from x0 = 0 and u ≥ 0 with
 //   w1 = −u3 + u4 + u5,  w2 = u3 − u4 + u5   (D skew),

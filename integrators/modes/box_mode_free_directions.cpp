@@ -53,11 +53,15 @@ Eigen::MatrixXd FreeDirections(const Eigen::MatrixXd& Gu, const Eigen::MatrixXd&
     const double move = moves.col(k).lpNorm<Eigen::Infinity>() / N.col(k).lpNorm<Eigen::Infinity>();
     if (move > kRankTolerance * scale) return {};
   }
-  for (Eigen::Index k = 0; k < N.cols(); ++k) N.col(k).normalize();
-  // Several: an orthonormal basis, so that distances in s (the Chebyshev
-  // centre of SolveAlongFreeDirections) are distances in u.
-  if (N.cols() > 1)
-    N = Eigen::HouseholderQR<Eigen::MatrixXd>(N).householderQ() * Eigen::MatrixXd::Identity(a, N.cols());
+  // Orthonormal by modified Gram–Schmidt, so that distances in s (the
+  // Chebyshev centre of SolveAlongFreeDirections) are distances in u; a
+  // column whose support no earlier one shares is only normalized (its
+  // products with them are exactly 0), so the blocks of separate
+  // sub-circuits stay exactly apart.
+  for (Eigen::Index k = 0; k < N.cols(); ++k) {
+    for (Eigen::Index i = 0; i < k; ++i) N.col(k) -= N.col(i).dot(N.col(k)) * N.col(i);
+    N.col(k).normalize();
+  }
   return N;
 }
 
@@ -75,6 +79,92 @@ bool LcsModeHasFreeDirections(const SparseMatrix& M, const SparseMatrix& B, cons
     fu_free.col(k) = Eigen::VectorXd(B.col(free[k]));
   }
   return FreeDirections(Gu, fu_free).cols() > 0;
+}
+
+// u moved along the free directions (the columns of N, m × k) to the
+// centre of the set {s : g + S s ≥ 0} where the mode's root functions are
+// non-negative (S: their slopes along the directions, one row each);
+// slopes within zero of 0 are none.
+void PlaceAtCentre(const Eigen::MatrixXd& S, Eigen::VectorXd g, const Eigen::MatrixXd& N,
+                   double zero, Eigen::VectorXd& u) {
+  const auto moves = [&](Eigen::Index r, Eigen::Index d) {
+    return std::abs(S(r, d)) > zero;
+  };
+  // The directions in blocks that share no root function (union–find):
+  // each block's polytope is a factor of the whole, its centre placed on
+  // its own. Separable directions (every root function moved by one) are
+  // blocks of one, whose polytope is an interval: the whole is then a box,
+  // and the middle of each interval is its centre — the largest smallest
+  // slack of every block at once, not only of the narrowest (the
+  // Chebyshev centre of the box is not unique: one of its optimal vertices
+  // could put a wide interval's u at the narrow one's radius from an end).
+  const Eigen::Index k = S.cols();
+  std::vector<Eigen::Index> parent(k);
+  for (Eigen::Index d = 0; d < k; ++d) parent[d] = d;
+  const auto root = [&](Eigen::Index d) {
+    while (parent[d] != d) d = parent[d] = parent[parent[d]];
+    return d;
+  };
+  for (Eigen::Index r = 0; r < S.rows(); ++r) {
+    Eigen::Index first = -1;
+    for (Eigen::Index d = 0; d < k; ++d) {
+      if (!moves(r, d)) continue;
+      if (first < 0)
+        first = d;
+      else
+        parent[root(d)] = root(first);
+    }
+  }
+  std::vector<char> placed(k, 0);
+  for (Eigen::Index b = 0; b < k; ++b) {
+    if (root(b) != b) continue;
+    std::vector<Eigen::Index> directions, rows;
+    for (Eigen::Index d = 0; d < k; ++d)
+      if (root(d) == b) directions.push_back(d);
+    if (directions.size() < 2) continue;
+    for (Eigen::Index r = 0; r < S.rows(); ++r)
+      if (std::any_of(directions.begin(), directions.end(), [&](Eigen::Index d) { return moves(r, d); }))
+        rows.push_back(r);
+    const Eigen::MatrixXd S_block = S(rows, directions);
+    const Eigen::VectorXd g_block = g(rows);
+    Eigen::VectorXd s;
+    double radius = 0;
+    if (!ChebyshevCentre(S_block, g_block, s, radius)) continue;
+    // Several directions jointly: the centre of the polytope of s where
+    // every root function is non-negative, the point farthest from all of
+    // its facets. The mode then holds until the polytope is empty; placed
+    // one direction at a time, u could reach a facet first (an interval
+    // along one direction closes while the polytope is still open along
+    // the others, a slanted strip: free_directions_test).
+    u += N(Eigen::all, directions) * s;
+    g += S(Eigen::all, directions) * s;
+    for (const Eigen::Index d : directions) placed[d] = 1;
+  }
+  // One direction in its block (the Chebyshev centre of an interval is its
+  // middle), or a block without a centre (a polytope holding balls of every
+  // radius): along each direction in turn, the middle of its interval;
+  // unbounded on one side, the nearest point of it to where u is; unbounded
+  // on both, u stays.
+  const double inf = std::numeric_limits<double>::infinity();
+  for (Eigen::Index d = 0; d < k; ++d) {
+    if (placed[d]) continue;
+    double low = -inf, high = inf;
+    for (Eigen::Index r = 0; r < S.rows(); ++r) {
+      if (!moves(r, d)) continue;
+      const double slope = S(r, d);
+      if (slope > 0) low = std::max(low, -g(r) / slope);
+      if (slope < 0) high = std::min(high, -g(r) / slope);
+    }
+    double step = 0;
+    if (std::isfinite(low) && std::isfinite(high))
+      step = 0.5 * (low + high);
+    else if (std::isfinite(low))
+      step = std::max(0.0, low);
+    else if (std::isfinite(high))
+      step = std::min(0.0, high);
+    u += step * N.col(d);
+    g += step * S.col(d);
+  }
 }
 
 }  // namespace
@@ -151,7 +241,7 @@ bool BoxModeSystem::SolveAlongFreeDirections(double t, const Eigen::VectorXd& x,
       add(sign * F(j), sign * FuN.row(j));
     }
   }
-  double largest = std::max(1.0, FuN.cwiseAbs().maxCoeff());
+  const double largest = std::max(1.0, FuN.cwiseAbs().maxCoeff());
   std::vector<Eigen::Index> moved;
   for (std::size_t i = 0; i < slopes.size(); ++i)
     if (slopes[i].norm() > kSlopeTolerance * largest) moved.push_back(static_cast<Eigen::Index>(i));
@@ -161,42 +251,7 @@ bool BoxModeSystem::SolveAlongFreeDirections(double t, const Eigen::VectorXd& x,
     S.row(r) = slopes[moved[r]];
     g(r) = values[moved[r]];
   }
-  Eigen::VectorXd s;
-  double radius = 0;
-  if (k > 1 && ChebyshevCentre(S, g, s, radius)) {
-    // Several directions jointly: the centre of the polytope of s where
-    // every root function is non-negative, the point farthest from all of
-    // its facets. The mode then holds until the polytope is empty; placed
-    // one direction at a time, u could reach a facet first (an interval
-    // along one direction closes while the polytope is still open along
-    // the others, a slanted strip: free_directions_test).
-    u += N * s;
-  } else {
-    // One direction (the Chebyshev centre of an interval is its middle), or
-    // a polytope without a centre (holding balls of every radius): along
-    // each direction in turn, the middle of its interval; unbounded on one
-    // side, the nearest point of it to where u is; unbounded on both, u
-    // stays.
-    const double inf = std::numeric_limits<double>::infinity();
-    for (Eigen::Index d = 0; d < k; ++d) {
-      double low = -inf, high = inf;
-      for (Eigen::Index r = 0; r < S.rows(); ++r) {
-        const double slope = S(r, d);
-        if (std::abs(slope) <= kSlopeTolerance * largest) continue;
-        if (slope > 0) low = std::max(low, -g(r) / slope);
-        if (slope < 0) high = std::min(high, -g(r) / slope);
-      }
-      double step = 0;
-      if (std::isfinite(low) && std::isfinite(high))
-        step = 0.5 * (low + high);
-      else if (std::isfinite(low))
-        step = std::max(0.0, low);
-      else if (std::isfinite(high))
-        step = std::min(0.0, high);
-      u += step * N.col(d);
-      g += step * S.col(d);
-    }
-  }
+  PlaceAtCentre(S, g, N, kSlopeTolerance * largest, u);
   Accept(t, x);
   return true;
 }
