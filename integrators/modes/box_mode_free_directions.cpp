@@ -12,14 +12,15 @@
 // space), and then u is placed at the CENTRE of the set in which every
 // root function of the mode stays non-negative (the free components'
 // bounds, the bound rows' F of the sign that holds them): along one free
-// direction the middle of an interval, along k > 1 the Chebyshev centre of
-// a polytope in ℝᵏ (chebyshev_centre.hpp), all directions jointly. The mode
-// then holds as long as that set is not empty, and its root functions reach
-// zero where it closes, which is where the mode ends (placed one direction
-// at a time, u can reach a facet while the polytope is still open along
-// another direction: a spurious end). A null vector that moves
-// the flow is not a free direction: where the differentiation procedure
-// (Theorems 5.2/5.3) does not remove it, the flow is not unique.
+// direction the middle of an interval, along k > 1 directions that share
+// root functions the Chebyshev centre of a polytope in ℝᵏ
+// (chebyshev_centre.hpp), those directions jointly. The mode then holds as
+// long as that set is not empty, and its root functions reach zero where it
+// closes, which is where the mode ends (placed one direction at a time, u
+// can reach a facet while the polytope is still open along another
+// direction: a spurious end). A null vector that moves the flow is not a
+// free direction: where the differentiation procedure (Theorems 5.2/5.3)
+// does not remove it, the flow is not unique.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -36,9 +37,9 @@ constexpr int kMaxGaussNewtonIterations = 50;
 // to the largest, is zero: the root function does not bound the direction.
 constexpr double kSlopeTolerance = 1e-10;
 
-// The free directions of a mode: a basis of null(G_u) (a × k, unit
-// columns, orthonormal when k > 1) when G_u (a × a) is singular at kRankTolerance and f_u on the
-// free columns (n × a) vanishes on it; empty otherwise (G_u regular, or a
+// The free directions of a mode: an orthonormal basis of null(G_u) (a × k)
+// when G_u (a × a) is singular at kRankTolerance and f_u on the free
+// columns (n × a) vanishes on it; empty otherwise (G_u regular, or a
 // null vector moves the flow: the differentiation procedure's case).
 Eigen::MatrixXd FreeDirections(const Eigen::MatrixXd& Gu, const Eigen::MatrixXd& fu_free) {
   const Eigen::Index a = Gu.rows();
@@ -123,7 +124,8 @@ void PlaceAtCentre(const Eigen::MatrixXd& S, Eigen::VectorXd g, const Eigen::Mat
       if (root(d) == b) directions.push_back(d);
     if (directions.size() < 2) continue;
     for (Eigen::Index r = 0; r < S.rows(); ++r)
-      if (std::any_of(directions.begin(), directions.end(), [&](Eigen::Index d) { return moves(r, d); }))
+      if (std::any_of(directions.begin(), directions.end(),
+                      [&](Eigen::Index d) { return moves(r, d); }))
         rows.push_back(r);
     const Eigen::MatrixXd S_block = S(rows, directions);
     const Eigen::VectorXd g_block = g(rows);

@@ -42,7 +42,8 @@ bool ChebyshevCentre(const Eigen::MatrixXd& S, const Eigen::VectorXd& g, Eigen::
   const long max_pivots = 50 * static_cast<long>(columns);
   for (long pivot = 0;; ++pivot) {
     if (pivot == max_pivots) return false;
-    const double cost_scale = kPivotTolerance * std::max(1.0, cost.head(columns).cwiseAbs().maxCoeff());
+    const double cost_scale =
+        kPivotTolerance * std::max(1.0, cost.head(columns).cwiseAbs().maxCoeff());
     Eigen::Index entering = -1;
     for (Eigen::Index j = 0; j < columns && entering < 0; ++j)
       if (cost(j) > cost_scale) entering = j;
