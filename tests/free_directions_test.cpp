@@ -199,7 +199,9 @@ TEST(FreeDirections, BridgeLadderRunsEventDrivenOnTheSparsePaths) {
       }
     }
     EXPECT_LE(error, 1e-8) << what;
-    RecordProperty(what + " error against the dense run", std::to_string(error));
+    std::ostringstream measured;
+    measured << error;
+    RecordProperty(what + " error against the dense run", measured.str());
     for (const MethodInterval& interval : run.intervals)
       EXPECT_NE(interval.method, IntegrationMethod::kTimeStepping) << what << interval.reason;
   }
