@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <utility>
 
 #include "auto_run.hpp"
@@ -105,8 +106,10 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
   internal::CheckAutoStart(lcs, x0, t0, t_end, options);
   return Timed([&] {
     const bool mode_dae = internal::UsesModeDae(lcs, options);
-    // The Dvi only for CVODE's intervals: a circuit on IDA is not copied.
-    const Dvi dvi = mode_dae ? Dvi() : lcs.ToDvi();
+    // The Dvi only for CVODE's intervals: a circuit on IDA is not copied
+    // unless IDA hands an interval over.
+    std::optional<Dvi> dvi;
+    if (!mode_dae) dvi = lcs.ToDvi();
     // Each interval's options are the validated ones, or a clipped copy.
     const auto dae_options = [](const EventDrivenOptions& run) {
       ModeDaeOptions dae;
@@ -116,16 +119,28 @@ Trajectory IntegrateAuto(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, d
     };
     internal::EventMethod event{
         [&](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
-          if (mode_dae)
-            return Whole(internal::IntegrateModeDaeUncertified(lcs, x, t, t_end, dae_options(run)),
-                         t, x);
-          return Whole(internal::IntegrateEventDrivenValidated(dvi, &lcs, x, t, t_end, run), t, x);
+          if (mode_dae) {
+            Trajectory part =
+                internal::IntegrateModeDaeUncertified(lcs, x, t, t_end, dae_options(run));
+            // A mode DAE needs u unique; CVODE's mode ODE needs only x' to
+            // be (Proposition 5.1's semi-affine case, free directions: a
+            // bridge whose diodes all block), and its mode layer has the
+            // rules IDA lacks. Where IDA finds a mode not index one, CVODE
+            // (KLU) takes the interval from its start, and refuses in turn
+            // where the flow is not unique either.
+            if (part.status != IntegrationStatus::kNotIndexOne) return Whole(std::move(part), t, x);
+            if (!dvi) dvi = lcs.ToDvi();
+          }
+          return Whole(internal::IntegrateEventDrivenValidated(*dvi, &lcs, x, t, t_end, run), t,
+                       x);
         },
         [&](Trajectory& part, std::size_t rows, const EventDrivenOptions& run) {
-          if (mode_dae)
+          const bool on_ida = !part.intervals.empty() &&
+                              part.intervals.front().method == IntegrationMethod::kModeDae;
+          if (mode_dae && (on_ida || !dvi))
             internal::CertifyModeDae(lcs, dae_options(run), rows, part);
           else
-            internal::CertifyEventDriven(dvi, &lcs, run, rows, part);
+            internal::CertifyEventDriven(*dvi, &lcs, run, rows, part);
         }};
     return internal::WithJump(lcs, t0, x0, options.event.solver,
                               [&](const Eigen::VectorXd& x_start) {

@@ -120,7 +120,10 @@ IntegrationStatus LcsModeDae::SelectMode(const Eigen::VectorXd& x, const Eigen::
            << (pass > 0 ? " after " + std::to_string(pass) + " pass(es) of the differentiation "
                           "procedure (Sect. 5.4)"
                         : "")
-           << ": u_" << j << " is not unique (a multivalued solution)";
+           << ": u_" << j << " is not unique (a multivalued solution), and a mode DAE in (x, u) "
+           << "needs it to be; where B·u is unique nonetheless (Proposition 5.1's semi-affine "
+           << "case, free directions) IntegrateEventDriven (CVODE, linear_solver kKlu) "
+           << "integrates the mode, and IntegrateAuto hands such intervals to it";
       why = text.str();
       return IntegrationStatus::kNotIndexOne;
     }

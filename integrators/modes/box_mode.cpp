@@ -526,11 +526,35 @@ bool BoxModeSystem::SparseRhsJacobian(SparseMatrix& J) const {
   zero_diagonal *= 0.0;
   J = problem_.flow().A + zero_diagonal;
   if (free_.empty()) return true;
-  if (!split_.regular) return false;
+  Eigen::MatrixXd Gu_inverse;
+  if (HasFreeDirections()) {
+    // Proposition 5.1's semi-affine case: G_u singular, its null vectors N
+    // the free directions, B_α N = 0. Any u_α of the mode is
+    //   u_α(x) = −G_u⁺ (c + C_α x + M u_bounds) + N s(x),
+    // the least-norm solution (G_u⁺ the pseudo-inverse) plus a part along
+    // the free directions, s(x) set by the placement rule
+    // (SolveAlongFreeDirections; piecewise affine in x, not smooth where
+    // the optimal vertex of its linear program changes). x' = A x + B_α u_α
+    // + p does not see s: B_α N s = 0 for every s, so
+    //   ∂x'/∂x = A − B_α G_u⁺ C_α,
+    // constant in the mode whatever the placement does, the same matrix the
+    // dense RhsJacobian forms by the complete orthogonal decomposition.
+    Eigen::MatrixXd Gu(free_.size(), free_.size());
+    for (int k = 0; k < static_cast<int>(free_.size()); ++k) Gu.col(k) = split_.M.col(free_[k]);
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+    cod.setThreshold(kRankTolerance);
+    cod.compute(Gu);
+    Gu_inverse = cod.pseudoInverse();
+  } else if (split_.regular) {
+    Gu_inverse = split_.lu.inverse();
+  } else {
+    return false;
+  }
   // Implicit function theorem on G = c + C x + M u = 0 (its free rows):
-  // du_α/dx = −G_u⁻¹ G_x, with G_u⁻¹ small and dense, G_x = C_α sparse.
-  const SparseMatrix Gu_inverse = Eigen::MatrixXd(split_.lu.inverse()).sparseView(1, 0);
-  J -= (problem_.flow().B * FreeRows().transpose()) * (Gu_inverse * split_.C);
+  // du_α/dx = −G_u⁻¹ G_x (G_u⁺ with free directions), with G_u⁻¹ small
+  // and dense, G_x = C_α sparse.
+  const SparseMatrix Gu_inverse_sparse = Gu_inverse.sparseView(1, 0);
+  J -= (problem_.flow().B * FreeRows().transpose()) * (Gu_inverse_sparse * split_.C);
   J.makeCompressed();
   return true;
 }

@@ -47,8 +47,9 @@ namespace dvi::internal {
 /// A singular G_u whose null vectors d leave the flow alone (f_u,A d = 0:
 /// Proposition 5.1's semi-affine case, B·u unique where u is not) is not
 /// reduced: its null vectors are the mode's free directions, u_A solves G = 0
-/// in the least-norm sense and is placed, along each free direction, at the
-/// middle of the interval where every root function is non-negative
+/// in the least-norm sense and is placed at the centre of the set where
+/// every root function is non-negative: the middle of an interval along one
+/// free direction, the Chebyshev centre of a polytope along several
 /// (box_mode_free_directions.cpp).
 ///
 /// Four files: the mode equations (Newton on the free components, the
@@ -154,7 +155,10 @@ class BoxModeSystem {
   /// constant inside the mode. Formed from sparse products and the dense
   /// a×a G_u, never an n×n dense matrix; every diagonal entry is stored (a
   /// zero if need be), so that CVODE's I − γJ keeps J's pattern, which KLU's
-  /// reused analysis needs. False when G_u is singular.
+  /// reused analysis needs. In a mode with free directions (Proposition
+  /// 5.1) G_u⁻¹ is G_u's pseudo-inverse: B_α kills the free directions, so
+  /// the placement along them does not enter J. False when G_u is singular
+  /// otherwise.
   /// @pre affine; Solve succeeded in the current mode.
   bool SparseRhsJacobian(SparseMatrix& J) const;
   /// The 2m root functions; @pre Solve(t, x) succeeded.
@@ -208,7 +212,7 @@ class BoxModeSystem {
   /// null vector moves the flow: the differentiation procedure's case).
   bool FindFreeDirections(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Gu);
   /// Solve in a mode with free directions: Gauss–Newton's least-norm steps
-  /// on G = 0, then u at the middle of each free direction's interval.
+  /// on G = 0, then u at the centre of the free directions' feasible set.
   bool SolveAlongFreeDirections(double t, const Eigen::VectorXd& x, std::string* why);
   bool HasFreeDirections() const { return free_directions_.cols() > 0; }
   /// The a×m matrix that picks the free rows (a = |free_|).

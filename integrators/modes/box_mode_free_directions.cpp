@@ -9,20 +9,25 @@
 //
 // u_A solves G = 0 by Gauss–Newton with the minimum-norm step (a complete
 // orthogonal decomposition of G_u: the steps never move u along the null
-// space), and then, along each free direction in turn, u is placed at the
-// MIDDLE of the interval in which every root function of the mode stays
-// non-negative (the free components' bounds, the bound rows' F of the sign
-// that holds them): the mode then holds as long as that interval is not
-// empty, and its root functions reach zero where the interval closes (both
-// of its ends meet), which is where the mode ends. A null vector that moves
-// the flow is not a free direction: where the differentiation procedure
-// (Theorems 5.2/5.3) does not remove it, the flow is not unique.
+// space), and then u is placed at the CENTRE of the set in which every
+// root function of the mode stays non-negative (the free components'
+// bounds, the bound rows' F of the sign that holds them): along one free
+// direction the middle of an interval, along k > 1 directions that share
+// root functions the Chebyshev centre of a polytope in ℝᵏ
+// (chebyshev_centre.hpp), those directions jointly. The mode then holds as
+// long as that set is not empty, and its root functions reach zero where it
+// closes, which is where the mode ends (placed one direction at a time, u
+// can reach a facet while the polytope is still open along another
+// direction: a spurious end). A null vector that moves the flow is not a
+// free direction: where the differentiation procedure (Theorems 5.2/5.3)
+// does not remove it, the flow is not unique.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "modes/box_mode.hpp"
+#include "modes/chebyshev_centre.hpp"
 
 namespace dvi::internal {
 namespace {
@@ -32,9 +37,9 @@ constexpr int kMaxGaussNewtonIterations = 50;
 // to the largest, is zero: the root function does not bound the direction.
 constexpr double kSlopeTolerance = 1e-10;
 
-// The free directions of a mode: a basis of null(G_u) (a × k, unit
-// columns) when G_u (a × a) is singular at kRankTolerance and f_u on the
-// free columns (n × a) vanishes on it; empty otherwise (G_u regular, or a
+// The free directions of a mode: an orthonormal basis of null(G_u) (a × k)
+// when G_u (a × a) is singular at kRankTolerance and f_u on the free
+// columns (n × a) vanishes on it; empty otherwise (G_u regular, or a
 // null vector moves the flow: the differentiation procedure's case).
 Eigen::MatrixXd FreeDirections(const Eigen::MatrixXd& Gu, const Eigen::MatrixXd& fu_free) {
   const Eigen::Index a = Gu.rows();
@@ -49,7 +54,15 @@ Eigen::MatrixXd FreeDirections(const Eigen::MatrixXd& Gu, const Eigen::MatrixXd&
     const double move = moves.col(k).lpNorm<Eigen::Infinity>() / N.col(k).lpNorm<Eigen::Infinity>();
     if (move > kRankTolerance * scale) return {};
   }
-  for (Eigen::Index k = 0; k < N.cols(); ++k) N.col(k).normalize();
+  // Orthonormal by modified Gram–Schmidt, so that distances in s (the
+  // Chebyshev centre of SolveAlongFreeDirections) are distances in u; a
+  // column whose support no earlier one shares is only normalized (its
+  // products with them are exactly 0), so the blocks of separate
+  // sub-circuits stay exactly apart.
+  for (Eigen::Index k = 0; k < N.cols(); ++k) {
+    for (Eigen::Index i = 0; i < k; ++i) N.col(k) -= N.col(i).dot(N.col(k)) * N.col(i);
+    N.col(k).normalize();
+  }
   return N;
 }
 
@@ -67,6 +80,93 @@ bool LcsModeHasFreeDirections(const SparseMatrix& M, const SparseMatrix& B, cons
     fu_free.col(k) = Eigen::VectorXd(B.col(free[k]));
   }
   return FreeDirections(Gu, fu_free).cols() > 0;
+}
+
+// u moved along the free directions (the columns of N, m × k) to the
+// centre of the set {s : g + S s ≥ 0} where the mode's root functions are
+// non-negative (S: their slopes along the directions, one row each);
+// slopes within zero of 0 are none.
+void PlaceAtCentre(const Eigen::MatrixXd& S, Eigen::VectorXd g, const Eigen::MatrixXd& N,
+                   double zero, Eigen::VectorXd& u) {
+  const auto moves = [&](Eigen::Index r, Eigen::Index d) {
+    return std::abs(S(r, d)) > zero;
+  };
+  // The directions in blocks that share no root function (union–find):
+  // each block's polytope is a factor of the whole, its centre placed on
+  // its own. Separable directions (every root function moved by one) are
+  // blocks of one, whose polytope is an interval: the whole is then a box,
+  // and the middle of each interval is its centre — the largest smallest
+  // slack of every block at once, not only of the narrowest (the
+  // Chebyshev centre of the box is not unique: one of its optimal vertices
+  // could put a wide interval's u at the narrow one's radius from an end).
+  const Eigen::Index k = S.cols();
+  std::vector<Eigen::Index> parent(k);
+  for (Eigen::Index d = 0; d < k; ++d) parent[d] = d;
+  const auto root = [&](Eigen::Index d) {
+    while (parent[d] != d) d = parent[d] = parent[parent[d]];
+    return d;
+  };
+  for (Eigen::Index r = 0; r < S.rows(); ++r) {
+    Eigen::Index first = -1;
+    for (Eigen::Index d = 0; d < k; ++d) {
+      if (!moves(r, d)) continue;
+      if (first < 0)
+        first = d;
+      else
+        parent[root(d)] = root(first);
+    }
+  }
+  std::vector<char> placed(k, 0);
+  for (Eigen::Index b = 0; b < k; ++b) {
+    if (root(b) != b) continue;
+    std::vector<Eigen::Index> directions, rows;
+    for (Eigen::Index d = 0; d < k; ++d)
+      if (root(d) == b) directions.push_back(d);
+    if (directions.size() < 2) continue;
+    for (Eigen::Index r = 0; r < S.rows(); ++r)
+      if (std::any_of(directions.begin(), directions.end(),
+                      [&](Eigen::Index d) { return moves(r, d); }))
+        rows.push_back(r);
+    const Eigen::MatrixXd S_block = S(rows, directions);
+    const Eigen::VectorXd g_block = g(rows);
+    Eigen::VectorXd s;
+    double radius = 0;
+    if (!ChebyshevCentre(S_block, g_block, s, radius)) continue;
+    // Several directions jointly: the centre of the polytope of s where
+    // every root function is non-negative, the point farthest from all of
+    // its facets. The mode then holds until the polytope is empty; placed
+    // one direction at a time, u could reach a facet first (an interval
+    // along one direction closes while the polytope is still open along
+    // the others, a slanted strip: free_directions_test).
+    u += N(Eigen::all, directions) * s;
+    g += S(Eigen::all, directions) * s;
+    for (const Eigen::Index d : directions) placed[d] = 1;
+  }
+  // One direction in its block (the Chebyshev centre of an interval is its
+  // middle), or a block without a centre (a polytope holding balls of every
+  // radius): along each direction in turn, the middle of its interval;
+  // unbounded on one side, the nearest point of it to where u is; unbounded
+  // on both, u stays.
+  const double inf = std::numeric_limits<double>::infinity();
+  for (Eigen::Index d = 0; d < k; ++d) {
+    if (placed[d]) continue;
+    double low = -inf, high = inf;
+    for (Eigen::Index r = 0; r < S.rows(); ++r) {
+      if (!moves(r, d)) continue;
+      const double slope = S(r, d);
+      if (slope > 0) low = std::max(low, -g(r) / slope);
+      if (slope < 0) high = std::min(high, -g(r) / slope);
+    }
+    double step = 0;
+    if (std::isfinite(low) && std::isfinite(high))
+      step = 0.5 * (low + high);
+    else if (std::isfinite(low))
+      step = std::max(0.0, low);
+    else if (std::isfinite(high))
+      step = std::min(0.0, high);
+    u += step * N.col(d);
+    g += step * S.col(d);
+  }
 }
 
 }  // namespace
@@ -117,45 +217,43 @@ bool BoxModeSystem::SolveAlongFreeDirections(double t, const Eigen::VectorXd& x,
              "free components is singular and F there is not consistent)";
     return false;
   }
-  // Each free direction d: every root function is affine in s along
-  // u + s d (exactly for an LCS; to first order otherwise), g + s·slope.
+  // Every root function is affine in s along u + N s (exactly for an LCS;
+  // to first order otherwise): g + S s, one row of S per root function
+  // that a free direction moves.
   Eigen::VectorXd F;
   problem_.EvalF(t, x, u, F);
   Eigen::MatrixXd Fx, Fu;
   problem_.FJacobians(t, x, u, Fx, Fu);
-  const double inf = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < free_directions_.cols(); ++k) {
-    Eigen::VectorXd d = Eigen::VectorXd::Zero(m());
-    for (int i = 0; i < a; ++i) d(free_[i]) = free_directions_(i, k);
-    const Eigen::VectorXd slopes = Fu * d;
-    const double slope_scale =
-        kSlopeTolerance * std::max({1.0, slopes.lpNorm<Eigen::Infinity>(), d.lpNorm<Eigen::Infinity>()});
-    double low = -inf, high = inf;
-    const auto bound = [&](double value, double slope) {  // value + s·slope ≥ 0
-      if (slope > slope_scale) low = std::max(low, -value / slope);
-      if (slope < -slope_scale) high = std::min(high, -value / slope);
-    };
-    for (int j = 0; j < m(); ++j) {
-      if (mode_[j] == MultiplierBound::kFree) {
-        if (std::isfinite(problem_.lower()(j))) bound(u(j) - problem_.lower()(j), d(j));
-        if (std::isfinite(problem_.upper()(j))) bound(problem_.upper()(j) - u(j), -d(j));
-      } else if (problem_.lower()(j) != problem_.upper()(j)) {
-        const double sign = mode_[j] == MultiplierBound::kLower ? 1.0 : -1.0;
-        bound(sign * F(j), sign * slopes(j));
-      }
+  const Eigen::Index k = free_directions_.cols();
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(m(), k);
+  for (int i = 0; i < a; ++i) N.row(free_[i]) = free_directions_.row(i);
+  const Eigen::MatrixXd FuN = Fu * N;
+  std::vector<double> values;
+  std::vector<Eigen::RowVectorXd> slopes;
+  const auto add = [&](double value, const Eigen::RowVectorXd& slope) {  // value + slope·s ≥ 0
+    values.push_back(value);
+    slopes.push_back(slope);
+  };
+  for (int j = 0; j < m(); ++j) {
+    if (mode_[j] == MultiplierBound::kFree) {
+      if (std::isfinite(problem_.lower()(j))) add(u(j) - problem_.lower()(j), N.row(j));
+      if (std::isfinite(problem_.upper()(j))) add(problem_.upper()(j) - u(j), -N.row(j));
+    } else if (problem_.lower()(j) != problem_.upper()(j)) {
+      const double sign = mode_[j] == MultiplierBound::kLower ? 1.0 : -1.0;
+      add(sign * F(j), sign * FuN.row(j));
     }
-    // The middle of [low, high]; unbounded on one side, the nearest point
-    // of it to where u is; unbounded on both, u stays.
-    double s = 0;
-    if (std::isfinite(low) && std::isfinite(high))
-      s = 0.5 * (low + high);
-    else if (std::isfinite(low))
-      s = std::max(0.0, low);
-    else if (std::isfinite(high))
-      s = std::min(0.0, high);
-    u += s * d;
-    F += s * slopes;
   }
+  const double largest = std::max(1.0, FuN.cwiseAbs().maxCoeff());
+  std::vector<Eigen::Index> moved;
+  for (std::size_t i = 0; i < slopes.size(); ++i)
+    if (slopes[i].norm() > kSlopeTolerance * largest) moved.push_back(static_cast<Eigen::Index>(i));
+  Eigen::MatrixXd S(moved.size(), k);
+  Eigen::VectorXd g(moved.size());
+  for (std::size_t r = 0; r < moved.size(); ++r) {
+    S.row(r) = slopes[moved[r]];
+    g(r) = values[moved[r]];
+  }
+  PlaceAtCentre(S, g, N, kSlopeTolerance * largest, u);
   Accept(t, x);
   return true;
 }
