@@ -511,31 +511,13 @@ Trajectory InverterShutdown(const AutoOptions& options) {
   return trajectory;
 }
 
-// Event-driven until the ringing load current stops with both diodes
-// blocking (not strongly regular), stepping over windows, event-driven
-// again. Where a retry of event-driven integration stopped at its start,
-// time-stepping's first VI (at t = 0.0015762, i_L = 0.018 A: i2 = i_L,
-// v_o = −v2) failed from Newton's cold start, which stalls on the zero
-// column of D for the free v_o; the multiplier where the window before
-// ended solves it at once. Mode selection's VIs are left to Newton alone
-// (no pivoting fallback, which passes these points event-driven: the next
-// test), so that the windows happen.
-TEST(AutoDriver, InverterResumesTimeSteppingFromTheMultiplierWhereItStopped) {
-  AutoOptions options;
-  options.event.solver.method = SolverMethod::kNewton;
-  options.stepping.h = 0.02 / 1000;
-  // The windows pass the switching transients at first order: their error
-  // at h/32 is 6e-3 in i_L, far above rtol 1e-8; certified to that.
-  options.window_rtol = 1e-3;
-  options.window_atol = 1e-3;
-  EXPECT_GT(InverterShutdown(options).intervals.size(), 3u);
-}
-
-// The same shutdown with mode selection's pivoting fallback (the default
-// solver): where the ringing stops with both diodes blocking, Newton stalls
-// on the modified LCP and on the look-ahead VI (max-iterations: main at
-// 71d9f50 time-stepped two windows there, at t = 0.000406608 and
-// 0.00137583), Lemke decides them, and the run is event-driven end to end.
+// The shutdown under auto's defaults: main at 71d9f50 time-stepped two
+// windows where the ringing stops with both diodes blocking (t = 0.000406608
+// and 0.00137583: Newton stalled on the modified LCP and on the look-ahead
+// VI, and the rates offered no mode that continues). The pivoting fallback
+// decides those VIs, the rates walk v_o's segment of SOL to the other
+// diode's row (rate_selection_test's ResonantInverter tests compare with
+// the exact solution), and the run is event-driven end to end.
 TEST(AutoDriver, InverterShutdownRunsEventDrivenThroughTheBlockingPoints) {
   AutoOptions options;
   options.stepping.h = 0.02 / 1000;
