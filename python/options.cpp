@@ -101,7 +101,7 @@ void TakeCommon(Keywords& keywords, IntegrationOptions& options, Eigen::Index st
 
 void TakeEvent(Keywords& keywords, EventDrivenOptions& options, Eigen::Index states) {
   TakeCommon(keywords, options, states);
-  keywords.TakeEnum("ode", options.method, {OdeMethod::kBdf, OdeMethod::kAdams});
+  keywords.TakeEnum("ode", options.method, {OdeMethod::kBdf, OdeMethod::kAdams, OdeMethod::kAuto});
   keywords.Take("max_events", options.max_events);
   keywords.Take("zeno_window", options.zeno_window);
   keywords.TakeEnum("linear_solver", options.linear_solver,

@@ -215,7 +215,7 @@ TEST(SceneFile, ErrorsNameTheField) {
     "method": {"max_handovers": 0}})"),
             "method.max_handovers: expected an integer ≥ 1, got 0");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"ode": "rk4"}})"),
-            "method.ode: expected \"bdf\" or \"adams\", got \"rk4\"");
+            "method.ode: expected \"bdf\", \"adams\" or \"auto\", got \"rk4\"");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"max_events": 0}})"),
             "method.max_events: expected an integer ≥ 1, got 0");
   EXPECT_EQ(ParseError("{" + lcs + R"(, "x0": [1], "horizon": 1, "method": {"theta": 2}})"),

@@ -180,7 +180,7 @@ const std::vector<HostileCase>& Cases() {
       {"SolverUnknown", Dvi("-x1", "", R"("method": {"solver": "magic"})"), "run input.json", 2,
        {"method.solver", "unknown solver method \"magic\""}},
       {"OdeUnknown", Dvi("-x1", "", R"("method": {"ode": "rk4"})"), "run input.json", 2,
-       {"method.ode", "\"bdf\" or \"adams\""}},
+       {"method.ode", "\"bdf\", \"adams\" or \"auto\""}},
       {"KluOnDvi", Dvi("-x1", "", R"("method": {"linear_solver": "klu"})"), "run input.json", 2,
        {"method.linear_solver", "needs an lcs scene"}},
       {"SteppingWindowTwo", Dvi("-x1", "", R"("method": {"stepping_window": 2})"),

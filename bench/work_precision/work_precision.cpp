@@ -422,15 +422,15 @@ int Main(int argc, char** argv) {
       }
     } else if (arg == "--family" && k + 1 < argc) {
       const std::string name = argv[++k];
-      for (const OdeMethod candidate : {OdeMethod::kBdf, OdeMethod::kAdams})
+      for (const OdeMethod candidate : {OdeMethod::kBdf, OdeMethod::kAdams, OdeMethod::kAuto})
         if (ToString(candidate) == name) family = candidate;
       if (!family) {
-        std::cerr << "work_precision: --family " << name << ": not bdf or adams\n";
+        std::cerr << "work_precision: --family " << name << ": not bdf, adams or auto\n";
         return 2;
       }
     } else {
       std::cerr << "usage: work_precision [--out DIR] [--budget SECONDS] [--problem NAME] "
-                   "[--jobs N] [--method NAME] [--family bdf|adams]\n";
+                   "[--jobs N] [--method NAME] [--family bdf|adams|auto]\n";
       return 2;
     }
   }

@@ -13,8 +13,14 @@ namespace dvi {
 enum class OdeMethod {
   kBdf,    ///< Backward differentiation, orders 1–5: stiff problems (circuits).
   kAdams,  ///< Adams–Moulton, orders 1–12: non-stiff problems.
+  /// Chosen at t0 from the Jacobian of the mode entered there: BDF where a
+  /// fast decaying component would limit Adams' step by stability (h·σ > 2
+  /// at the step rtol^(1/5)/ω accuracy asks for, σ the fastest decay rate,
+  /// ω the fastest rate the solution follows), else Adams
+  /// (docs/event_driven.md). The interval's reason names the choice.
+  kAuto,
 };
-/// "bdf", "adams".
+/// "bdf", "adams", "auto".
 std::string_view ToString(OdeMethod method);
 
 /// Options of IntegrateEventDriven (event_driven.hpp): the common block

@@ -14,4 +14,11 @@ CvodeMemory::CvodeMemory(int linear_multistep, SUNContext context)
 
 CvodeMemory::~CvodeMemory() { CVodeFree(&memory_); }
 
+void CvodeMemory::Recreate(int linear_multistep, SUNContext context) {
+  void* memory = CVodeCreate(linear_multistep, context);
+  if (memory == nullptr) throw std::bad_alloc();
+  CVodeFree(&memory_);
+  memory_ = memory;
+}
+
 }  // namespace dvi::internal

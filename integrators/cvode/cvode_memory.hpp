@@ -13,6 +13,9 @@ class CvodeMemory {
   CvodeMemory(const CvodeMemory&) = delete;
   CvodeMemory& operator=(const CvodeMemory&) = delete;
   void* get() const { return memory_; }
+  /// A new block of another family (CVODE cannot change it in place), before
+  /// CVodeInit.
+  void Recreate(int linear_multistep, SUNContext context);
 
  private:
   void* memory_ = nullptr;

@@ -13,13 +13,15 @@ std::string_view ToString(OdeMethod method) {
   switch (method) {
     case OdeMethod::kBdf: return "bdf";
     case OdeMethod::kAdams: return "adams";
+    case OdeMethod::kAuto: return "auto";
   }
   return "unknown";
 }
 
 void EventDrivenOptions::Validate() const {
   IntegrationOptions::Validate();
-  DVI_THROW_UNLESS(method == OdeMethod::kBdf || method == OdeMethod::kAdams,
+  DVI_THROW_UNLESS(method == OdeMethod::kBdf || method == OdeMethod::kAdams ||
+                       method == OdeMethod::kAuto,
                    "method: " << static_cast<int>(method) << " is not an OdeMethod");
   DVI_THROW_UNLESS(linear_solver == LinearSolver::kAuto || linear_solver == LinearSolver::kDense ||
                        linear_solver == LinearSolver::kKlu,

@@ -18,6 +18,7 @@
 
 #include "check.hpp"
 #include "cvode/event_driven_validated.hpp"
+#include "cvode/ode_family.hpp"
 #include "cvode/smooth_switch.hpp"
 #include "dvi/matrix_classes.hpp"
 #include "events/event_times.hpp"
@@ -432,7 +433,7 @@ bool EventDrivenRun::Begin() {
   trajectory_.times.reserve(samples);
   trajectory_.states.reserve(samples, x0_.size());
   trajectory_.multipliers.reserve(samples, dvi_.m);
-  if (!Start(t0_, x0_)) return false;
+  if (!Start(t0_, x0_) || !ChooseFamily()) return false;
   void* cvode = cvode_.get();
   data_.system = &system_;
   data_.x.resize(x0_.size());
@@ -482,6 +483,26 @@ bool EventDrivenRun::Begin() {
     return false;
   segment_open_ = true;
   return Observe();
+}
+
+// OdeMethod::kAuto: the family for the mode entered at t0, by its
+// Jacobian there (cvode/ode_family.hpp), before CVodeInit: a block of the
+// other family replaces the BDF one made with the run (no steps lost).
+bool EventDrivenRun::ChooseFamily() {
+  if (options_.method != OdeMethod::kAuto) return true;
+  const Eigen::Map<const Eigen::VectorXd> x(y_.data(), x0_.size());
+  Eigen::MatrixXd J;
+  if (klu_) {
+    method_ = OdeMethod::kBdf;
+    family_why_ = "bdf (KLU: a large sparse circuit, not analysed)";
+  } else if (!system_.Solve(t0_, x) || !system_.RhsJacobian(t0_, x, J)) {
+    method_ = OdeMethod::kBdf;
+    family_why_ = "bdf (no Jacobian of the first mode at t0)";
+  } else {
+    method_ = ChooseOdeFamily(J, options_.rtol, t_end_ - t0_, &family_why_);
+  }
+  if (method_ == OdeMethod::kAdams) cvode_.Recreate(CV_ADAMS, context_.get());
+  return true;
 }
 
 bool EventDrivenRun::SetStopTime(double t) {
@@ -703,6 +724,7 @@ void EventDrivenRun::Conclude(Trajectory& trajectory) const {
     if (rate_selections_ > 0)
       reason += "; " + std::to_string(rate_selections_) +
                 " mode(s) chosen by the rates where u is not unique (Proposition 5.1)";
+    if (!family_why_.empty()) reason += "; CVODE family by ode = auto: " + family_why_;
     trajectory.intervals.push_back({t0_, trajectory.times.back(), IntegrationMethod::kEventDriven, reason,
                                      klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }

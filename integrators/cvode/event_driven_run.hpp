@@ -114,7 +114,8 @@ class EventDrivenRun {
   bool EnterSparseJacobian();
   // CVODE projects BDF steps only; under Adams the drift of reduced modes is
   // measured, not corrected.
-  bool ProjectsSteps() const { return dvi_.m > 0 && options_.method == OdeMethod::kBdf; }
+  bool ProjectsSteps() const { return dvi_.m > 0 && method_ == OdeMethod::kBdf; }
+  bool ChooseFamily();
   bool ProjectReducedModesOnly();
   bool StillHolds();
   enum class MissedRoot { kLocated, kNone, kUndefined };
@@ -237,8 +238,10 @@ class EventDrivenRun {
   StepRootCheck root_check_{system_};
   std::unique_ptr<DenseLinearSolver> dense_;
   std::unique_ptr<KluLinearSolver> klu_;
-  CvodeMemory cvode_{options_.method == OdeMethod::kBdf ? CV_BDF : CV_ADAMS,
-                               context_.get()};
+  // CVODE's family; kAuto's is chosen at the start (ChooseFamily).
+  OdeMethod method_ = options_.method == OdeMethod::kAuto ? OdeMethod::kBdf : options_.method;
+  std::string family_why_;  // kAuto's choice, for the interval's reason
+  CvodeMemory cvode_{method_ == OdeMethod::kBdf ? CV_BDF : CV_ADAMS, context_.get()};
   ModeCallbackData data_;
 
   bool segment_open_ = false;  // CVODE's counters hold steps not yet in stats

@@ -299,9 +299,9 @@ void ReadProblemBreakpoints(const json& problem, Scene& scene) {
 }
 
 OdeMethod ReadOdeMethod(const json& value, const std::string& path) {
-  for (const OdeMethod method : {OdeMethod::kBdf, OdeMethod::kAdams})
+  for (const OdeMethod method : {OdeMethod::kBdf, OdeMethod::kAdams, OdeMethod::kAuto})
     if (value.is_string() && value.get<std::string>() == ToString(method)) return method;
-  Fail(path, "expected \"bdf\" or \"adams\", got " + Describe(value));
+  Fail(path, "expected \"bdf\", \"adams\" or \"auto\", got " + Describe(value));
 }
 
 LinearSolver ReadLinearSolver(const json& value, const std::string& path) {
