@@ -1,0 +1,374 @@
+// SPDX-License-Identifier: Apache-2.0
+// The resumable automatic driver takes what IntegrateAuto takes (issue 33):
+// output times, a non-box K (a ball, a polyhedron), source breakpoints, an
+// inconsistent x0 (the LCS's state jump) and an LCS whose intervals run on
+// IDA. On each, the object stepped to the end with Step() is IntegrateAuto
+// bit for bit; AdvanceTo stops exactly at each time asked (across
+// breakpoints and hand-overs) with x(), StateAt and MultiplierAt the
+// trajectory's dense output there; Reinit inside an interval computed whole
+// restarts it, against an exact solution.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "dvi/auto_driver.hpp"
+#include "dvi/auto_integrator.hpp"
+#include "support/convergence.hpp"
+#include "support/expect_throw.hpp"
+#include "support/same_trajectory.hpp"
+#include "support/zoo/models.hpp"
+
+namespace dvi {
+namespace {
+
+using testing::ExpectSameTrajectory;
+
+std::string Scientific(double value) {
+  std::ostringstream text;
+  text << std::scientific << std::setprecision(3) << value;
+  return text.str();
+}
+
+bool HasMethod(const Trajectory& trajectory, IntegrationMethod method) {
+  return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
+                     [method](const MethodInterval& interval) { return interval.method == method; });
+}
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+void ExpectSameRun(const Trajectory& a, const Trajectory& b) {
+  ExpectSameTrajectory(a, b);
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.message, b.message);
+  EXPECT_EQ(a.certificate.certified(), b.certificate.certified());
+  ASSERT_EQ(a.intervals.size(), b.intervals.size());
+  for (std::size_t k = 0; k < a.intervals.size(); ++k) {
+    EXPECT_EQ(a.intervals[k].method, b.intervals[k].method) << "interval " << k;
+    EXPECT_EQ(a.intervals[k].from, b.intervals[k].from) << "interval " << k;
+    EXPECT_EQ(a.intervals[k].to, b.intervals[k].to) << "interval " << k;
+    EXPECT_EQ(a.intervals[k].reason, b.intervals[k].reason) << "interval " << k;
+  }
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (std::size_t k = 0; k < a.events.size(); ++k)
+    EXPECT_EQ(a.events[k].impulse, b.events[k].impulse) << "event " << k;
+}
+
+// Step() to the end: IntegrateAuto's run, bit for bit. Returns it.
+template <typename Problem>
+Trajectory ExpectSteppedIsIntegrateAuto(const Problem& problem, const Eigen::VectorXd& x0,
+                                        double t_end, const AutoOptions& options) {
+  const Trajectory one_shot = IntegrateAuto(problem, x0, 0, t_end, options);
+  EXPECT_TRUE(one_shot.succeeded()) << one_shot.message;
+  AutoIntegrator integrator(problem, x0, 0, t_end, options);
+  StepOutcome outcome = StepOutcome::kStep;
+  for (int calls = 0; outcome != StepOutcome::kEnd && outcome != StepOutcome::kFailure; ++calls) {
+    EXPECT_LT(calls, 100000);
+    if (calls >= 100000) break;
+    outcome = integrator.Step();
+  }
+  EXPECT_EQ(outcome, StepOutcome::kEnd) << integrator.trajectory().message;
+  EXPECT_EQ(integrator.t(), t_end);
+  ExpectSameRun(integrator.trajectory(), one_shot);
+  return one_shot;
+}
+
+// AdvanceTo each of `stops` (increasing, the last t_end): kStopTime exactly
+// there (kEnd at t_end); x() within `tolerance` of the one-shot run's dense
+// output (0: bit for bit), and StateAt / MultiplierAt halfway back to the
+// previous stop the object's own trajectory's dense output, where the live
+// span reaches back that far. Returns the largest |x() − one_shot(t)|.
+template <typename Problem>
+double ExpectAdvanceToStopsExactly(const Problem& problem, const Eigen::VectorXd& x0,
+                                   double t_end, const AutoOptions& options,
+                                   const std::vector<double>& stops, const Trajectory& one_shot,
+                                   double tolerance) {
+  AutoIntegrator integrator(problem, x0, 0, t_end, options);
+  double previous = 0, difference = 0;
+  for (const double stop : stops) {
+    const StepOutcome outcome = integrator.AdvanceTo(stop);
+    EXPECT_EQ(outcome, stop < t_end ? StepOutcome::kStopTime : StepOutcome::kEnd)
+        << "t = " << stop << ": " << integrator.trajectory().message;
+    EXPECT_EQ(integrator.t(), stop);
+    difference = std::max(difference,
+                          (integrator.x() - one_shot.StateAt(stop)).lpNorm<Eigen::Infinity>());
+    const double back = 0.5 * (previous + stop);
+    const Trajectory so_far = integrator.trajectory();
+    bool live = stop < t_end;
+    try {
+      if (live) integrator.StateAt(back);
+    } catch (const InvalidInputError&) {
+      live = false;  // a span that begins after `back` (a mode switch, a new part)
+    }
+    if (live) {
+      EXPECT_EQ(integrator.StateAt(back), so_far.StateAt(back)) << "t = " << back;
+      EXPECT_EQ(integrator.MultiplierAt(back), so_far.MultiplierAt(back)) << "t = " << back;
+    }
+    previous = stop;
+  }
+  EXPECT_LE(difference, tolerance);
+  if (tolerance == 0) ExpectSameRun(integrator.trajectory(), one_shot);
+  return difference;
+}
+
+std::vector<double> Stops(double t_end, int count) {
+  std::vector<double> stops;
+  for (int k = 1; k <= count; ++k) stops.push_back(t_end * k / count);
+  return stops;
+}
+
+// Output times, and a time-stepping window over the spiral's Zeno
+// accumulation that samples them (auto_integrator_test's window options).
+TEST(AutoIntegratorScope, OutputTimesAcrossAWindowAreIntegrateAutos) {
+  const zoo::ZooModel model = zoo::ZooModelNamed("filippov_spiral");
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-14;
+  options.stepping.h = model.customary_h;
+  options.extrapolate_zeno = false;
+  options.window_rtol = 1e-3;
+  options.window_atol = 1e-3;
+  options.event.output_times = Linspace(0, model.horizon, 201);
+  const Trajectory one_shot =
+      ExpectSteppedIsIntegrateAuto(model.lcs, model.x0, model.horizon, options);
+  ASSERT_TRUE(HasMethod(one_shot, IntegrationMethod::kTimeStepping))
+      << one_shot.Report(ReportDetail::kFull);
+  // Stops between the output times and inside the window.
+  ExpectAdvanceToStopsExactly(model.lcs, model.x0, model.horizon, options,
+                              Stops(model.horizon, 37), one_shot, 0);
+}
+
+// x' = u, u ∈ SOL(K, u + x): u = Π_K(−x). From x0 = (3, 0), with K the unit
+// ball or the diamond |u1| + |u2| ≤ 1 (a polyhedron), u = (−1, 0) until
+// x1 = 1 at t = 2, then u = −x: x = e^{2−t}·(1, 0) (auto_driver_test's
+// NonBoxSetRunsEventDrivenThroughItsKktSystem).
+Dvi ProjectedDecay(ConvexSet K) {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 2;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u;
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u + x;
+  };
+  dvi.K = std::move(K);
+  return dvi;
+}
+
+ConvexSet Diamond() {
+  Eigen::MatrixXd G(4, 2);
+  G << 1, 1, 1, -1, -1, 1, -1, -1;
+  return ConvexSet::Polyhedron(G, Eigen::VectorXd::Ones(4), Eigen::MatrixXd(0, 2),
+                               Eigen::VectorXd(0));
+}
+
+Eigen::Vector2d ProjectedDecayExact(double t) {
+  return Eigen::Vector2d(t <= 2 ? 3 - t : std::exp(2 - t), 0);
+}
+
+AutoOptions TightOptions() {
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  return options;
+}
+
+TEST(AutoIntegratorScope, ABallAndAPolyhedronKAreIntegrateAutos) {
+  constexpr double kHorizon = 4;
+  for (const ConvexSet& K : {ConvexSet::Ball(Eigen::Vector2d::Zero(), 1), Diamond()}) {
+    SCOPED_TRACE(K.Describe());
+    const Dvi dvi = ProjectedDecay(K);
+    const Eigen::VectorXd x0 = Eigen::Vector2d(3, 0);
+    for (const bool sampled : {false, true}) {
+      SCOPED_TRACE(sampled ? "output times" : "every step");
+      AutoOptions options = TightOptions();
+      if (sampled) options.event.output_times = Linspace(0, kHorizon, 41);
+      const Trajectory one_shot = ExpectSteppedIsIntegrateAuto(dvi, x0, kHorizon, options);
+      ASSERT_EQ(one_shot.events.size(), 1u);
+      EXPECT_NEAR(one_shot.events[0].time, 2, 1e-9);
+      ExpectAdvanceToStopsExactly(dvi, x0, kHorizon, options, Stops(kHorizon, 29), one_shot, 0);
+    }
+  }
+}
+
+// Reinit inside an interval computed whole (the ball's KKT system): at
+// t = 1, x = (2, 0) is reset to (4, 0); |x| falls at unit rate to 1 at
+// t = 4, then x = e^{4−t}·(1, 0). The rows keep (1, (2, 0)), then the new
+// state; AdvanceTo then goes on from the restart.
+TEST(AutoIntegratorScope, ReinitInsideAWholeIntervalRestartsIt) {
+  constexpr double kHorizon = 6, kReset = 1;
+  const Dvi dvi = ProjectedDecay(ConvexSet::Ball(Eigen::Vector2d::Zero(), 1));
+  AutoIntegrator integrator(dvi, Eigen::Vector2d(3, 0), 0, kHorizon, TightOptions());
+  ASSERT_EQ(integrator.AdvanceTo(kReset), StepOutcome::kStopTime);
+  EXPECT_LE((integrator.x() - Eigen::Vector2d(2, 0)).lpNorm<Eigen::Infinity>(), 1e-9);
+  const Eigen::Vector2d reset(4, 0);
+  integrator.Reinit(kReset, reset);
+  EXPECT_EQ(integrator.t(), kReset);
+  EXPECT_EQ(integrator.x(), reset);
+  ASSERT_EQ(integrator.AdvanceTo(3), StepOutcome::kStopTime);
+  EXPECT_LE((integrator.x() - Eigen::Vector2d(2, 0)).lpNorm<Eigen::Infinity>(), 1e-9);
+  ASSERT_EQ(integrator.AdvanceTo(kHorizon), StepOutcome::kEnd);
+  const Trajectory trajectory = integrator.trajectory();
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  const auto exact = [](double t, bool after_reset) {
+    if (t < kReset || (t == kReset && !after_reset)) return Eigen::Vector2d(3 - t, 0);
+    return Eigen::Vector2d(t <= 4 ? 4 - (t - kReset) : std::exp(4 - t), 0);
+  };
+  double error = 0;
+  bool reset_seen = false;
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    const bool after = t > kReset || (t == kReset && reset_seen);
+    if (t == kReset) reset_seen = true;
+    error = std::max(error, (trajectory.states[k] - exact(t, after)).lpNorm<Eigen::Infinity>());
+  }
+  EXPECT_TRUE(reset_seen);
+  EXPECT_LE(error, 1e-8);
+  // The release of the constraint at t = 4, once.
+  ASSERT_EQ(trajectory.events.size(), 1u);
+  EXPECT_NEAR(trajectory.events[0].time, 4, 1e-9);
+  RecordProperty("max_error", Scientific(error));
+}
+
+// A square wave through a one-sided clamp (lcs_sources_test): x' = s(t) − x
+// + u, 0 ≤ u ⊥ x + u ≥ 0, s = ±1 stepping at the breakpoints 1, 2, 3.
+Lcs SquareWaveLcs() {
+  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Constant(1, 1, -1), Eigen::MatrixXd::Ones(1, 1),
+                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1));
+  lcs.p_source = [](double t, Eigen::VectorXd& out) {
+    out[0] = static_cast<long>(std::floor(t)) % 2 == 0 ? 1.0 : -1.0;
+  };
+  lcs.breakpoints = {1, 2, 3};
+  return lcs;
+}
+
+// Its exact solution (lcs_sources_test's SquareWaveClamp).
+double SquareWaveExact(double t) {
+  const double x1 = 1 - std::exp(-1.0), t1 = 1 + std::log(x1 + 1);
+  const double x2 = -0.5 + 0.5 * std::exp(-2 * (2 - t1)), t2 = 2 + 0.5 * std::log(1 - 2 * x2);
+  if (t <= 1) return 1 - std::exp(-t);
+  if (t <= t1) return -1 + (x1 + 1) * std::exp(-(t - 1));
+  if (t <= 2) return -0.5 + 0.5 * std::exp(-2 * (t - t1));
+  if (t <= t2) return 0.5 + (x2 - 0.5) * std::exp(-2 * (t - 2));
+  return 1 - std::exp(-(t - t2));
+}
+
+TEST(AutoIntegratorScope, SourceBreakpointsAreIntegrateAutos) {
+  constexpr double kHorizon = 3;
+  const Lcs lcs = SquareWaveLcs();
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(1);
+  for (const bool general : {false, true}) {
+    SCOPED_TRACE(general ? "Dvi" : "Lcs");
+    const Trajectory one_shot =
+        general ? ExpectSteppedIsIntegrateAuto(lcs.ToDvi(), x0, kHorizon, TightOptions())
+                : ExpectSteppedIsIntegrateAuto(lcs, x0, kHorizon, TightOptions());
+    ASSERT_EQ(one_shot.events.size(), 2u);
+    // Stops at and between the breakpoints: x() against the exact solution.
+    AutoIntegrator integrator(lcs, x0, 0, kHorizon, TightOptions());
+    double error = 0;
+    for (const double stop : Stops(kHorizon, 12)) {
+      const StepOutcome outcome = integrator.AdvanceTo(stop);
+      EXPECT_EQ(outcome, stop < kHorizon ? StepOutcome::kStopTime : StepOutcome::kEnd);
+      EXPECT_EQ(integrator.t(), stop);
+      error = std::max(error, std::abs(integrator.x()(0) - SquareWaveExact(stop)));
+    }
+    EXPECT_LE(error, 1e-8);
+    if (general)
+      ExpectAdvanceToStopsExactly(lcs.ToDvi(), x0, kHorizon, TightOptions(), Stops(kHorizon, 12),
+                                  one_shot, 0);
+    else
+      ExpectAdvanceToStopsExactly(lcs, x0, kHorizon, TightOptions(), Stops(kHorizon, 12),
+                                  one_shot, 0);
+  }
+}
+
+// Charge sharing through an ideal diode (state_jump_test): x⁻ = (2, 0)
+// admits no u; the LCS jumps to x⁺ = (1, 1) (η = 1), then v1 = v2 =
+// e^{−t/2}. Every step sampled, the intervals are the object's own
+// (EventDrivenIntegrators), so a run split by AdvanceTo agrees to the
+// tolerance, not the bit.
+TEST(AutoIntegratorScope, AnInconsistentX0JumpsAsInIntegrateAuto) {
+  constexpr double kHorizon = 4;
+  Eigen::MatrixXd A(2, 2), B(2, 1), C(1, 2), D(1, 1);
+  A << 0, 0, 0, -1;
+  B << -1, 1;
+  C << -1, 1;
+  D << 0;
+  const Lcs lcs = Lcs::Dense(A, B, C, D);
+  const Eigen::VectorXd x0 = Eigen::Vector2d(2, 0);
+  const Trajectory one_shot = ExpectSteppedIsIntegrateAuto(lcs, x0, kHorizon, TightOptions());
+  ASSERT_FALSE(one_shot.events.empty());
+  EXPECT_EQ(one_shot.events.front().kind, EventKind::kJump);
+  ASSERT_GE(one_shot.times.size(), 2u);
+  EXPECT_EQ(one_shot.states[0], x0);
+  EXPECT_LE((one_shot.states[1] - Eigen::Vector2d(1, 1)).lpNorm<Eigen::Infinity>(), 1e-12);
+  const double split = ExpectAdvanceToStopsExactly(lcs, x0, kHorizon, TightOptions(),
+                                                   Stops(kHorizon, 40), one_shot, 1e-9);
+  AutoIntegrator integrator(lcs, x0, 0, kHorizon, TightOptions());
+  EXPECT_LE((integrator.x() - Eigen::Vector2d(1, 1)).lpNorm<Eigen::Infinity>(), 1e-12)
+      << "x() at t0 is x⁺";
+  ASSERT_EQ(integrator.AdvanceTo(2), StepOutcome::kStopTime);
+  EXPECT_LE((integrator.x() - Eigen::Vector2d::Constant(std::exp(-1.0))).lpNorm<Eigen::Infinity>(),
+            1e-8);
+  RecordProperty("split_difference", Scientific(split));
+}
+
+// A jump the rule cannot make (x' = u, 0 ≤ u ⊥ −x ≥ 0 from x = 1: C B = 0,
+// the jump LCP has no solution) ends the run at t0, as IntegrateAuto's.
+TEST(AutoIntegratorScope, AFailedJumpEndsTheRunAtT0AsIntegrateAutos) {
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                             -Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Zero(1, 1));
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
+  const Trajectory one_shot = IntegrateAuto(lcs, x0, 0, 1);
+  ASSERT_EQ(one_shot.status, IntegrationStatus::kStepFailure);
+  AutoIntegrator integrator(lcs, x0, 0, 1);
+  EXPECT_EQ(integrator.status(), IntegrationStatus::kStepFailure);
+  EXPECT_EQ(integrator.Step(), StepOutcome::kFailure);
+  EXPECT_EQ(integrator.AdvanceTo(0.5), StepOutcome::kFailure);
+  EXPECT_EQ(integrator.t(), 0.0);
+  EXPECT_EQ(integrator.x(), x0);
+  ExpectSameRun(integrator.trajectory(), one_shot);
+  testing::ExpectThrowNaming([&] { integrator.Reinit(0.5, x0); }, "the run has failed");
+}
+
+// n = 100 independent clamps x_i' = −k_i + u_i, 0 ≤ u ⊥ x ≥ 0 (auto_driver_
+// test): n + m = 200 runs the event-driven intervals as mode DAEs on IDA;
+// x_i = max(x0_i − k_i t, 0).
+TEST(AutoIntegratorScope, IdaIntervalsAreIntegrateAutos) {
+  constexpr int n = 100;
+  constexpr double kHorizon = 2;
+  Eigen::VectorXd k(n), x0(n);
+  for (int i = 0; i < n; ++i) {
+    k(i) = 1 + i % 7;
+    x0(i) = 0.5 + 1.5 * ((i * 37) % n) / n;
+  }
+  SparseMatrix identity(n, n);
+  identity.setIdentity();
+  const Lcs lcs = Lcs::Sparse(SparseMatrix(n, n), identity, identity, SparseMatrix(n, n), -k);
+  for (const bool sampled : {false, true}) {
+    SCOPED_TRACE(sampled ? "output times" : "every step");
+    AutoOptions options = TightOptions();
+    if (sampled) options.event.output_times = Linspace(0, kHorizon, 41);
+    const Trajectory one_shot = ExpectSteppedIsIntegrateAuto(lcs, x0, kHorizon, options);
+    ASSERT_EQ(one_shot.intervals.size(), 1u);
+    EXPECT_TRUE(Contains(one_shot.intervals[0].reason, "IDA")) << one_shot.intervals[0].reason;
+    EXPECT_EQ(one_shot.events.size(), static_cast<std::size_t>(n));
+    ExpectAdvanceToStopsExactly(lcs, x0, kHorizon, options, Stops(kHorizon, 16), one_shot, 0);
+    AutoIntegrator integrator(lcs, x0, 0, kHorizon, options);
+    ASSERT_EQ(integrator.AdvanceTo(0.25), StepOutcome::kStopTime);
+    double error = 0;
+    for (int i = 0; i < n; ++i)
+      error = std::max(error, std::abs(integrator.x()(i) - std::max(x0(i) - k(i) * 0.25, 0.0)));
+    EXPECT_LE(error, 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace dvi
