@@ -193,6 +193,15 @@ void RecordJump(double t, const Eigen::VectorXd& x_minus, const StateJump& jump,
         "; a state jump at t = " + TimeText(t) + " (x⁺ = x⁻ + B η, the LCS jump rule)";
 }
 
+Trajectory FailedJump(const StateJump& jump, const std::string& where) {
+  Trajectory failed;
+  failed.status = IntegrationStatus::kStepFailure;
+  failed.message = where + ": " + jump.failure;
+  failed.stats.vi_solves = jump.vi_solves;
+  failed.stats.solver_iterations = jump.solver_iterations;
+  return failed;
+}
+
 Trajectory WithJump(const Lcs& lcs, double t0, const Eigen::VectorXd& x0, const SolverOptions& solver,
                     const std::function<Trajectory(const Eigen::VectorXd& x_start)>& integrate,
                     const std::string& where) {
@@ -200,14 +209,7 @@ Trajectory WithJump(const Lcs& lcs, double t0, const Eigen::VectorXd& x0, const 
   if (x0.size() != lcs.n() || !x0.allFinite() || !std::isfinite(t0)) return integrate(x0);
   const StateJump jump = LcsJumpAt(lcs, t0, x0, solver);
   if (jump.outcome == StateJump::Outcome::kConsistent) return integrate(x0);
-  if (jump.outcome == StateJump::Outcome::kFailed) {
-    Trajectory failed;
-    failed.status = IntegrationStatus::kStepFailure;
-    failed.message = where + ": " + jump.failure;
-    failed.stats.vi_solves = jump.vi_solves;
-    failed.stats.solver_iterations = jump.solver_iterations;
-    return failed;
-  }
+  if (jump.outcome == StateJump::Outcome::kFailed) return FailedJump(jump, where);
   Trajectory trajectory = integrate(jump.x_plus);
   RecordJump(t0, x0, jump, trajectory);
   return trajectory;

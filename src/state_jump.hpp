@@ -54,6 +54,10 @@ StateJump LcsJumpAt(const Lcs& lcs, double t, const Eigen::VectorXd& x_minus,
 void RecordJump(double t, const Eigen::VectorXd& x_minus, const StateJump& jump,
                 Trajectory& trajectory);
 
+/// The run that a jump which failed ends at t0, before any row: kStepFailure
+/// with the reason after `where`, and the jump's VI work.
+Trajectory FailedJump(const StateJump& jump, const std::string& where);
+
 /// Runs integrate(x) from x0 at t0 or, where x0 is inconsistent there, from
 /// the jump's x⁺, and records the jump (RecordJump). A jump that fails ends
 /// the run at t0 with kStepFailure and the reason, after `where` ("x0", or

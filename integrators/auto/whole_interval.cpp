@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: Apache-2.0
+// The automatic driver's event-driven intervals run whole at their start
+// (whole_interval.hpp): IntegrateAuto's, and AutoIntegrator's beyond the
+// EventDrivenIntegrator's scope.
+#include "whole_interval.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "auto_setup.hpp"
+#include "check.hpp"
+#include "cvode/event_driven_validated.hpp"
+#include "dvi/mode_dae.hpp"
+#include "events/trajectory_parts.hpp"
+#include "ida/mode_dae_validated.hpp"
+#include "stepper_calls.hpp"
+
+namespace dvi::internal {
+
+WholeInterval::WholeInterval(Run run, double t0, const Eigen::VectorXd& x0,
+                             const EventDrivenOptions& options)
+    : make_(std::move(run)), options_(options), t0_(t0), x0_(x0), cursor_(t0) {
+  run_ = make_(t0, x0, options);
+}
+
+StepOutcome WholeInterval::Step() {
+  cursor_ = End();
+  return run_.succeeded() ? StepOutcome::kEnd : StepOutcome::kFailure;
+}
+
+StepOutcome WholeInterval::AdvanceTo(double t) {
+  if (t >= End()) return Step();
+  cursor_ = t;
+  return StepOutcome::kStopTime;
+}
+
+std::ptrdiff_t WholeInterval::RowAt(double t) const {
+  const auto after = std::upper_bound(run_.times.begin(), run_.times.end(), t);
+  if (after == run_.times.begin() || *(after - 1) != t) return -1;
+  return after - run_.times.begin() - 1;
+}
+
+Eigen::VectorXd WholeInterval::x() const {
+  if (run_.times.empty()) return x0_;
+  const std::ptrdiff_t row = RowAt(cursor_);
+  return row >= 0 ? Eigen::VectorXd(run_.states[static_cast<std::size_t>(row)])
+                  : run_.StateAt(cursor_);
+}
+
+Eigen::VectorXd WholeInterval::u() const {
+  if (run_.times.empty()) return Eigen::VectorXd();
+  const std::ptrdiff_t row = RowAt(cursor_);
+  return row >= 0 ? Eigen::VectorXd(run_.multipliers[static_cast<std::size_t>(row)])
+                  : run_.MultiplierAt(cursor_);
+}
+
+void WholeInterval::CheckSpan(const char* call, double t) const {
+  DVI_THROW_UNLESS(!run_.times.empty() && t >= t0_ && t <= cursor_,
+                   call << ": t = " << t << " is outside the event-driven interval run whole so "
+                        << "far, [" << t0_ << ", " << cursor_
+                        << "] (trajectory().StateAt interpolates the samples)");
+}
+
+Eigen::VectorXd WholeInterval::StateAt(double t) const {
+  CheckSpan("StateAt", t);
+  return run_.StateAt(t);
+}
+
+Eigen::VectorXd WholeInterval::MultiplierAt(double t) const {
+  CheckSpan("MultiplierAt", t);
+  return run_.MultiplierAt(t);
+}
+
+const Mode& WholeInterval::mode() const {
+  throw InvalidInputError(
+      "mode: the event-driven interval from t = " + std::to_string(t0_) +
+      " is run whole (output times, a non-box K, source breakpoints or IDA's mode DAEs) and "
+      "keeps no mode");
+}
+
+IntegrationStatus WholeInterval::status() const {
+  return cursor_ < End() ? IntegrationStatus::kSuccess : run_.status;
+}
+
+// As EventDrivenIntegrator::Reinit: the rows keep the old state at t, then
+// the new one; a run that failed before t does not restart.
+void WholeInterval::Reinit(double t, const Eigen::VectorXd& x) {
+  if (t > End()) {
+    cursor_ = End();
+    return;
+  }
+  Trajectory head;
+  head.status = IntegrationStatus::kSuccess;
+  const auto rows = static_cast<std::size_t>(
+      std::upper_bound(run_.times.begin(), run_.times.end(), t) - run_.times.begin());
+  head.times.assign(run_.times.begin(), run_.times.begin() + static_cast<std::ptrdiff_t>(rows));
+  head.states.reserve(rows + 1, run_.state_dim());
+  head.multipliers.reserve(rows + 1, run_.multiplier_dim());
+  for (std::size_t k = 0; k < rows; ++k) {
+    head.states.push_back(run_.states[k]);
+    head.multipliers.push_back(run_.multipliers[k]);
+  }
+  if (head.times.empty() || head.times.back() < t) {
+    head.states.push_back(run_.StateAt(t));
+    head.multipliers.push_back(run_.MultiplierAt(t));
+    head.times.push_back(t);
+  }
+  for (const Event& event : run_.events)
+    if (event.time <= t) head.events.push_back(event);
+  for (const StepRecord& step : run_.step_log)
+    if (step.t <= t) head.step_log.push_back(step);
+  head.dense = std::move(run_.dense);
+  head.dense.TruncateAfter(t);
+  head.intervals = std::move(run_.intervals);
+  head.stats = run_.stats;  // the work after t was done too
+  head.certificate = run_.certificate;
+  // The run from (t, x), its output times those from t on.
+  std::optional<EventDrivenOptions> from_t;
+  const std::vector<double>& outputs = options_.output_times;
+  if (!outputs.empty() && outputs.front() < t) {
+    from_t = options_;
+    from_t->output_times.assign(std::lower_bound(outputs.begin(), outputs.end(), t),
+                                outputs.end());
+  }
+  Trajectory rest = make_(t, x, from_t ? *from_t : options_);
+  // AppendPart would replace the row at t by the restart's: both are kept.
+  std::vector<double> times = std::move(rest.times);
+  VectorSamples states = std::move(rest.states), multipliers = std::move(rest.multipliers);
+  rest.times.clear();
+  rest.states.clear();
+  rest.multipliers.clear();
+  AppendPart(head, std::move(rest));
+  head.times.insert(head.times.end(), times.begin(), times.end());
+  head.states.append(states);
+  head.multipliers.append(multipliers);
+  run_ = std::move(head);
+  cursor_ = t;
+}
+
+namespace {
+
+EventMethod WholeMethod(WholeInterval::Run run,
+                        std::function<void(Trajectory&, std::size_t, const EventDrivenOptions&)>
+                            certify) {
+  return {[run = std::move(run)](double t, const Eigen::VectorXd& x,
+                                 const EventDrivenOptions& options)
+              -> std::unique_ptr<EventInterval> {
+            return std::make_unique<WholeInterval>(run, t, x, options);
+          },
+          std::move(certify)};
+}
+
+}  // namespace
+
+EventMethod WholeIntervals(const Dvi& dvi, double t_end) {
+  return WholeMethod(
+      [&dvi, t_end](double t, const Eigen::VectorXd& x, const EventDrivenOptions& options) {
+        return IntegrateEventDrivenValidated(dvi, nullptr, x, t, t_end, options);
+      },
+      [&dvi](Trajectory& part, std::size_t rows, const EventDrivenOptions& options) {
+        CertifyEventDriven(dvi, nullptr, options, rows, part);
+      });
+}
+
+EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& options) {
+  const bool mode_dae = UsesModeDae(lcs, options);
+  // The Dvi only for CVODE's intervals: a circuit on IDA is not copied
+  // unless IDA hands an interval over.
+  auto dvi = std::make_shared<std::optional<Dvi>>();
+  if (!mode_dae) dvi->emplace(lcs.ToDvi());
+  const auto dae_options = [](const EventDrivenOptions& run) {
+    ModeDaeOptions dae;
+    static_cast<IntegrationOptions&>(dae) = run;
+    dae.max_events = run.max_events;
+    return dae;
+  };
+  return WholeMethod(
+      [&lcs, t_end, mode_dae, dvi, dae_options](double t, const Eigen::VectorXd& x,
+                                                const EventDrivenOptions& run) {
+        if (mode_dae) {
+          Trajectory part = IntegrateModeDaeUncertified(lcs, x, t, t_end, dae_options(run));
+          // A mode DAE needs u unique; CVODE's mode ODE needs only x' to
+          // be (Proposition 5.1's semi-affine case, free directions: a
+          // bridge whose diodes all block), and its mode layer has the
+          // rules IDA lacks. Where IDA finds a mode not index one, CVODE
+          // (KLU) takes the interval from its start, and refuses in turn
+          // where the flow is not unique either.
+          if (part.status != IntegrationStatus::kNotIndexOne) return part;
+          if (!*dvi) dvi->emplace(lcs.ToDvi());
+        }
+        return IntegrateEventDrivenValidated(**dvi, &lcs, x, t, t_end, run);
+      },
+      [&lcs, mode_dae, dvi, dae_options](Trajectory& part, std::size_t rows,
+                                         const EventDrivenOptions& run) {
+        const bool on_ida = !part.intervals.empty() &&
+                            part.intervals.front().method == IntegrationMethod::kModeDae;
+        if (mode_dae && (on_ida || !*dvi))
+          CertifyModeDae(lcs, dae_options(run), rows, part);
+        else
+          CertifyEventDriven(**dvi, &lcs, run, rows, part);
+      });
+}
+
+}  // namespace dvi::internal

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <functional>
+
+#include <Eigen/Dense>
+
+#include "auto_run.hpp"
+#include "dvi/auto_options.hpp"
+#include "dvi/dvi_problem.hpp"
+#include "dvi/event_driven_options.hpp"
+#include "dvi/lcs.hpp"
+#include "dvi/trajectory.hpp"
+
+namespace dvi::internal {
+
+/// An event-driven interval run whole when it starts, by the one-shot run
+/// with all of its scope (output times, the KKT lifting of a non-box K,
+/// source breakpoints, IDA's mode DAEs): IntegrateAuto's intervals, and
+/// AutoIntegrator's where its EventDrivenIntegrator does not reach. Step
+/// goes to its end (kEnd, or kFailure where it stopped short); AdvanceTo(t)
+/// before there moves the cursor t() to t, x() and u() being the run's rows
+/// there or its dense output (Trajectory::StateAt); Reinit(t, x) keeps the
+/// run up to t (a row of the old state at t) and runs it anew from (t, x).
+class WholeInterval final : public EventInterval {
+ public:
+  /// The one-shot run from (t, x) to the driver's t_end with `options`
+  /// (the interval's, output times clipped to [t, t_end]), its rows not yet
+  /// certified.
+  using Run = std::function<Trajectory(double t, const Eigen::VectorXd& x,
+                                       const EventDrivenOptions& options)>;
+  /// Runs the interval from (t0, x0). `options` outlive it.
+  WholeInterval(Run run, double t0, const Eigen::VectorXd& x0,
+                const EventDrivenOptions& options);
+
+  dvi::StepOutcome Step() override;
+  dvi::StepOutcome AdvanceTo(double t) override;
+  void Reinit(double t, const Eigen::VectorXd& x) override;
+  double t() const override { return cursor_; }
+  Eigen::VectorXd x() const override;
+  Eigen::VectorXd u() const override;
+  /// @throws InvalidInputError outside [t0, t()] (named).
+  Eigen::VectorXd StateAt(double t) const override;
+  Eigen::VectorXd MultiplierAt(double t) const override;
+  /// @throws InvalidInputError: a run made whole keeps no mode.
+  const Mode& mode() const override;
+  /// kSuccess before the run's end, then the run's.
+  IntegrationStatus status() const override;
+  Trajectory trajectory() const override { return run_; }
+  Trajectory Take() override { return std::move(run_); }
+
+ private:
+  double End() const { return run_.times.empty() ? t0_ : run_.times.back(); }
+  // The last row at t, or none (-1).
+  std::ptrdiff_t RowAt(double t) const;
+  void CheckSpan(const char* call, double t) const;
+
+  const Run make_;
+  const EventDrivenOptions& options_;
+  const double t0_;
+  const Eigen::VectorXd x0_;
+  Trajectory run_;
+  double cursor_;
+};
+
+/// IntegrateAuto's event-driven back-end, each interval a WholeInterval of
+/// IntegrateEventDriven's run on `dvi` (its rows certified against the VI
+/// when over). `dvi` outlives the method.
+EventMethod WholeIntervals(const Dvi& dvi, double t_end);
+/// The same on an LCS: on IDA (mode DAEs) where UsesModeDae says, an
+/// interval IDA finds not index one taken by CVODE from its start; on
+/// CVODE (KLU where the LCS is large) otherwise. `lcs` outlives the method.
+EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& options);
+
+}  // namespace dvi::internal
