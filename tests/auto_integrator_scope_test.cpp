@@ -27,6 +27,7 @@ namespace dvi {
 namespace {
 
 using testing::ExpectSameTrajectory;
+using testing::Linspace;
 
 std::string Scientific(double value) {
   std::ostringstream text;
@@ -108,7 +109,12 @@ double ExpectAdvanceToStopsExactly(const Problem& problem, const Eigen::VectorXd
     }
     if (live) {
       EXPECT_EQ(integrator.StateAt(back), so_far.StateAt(back)) << "t = " << back;
-      EXPECT_EQ(integrator.MultiplierAt(back), so_far.MultiplierAt(back)) << "t = " << back;
+      // An EventDrivenIntegrator's u solves the mode at StateAt(t), the
+      // trajectory's is the next sample's between samples (ûᴴ): the same
+      // only on an interval run whole.
+      if (tolerance == 0) {
+        EXPECT_EQ(integrator.MultiplierAt(back), so_far.MultiplierAt(back)) << "t = " << back;
+      }
     }
     previous = stop;
   }
@@ -147,7 +153,9 @@ TEST(AutoIntegratorScope, OutputTimesAcrossAWindowAreIntegrateAutos) {
 // x' = u, u ∈ SOL(K, u + x): u = Π_K(−x). From x0 = (3, 0), with K the unit
 // ball or the diamond |u1| + |u2| ≤ 1 (a polyhedron), u = (−1, 0) until
 // x1 = 1 at t = 2, then u = −x: x = e^{2−t}·(1, 0) (auto_driver_test's
-// NonBoxSetRunsEventDrivenThroughItsKktSystem).
+// NonBoxSetRunsEventDrivenThroughItsKktSystem). The constraints active until
+// then are released at t = 2 (the ball's one, the diamond's two at its
+// vertex).
 Dvi ProjectedDecay(ConvexSet K) {
   Dvi dvi;
   dvi.n = 2;
@@ -191,8 +199,13 @@ TEST(AutoIntegratorScope, ABallAndAPolyhedronKAreIntegrateAutos) {
       AutoOptions options = TightOptions();
       if (sampled) options.event.output_times = Linspace(0, kHorizon, 41);
       const Trajectory one_shot = ExpectSteppedIsIntegrateAuto(dvi, x0, kHorizon, options);
-      ASSERT_EQ(one_shot.events.size(), 1u);
-      EXPECT_NEAR(one_shot.events[0].time, 2, 1e-9);
+      ASSERT_FALSE(one_shot.events.empty());
+      for (const Event& event : one_shot.events) EXPECT_NEAR(event.time, 2, 1e-9);
+      double error = 0;
+      for (std::size_t k = 0; k < one_shot.times.size(); ++k)
+        error = std::max(error, (one_shot.states[k] - ProjectedDecayExact(one_shot.times[k]))
+                                    .lpNorm<Eigen::Infinity>());
+      EXPECT_LE(error, 1e-8);
       ExpectAdvanceToStopsExactly(dvi, x0, kHorizon, options, Stops(kHorizon, 29), one_shot, 0);
     }
   }
@@ -291,9 +304,9 @@ TEST(AutoIntegratorScope, SourceBreakpointsAreIntegrateAutos) {
 
 // Charge sharing through an ideal diode (state_jump_test): x⁻ = (2, 0)
 // admits no u; the LCS jumps to x⁺ = (1, 1) (η = 1), then v1 = v2 =
-// e^{−t/2}. Every step sampled, the intervals are the object's own
+// e^{−t/2}, u = v/2. Every step sampled, the intervals are the object's own
 // (EventDrivenIntegrators), so a run split by AdvanceTo agrees to the
-// tolerance, not the bit.
+// tolerance (1e-8: state_jump_test's bound at rtol 1e-10), not the bit.
 TEST(AutoIntegratorScope, AnInconsistentX0JumpsAsInIntegrateAuto) {
   constexpr double kHorizon = 4;
   Eigen::MatrixXd A(2, 2), B(2, 1), C(1, 2), D(1, 1);
@@ -310,13 +323,14 @@ TEST(AutoIntegratorScope, AnInconsistentX0JumpsAsInIntegrateAuto) {
   EXPECT_EQ(one_shot.states[0], x0);
   EXPECT_LE((one_shot.states[1] - Eigen::Vector2d(1, 1)).lpNorm<Eigen::Infinity>(), 1e-12);
   const double split = ExpectAdvanceToStopsExactly(lcs, x0, kHorizon, TightOptions(),
-                                                   Stops(kHorizon, 40), one_shot, 1e-9);
+                                                   Stops(kHorizon, 40), one_shot, 1e-8);
   AutoIntegrator integrator(lcs, x0, 0, kHorizon, TightOptions());
   EXPECT_LE((integrator.x() - Eigen::Vector2d(1, 1)).lpNorm<Eigen::Infinity>(), 1e-12)
       << "x() at t0 is x⁺";
   ASSERT_EQ(integrator.AdvanceTo(2), StepOutcome::kStopTime);
   EXPECT_LE((integrator.x() - Eigen::Vector2d::Constant(std::exp(-1.0))).lpNorm<Eigen::Infinity>(),
             1e-8);
+  EXPECT_NEAR(integrator.MultiplierAt(2)(0), std::exp(-1.0) / 2, 1e-8);
   RecordProperty("split_difference", Scientific(split));
 }
 

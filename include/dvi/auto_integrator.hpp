@@ -29,31 +29,41 @@ namespace dvi {
 ///   }
 ///   Trajectory trajectory = integrator.trajectory();
 ///
-/// The event-driven intervals are EventDrivenIntegrators: a Step is one
-/// CVODE step, and AdvanceTo stops exactly at its time (CVODE's stop time,
-/// which shortens a step: a split run equals the one-shot run to the
-/// tolerance, not to the bit). A time-stepping window and a Zeno
+/// It takes what IntegrateAuto takes (output times, a non-box K lifted to
+/// its KKT system, source breakpoints, an LCS's state jump at an
+/// inconsistent x0, an LCS whose intervals run on IDA), and stepped to the
+/// end with Step() its trajectory() is IntegrateAuto's, bit for bit.
+///
+/// Where every step is sampled (empty event.output_times), K is a box, the
+/// problem has no source breakpoints and the intervals run on CVODE, the
+/// event-driven intervals are EventDrivenIntegrators: a Step is one CVODE
+/// step, and AdvanceTo stops exactly at its time (CVODE's stop time, which
+/// shortens a step: a split run equals the one-shot run to the tolerance,
+/// not to the bit). Otherwise an event-driven interval is run whole in the
+/// call that starts it, as IntegrateAuto runs it (the interval goes on to
+/// t_end or to where it fails, crossing the breakpoints): Step goes to its
+/// end, AdvanceTo(t) to a time inside it stops at t, x() and u() being its
+/// rows or its dense output there (Trajectory::StateAt), and a split run
+/// equals the one-shot run bit for bit. A time-stepping window and a Zeno
 /// extrapolation are computed whole in the call that enters them (a window
 /// is re-run at h/2, h/4, … until its certificate holds, so it cannot stop
 /// inside); t() then passes through them: AdvanceTo(t) to a time inside
 /// one stops at t, x() and u() being the part's dense output there (a
 /// window's x̂ᴴ, (7.1); an extrapolation's line from its last switch to
 /// (t*, x*), within its certified bound), and the next Step goes to its
-/// end, where event-driven integration resumes. trajectory() holds such a
-/// part whole.
+/// end, where event-driven integration resumes. trajectory() holds a part
+/// computed whole, whole.
 ///
-/// Scope: K a box, no source breakpoints, empty event.output_times (every
-/// step is sampled), a consistent x0 (an LCS's state jump at the start) and
-/// an LCS IntegrateAuto runs on CVODE (not on IDA: n + m ≥ 200 with sparse
-/// solvers allowed). IntegrateAuto takes all of these; the object refuses
-/// them by name. Observers and user events are refused as by IntegrateAuto
-/// (AutoOptions::Validate).
+/// An inconsistent x0 of an LCS jumps at t0 as in IntegrateAuto (x() there
+/// is x⁺; trajectory() has the row x⁻ and the jump event); a jump that
+/// fails ends the run at t0 (status(), kFailure from every Step). Observers
+/// and user events are refused as by IntegrateAuto (AutoOptions::Validate).
 class AutoIntegrator {
  public:
   /// Starts the first event-driven interval at (t0, x0) (its mode selected;
   /// a failure there hands over to time-stepping at the first Step).
   /// @throws InvalidInputError on an invalid problem, x0, t0/t_end or
-  /// options, and outside the scope above (naming the option).
+  /// options (naming what is wrong).
   AutoIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
                  const AutoOptions& options = {});
   AutoIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double t_end,
@@ -62,7 +72,8 @@ class AutoIntegrator {
   AutoIntegrator& operator=(AutoIntegrator&&) noexcept;
   ~AutoIntegrator();
 
-  /// One CVODE step in an event-driven interval (kStep, kEvent); where the
+  /// One CVODE step in an event-driven interval (kStep, kEvent), or an
+  /// interval run whole to its end (its outcome as below); where the
   /// interval ends short of t_end, the hand-over: a window or an
   /// extrapolation computed whole, the call ending at its end (kStep,
   /// method() naming it; the next call resumes event-driven there), or
@@ -76,7 +87,8 @@ class AutoIntegrator {
   /// Restarts the event-driven interval at (t, x) after the caller changed
   /// the state or a parameter (EventDrivenIntegrator::Reinit: the VI at
   /// (t, x) selects the mode; where none is found, the next Step hands over
-  /// to time-stepping).
+  /// to time-stepping). An interval run whole keeps its rows up to t (the
+  /// old state at t, then the new one) and is run anew from (t, x).
   /// @throws InvalidInputError if t is not in [t(), t_end), x has not n
   /// finite entries, the run is over, or t() is inside a window or an
   /// extrapolation (named, with its end: AdvanceTo there first; at its end
@@ -88,13 +100,16 @@ class AutoIntegrator {
   Eigen::VectorXd x() const;
   Eigen::VectorXd u() const;
   /// Live dense output: in an event-driven interval, the
-  /// EventDrivenIntegrator's (the current mode's last step); in a window or
-  /// an extrapolation, the part from its start to t().
+  /// EventDrivenIntegrator's (the current mode's last step) or, run whole,
+  /// the interval's from its start to t(); in a window or an extrapolation,
+  /// the part from its start to t(). Each is trajectory()'s dense output
+  /// there.
   /// @throws InvalidInputError if t is outside that span (named).
   Eigen::VectorXd StateAt(double t) const;
   Eigen::VectorXd MultiplierAt(double t) const;
   /// The current mode. @throws InvalidInputError unless method() is
-  /// kEventDriven with the run going on.
+  /// kEventDriven with the run going on, in an EventDrivenIntegrator's
+  /// interval (one run whole keeps no mode).
   const Mode& mode() const;
   /// The method at t(): event-driven, time-stepping (a window) or
   /// zeno-extrapolation; once over, the last interval's.

@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // The resumable automatic driver: the driver's run (auto_run.hpp) with each
-// event-driven interval an EventDrivenIntegrator, stepped call by call.
+// event-driven interval an EventDrivenIntegrator, stepped call by call, or,
+// beyond that object's scope, run whole as IntegrateAuto runs it
+// (whole_interval.hpp).
 #include "dvi/auto_integrator.hpp"
 
+#include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "auto_run.hpp"
@@ -12,6 +16,8 @@
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/event_driven_integrator.hpp"
 #include "state_jump.hpp"
+#include "stepper_calls.hpp"
+#include "whole_interval.hpp"
 
 namespace dvi {
 
@@ -38,33 +44,30 @@ class LiveInterval final : public internal::EventInterval {
   EventDrivenIntegrator integrator_;
 };
 
-// What the object leaves to IntegrateAuto, named (the header's scope).
-void CheckScope(const Dvi& dvi, const AutoOptions& options) {
-  DVI_THROW_UNLESS(options.event.output_times.empty(),
-                   "AutoIntegrator: options.event.output_times has "
-                       << options.event.output_times.size()
-                       << " entries; the object samples every step (stop at a time with "
-                          "AdvanceTo; IntegrateAuto takes output times)");
-  DVI_THROW_UNLESS(dvi.K.IsBox(), "AutoIntegrator: K is "
-                                      << dvi.K.Describe()
-                                      << "; the object takes a box K only (IntegrateAuto lifts "
-                                         "other sets to their KKT system)");
-  DVI_THROW_UNLESS(dvi.breakpoints.empty(),
-                   "AutoIntegrator: the problem has "
-                       << dvi.breakpoints.size()
-                       << " source breakpoint(s); the object does not integrate across them "
-                          "(IntegrateAuto does)");
-}
-
 }  // namespace
 
 // The problem, the options and the run, which refers to them: on the heap,
 // so that moving the integrator does not move them.
 struct AutoIntegrator::State {
-  State(Dvi problem, std::optional<Lcs> linear, const AutoOptions& run_options, double t_end)
-      : dvi(std::move(problem)), lcs(std::move(linear)), options(run_options), run_t_end(t_end) {}
+  State(Dvi problem, std::optional<Lcs> linear, const AutoOptions& run_options, double t0,
+        double t_end, const Eigen::VectorXd& x0)
+      : dvi(std::move(problem)),
+        lcs(std::move(linear)),
+        options(run_options),
+        run_t0(t0),
+        run_t_end(t_end),
+        x_minus(x0) {}
+
+  // Whether the EventDrivenIntegrator takes the intervals: every step
+  // sampled, K a box, no source breakpoints, CVODE (not IDA's mode DAEs).
+  bool Live() const {
+    return options.event.output_times.empty() && dvi.K.IsBox() && dvi.breakpoints.empty() &&
+           !(lcs && internal::UsesModeDae(*lcs, options));
+  }
 
   internal::EventMethod Method() const {
+    if (!Live()) return lcs ? internal::WholeIntervals(*lcs, run_t_end, options)
+                            : internal::WholeIntervals(dvi, run_t_end);
     const Lcs* linear = lcs ? &*lcs : nullptr;
     return {[this](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
               return std::make_unique<LiveInterval>(
@@ -76,63 +79,111 @@ struct AutoIntegrator::State {
             }};
   }
 
+  template <typename Problem>
+  void Start(const Problem& problem, const Eigen::VectorXd& x_start) {
+    run.emplace(Method(), internal::SteppingOf(problem, options), x_start, run_t0, run_t_end,
+                options);
+  }
+
   const Dvi dvi;                 // the problem, an LCS's through ToDvi
   const std::optional<Lcs> lcs;  // the LCS, when it is one (its matrices and KLU)
   const AutoOptions options;
-  const double run_t_end;
+  const double run_t0, run_t_end;
+  const Eigen::VectorXd x_minus;  // x0 as given
+  // An LCS's state jump at t0 (x0 admits no u), recorded as IntegrateAuto
+  // records it (RecordJump); one that failed ends the run at t0 (`failed`,
+  // and no run).
+  std::optional<internal::StateJump> jump;
+  std::optional<Trajectory> failed;
   std::optional<internal::AutoRun> run;
 };
 
 AutoIntegrator::AutoIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
                                double t_end, const AutoOptions& options) {
   internal::CheckAutoStart(dvi, x0, t0, t_end, options);
-  CheckScope(dvi, options);
-  state_ = std::make_unique<State>(dvi, std::nullopt, options, t_end);
-  state_->run.emplace(state_->Method(), internal::SteppingOf(state_->dvi, state_->options), x0,
-                      t0, t_end, state_->options);
+  state_ = std::make_unique<State>(dvi, std::nullopt, options, t0, t_end, x0);
+  state_->Start(state_->dvi, x0);
 }
 
 AutoIntegrator::AutoIntegrator(const Lcs& lcs, const Eigen::VectorXd& x0, double t0,
                                double t_end, const AutoOptions& options) {
   internal::CheckAutoStart(lcs, x0, t0, t_end, options);
-  DVI_THROW_UNLESS(!internal::UsesModeDae(lcs, options),
-                   "AutoIntegrator: the LCS has n + m = "
-                       << lcs.n() + lcs.m()
-                       << " on a box K, which IntegrateAuto runs on IDA (mode DAEs); the object "
-                          "runs CVODE only (options.event.solver.allow_sparse = false, or "
-                          "IntegrateAuto)");
-  Dvi dvi = lcs.ToDvi();
-  CheckScope(dvi, options);
-  const internal::StateJump jump = internal::LcsJumpAt(lcs, t0, x0, options.event.solver);
-  DVI_THROW_UNLESS(jump.outcome == internal::StateJump::Outcome::kConsistent,
-                   "AutoIntegrator: x0 admits no u at t0 = "
-                       << t0
-                       << " (the LCS's state jumps there); the object starts from a consistent "
-                          "x0 (IntegrateAuto records the jump)");
-  state_ = std::make_unique<State>(std::move(dvi), lcs, options, t_end);
-  state_->run.emplace(state_->Method(), internal::SteppingOf(*state_->lcs, state_->options), x0,
-                      t0, t_end, state_->options);
+  state_ = std::make_unique<State>(lcs.ToDvi(), lcs, options, t0, t_end, x0);
+  State& state = *state_;
+  internal::StateJump jump = internal::LcsJumpAt(lcs, t0, x0, options.event.solver);
+  switch (jump.outcome) {
+    case internal::StateJump::Outcome::kConsistent: state.Start(*state.lcs, x0); break;
+    case internal::StateJump::Outcome::kJump:
+      state.jump = std::move(jump);
+      state.Start(*state.lcs, state.jump->x_plus);
+      break;
+    case internal::StateJump::Outcome::kFailed: state.failed = internal::FailedJump(jump, "x0");
+  }
 }
 
 AutoIntegrator::AutoIntegrator(AutoIntegrator&&) noexcept = default;
 AutoIntegrator& AutoIntegrator::operator=(AutoIntegrator&&) noexcept = default;
 AutoIntegrator::~AutoIntegrator() = default;
 
-StepOutcome AutoIntegrator::Step() { return state_->run->Step(); }
-StepOutcome AutoIntegrator::AdvanceTo(double t) { return state_->run->AdvanceTo(t); }
-void AutoIntegrator::Reinit(double t, const Eigen::VectorXd& x) { state_->run->Reinit(t, x); }
-double AutoIntegrator::t() const { return state_->run->t(); }
-double AutoIntegrator::t_end() const { return state_->run->t_end(); }
-Eigen::VectorXd AutoIntegrator::x() const { return state_->run->x(); }
-Eigen::VectorXd AutoIntegrator::u() const { return state_->run->u(); }
-Eigen::VectorXd AutoIntegrator::StateAt(double t) const { return state_->run->StateAt(t); }
+// A run that failed at t0 (its state jump) answers as one that has failed.
+StepOutcome AutoIntegrator::Step() {
+  return state_->run ? state_->run->Step() : StepOutcome::kFailure;
+}
+
+StepOutcome AutoIntegrator::AdvanceTo(double t) {
+  if (state_->run) return state_->run->AdvanceTo(t);
+  internal::CheckAdvanceTime(t, state_->run_t0, state_->run_t_end);
+  return StepOutcome::kFailure;
+}
+
+void AutoIntegrator::Reinit(double t, const Eigen::VectorXd& x) {
+  if (state_->run) return state_->run->Reinit(t, x);
+  internal::CheckReinit(StepOutcome::kFailure, t, x, state_->run_t0, state_->run_t_end,
+                        state_->dvi.n);
+}
+
+double AutoIntegrator::t() const { return state_->run ? state_->run->t() : state_->run_t0; }
+double AutoIntegrator::t_end() const { return state_->run_t_end; }
+Eigen::VectorXd AutoIntegrator::x() const {
+  return state_->run ? state_->run->x() : state_->x_minus;
+}
+Eigen::VectorXd AutoIntegrator::u() const {
+  return state_->run ? state_->run->u() : Eigen::VectorXd();
+}
+
+namespace {
+
+[[noreturn]] void FailedAtStart(const char* call, const Trajectory& failed) {
+  throw InvalidInputError(std::string(call) + ": the run failed at t0 (" + failed.message + ")");
+}
+
+}  // namespace
+
+Eigen::VectorXd AutoIntegrator::StateAt(double t) const {
+  if (!state_->run) FailedAtStart("StateAt", *state_->failed);
+  return state_->run->StateAt(t);
+}
 Eigen::VectorXd AutoIntegrator::MultiplierAt(double t) const {
+  if (!state_->run) FailedAtStart("MultiplierAt", *state_->failed);
   return state_->run->MultiplierAt(t);
 }
-const Mode& AutoIntegrator::mode() const { return state_->run->mode(); }
-IntegrationMethod AutoIntegrator::method() const { return state_->run->method(); }
-IntegrationStatus AutoIntegrator::status() const { return state_->run->status(); }
+const Mode& AutoIntegrator::mode() const {
+  if (!state_->run) FailedAtStart("mode", *state_->failed);
+  return state_->run->mode();
+}
+IntegrationMethod AutoIntegrator::method() const {
+  return state_->run ? state_->run->method() : IntegrationMethod::kEventDriven;
+}
+IntegrationStatus AutoIntegrator::status() const {
+  return state_->run ? state_->run->status() : state_->failed->status;
+}
 IntegrationStats AutoIntegrator::stats() const { return trajectory().stats; }
-Trajectory AutoIntegrator::trajectory() const { return state_->run->trajectory(); }
+
+Trajectory AutoIntegrator::trajectory() const {
+  if (!state_->run) return *state_->failed;
+  Trajectory so_far = state_->run->trajectory();
+  if (state_->jump) internal::RecordJump(state_->run_t0, state_->x_minus, *state_->jump, so_far);
+  return so_far;
+}
 
 }  // namespace dvi
