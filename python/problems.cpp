@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Problem types: ConvexSet, Lcs (numpy, scipy.sparse or triplets), Dvi and
 // the Filippov system with Python callables, projected dynamics.
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -177,6 +178,18 @@ void BindProblems(py::module_& module) {
       .def_static("orthant", &ConvexSet::Orthant, py::arg("m"))
       .def_static("box", &ConvexSet::Box, py::arg("lower"), py::arg("upper"))
       .def_static("whole", &ConvexSet::Whole, py::arg("m"))
+      .def_static("ball", &ConvexSet::Ball, py::arg("center"), py::arg("radius"))
+      .def_static(
+          "polyhedron",
+          [](Eigen::MatrixXd G, Eigen::VectorXd h, std::optional<Eigen::MatrixXd> E,
+             std::optional<Eigen::VectorXd> e) {
+            const auto columns = G.cols();
+            return ConvexSet::Polyhedron(std::move(G), std::move(h),
+                                         E ? std::move(*E) : Eigen::MatrixXd(0, columns),
+                                         e ? std::move(*e) : Eigen::VectorXd(0));
+          },
+          py::arg("G"), py::arg("h"), py::arg("E") = py::none(), py::arg("e") = py::none(),
+          "{u : G u <= h, E u = e}")
       .def_property_readonly("dim", &ConvexSet::dim)
       .def("__repr__", [](const ConvexSet& K) { return "<dvi.ConvexSet " + K.Describe() + ">"; });
 

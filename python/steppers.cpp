@@ -219,10 +219,11 @@ void BindSteppers(py::module_& module) {
   py::class_<Stepper<AutoIntegrator>> automatic(
       module, "AutoIntegrator",
       "The automatic driver (integrate_auto) as an object to step, stop and resume: step(), "
-      "advance_to(t), reinit(t, x), method; options as integrate_auto's keywords (no "
-      "output_times: every step is sampled)");
-  DefConstructor<AutoIntegrator, Lcs>(automatic, "An Lcs (2.8) on a box K");
-  DefConstructor<AutoIntegrator, Dvi>(automatic, "A Dvi of Python callables on a box K");
+      "advance_to(t), reinit(t, x), method; options as integrate_auto's keywords (output_times "
+      "too), the problems integrate_auto takes; step() to the end is integrate_auto bit for "
+      "bit");
+  DefConstructor<AutoIntegrator, Lcs>(automatic, "An Lcs (2.8)");
+  DefConstructor<AutoIntegrator, Dvi>(automatic, "A Dvi of Python callables");
   DefConstructor<AutoIntegrator, FilippovSystem>(automatic,
                                                  "A Filippov system as its separable DVI");
   DefMembers(automatic);

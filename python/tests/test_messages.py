@@ -81,8 +81,6 @@ CASES = [
     (lambda: dvi.EventDrivenIntegrator(saturation(breakpoints=[0.5]), [3.0], 0, 1),
      r"EventDrivenIntegrator: the problem has 1 source breakpoint\(s\); the stepper does not "
      r"integrate across them \(integrate_event does\)"),
-    (lambda: dvi.AutoIntegrator(diode(), [1.0], 0, 1, output_times=[0.5]),
-     r"AutoIntegrator: output_times has 1 entries; the object samples every step"),
     (lambda: dvi.AutoIntegrator(diode(), [1.0], 0, 1, h=-1),
      r"AutoIntegrator: h: -1 is not a positive step size"),
     (lambda: stepper_at_half().advance_to(0.25),
