@@ -211,14 +211,27 @@ TEST(AutoIntegratorScope, ABallAndAPolyhedronKAreIntegrateAutos) {
   }
 }
 
-// Reinit inside an interval computed whole (the ball's KKT system): at
-// t = 1, x = (2, 0) is reset to (4, 0); |x| falls at unit rate to 1 at
-// t = 4, then x = e^{4−t}·(1, 0). The rows keep (1, (2, 0)), then the new
-// state; AdvanceTo then goes on from the restart.
+// Reinit inside an interval computed whole (the ball's KKT system, every
+// step sampled or at output times): at t = 1, x = (2, 0) is reset to
+// (4, 0); |x| falls at unit rate to 1 at t = 4, then x = e^{4−t}·(1, 0).
+// The rows keep (1, (2, 0)), then the new state; AdvanceTo then goes on
+// from the restart. mode() is refused by name there.
+void ReinitInsideAWholeInterval(bool sampled);
+
 TEST(AutoIntegratorScope, ReinitInsideAWholeIntervalRestartsIt) {
+  for (const bool sampled : {false, true}) {
+    SCOPED_TRACE(sampled ? "output times" : "every step");
+    ReinitInsideAWholeInterval(sampled);
+  }
+}
+
+void ReinitInsideAWholeInterval(bool sampled) {
   constexpr double kHorizon = 6, kReset = 1;
   const Dvi dvi = ProjectedDecay(ConvexSet::Ball(Eigen::Vector2d::Zero(), 1));
-  AutoIntegrator integrator(dvi, Eigen::Vector2d(3, 0), 0, kHorizon, TightOptions());
+  AutoOptions options = TightOptions();
+  if (sampled) options.event.output_times = Linspace(0, kHorizon, 25);
+  AutoIntegrator integrator(dvi, Eigen::Vector2d(3, 0), 0, kHorizon, options);
+  testing::ExpectThrowNaming([&] { integrator.mode(); }, "is run whole");
   ASSERT_EQ(integrator.AdvanceTo(kReset), StepOutcome::kStopTime);
   EXPECT_LE((integrator.x() - Eigen::Vector2d(2, 0)).lpNorm<Eigen::Infinity>(), 1e-9);
   const Eigen::Vector2d reset(4, 0);
@@ -247,7 +260,7 @@ TEST(AutoIntegratorScope, ReinitInsideAWholeIntervalRestartsIt) {
   // The release of the constraint at t = 4, once.
   ASSERT_EQ(trajectory.events.size(), 1u);
   EXPECT_NEAR(trajectory.events[0].time, 4, 1e-9);
-  RecordProperty("max_error", Scientific(error));
+  ::testing::Test::RecordProperty(sampled ? "sampled_max_error" : "max_error", Scientific(error));
 }
 
 // A square wave through a one-sided clamp (lcs_sources_test): x' = s(t) − x

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -76,10 +77,11 @@ Eigen::VectorXd WholeInterval::MultiplierAt(double t) const {
 }
 
 const Mode& WholeInterval::mode() const {
-  throw InvalidInputError(
-      "mode: the event-driven interval from t = " + std::to_string(t0_) +
-      " is run whole (output times, a non-box K, source breakpoints or IDA's mode DAEs) and "
-      "keeps no mode");
+  std::ostringstream message;
+  message << "mode: the event-driven interval from t = " << t0_
+          << " is run whole (output times, a non-box K, source breakpoints or IDA's mode DAEs) "
+             "and keeps no mode";
+  throw InvalidInputError(message.str());
 }
 
 IntegrationStatus WholeInterval::status() const {
@@ -87,7 +89,8 @@ IntegrationStatus WholeInterval::status() const {
 }
 
 // As EventDrivenIntegrator::Reinit: the rows keep the old state at t, then
-// the new one; a run that failed before t does not restart.
+// the new one (a run that failed at its start has none); a run that failed
+// before t does not restart.
 void WholeInterval::Reinit(double t, const Eigen::VectorXd& x) {
   if (t > End()) {
     cursor_ = End();
@@ -104,7 +107,7 @@ void WholeInterval::Reinit(double t, const Eigen::VectorXd& x) {
     head.states.push_back(run_.states[k]);
     head.multipliers.push_back(run_.multipliers[k]);
   }
-  if (head.times.empty() || head.times.back() < t) {
+  if (!run_.times.empty() && (head.times.empty() || head.times.back() < t)) {
     head.states.push_back(run_.StateAt(t));
     head.multipliers.push_back(run_.MultiplierAt(t));
     head.times.push_back(t);
