@@ -545,14 +545,9 @@ TEST(AutoDriver, AFailedSteppingIntervalNamesItselfAndWhyItBegan) {
 // arrival x0_i/k_i on. n + m = 200 takes the mode-DAE path (IDA with KLU).
 TEST(AutoDriver, LargeSparseLcsRunsItsEventIntervalsAsModeDaes) {
   constexpr int n = 100;
-  Eigen::VectorXd k(n), x0(n);
-  for (int i = 0; i < n; ++i) {
-    k(i) = 1 + i % 7;
-    x0(i) = 0.5 + 1.5 * ((i * 37) % n) / n;
-  }
-  SparseMatrix identity(n, n);
-  identity.setIdentity();
-  const Lcs lcs = Lcs::Sparse(SparseMatrix(n, n), identity, identity, SparseMatrix(n, n), -k);
+  const testing::ClampBank clamps = testing::Clamps(n);
+  const Lcs& lcs = clamps.lcs;
+  const Eigen::VectorXd &k = clamps.k, &x0 = clamps.x0;
   AutoOptions options;
   options.event.rtol = 1e-10;
   options.event.atol = 1e-12;
@@ -591,16 +586,7 @@ TEST(AutoDriver, LargeSparseLcsRunsItsEventIntervalsAsModeDaes) {
 // Event-driven on the ball's KKT system throughout: the constraint is
 // released at t = 2.
 TEST(AutoDriver, NonBoxSetRunsEventDrivenThroughItsKktSystem) {
-  Dvi dvi;
-  dvi.n = 2;
-  dvi.m = 2;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u;
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u + x;
-  };
-  dvi.K = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1);
+  const Dvi dvi = testing::ProjectedDecay(ConvexSet::Ball(Eigen::Vector2d::Zero(), 1));
   AutoOptions options;
   options.event.rtol = 1e-10;
   options.event.atol = 1e-12;

@@ -20,6 +20,7 @@
 #include "dvi/auto_integrator.hpp"
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
+#include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
 #include "support/zoo/models.hpp"
 
@@ -33,15 +34,6 @@ std::string Scientific(double value) {
   std::ostringstream text;
   text << std::scientific << std::setprecision(3) << value;
   return text.str();
-}
-
-bool HasMethod(const Trajectory& trajectory, IntegrationMethod method) {
-  return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
-                     [method](const MethodInterval& interval) { return interval.method == method; });
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 void ExpectSameRun(const Trajectory& a, const Trajectory& b) {
@@ -143,33 +135,22 @@ TEST(AutoIntegratorScope, OutputTimesAcrossAWindowAreIntegrateAutos) {
   options.event.output_times = Linspace(0, model.horizon, 201);
   const Trajectory one_shot =
       ExpectSteppedIsIntegrateAuto(model.lcs, model.x0, model.horizon, options);
-  ASSERT_TRUE(HasMethod(one_shot, IntegrationMethod::kTimeStepping))
+  ASSERT_TRUE(std::any_of(one_shot.intervals.begin(), one_shot.intervals.end(),
+                          [](const MethodInterval& interval) {
+                            return interval.method == IntegrationMethod::kTimeStepping;
+                          }))
       << one_shot.Report(ReportDetail::kFull);
   // Stops between the output times and inside the window.
   ExpectAdvanceToStopsExactly(model.lcs, model.x0, model.horizon, options,
                               Stops(model.horizon, 37), one_shot, 0);
 }
 
-// x' = u, u ∈ SOL(K, u + x): u = Π_K(−x). From x0 = (3, 0), with K the unit
-// ball or the diamond |u1| + |u2| ≤ 1 (a polyhedron), u = (−1, 0) until
+// x' = u, u ∈ SOL(K, u + x): u = Π_K(−x) (testing::ProjectedDecay). From
+// x0 = (3, 0), with K the unit ball or the diamond |u1| + |u2| ≤ 1 (a polyhedron), u = (−1, 0) until
 // x1 = 1 at t = 2, then u = −x: x = e^{2−t}·(1, 0) (auto_driver_test's
 // NonBoxSetRunsEventDrivenThroughItsKktSystem). The constraints active until
 // then are released at t = 2 (the ball's one, the diamond's two at its
 // vertex).
-Dvi ProjectedDecay(ConvexSet K) {
-  Dvi dvi;
-  dvi.n = 2;
-  dvi.m = 2;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u;
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u + x;
-  };
-  dvi.K = std::move(K);
-  return dvi;
-}
-
 ConvexSet Diamond() {
   Eigen::MatrixXd G(4, 2);
   G << 1, 1, 1, -1, -1, 1, -1, -1;
@@ -192,7 +173,7 @@ TEST(AutoIntegratorScope, ABallAndAPolyhedronKAreIntegrateAutos) {
   constexpr double kHorizon = 4;
   for (const ConvexSet& K : {ConvexSet::Ball(Eigen::Vector2d::Zero(), 1), Diamond()}) {
     SCOPED_TRACE(K.Describe());
-    const Dvi dvi = ProjectedDecay(K);
+    const Dvi dvi = testing::ProjectedDecay(K);
     const Eigen::VectorXd x0 = Eigen::Vector2d(3, 0);
     for (const bool sampled : {false, true}) {
       SCOPED_TRACE(sampled ? "output times" : "every step");
@@ -227,7 +208,7 @@ TEST(AutoIntegratorScope, ReinitInsideAWholeIntervalRestartsIt) {
 
 void ReinitInsideAWholeInterval(bool sampled) {
   constexpr double kHorizon = 6, kReset = 1;
-  const Dvi dvi = ProjectedDecay(ConvexSet::Ball(Eigen::Vector2d::Zero(), 1));
+  const Dvi dvi = testing::ProjectedDecay(ConvexSet::Ball(Eigen::Vector2d::Zero(), 1));
   AutoOptions options = TightOptions();
   if (sampled) options.event.output_times = Linspace(0, kHorizon, 25);
   AutoIntegrator integrator(dvi, Eigen::Vector2d(3, 0), 0, kHorizon, options);
@@ -371,21 +352,16 @@ TEST(AutoIntegratorScope, AFailedJumpEndsTheRunAtT0AsIntegrateAutos) {
 TEST(AutoIntegratorScope, IdaIntervalsAreIntegrateAutos) {
   constexpr int n = 100;
   constexpr double kHorizon = 2;
-  Eigen::VectorXd k(n), x0(n);
-  for (int i = 0; i < n; ++i) {
-    k(i) = 1 + i % 7;
-    x0(i) = 0.5 + 1.5 * ((i * 37) % n) / n;
-  }
-  SparseMatrix identity(n, n);
-  identity.setIdentity();
-  const Lcs lcs = Lcs::Sparse(SparseMatrix(n, n), identity, identity, SparseMatrix(n, n), -k);
+  const testing::ClampBank clamps = testing::Clamps(n);
+  const Lcs& lcs = clamps.lcs;
+  const Eigen::VectorXd &k = clamps.k, &x0 = clamps.x0;
   for (const bool sampled : {false, true}) {
     SCOPED_TRACE(sampled ? "output times" : "every step");
     AutoOptions options = TightOptions();
     if (sampled) options.event.output_times = Linspace(0, kHorizon, 41);
     const Trajectory one_shot = ExpectSteppedIsIntegrateAuto(lcs, x0, kHorizon, options);
     ASSERT_EQ(one_shot.intervals.size(), 1u);
-    EXPECT_TRUE(Contains(one_shot.intervals[0].reason, "IDA")) << one_shot.intervals[0].reason;
+    EXPECT_NE(one_shot.intervals[0].reason.find("IDA"), std::string::npos) << one_shot.intervals[0].reason;
     EXPECT_EQ(one_shot.events.size(), static_cast<std::size_t>(n));
     ExpectAdvanceToStopsExactly(lcs, x0, kHorizon, options, Stops(kHorizon, 16), one_shot, 0);
     AutoIntegrator integrator(lcs, x0, 0, kHorizon, options);

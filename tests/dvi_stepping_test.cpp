@@ -267,16 +267,7 @@ TEST(DviStepping, PolyhedralKTakesTheSameStepsAsTheBox) {
 // along the ray of x0 = 3·(0.8, 0.6). K is neither box nor polyhedron: the
 // step's VI on ℝ² × K goes through its KKT system with the ball's constraint.
 TEST(DviStepping, BallKIsFirstOrder) {
-  Dvi dvi;
-  dvi.n = 2;
-  dvi.m = 2;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u;
-  };
-  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u + x;
-  };
-  dvi.K = ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0);
+  const Dvi dvi = testing::ProjectedDecay(ConvexSet::Ball(Eigen::Vector2d::Zero(), 1.0));
   const Eigen::Vector2d direction(0.8, 0.6);
   const ExactState exact = [&](double t) { return Eigen::VectorXd(SaturatedDecayExact(t)[0] * direction); };
   const std::vector<double> step_sizes = {0.04, 0.02, 0.01};

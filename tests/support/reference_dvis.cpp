@@ -2,8 +2,37 @@
 #include "support/reference_dvis.hpp"
 
 #include <cmath>
+#include <utility>
 
 namespace dvi::testing {
+
+Dvi ProjectedDecay(ConvexSet K) {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 2;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u;
+  };
+  dvi.F = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u + x;
+  };
+  dvi.K = std::move(K);
+  return dvi;
+}
+
+ClampBank Clamps(int n) {
+  ClampBank bank;
+  bank.k.resize(n);
+  bank.x0.resize(n);
+  for (int i = 0; i < n; ++i) {
+    bank.k(i) = 1 + i % 7;
+    bank.x0(i) = 0.5 + 1.5 * ((i * 37) % n) / n;
+  }
+  SparseMatrix identity(n, n);
+  identity.setIdentity();
+  bank.lcs = Lcs::Sparse(SparseMatrix(n, n), identity, identity, SparseMatrix(n, n), -bank.k);
+  return bank;
+}
 
 Dvi SaturatedDecay() {
   Dvi dvi;

@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 
+#include "dvi/convex_set.hpp"
 #include "dvi/dvi_problem.hpp"
 #include "dvi/lcs.hpp"
 
@@ -20,6 +21,22 @@ Dvi SaturatedDecay();
 
 /// x(t) of SaturatedDecay from x0 = 3 at t0 = 0.
 Eigen::VectorXd SaturatedDecayExact(double t);
+
+/// SaturatedDecay in ℝ² on another K (the unit ball, a polyhedron):
+///   x' = u,   u ∈ SOL(K, u + x),
+/// so u = Π_K(−x). No Jacobians. From x0 = 3·d, d a unit vector on which
+/// K reaches to 1 (d = (1, 0) for the ball and the diamond |u1| + |u2| ≤ 1),
+/// x = SaturatedDecayExact(t)·d.
+Dvi ProjectedDecay(ConvexSet K);
+
+/// n independent clamps as a sparse LCS, x_i' = −k_i + u_i, 0 ≤ u ⊥ x ≥ 0
+/// (D = 0: index two once x_i = 0), k_i = 1 + i mod 7, x0_i in [0.5, 2):
+/// x_i = max(x0_i − k_i t, 0), and u_i = k_i from the arrival x0_i/k_i on.
+struct ClampBank {
+  Lcs lcs;
+  Eigen::VectorXd k, x0;
+};
+ClampBank Clamps(int n);
 
 /// A spiral into the unit disc B with one kink, u in a ball:
 ///   x' = Ω x − u,   u ∈ SOL(B, u − x),   Ω = [[0, −1], [1, 0]],
