@@ -165,7 +165,8 @@ void DefMembers(py::class_<Stepper<Integrator>>& stepper) {
           "state_at", [](const Self& self, double t) { return self.integrator.StateAt(t); },
           py::arg("t"),
           "x(t) in the last step of the current mode, at the integrator's accuracy (CVodeGetDky; "
-          "auto: or on the window being passed); earlier times: trajectory().state_at")
+          "auto: or on the interval run whole or the window being passed, up to t); earlier "
+          "times: trajectory().state_at")
       .def_property_readonly(
           "mode", [](const Self& self) { return ModeNames(self.integrator.mode()); },
           "Per component of u: \"free\", \"lower\" or \"upper\" (bound)")

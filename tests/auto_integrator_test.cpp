@@ -36,7 +36,8 @@ std::string Scientific(double value) {
 
 // zeno_extrapolation_test's options for the zoo's Zeno models (atol 1e-14:
 // the shrinking cycles magnify an absolute error), without output times:
-// the object samples every step.
+// every step sampled, the intervals are EventDrivenIntegrators (stepped
+// call by call; auto_integrator_scope_test has output times).
 AutoOptions ZenoOptions(const zoo::ZooModel& model) {
   AutoOptions options;
   options.event.rtol = 1e-10;
