@@ -121,33 +121,43 @@ std::vector<double> Stops(double t_end, int count) {
   return stops;
 }
 
-// Output times, and a time-stepping window over the spiral's Zeno
-// accumulation that samples them (auto_integrator_test's window options).
-TEST(AutoIntegratorScope, OutputTimesAcrossAWindowAreIntegrateAutos) {
-  const zoo::ZooModel model = zoo::ZooModelNamed("filippov_spiral");
-  AutoOptions options;
-  options.event.rtol = 1e-10;
-  options.event.atol = 1e-14;
-  options.stepping.h = model.customary_h;
-  options.extrapolate_zeno = false;
-  options.window_rtol = 1e-3;
-  options.window_atol = 1e-3;
-  options.event.output_times = Linspace(0, model.horizon, 201);
-  const Trajectory one_shot =
-      ExpectSteppedIsIntegrateAuto(model.lcs, model.x0, model.horizon, options);
-  ASSERT_TRUE(std::any_of(one_shot.intervals.begin(), one_shot.intervals.end(),
-                          [](const MethodInterval& interval) {
-                            return interval.method == IntegrationMethod::kTimeStepping;
-                          }))
-      << one_shot.Report(ReportDetail::kFull);
-  // Stops between the output times and inside the window.
-  ExpectAdvanceToStopsExactly(model.lcs, model.x0, model.horizon, options,
-                              Stops(model.horizon, 37), one_shot, 0);
+// Output times across the hand-overs: a time-stepping window over the
+// spiral's Zeno accumulation (auto_integrator_test's window options), and
+// the twisting controller's extrapolated accumulation, each sampling them.
+TEST(AutoIntegratorScope, OutputTimesAcrossTheHandOversAreIntegrateAutos) {
+  const struct {
+    const char* model;
+    bool extrapolate;
+    IntegrationMethod handover;
+  } cases[] = {{"filippov_spiral", false, IntegrationMethod::kTimeStepping},
+               {"twisting_controller", true, IntegrationMethod::kZenoExtrapolation}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.model);
+    const zoo::ZooModel model = zoo::ZooModelNamed(c.model);
+    AutoOptions options;
+    options.event.rtol = 1e-10;
+    options.event.atol = 1e-14;
+    options.stepping.h = model.customary_h;
+    options.extrapolate_zeno = c.extrapolate;
+    options.window_rtol = 1e-3;
+    options.window_atol = 1e-3;
+    options.event.output_times = Linspace(0, model.horizon, 201);
+    const Trajectory one_shot =
+        ExpectSteppedIsIntegrateAuto(model.lcs, model.x0, model.horizon, options);
+    ASSERT_TRUE(std::any_of(one_shot.intervals.begin(), one_shot.intervals.end(),
+                            [&](const MethodInterval& interval) {
+                              return interval.method == c.handover;
+                            }))
+        << one_shot.Report(ReportDetail::kFull);
+    // Stops between the output times and inside the hand-overs.
+    ExpectAdvanceToStopsExactly(model.lcs, model.x0, model.horizon, options,
+                                Stops(model.horizon, 37), one_shot, 0);
+  }
 }
 
 // x' = u, u ∈ SOL(K, u + x): u = Π_K(−x) (testing::ProjectedDecay). From
-// x0 = (3, 0), with K the unit ball or the diamond |u1| + |u2| ≤ 1 (a polyhedron), u = (−1, 0) until
-// x1 = 1 at t = 2, then u = −x: x = e^{2−t}·(1, 0) (auto_driver_test's
+// x0 = (3, 0), with K the unit ball or the diamond |u1| + |u2| ≤ 1 (a
+// polyhedron), u = (−1, 0) until x1 = 1 at t = 2, then u = −x: x = e^{2−t}·(1, 0) (auto_driver_test's
 // NonBoxSetRunsEventDrivenThroughItsKktSystem). The constraints active until
 // then are released at t = 2 (the ball's one, the diamond's two at its
 // vertex).
