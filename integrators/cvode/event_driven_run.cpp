@@ -626,6 +626,7 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
       Sample(t_, x_left, at_stop.solved() ? at_stop.z : u_left, ObservationPoint::kEvent);
       return Advance::kFailed;
     }
+    if (flag == CV_ROOT_RETURN && system_.mode() == mode_left) ++root_returns_without_switch_;
     std::copy(x.data(), x.data() + x.size(), y_.data());
     if (user_event >= 0) return HandleUserEvent(user_event, x);  // at the mode's event
     // An event this close to the stop time ends the step there (the run,

@@ -99,6 +99,9 @@ class EventDrivenRun {
   const Trajectory& samples() const { return trajectory_; }
   /// How many steps LocateMissedRoot has scanned for a root CVODE missed.
   long missed_root_scans() const { return missed_root_scans_; }
+  /// How many of CVODE's root returns left the mode as it was (a root
+  /// function that only touched zero, or one evaluated off the solution).
+  long root_returns_without_switch() const { return root_returns_without_switch_; }
 
  private:
   bool Start(double t, const Eigen::VectorXd& x_start);
@@ -193,6 +196,7 @@ class EventDrivenRun {
   std::chrono::steady_clock::time_point start_clock_;
   double mode_start_ = 0;  // where the current mode was entered
   long missed_root_scans_ = 0;
+  long root_returns_without_switch_ = 0;
 
   // The observer and the user's root functions (options_.observation).
   const ObservationOptions& observation_ = options_.observation;

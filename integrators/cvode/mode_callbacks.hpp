@@ -40,6 +40,7 @@ struct ModeCallbackData {
   // sign change).
   double root_time = NAN;
   Eigen::VectorXd roots;
+  Eigen::VectorXd root_correction;  // a reduced mode's projection at a root evaluation
   double least_root = 0;
   bool root_undefined = false;
   // The user's root functions, after the mode's 2m (events/user_roots.hpp);
