@@ -438,6 +438,7 @@ bool EventDrivenRun::Begin() {
   data_.system = &system_;
   data_.x.resize(x0_.size());
   data_.roots.resize(2 * dvi_.m);
+  data_.project_roots = ProjectsSteps();
   if (user_roots_ > 0) data_.user_events = &observation_.user_events;
   t_ = t0_;
   mode_start_ = t0_;

@@ -40,7 +40,11 @@ struct ModeCallbackData {
   // sign change).
   double root_time = NAN;
   Eigen::VectorXd roots;
-  Eigen::VectorXd root_correction;  // a reduced mode's projection at a root evaluation
+  // Whether a reduced mode's root functions are evaluated on its
+  // constraints (CVODE projects its steps onto them: BDF), and the
+  // projection's scratch.
+  bool project_roots = false;
+  Eigen::VectorXd root_correction;
   double least_root = 0;
   bool root_undefined = false;
   // The user's root functions, after the mode's 2m (events/user_roots.hpp);
