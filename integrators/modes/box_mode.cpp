@@ -98,6 +98,7 @@ void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   rows_split_ = false;
   newton_lu_current_ = false;
   root_slopes_known_ = false;
+  root_rows_known_ = false;
   tangent_known_ = false;
   anchored_ = false;
   free_directions_.resize(0, 0);

@@ -196,6 +196,10 @@ class BoxModeSystem {
   /// F's Jacobians and K = G_u⁻¹ G_x (du_A/dx = −K) by lu = G_u's factors
   /// (null, K empty when no component is free). The k = G_u⁻¹ F_t,A it
   /// forms on the way is also Newton's tangent in t (tangent_t_).
+  /// A small LCS mode's root functions as affine functions of x
+  /// (root_rows_): u_α = map_offset + map x in them, u at its bounds
+  /// elsewhere. @pre CoversSteps(), HasDenseRows().
+  void FormRootRows() const;
   void UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
                         const Eigen::MatrixXd& Fu, const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
                         const Eigen::MatrixXd& K) const;
@@ -268,6 +272,17 @@ class BoxModeSystem {
   Eigen::PartialPivLU<Eigen::MatrixXd> newton_lu_;
   bool newton_lu_current_ = false;  // newton_lu_ factors this mode's G_u somewhere
   mutable Eigen::MatrixXd scratch_u_taylor_;  // u's coefficients, FirstViolationInStep
+  // A small LCS mode's root functions along a step (FirstViolationInStep),
+  // each affine in x: g_r = root_offsets_(r) + root_rows_.row(r) x, formed
+  // once per mode (FormRootRows); root_bound_[r] marks a bound row's F
+  // (its floor takes F's slack). x's coefficients scaled to the step's
+  // variable s = (t − t_n)/h in scratch_step_taylor_.
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  mutable RowMajorMatrix root_rows_;
+  mutable Eigen::VectorXd root_offsets_;
+  mutable std::vector<char> root_bound_;
+  mutable bool root_rows_known_ = false;
+  mutable RowMajorMatrix scratch_step_taylor_;
   // |∂g/∂x| and |∂g/∂t| of each root slot (StepClearOfBounds): at the
   // last RhsJacobian of a nonlinear, unreduced mode; an LCS mode's, fixed.
   mutable Eigen::MatrixXd root_gradients_;  // |∂g/∂x| entrywise, 2m × n

@@ -200,34 +200,98 @@ Eigen::Index BoxModeSystem::FirstViolation(const Eigen::Ref<const Eigen::VectorX
   return first == U.cols() ? -1 : first;
 }
 
+void BoxModeSystem::FormRootRows() const {
+  // u = u_b + (0 on the bound components, map_offset + map x on α): a free
+  // u_j's bounds are u_j − l_j and ū_j − u_j, a bound row's root function
+  // ±F_j = ±(c_j + M_j u_b + M_jα map_offset + (C_j + M_jα map) x).
+  const DenseAffineRows& rows = problem_.dense_rows();
+  const Eigen::VectorXd& c = problem_.lcs_rows().c;
+  const int a = static_cast<int>(free_.size());
+  root_rows_.resize(2 * m(), n());
+  root_offsets_.resize(2 * m());
+  root_bound_.clear();
+  int r = 0;
+  const auto add = [&](double sign, double offset, const auto& row, bool bound) {
+    root_rows_.row(r) = sign * row;
+    root_offsets_(r) = offset;
+    root_bound_.push_back(bound);
+    ++r;
+  };
+  for (int i = 0; i < a; ++i) {
+    const int j = free_[i];
+    if (std::isfinite(problem_.lower()(j)))
+      add(1, split_.map_offset(i) - problem_.lower()(j), split_.map.row(i), false);
+    if (std::isfinite(problem_.upper()(j)))
+      add(-1, problem_.upper()(j) - split_.map_offset(i), split_.map.row(i), false);
+  }
+  Eigen::RowVectorXd row(n());
+  for (int j = 0; j < m(); ++j) {
+    // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
+    if (mode_[j] == MultiplierBound::kFree || problem_.lower()(j) == problem_.upper()(j)) continue;
+    double offset = c(j);
+    for (int l = 0; l < m(); ++l)
+      if (mode_[l] != MultiplierBound::kFree) offset += rows.M(j, l) * u_(l);
+    row = rows.C.row(j);
+    for (int i = 0; i < a; ++i) {
+      offset += rows.M(j, free_[i]) * split_.map_offset(i);
+      row += rows.M(j, free_[i]) * split_.map.row(i);
+    }
+    const double sign = mode_[j] == MultiplierBound::kUpper ? -1 : 1;
+    add(sign, sign * offset, row, true);
+  }
+  root_rows_.conservativeResize(r, n());
+  root_offsets_.conservativeResize(r);
+  root_rows_known_ = true;
+}
+
 double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double t_n, double h,
                                            double f_slack) const {
   // Along the step u = k + K x and F = c + C x + M u are polynomials in t of
   // x's degree q: their coefficients are the map's and the rows' products
   // with x's, and FirstTimeBelow bounds each root function over the step.
-  // Plain loops for a small mode: at these sizes Eigen's product set-up
-  // costs more than the products (this runs once per step).
   const int q = static_cast<int>(taylor.cols()) - 1;
   const double tolerance = problem_.BoundTolerance();
   double first = NAN;
+  if (problem_.HasDenseRows()) {
+    // A small mode: each root function is affine in x (FormRootRows, once
+    // per mode), so its coefficients in σ = (t_n − t)/h are its row's
+    // products with x's, taylor.col(k) (−h)ᵏ. Plain loops: at these sizes
+    // Eigen's product set-up costs more than the products (this runs once
+    // per step).
+    if (!root_rows_known_) FormRootRows();
+    // x's coefficients by state, each state's contiguous, so that a row's
+    // products run along k (σ's powers) for each of its entries.
+    constexpr int kStride = kMaxFloorDegree + 1;
+    const int n_x = n();
+    RowMajorMatrix& X = scratch_step_taylor_;
+    if (X.rows() != n_x) X.resize(n_x, kStride);
+    for (int i = 0; i < n_x; ++i) {
+      double* x = X.data() + i * kStride;
+      double scale = 1;
+      for (int k = 0; k <= q; ++k, scale *= -h) x[k] = scale * taylor(i, k);
+    }
+    std::array<double, kStride> e;
+    const double* row = root_rows_.data();
+    for (Eigen::Index r = 0; r < root_rows_.rows(); ++r, row += n_x) {
+      std::fill(e.begin(), e.begin() + q + 1, 0.0);
+      for (int i = 0; i < n_x; ++i) {
+        const double* x = X.data() + i * kStride;
+        for (int k = 0; k <= q; ++k) e[k] += row[i] * x[k];
+      }
+      e[0] += root_offsets_(r);
+      const double floor = root_bound_[r] ? -tolerance - f_slack : -tolerance;
+      const double t = FirstTimeBelowInSigma(e.data(), q, t_n, h, floor);
+      if (!std::isnan(t) && !(t >= first)) first = t;
+    }
+    return first;
+  }
   std::array<double, kMaxFloorDegree + 1> p{};
   const auto below = [&](double floor) {
     const double t = FirstTimeBelow(p.data(), q, t_n, h, floor);
     if (!std::isnan(t) && !(t >= first)) first = t;
   };
-  // Row-wise dot product of row (stride `stride`, `length` entries) with the
-  // columns of coefficients, added into p.
-  const auto add_product = [&](const double* row, Eigen::Index stride, Eigen::Index length,
-                               const Eigen::MatrixXd& coefficients) {
-    for (int k = 0; k <= q; ++k) {
-      const double* column = coefficients.col(k).data();
-      double sum = 0;
-      for (Eigen::Index i = 0; i < length; ++i) sum += row[i * stride] * column[i];
-      p[k] += sum;
-    }
-  };
-  // u's coefficients, room for the highest order once, so that order
-  // changes do not reallocate.
+  // A large LCS: u's coefficients (room for the highest order once, so
+  // that order changes do not reallocate), then F's by sparse products.
   Eigen::MatrixXd& U = scratch_u_taylor_;
   if (U.rows() != m()) U.resize(m(), kMaxFloorDegree + 1);
   U.leftCols(q + 1).setZero();
@@ -235,10 +299,14 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
     if (mode_[j] != MultiplierBound::kFree) U(j, 0) = u_(j);
   if (split_.map.size() > 0) {
     for (int i = 0; i < static_cast<int>(free_.size()); ++i) {
-      std::fill(p.begin(), p.end(), 0.0);
-      add_product(split_.map.data() + i * n(), 1, n(), taylor);
-      p[0] += split_.map_offset(i);
-      for (int k = 0; k <= q; ++k) U(free_[i], k) = p[k];
+      const double* row = split_.map.data() + i * n();
+      for (int k = 0; k <= q; ++k) {
+        const double* column = taylor.col(k).data();
+        double sum = 0;
+        for (int l = 0; l < n(); ++l) sum += row[l] * column[l];
+        U(free_[i], k) = sum;
+      }
+      U(free_[i], 0) += split_.map_offset(i);
     }
   } else if (!free_.empty()) {
     // A large mode keeps the sparse C_α and G_u's LU: u_α's coefficients
@@ -264,23 +332,12 @@ double BoxModeSystem::FirstViolationInStep(const Eigen::MatrixXd& taylor, double
     }
   }
   if (static_cast<int>(free_.size()) == m()) return first;
-  const bool dense = problem_.dense_rows().C.size() > 0;
-  // A large LCS: F's coefficients for all rows at once, by sparse products.
-  Eigen::MatrixXd F_coefficients;
-  if (!dense) {
-    F_coefficients = problem_.lcs_rows().C * taylor;
-    F_coefficients.noalias() += problem_.lcs_rows().M * U.leftCols(q + 1);
-  }
+  Eigen::MatrixXd F_coefficients = problem_.lcs_rows().C * taylor;
+  F_coefficients.noalias() += problem_.lcs_rows().M * U.leftCols(q + 1);
   for (int j = 0; j < m(); ++j) {
     // lower = upper fixes u_j: F_j is the equality's multiplier (Roots).
     if (mode_[j] == MultiplierBound::kFree || problem_.lower()(j) == problem_.upper()(j)) continue;
-    std::fill(p.begin(), p.end(), 0.0);
-    if (dense) {
-      add_product(problem_.dense_rows().C.data() + j, problem_.dense_rows().C.rows(), n(), taylor);
-      add_product(problem_.dense_rows().M.data() + j, problem_.dense_rows().M.rows(), m(), U);
-    } else {
-      for (int k = 0; k <= q; ++k) p[k] = F_coefficients(j, k);
-    }
+    for (int k = 0; k <= q; ++k) p[k] = F_coefficients(j, k);
     p[0] += problem_.lcs_rows().c(j);
     if (mode_[j] == MultiplierBound::kUpper)
       for (int k = 0; k <= q; ++k) p[k] = -p[k];

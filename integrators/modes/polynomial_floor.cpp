@@ -54,8 +54,9 @@ double Search(const Coefficients& b, int q, double lo, double width, int depth, 
   return Search(right, q, lo + half, half, depth + 1, halvings, floor);
 }
 
-// p = Σ e_k σᵏ with σ = (t_n − t)/h ∈ [0, 1], the step's start at σ = 1.
-double FirstTimeBelowInSigma(const Coefficients& e, int q, double t_n, double h, double floor) {
+}  // namespace
+
+double FirstTimeBelowInSigma(const double* e, int q, double t_n, double h, double floor) {
   // First a bound in O(q): σᵏ ∈ [0, 1], so p ≥ e₀ + Σ_{k≥1} min(e_k, 0),
   // and so is every Bernstein coefficient below (each is e₀ plus the e_k
   // weighted by table entries in [0, 1]). Where it clears the floor by more
@@ -81,21 +82,19 @@ double FirstTimeBelowInSigma(const Coefficients& e, int q, double t_n, double h,
   return std::isnan(tau) ? NAN : t_n - h + h * tau;
 }
 
-}  // namespace
-
 double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor) {
   // σ = (t_n − t)/h: e_k = a_k (−h)ᵏ.
   Coefficients e{};
   double scale = 1;
   for (int k = 0; k <= q; ++k, scale *= -h) e[k] = a[k] * scale;
-  return FirstTimeBelowInSigma(e, q, t_n, h, floor);
+  return FirstTimeBelowInSigma(e.data(), q, t_n, h, floor);
 }
 
 double FirstTimeBelowScaled(const double* c, int q, double t_n, double h, double floor) {
   // σ = −s: e_k = (−1)ᵏ c_k.
   Coefficients e{};
   for (int k = 0; k <= q; ++k) e[k] = k % 2 == 0 ? c[k] : -c[k];
-  return FirstTimeBelowInSigma(e, q, t_n, h, floor);
+  return FirstTimeBelowInSigma(e.data(), q, t_n, h, floor);
 }
 
 }  // namespace dvi::internal

@@ -28,4 +28,8 @@ double FirstTimeBelow(const double* a, int q, double t_n, double h, double floor
 /// of h, which a short step's would underflow.
 double FirstTimeBelowScaled(const double* c, int q, double t_n, double h, double floor);
 
+/// The same for p(t) = Σ_{k≤q} e[k] σᵏ in σ = (t_n − t)/h ∈ [0, 1] (the
+/// step's start at σ = 1), the form the two above are brought to.
+double FirstTimeBelowInSigma(const double* e, int q, double t_n, double h, double floor);
+
 }  // namespace dvi::internal
