@@ -3,6 +3,8 @@
 
 #include <new>
 
+#include "sundials/linear_sum.hpp"
+
 namespace dvi::internal {
 
 SunContext::SunContext() {
@@ -14,6 +16,7 @@ SunContext::~SunContext() { SUNContext_Free(&context_); }
 SerialVector::SerialVector(long length, SUNContext context)
     : vector_(N_VNew_Serial(length, context)) {
   if (vector_ == nullptr) throw std::bad_alloc();
+  UseSerialLinearSum(vector_);
 }
 
 SerialVector::~SerialVector() { N_VDestroy(vector_); }
