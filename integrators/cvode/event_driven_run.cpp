@@ -668,7 +668,8 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
   const bool at_stop = flag == CV_TSTOP_RETURN || t_ >= stop_time_;
   const bool sampled = at_stop || options_.output_times.empty();
   if (sampled || observation_.observer) {
-    const Eigen::VectorXd x = y;
+    Eigen::VectorXd& x = sample_x_;
+    x = y;
     if (!system_.Solve(t_, x)) {
       std::ostringstream message;
       message << "event: mode " << ModeLetters(system_.mode()) << " at t = " << t_

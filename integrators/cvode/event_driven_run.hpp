@@ -226,6 +226,7 @@ class EventDrivenRun {
   bool nordsieck_checked_ = false;
   double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
   Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
+  Eigen::VectorXd sample_x_;  // x at the step's end, for its sample (no allocation a step)
   // The certificate's scratch: x, u, x' and f where a defect is measured,
   // the step's scaled Taylor coefficients.
   Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_;
