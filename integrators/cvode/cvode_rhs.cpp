@@ -14,6 +14,7 @@
 
 #include "cvode/index_one_rhs_access.hpp"
 #include "dvi/adapters/index_one_rhs.hpp"
+#include "sundials/linear_sum.hpp"
 
 namespace dvi {
 
@@ -121,5 +122,7 @@ int IndexOneCvRoots(double t, N_Vector y, double* gout, void* user_data) {
     return rhs.ModeRoots(t, x, gout) ? kSuccess : kFatal;
   });
 }
+
+void UseSerialLinearSum(N_Vector y) { internal::UseSerialLinearSum(y); }
 
 }  // namespace dvi

@@ -64,6 +64,7 @@ class CvodeSolver {
     matrix_ = SUNDenseMatrix(n, n, context_);
     if (y_ == nullptr || cvode_ == nullptr || matrix_ == nullptr)
       throw std::runtime_error("CVODE: out of memory");
+    UseSerialLinearSum(y_);  // the vector kernel of dvi's own runs
     SetState(x0);
     solver_ = SUNLinSol_Dense(y_, matrix_, context_);
     if (solver_ == nullptr) throw std::runtime_error("SUNLinSol_Dense failed");

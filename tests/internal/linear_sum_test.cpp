@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dvi/adapters/cvode_rhs.hpp"
 #include "sundials/handles.hpp"
 #include "sundials/linear_sum.hpp"
 
@@ -53,6 +54,18 @@ TEST(LinearSum, ASerialVectorAndItsClonesUseIt) {
   EXPECT_EQ(v.get()->ops->nvlinearsum, &SerialLinearSum);
   EXPECT_EQ(clone->ops->nvlinearsum, &SerialLinearSum);
   N_VDestroy(clone);
+}
+
+// A caller who owns the CVODE loop (dvi/adapters/cvode_rhs.hpp), as the
+// baselines do, installs it on its own vector.
+TEST(LinearSum, TheAdapterInstallsItOnACallersVector) {
+  SunContext context;
+  N_Vector y = N_VNew_Serial(3, context.get());
+  ASSERT_NE(y, nullptr);
+  EXPECT_EQ(y->ops->nvlinearsum, &N_VLinearSum_Serial);
+  dvi::UseSerialLinearSum(y);
+  EXPECT_EQ(y->ops->nvlinearsum, &SerialLinearSum);
+  N_VDestroy(y);
 }
 
 }  // namespace
