@@ -121,8 +121,7 @@ TEST(AutoRun, AWindowAfterAWindowResumesFromItsMultiplier) {
   // one the window before's.
   ASSERT_EQ(guesses.size(), 4u);
   for (const Eigen::VectorXd& guess : guesses) {
-    EXPECT_EQ(guess.size(), 1);
-    if (guess.size() == 1) EXPECT_EQ(guess(0), kHalf);
+    EXPECT_TRUE(guess.size() == 1 && guess(0) == kHalf) << "guess (" << guess.transpose() << ")";
   }
   // Backward Euler is exact on x2' = ½: x2 = t/2 to rounding.
   constexpr double kRounding = 1e-14;
