@@ -33,6 +33,9 @@ struct Kind;
 template <>
 struct Kind<EventDrivenIntegrator> {
   static constexpr const char* kName = "EventDrivenIntegrator";
+  // Its constructors' problems: K a box.
+  static constexpr const char* kLcsDoc = "An Lcs (2.8) on a box K";
+  static constexpr const char* kDviDoc = "A Dvi of Python callables on a box K";
   static EventDrivenOptions Options(const py::kwargs& kwargs, Eigen::Index states) {
     return EventOptions(kwargs, kName, states);
   }
@@ -44,6 +47,9 @@ struct Kind<EventDrivenIntegrator> {
 template <>
 struct Kind<AutoIntegrator> {
   static constexpr const char* kName = "AutoIntegrator";
+  // Its constructors' problems: any K integrate_auto takes.
+  static constexpr const char* kLcsDoc = "An Lcs (2.8)";
+  static constexpr const char* kDviDoc = "A Dvi of Python callables";
   static AutoOptions Options(const py::kwargs& kwargs, Eigen::Index states) {
     return AutomaticOptions(kwargs, kName, states);
   }
@@ -129,10 +135,15 @@ py::object OutcomeObject(StepOutcome outcome) {
   return kept ? (*outcome_objects)[index] : py::cast(outcome);
 }
 
-// The calls every stepper object has, as the C++ object's.
+// The stepper object dvi.<Kind::kName>: its constructors from the three
+// problem forms and the calls every stepper object has, as the C++ object's.
 template <typename Integrator>
-void DefMembers(py::class_<Stepper<Integrator>>& stepper) {
+py::class_<Stepper<Integrator>> DefStepper(py::module_& module, const char* doc) {
   using Self = Stepper<Integrator>;
+  py::class_<Self> stepper(module, Kind<Integrator>::kName, doc);
+  DefConstructor<Integrator, Lcs>(stepper, Kind<Integrator>::kLcsDoc);
+  DefConstructor<Integrator, Dvi>(stepper, Kind<Integrator>::kDviDoc);
+  DefConstructor<Integrator, FilippovSystem>(stepper, "A Filippov system as its separable DVI");
   stepper
       .def(
           "step",
@@ -186,6 +197,7 @@ void DefMembers(py::class_<Stepper<Integrator>>& stepper) {
              << integrator.status() << ">";
         return text.str();
       });
+  return stepper;
 }
 
 }  // namespace
@@ -206,34 +218,23 @@ void BindSteppers(py::module_& module) {
               py::cpp_function([](StepOutcome value) { return std::string(ToString(value)); },
                                py::name("__str__"), py::is_method(outcome)));
 
-  py::class_<Stepper<EventDrivenIntegrator>> stepper(
-      module, "EventDrivenIntegrator",
+  DefStepper<EventDrivenIntegrator>(
+      module,
       "The event-driven integrator (Sect. 5) as an object to step, stop and resume: step(), "
       "advance_to(t), reinit(t, x); options as integrate_event's keywords (no output_times: "
       "every step is sampled)");
-  DefConstructor<EventDrivenIntegrator, Lcs>(stepper, "An Lcs (2.8) on a box K");
-  DefConstructor<EventDrivenIntegrator, Dvi>(stepper, "A Dvi of Python callables on a box K");
-  DefConstructor<EventDrivenIntegrator, FilippovSystem>(stepper,
-                                                        "A Filippov system as its separable DVI");
-  DefMembers(stepper);
-
-  py::class_<Stepper<AutoIntegrator>> automatic(
-      module, "AutoIntegrator",
+  DefStepper<AutoIntegrator>(
+      module,
       "The automatic driver (integrate_auto) as an object to step, stop and resume: step(), "
       "advance_to(t), reinit(t, x), method; options as integrate_auto's keywords (output_times "
       "too), the problems integrate_auto takes; step() to the end is integrate_auto bit for "
-      "bit");
-  DefConstructor<AutoIntegrator, Lcs>(automatic, "An Lcs (2.8)");
-  DefConstructor<AutoIntegrator, Dvi>(automatic, "A Dvi of Python callables");
-  DefConstructor<AutoIntegrator, FilippovSystem>(automatic,
-                                                 "A Filippov system as its separable DVI");
-  DefMembers(automatic);
-  automatic.def_property_readonly(
-      "method",
-      [](const Stepper<AutoIntegrator>& self) {
-        return std::string(ToString(self.integrator.method()));
-      },
-      "The method at t: \"event\", \"stepping\" (a window) or \"zeno-extrapolation\"");
+      "bit")
+      .def_property_readonly(
+          "method",
+          [](const Stepper<AutoIntegrator>& self) {
+            return std::string(ToString(self.integrator.method()));
+          },
+          "The method at t: \"event\", \"stepping\" (a window) or \"zeno-extrapolation\"");
 }
 
 }  // namespace dvi::python

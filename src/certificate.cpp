@@ -232,7 +232,7 @@ void CertifyRows(RowCertifier& certifier, double rtol, const Eigen::VectorXd& at
 }
 
 void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
-                  const Eigen::VectorXd& f, const Eigen::VectorXd& x,
+                  const Eigen::VectorXd& f, const Eigen::VectorXd& size,
                   const Eigen::VectorXd& rounding, double rtol,
                   const Eigen::Ref<const Eigen::VectorXd>& atol,
                   CertifiedMeasure& ode) {
@@ -243,8 +243,8 @@ void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
   // can go below.
   double sum = 0, largest = -1;
   int component = 0;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    const double weight = rtol * std::abs(x(i)) + atol(i) + rounding(i);
+  for (Eigen::Index i = 0; i < size.size(); ++i) {
+    const double weight = rtol * std::abs(size(i)) + atol(i) + rounding(i);
     const double scaled = h * std::abs(dense_derivative(i) - f(i)) / weight;
     sum += scaled * scaled;
     if (!(scaled <= largest)) {
@@ -252,7 +252,8 @@ void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
       component = static_cast<int>(i);
     }
   }
-  const double norm = x.size() > 0 ? std::sqrt(sum / static_cast<double>(x.size())) : 0;
+  const double norm =
+      size.size() > 0 ? std::sqrt(sum / static_cast<double>(size.size())) : 0;
   Record(norm, Certificate::kOdeSafety, t, component, ode);
 }
 

@@ -99,12 +99,14 @@ void CertifyRows(RowCertifier& certifier, double rtol, const Eigen::VectorXd& at
                  std::size_t rows, Trajectory& trajectory);
 
 /// Adds the ODE defect at one step's midpoint t (Certificate: ODE) to
-/// `ode`: dense_derivative = x̂'(t), f = f(t, x̂(t), u(t)), x = x̂(t), h the
-/// step's length, rounding ≥ 0 the rounding of h·x̂' and h·f (a few ulps of
-/// their terms' magnitudes). The value recorded is the weighted RMS norm,
-/// its component the largest term.
+/// `ode`: dense_derivative = x̂'(t), f = f(t, x̂(t), u(t)), size the |x| the
+/// step's error is weighed by (the larger of |x̂(t)| and |x| at the step's
+/// start, where CVODE and IDA set their weights), h the step's length,
+/// rounding ≥ 0 the rounding of h·x̂' and h·f (a few ulps of their terms'
+/// magnitudes). The value recorded is the weighted RMS norm, its component
+/// the largest term.
 void AddOdeDefect(double t, double h, const Eigen::VectorXd& dense_derivative,
-                  const Eigen::VectorXd& f, const Eigen::VectorXd& x,
+                  const Eigen::VectorXd& f, const Eigen::VectorXd& size,
                   const Eigen::VectorXd& rounding, double rtol,
                   const Eigen::Ref<const Eigen::VectorXd>& atol,
                   CertifiedMeasure& ode);

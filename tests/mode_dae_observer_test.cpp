@@ -13,42 +13,19 @@
 #include "dvi/mode_dae.hpp"
 #include "dvi/mode_dae_integrator.hpp"
 #include "support/expect_throw.hpp"
+#include "support/index_one_box.hpp"
 #include "support/sampled_data_relay.hpp"
 
 namespace dvi {
 namespace {
 
 using testing::ExpectThrowNaming;
+using testing::IndexOneBox;
+using testing::IndexOneBoxOptions;
+using testing::IndexOneBoxX;
+using testing::kIndexOneBoxStateError;
 using testing::SampledDataRelay;
 
-// x' = −1 + u, u ∈ [0, ½] ⊥-box x + u (D = 1, index one) from x0 = 1:
-// x = 1 − t until t = 1, then u = −x and x = −1 + e^{−(t−1)} until u
-// reaches ½ at t = 1 + ln 2 (mode_dae_integrator_test's IndexOneBox).
-Lcs IndexOneBox() {
-  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                       Eigen::VectorXd::Constant(1, -1.0));
-  lcs.K = ConvexSet::Box(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 0.5));
-  return lcs;
-}
-
-double ExactX(double t) {
-  const double t_upper = 1 + std::log(2.0);
-  if (t <= 1) return 1 - t;
-  if (t <= t_upper) return -1 + std::exp(-(t - 1));
-  return -0.5 - 0.5 * (t - t_upper);
-}
-
-ModeDaeOptions Tight() {
-  ModeDaeOptions options;
-  options.rtol = 1e-11;
-  options.atol = 1e-12;
-  return options;
-}
-
-// mode_dae_test holds the run to 1e-9 at these tolerances; on lines (the
-// relay, x = 1 − t) BDF is exact to rounding.
-constexpr double kStateError = 1e-9;
 // A user event's time on a line (the brief's bound), and on the
 // exponential (the state's error over |x'| = 3/4).
 constexpr double kEventTimeError = 1e-10;
@@ -71,7 +48,7 @@ struct Seen {
 
 TEST(ModeDaeObserver, SeesEveryStepInOrderAndStopsTheRun) {
   std::vector<Seen> seen;
-  ModeDaeOptions options = Tight();
+  ModeDaeOptions options = IndexOneBoxOptions();
   options.observation.observer = [&seen](const Observation& observation) {
     seen.push_back({observation.t, observation.x(0), observation.point});
     return ObserverReply::kContinue;
@@ -84,7 +61,8 @@ TEST(ModeDaeObserver, SeesEveryStepInOrderAndStopsTheRun) {
   long steps = 0, events = 0;
   for (std::size_t k = 0; k < seen.size(); ++k) {
     EXPECT_EQ(seen[k].t, run.times[k]) << k;
-    EXPECT_NEAR(seen[k].x, ExactX(seen[k].t), kStateError) << "t = " << seen[k].t;
+    EXPECT_NEAR(seen[k].x, IndexOneBoxX(seen[k].t), kIndexOneBoxStateError)
+        << "t = " << seen[k].t;
     steps += seen[k].point == ObservationPoint::kStep;
     events += seen[k].point == ObservationPoint::kEvent;
   }
@@ -104,7 +82,7 @@ TEST(ModeDaeObserver, SeesEveryStepInOrderAndStopsTheRun) {
   ASSERT_GE(stopped.times.size(), 2u);
   EXPECT_LT(stopped.states.back()(0), 0.5);
   EXPECT_GE(stopped.states[stopped.times.size() - 2](0), 0.5);
-  EXPECT_NEAR(stopped.states.back()(0), 1 - stopped.times.back(), kStateError);
+  EXPECT_NEAR(stopped.states.back()(0), 1 - stopped.times.back(), kIndexOneBoxStateError);
 
   ModeDaeIntegrator integrator(IndexOneBox(), x0, 0, 3, options);
   StepOutcome outcome = StepOutcome::kStep;
@@ -119,7 +97,7 @@ TEST(ModeDaeObserver, SeesEveryStepInOrderAndStopsTheRun) {
 // g = x − 1/2 falling on x = 1 − t: t = 1/2. g = x + 1/4 falling on
 // x = −1 + e^{−(t−1)}: t = 1 + ln(4/3).
 TEST(ModeDaeUserEvents, StopEventEndsTheRunAtTheExactCrossing) {
-  ModeDaeOptions options = Tight();
+  ModeDaeOptions options = IndexOneBoxOptions();
   const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
   for (const auto& [level, time, error] :
        {std::tuple{0.5, 0.5, kEventTimeError},
@@ -130,7 +108,7 @@ TEST(ModeDaeUserEvents, StopEventEndsTheRunAtTheExactCrossing) {
     EXPECT_EQ(run.status, IntegrationStatus::kStoppedByUser) << run.message;
     EXPECT_NE(run.message.find("user event 0 (g_0 falling)"), std::string::npos) << run.message;
     EXPECT_NEAR(run.times.back(), time, error);
-    EXPECT_NEAR(run.states.back()(0), level, kStateError);
+    EXPECT_NEAR(run.states.back()(0), level, kIndexOneBoxStateError);
     ASSERT_FALSE(run.events.empty());
     EXPECT_EQ(run.events.back().kind, EventKind::kUser);
     EXPECT_EQ(run.events.back().time, run.times.back());
@@ -145,7 +123,7 @@ TEST(ModeDaeUserEvents, StopEventEndsTheRunAtTheExactCrossing) {
 // samples by the user's, on lines that BDF integrates exactly.
 TEST(ModeDaeUserEvents, SampledDataRelayControllerMatchesTheExactSolution) {
   constexpr double t_end = 2.3;
-  ModeDaeOptions options = Tight();
+  ModeDaeOptions options = IndexOneBoxOptions();
   options.observation.user_events = SampledDataRelay::Controller();
   const Lcs lcs = SampledDataRelay::Problem();
   const Eigen::VectorXd x0 = SampledDataRelay::Start();
@@ -184,7 +162,7 @@ TEST(ModeDaeUserEvents, SampledDataRelayControllerMatchesTheExactSolution) {
 TEST(ModeDaeUserEvents, RootCrossedTwiceWithinOneStepIsLocated) {
   const Eigen::MatrixXd one = Eigen::MatrixXd::Ones(1, 1);
   const Lcs diode = Lcs::Dense(-one, one, one, 0 * one, Eigen::VectorXd::Constant(1, -1));
-  ModeDaeOptions options = Tight();
+  ModeDaeOptions options = IndexOneBoxOptions();
   options.observation.user_events.g = [](double t, const Eigen::VectorXd&,
                                          const Eigen::VectorXd&) {
     return Eigen::VectorXd::Constant(1, std::sin(2 * M_PI * t / 0.8));
@@ -197,7 +175,7 @@ TEST(ModeDaeUserEvents, RootCrossedTwiceWithinOneStepIsLocated) {
 }
 
 TEST(ModeDaeUserEvents, InvalidUseIsNamed) {
-  ModeDaeOptions options = Tight();
+  ModeDaeOptions options = IndexOneBoxOptions();
   options.observation.user_events.events = {{EventDirection::kBoth, UserEventAction::kModify}};
   const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
   ExpectThrowNaming([&] { IntegrateModeDae(IndexOneBox(), x0, 0, 1, options); },

@@ -191,7 +191,11 @@ EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& opti
           // bridge whose diodes all block), and its mode layer has the
           // rules IDA lacks. Where IDA finds a mode not index one, CVODE
           // (KLU) takes the interval from its start, and refuses in turn
-          // where the flow is not unique either.
+          // where the flow is not unique either. IDA meets such a mode
+          // where the interval starts, as a rule (its modes are chosen
+          // there): the bridge ladder of 197 cells is refused at t = 0
+          // before IDA's first step, and auto's run is CVODE's alone, step
+          // for step (free_directions_test): nothing is done twice.
           if (part.status != IntegrationStatus::kNotIndexOne) return part;
           if (!*dvi) dvi->emplace(lcs.ToDvi());
         }

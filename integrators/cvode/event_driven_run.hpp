@@ -229,7 +229,8 @@ class EventDrivenRun {
   Eigen::VectorXd sample_x_;  // x at the step's end, for its sample (no allocation a step)
   // The certificate's scratch: x, u, x' and f where a defect is measured,
   // the step's scaled Taylor coefficients.
-  Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_;
+  Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_, defect_size_,
+      defect_start_;
   Eigen::MatrixXd scaled_taylor_;
   double recorded_until_ = -std::numeric_limits<double>::infinity();  // RecordStep's last end
   // StepClear and StepViolation: the last step's end kept as the next's

@@ -158,7 +158,19 @@ void EventDrivenRun::AddDefect(double t, double h, const Eigen::VectorXd& x,
   Eigen::VectorXd& rounding = defect_rounding_;
   rounding = kRoundingUlps * std::numeric_limits<double>::epsilon() *
              (h * (f.cwiseAbs() + rate.cwiseAbs()) + x.cwiseAbs());
-  AddOdeDefect(t, h, rate, f, x, rounding, options_.rtol, atol_per_state_,
+  // CVODE weighs the step's local error by x at its start, where it sets
+  // its weights: |x| at t alone is ~0 where a component crosses zero there
+  // (an oscillator's), and would ask the step for what its own test never did.
+  Eigen::VectorXd& size = defect_size_;
+  size = x.cwiseAbs();
+  const auto [t_n, h_n, q] = LastStep();
+  if (ReadTaylor(t_n, h_n, q)) {
+    Eigen::VectorXd& start = defect_start_;
+    start = taylor_.col(q);
+    for (int k = q - 1; k >= 0; --k) start = taylor_.col(k) - h_n * start;
+    size = size.cwiseMax(start.cwiseAbs());
+  }
+  AddOdeDefect(t, h, rate, f, size, rounding, options_.rtol, atol_per_state_,
                trajectory_.certificate.ode);
 }
 

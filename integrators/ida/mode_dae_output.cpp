@@ -78,7 +78,14 @@ void ModeDaeRun::MeasureDefect(double t) {
   // step, f sums terms of its own size: a few ulps of each.
   mid_rounding_ = kRoundingUlps * std::numeric_limits<double>::epsilon() *
                   (h * (mid_f_.cwiseAbs() + rate.cwiseAbs()) + x.cwiseAbs());
-  AddOdeDefect(t, h, rate, mid_f_, x, mid_rounding_, options_.rtol,
+  // IDA weighs the step's local error by y at its start, where it sets its
+  // weights: |x| at t alone is ~0 where a component crosses zero there.
+  mid_size_ = x.cwiseAbs();
+  double t_n = 0;
+  if (IDAGetCurrentTime(ida, &t_n) == IDA_SUCCESS &&
+      IDAGetDky(ida, t_n - h, 0, dky_.get()) == IDA_SUCCESS)
+    mid_size_ = mid_size_.cwiseMax(dky.head(n_).cwiseAbs());
+  AddOdeDefect(t, h, rate, mid_f_, mid_size_, mid_rounding_, options_.rtol,
                Eigen::Map<const Eigen::VectorXd>(atol_.data(), n_),
                          trajectory_.certificate.ode);
 }

@@ -184,7 +184,7 @@ class ModeDaeRun {
   // point of the step.
   double recorded_until_ = -std::numeric_limits<double>::infinity();
   Eigen::MatrixXd scaled_taylor_;
-  Eigen::VectorXd mid_y_, mid_yp_, mid_f_, mid_rounding_;
+  Eigen::VectorXd mid_y_, mid_yp_, mid_f_, mid_rounding_, mid_size_;
   // MissedRoot's screen: the last step's end, its y, y' and root values
   // (the next step's start), and how far y and the root functions move.
   StepEnds step_ends_;

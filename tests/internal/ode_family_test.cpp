@@ -4,6 +4,7 @@
 // steps by stability, Adams elsewhere.
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -57,28 +58,42 @@ TEST(OdeFamily, TheRuleReadsStiffnessOffTheJacobiansSpectrum) {
   EXPECT_EQ(internal::ChooseOdeFamily(mild, 1e-13, 10), OdeMethod::kAdams);
 }
 
+// Runs `lcs` under CVODE's two families and under ode = auto, and expects
+// auto's run to be the `expected` family's, step for step, that family
+// taking fewer than 1/`margin` of the other's steps, and auto's interval to
+// say which family it chose. Returns auto's run.
+Trajectory ExpectAutoRunsAs(const char* name, const Lcs& lcs, const Eigen::VectorXd& x0,
+                            double t_end, double rtol, OdeMethod expected, long margin) {
+  const Trajectory bdf = Integrate(lcs, x0, t_end, rtol, OdeMethod::kBdf);
+  const Trajectory adams = Integrate(lcs, x0, t_end, rtol, OdeMethod::kAdams);
+  const Trajectory automatic = Integrate(lcs, x0, t_end, rtol, OdeMethod::kAuto);
+  EXPECT_TRUE(bdf.succeeded()) << bdf.message;
+  EXPECT_TRUE(adams.succeeded()) << adams.message;
+  EXPECT_TRUE(automatic.succeeded()) << automatic.message;
+  std::printf("%s: bdf %ld steps %ld RHS, adams %ld steps %ld RHS, auto %ld steps\n", name,
+              bdf.stats.steps, bdf.stats.rhs_evals, adams.stats.steps, adams.stats.rhs_evals,
+              automatic.stats.steps);
+  const bool is_bdf = expected == OdeMethod::kBdf;
+  const Trajectory& chosen = is_bdf ? bdf : adams;
+  const Trajectory& other = is_bdf ? adams : bdf;
+  EXPECT_EQ(automatic.stats.steps, chosen.stats.steps);
+  EXPECT_EQ(automatic.stats.rhs_evals, chosen.stats.rhs_evals);
+  EXPECT_LT(margin * chosen.stats.steps, other.stats.steps);
+  const std::string why = "CVODE family by ode = auto: " + std::string(ToString(expected));
+  const std::string reason =
+      automatic.intervals.empty() ? std::string() : automatic.intervals.front().reason;
+  EXPECT_NE(reason.find(why), std::string::npos) << reason;
+  return automatic;
+}
+
 // Measured (rtol 1e-6): BDF 131 steps and 176 RHS evaluations, Adams 541
 // and 710 (CVODE's Adams corrector is solved by Newton, so it survives the
 // fast stage at orders 1–2, whose Adams–Moulton formulas are A-stable, but
 // no higher); auto's run is BDF's, step for step.
 TEST(OdeFamily, AStiffLcsRunsUnderBdf) {
-  const Lcs lcs = StiffDiodeStages();
-  const Eigen::VectorXd x0 = Eigen::Vector2d(1, 1);
-  const Trajectory bdf = Integrate(lcs, x0, 10, 1e-6, OdeMethod::kBdf);
-  const Trajectory adams = Integrate(lcs, x0, 10, 1e-6, OdeMethod::kAdams);
-  const Trajectory automatic = Integrate(lcs, x0, 10, 1e-6, OdeMethod::kAuto);
-  ASSERT_TRUE(bdf.succeeded()) << bdf.message;
-  ASSERT_TRUE(adams.succeeded()) << adams.message;
+  const Trajectory automatic = ExpectAutoRunsAs("stiff", StiffDiodeStages(), Eigen::Vector2d(1, 1),
+                                                10, 1e-6, OdeMethod::kBdf, 3);
   ASSERT_TRUE(automatic.succeeded()) << automatic.message;
-  std::printf("stiff: bdf %ld steps %ld RHS, adams %ld steps %ld RHS, auto %ld steps\n",
-              bdf.stats.steps, bdf.stats.rhs_evals, adams.stats.steps, adams.stats.rhs_evals,
-              automatic.stats.steps);
-  EXPECT_EQ(automatic.stats.steps, bdf.stats.steps);
-  EXPECT_EQ(automatic.stats.rhs_evals, bdf.stats.rhs_evals);
-  EXPECT_LT(3 * bdf.stats.steps, adams.stats.steps);
-  EXPECT_NE(automatic.intervals.front().reason.find("CVODE family by ode = auto: bdf"),
-            std::string::npos)
-      << automatic.intervals.front().reason;
   // x1 = ½ + ... → ¼ once the diode conducts: x(10) = (¼, ¼) to the tolerance.
   EXPECT_NEAR(automatic.states.back()(0), 0.25, 1e-5);
 }
@@ -88,19 +103,10 @@ TEST(OdeFamily, AStiffLcsRunsUnderBdf) {
 // evaluations, BDF 1132 and 1259; auto's run is Adams', step for step.
 TEST(OdeFamily, TheDiodeBridgesOscillationRunsUnderAdams) {
   const circuits::DiodeBridgeParameters bridge;
-  const Lcs lcs = circuits::DiodeBridge(bridge);
-  const Eigen::VectorXd x0 = circuits::DiodeBridgeInitialState(bridge);
-  const Trajectory bdf = Integrate(lcs, x0, 5e-3, 1e-8, OdeMethod::kBdf);
-  const Trajectory adams = Integrate(lcs, x0, 5e-3, 1e-8, OdeMethod::kAdams);
-  const Trajectory automatic = Integrate(lcs, x0, 5e-3, 1e-8, OdeMethod::kAuto);
-  ASSERT_TRUE(bdf.succeeded()) << bdf.message;
+  const Trajectory automatic =
+      ExpectAutoRunsAs("bridge", circuits::DiodeBridge(bridge),
+                       circuits::DiodeBridgeInitialState(bridge), 5e-3, 1e-8, OdeMethod::kAdams, 2);
   ASSERT_TRUE(automatic.succeeded()) << automatic.message;
-  std::printf("bridge: bdf %ld steps %ld RHS, adams %ld steps %ld RHS, auto %ld steps\n",
-              bdf.stats.steps, bdf.stats.rhs_evals, adams.stats.steps, adams.stats.rhs_evals,
-              automatic.stats.steps);
-  EXPECT_EQ(automatic.stats.steps, adams.stats.steps);
-  EXPECT_EQ(automatic.stats.rhs_evals, adams.stats.rhs_evals);
-  EXPECT_LT(2 * adams.stats.steps, bdf.stats.steps);
   double error = 0;
   for (std::size_t k = 0; k < automatic.times.size(); ++k)
     error = std::fmax(error, (automatic.states[k] -

@@ -26,82 +26,39 @@
 #include "support/zoo/models.hpp"
 
 namespace dvi::zoo {
-namespace {
-
-struct AutonomousBuck {
-  double Vin = 24;             // input [V]
-  double L = 1e-3;             // [H]
-  double C = 100e-6;           // [F]
-  double R = 40;               // light load: discontinuous conduction [Ω]
-  double T = 100e-6;           // carrier period (10 kHz) [s]
-  double omega = 2 * M_PI / T; // [rad/s]
-  double Vr = 5;               // carrier's peak-to-peak amplitude [V]
-  double K = 2;                // controller gain [V/V]
-  double Vref = 13.25;         // reference [V]
-  double Eoff = 2 * 24;        // open switch's threshold, > Vin [V]
-};
-
-}  // namespace
 
 ZooModel BuckConverterAutonomous() {
-  const AutonomousBuck c;
+  BuckValues c;
+  c.R = 40;  // light load: discontinuous conduction [Ω]
+  const double omega = 2 * M_PI / c.T;  // the carrier's [rad/s]
   ZooModel model;
   model.key = "buck_converter_autonomous";
   model.title = "buck converter, oscillator carrier (time-invariant LCS), light load";
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(4, 4), B = Eigen::MatrixXd::Zero(4, 3),
-                  C = Eigen::MatrixXd::Zero(3, 4), D = Eigen::MatrixXd::Zero(3, 3);
-  A(0, 1) = -1 / c.L;
-  A(1, 0) = 1 / c.C;
-  A(1, 1) = -1 / (c.R * c.C);
-  A(2, 3) = c.omega;
-  A(3, 2) = -c.omega;
-  B(0, 1) = 1 / c.L;
-  C(1, 0) = 1;
-  C(2, 1) = c.K;
-  C(2, 2) = 1;
-  D(0, 1) = 1;
-  D(0, 2) = -c.Eoff / 2;
-  D(1, 0) = -1;
-  model.lcs = Lcs::Dense(A, B, C, D, Eigen::VectorXd::Zero(4),
-                         Eigen::Vector3d(c.Eoff / 2 - c.Vin, 0, c.Vr / 2 - c.K * c.Vref));
-  model.lcs.K = ConvexSet::Box(Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(HUGE_VAL, HUGE_VAL, 1));
+  Eigen::Matrix2d carrier;
+  carrier << 0, omega, -omega, 0;
+  model.lcs = BuckLcs(c, carrier, c.Vr / 2);
   model.horizon = 3e-3;  // 30 periods
   model.x0 = Eigen::Vector4d(0, 11, 0, c.Vr / 2);
   model.customary_h = c.T / 100;
 
-  model.reference = [c, horizon = model.horizon, x0 = model.x0] {
+  model.reference = [c, omega, horizon = model.horizon, x0 = model.x0] {
     // z = (i, v, c1, c2, 1).
-    enum { kOn, kOffContinuous, kOffDiscontinuous };
     HybridRules rules;
     rules.n = 4;
-    Eigen::MatrixXd common = Eigen::MatrixXd::Zero(5, 5);
-    common(1, 0) = 1 / c.C;
-    common(1, 1) = -1 / (c.R * c.C);
-    common(2, 3) = c.omega;
-    common(3, 2) = -c.omega;
+    Eigen::MatrixXd carrier = Eigen::MatrixXd::Zero(2, 5);
+    carrier(0, 3) = omega;
+    carrier(1, 2) = -omega;
     Eigen::RowVectorXd h(5);
     h << 0, -c.K, -1, 0, c.K * c.Vref - c.Vr / 2;  // K (Vref − v) − ρ
-    rules.modes = BuckModes(c.L, c.Vin, common, h);
+    rules.modes = BuckModes(c, carrier, h);
     rules.after_guard = [](int mode, int guard, double t, Eigen::VectorXd& z) {
-      if (guard == 0) {
-        if (mode == kOn) return ModeEntry{kOffContinuous, {0}};
-        // The switch closes; from blocking, i starts at 0, rising.
-        return ModeEntry{kOn, mode == kOffDiscontinuous ? std::vector<int>{0, 1}
-                                                        : std::vector<int>{0}};
-      }
-      if (mode == kOffContinuous) {
-        z(0) = 0;  // i reached 0: exactly, as the blocking diode keeps it
-        return ModeEntry{kOffDiscontinuous, {}};
-      }
-      throw std::logic_error("buck_converter_autonomous: guard " + std::to_string(guard) +
-                             " of mode " + std::to_string(mode) + " reached 0 at t = " +
-                             std::to_string(t));
+      return BuckAfterGuard("buck_converter_autonomous", mode, guard, t, z);
     };
     rules.sample_spacing = c.T / 64;
     Eigen::VectorXd z0(5);
     z0 << x0, 1;
     // From rest the comparator closes the switch; i starts at 0, rising.
-    return PiecewiseLinearReference(rules, z0, ModeEntry{kOn, {1}}, horizon);
+    return PiecewiseLinearReference(rules, z0, ModeEntry{kBuckOn, {1}}, horizon);
   };
   return model;
 }

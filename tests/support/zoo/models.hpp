@@ -25,14 +25,39 @@ ZooModel TwistingController();  // twisting_controller.cpp
 ZooModel FilippovSpiral();      // filippov_spiral.cpp
 ZooModel ColpittsOscillator();  // colpitts_oscillator.cpp
 
+/// The buck converter's circuit values (buck_converter.cpp; the autonomous
+/// one runs a lighter load).
+struct BuckValues {
+  double Vin = 24;       // input [V]
+  double L = 1e-3;       // [H]
+  double C = 100e-6;     // [F]
+  double R = 10;         // load [Ω]
+  double T = 100e-6;     // PWM period (10 kHz) [s]
+  double Vr = 5;         // ramp amplitude [V]
+  double K = 2;          // controller gain [V/V]
+  double Vref = 13.25;   // reference: v ≈ 12 V at duty ½ [V]
+  double Eoff = 2 * 24;  // open switch's threshold, > Vin [V]
+};
+
+/// The buck converter's box LCS (buck_converter.cpp) on x = (i, v, c…):
+/// the circuit's rows, and the states c of a carrier whose flow is
+/// c' = `carrier` c and whose first entry adds to the ramp the comparator
+/// sees, r = `carrier_offset` + c_1 (none: r(t) is the caller's q source).
+Lcs BuckLcs(const BuckValues& c, const Eigen::MatrixXd& carrier, double carrier_offset);
+
 /// The buck converter's three modes (buck_converter.cpp) in a z = (i, v, …,
 /// 1) whose last entry is the constant 1: the switch closed (L i' = Vin − v),
 /// open with the diode conducting (L i' = −v), open with the diode blocking
-/// (i' = 0, v_x = v). `common` holds the other rows of z' = M z (v's and the
-/// carrier's), `h` the comparator's K (Vref − v) − ρ as a row on z. Guards:
+/// (i' = 0, v_x = v). `carrier` holds the rows of z' = M z after v's (the
+/// ramp's), `h` the comparator's K (Vref − v) − ρ as a row on z. Guards:
 /// (h, i), (−h, i), (−h, v); U gives u = (i_S, v_x, s).
-std::vector<LinearMode> BuckModes(double L, double Vin, const Eigen::MatrixXd& common,
+enum BuckMode { kBuckOn, kBuckOffContinuous, kBuckOffDiscontinuous };
+std::vector<LinearMode> BuckModes(const BuckValues& c, const Eigen::MatrixXd& carrier,
                                   const Eigen::RowVectorXd& h);
+/// The mode after a guard of BuckModes reached 0: the comparator's (guard
+/// 0) toggles the switch; the current's (guard 1, open) blocks the diode,
+/// with i set to exactly 0. Any other throws, naming `model`.
+ModeEntry BuckAfterGuard(const char* model, int mode, int guard, double t, Eigen::VectorXd& z);
 
 /// The two rectifiers' circuit values: a 10 V, 50 Hz mains-like source
 /// switched on at 60°, a 100 μF filter and a 1 kΩ load.
