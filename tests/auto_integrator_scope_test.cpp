@@ -27,7 +27,6 @@
 namespace dvi {
 namespace {
 
-using testing::ExpectSameTrajectory;
 using testing::Linspace;
 
 std::string Scientific(double value) {
@@ -36,21 +35,10 @@ std::string Scientific(double value) {
   return text.str();
 }
 
-void ExpectSameRun(const Trajectory& a, const Trajectory& b) {
-  ExpectSameTrajectory(a, b);
-  EXPECT_EQ(a.status, b.status);
-  EXPECT_EQ(a.message, b.message);
+// The certificate too: IntegrateAuto's rows are certified.
+void ExpectSameCertifiedRun(const Trajectory& a, const Trajectory& b) {
+  testing::ExpectSameRun(a, b);
   EXPECT_EQ(a.certificate.certified(), b.certificate.certified());
-  ASSERT_EQ(a.intervals.size(), b.intervals.size());
-  for (std::size_t k = 0; k < a.intervals.size(); ++k) {
-    EXPECT_EQ(a.intervals[k].method, b.intervals[k].method) << "interval " << k;
-    EXPECT_EQ(a.intervals[k].from, b.intervals[k].from) << "interval " << k;
-    EXPECT_EQ(a.intervals[k].to, b.intervals[k].to) << "interval " << k;
-    EXPECT_EQ(a.intervals[k].reason, b.intervals[k].reason) << "interval " << k;
-  }
-  ASSERT_EQ(a.events.size(), b.events.size());
-  for (std::size_t k = 0; k < a.events.size(); ++k)
-    EXPECT_EQ(a.events[k].impulse, b.events[k].impulse) << "event " << k;
 }
 
 // Step() to the end: IntegrateAuto's run, bit for bit. Returns it.
@@ -68,7 +56,7 @@ Trajectory ExpectSteppedIsIntegrateAuto(const Problem& problem, const Eigen::Vec
   }
   EXPECT_EQ(outcome, StepOutcome::kEnd) << integrator.trajectory().message;
   EXPECT_EQ(integrator.t(), t_end);
-  ExpectSameRun(integrator.trajectory(), one_shot);
+  ExpectSameCertifiedRun(integrator.trajectory(), one_shot);
   return one_shot;
 }
 
@@ -111,7 +99,7 @@ double ExpectAdvanceToStopsExactly(const Problem& problem, const Eigen::VectorXd
     previous = stop;
   }
   EXPECT_LE(difference, tolerance);
-  if (tolerance == 0) ExpectSameRun(integrator.trajectory(), one_shot);
+  if (tolerance == 0) ExpectSameCertifiedRun(integrator.trajectory(), one_shot);
   return difference;
 }
 
@@ -161,17 +149,6 @@ TEST(AutoIntegratorScope, OutputTimesAcrossTheHandOversAreIntegrateAutos) {
 // NonBoxSetRunsEventDrivenThroughItsKktSystem). The constraints active until
 // then are released at t = 2 (the ball's one, the diamond's two at its
 // vertex).
-ConvexSet Diamond() {
-  Eigen::MatrixXd G(4, 2);
-  G << 1, 1, 1, -1, -1, 1, -1, -1;
-  return ConvexSet::Polyhedron(G, Eigen::VectorXd::Ones(4), Eigen::MatrixXd(0, 2),
-                               Eigen::VectorXd(0));
-}
-
-Eigen::Vector2d ProjectedDecayExact(double t) {
-  return Eigen::Vector2d(t <= 2 ? 3 - t : std::exp(2 - t), 0);
-}
-
 AutoOptions TightOptions() {
   AutoOptions options;
   options.event.rtol = 1e-10;
@@ -181,7 +158,7 @@ AutoOptions TightOptions() {
 
 TEST(AutoIntegratorScope, ABallAndAPolyhedronKAreIntegrateAutos) {
   constexpr double kHorizon = 4;
-  for (const ConvexSet& K : {ConvexSet::Ball(Eigen::Vector2d::Zero(), 1), Diamond()}) {
+  for (const ConvexSet& K : {ConvexSet::Ball(Eigen::Vector2d::Zero(), 1), testing::Diamond()}) {
     SCOPED_TRACE(K.Describe());
     const Dvi dvi = testing::ProjectedDecay(K);
     const Eigen::VectorXd x0 = Eigen::Vector2d(3, 0);
@@ -194,7 +171,8 @@ TEST(AutoIntegratorScope, ABallAndAPolyhedronKAreIntegrateAutos) {
       for (const Event& event : one_shot.events) EXPECT_NEAR(event.time, 2, 1e-9);
       double error = 0;
       for (std::size_t k = 0; k < one_shot.times.size(); ++k)
-        error = std::max(error, (one_shot.states[k] - ProjectedDecayExact(one_shot.times[k]))
+        error = std::max(error, (one_shot.states[k] -
+                                 testing::ProjectedDecayExact(one_shot.times[k]))
                                     .lpNorm<Eigen::Infinity>());
       EXPECT_LE(error, 1e-8);
       ExpectAdvanceToStopsExactly(dvi, x0, kHorizon, options, Stops(kHorizon, 29), one_shot, 0);
@@ -254,32 +232,10 @@ void ReinitInsideAWholeInterval(bool sampled) {
   ::testing::Test::RecordProperty(sampled ? "sampled_max_error" : "max_error", Scientific(error));
 }
 
-// A square wave through a one-sided clamp (lcs_sources_test): x' = s(t) − x
-// + u, 0 ≤ u ⊥ x + u ≥ 0, s = ±1 stepping at the breakpoints 1, 2, 3.
-Lcs SquareWaveLcs() {
-  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Constant(1, 1, -1), Eigen::MatrixXd::Ones(1, 1),
-                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1));
-  lcs.p_source = [](double t, Eigen::VectorXd& out) {
-    out[0] = static_cast<long>(std::floor(t)) % 2 == 0 ? 1.0 : -1.0;
-  };
-  lcs.breakpoints = {1, 2, 3};
-  return lcs;
-}
-
-// Its exact solution (lcs_sources_test's SquareWaveClamp).
-double SquareWaveExact(double t) {
-  const double x1 = 1 - std::exp(-1.0), t1 = 1 + std::log(x1 + 1);
-  const double x2 = -0.5 + 0.5 * std::exp(-2 * (2 - t1)), t2 = 2 + 0.5 * std::log(1 - 2 * x2);
-  if (t <= 1) return 1 - std::exp(-t);
-  if (t <= t1) return -1 + (x1 + 1) * std::exp(-(t - 1));
-  if (t <= 2) return -0.5 + 0.5 * std::exp(-2 * (t - t1));
-  if (t <= t2) return 0.5 + (x2 - 0.5) * std::exp(-2 * (t - 2));
-  return 1 - std::exp(-(t - t2));
-}
-
+// The square wave through a clamp (testing::SquareWaveClamp), an LCS and its Dvi.
 TEST(AutoIntegratorScope, SourceBreakpointsAreIntegrateAutos) {
   constexpr double kHorizon = 3;
-  const Lcs lcs = SquareWaveLcs();
+  const Lcs lcs = testing::SquareWaveClamp();
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(1);
   for (const bool general : {false, true}) {
     SCOPED_TRACE(general ? "Dvi" : "Lcs");
@@ -294,7 +250,7 @@ TEST(AutoIntegratorScope, SourceBreakpointsAreIntegrateAutos) {
       const StepOutcome outcome = integrator.AdvanceTo(stop);
       EXPECT_EQ(outcome, stop < kHorizon ? StepOutcome::kStopTime : StepOutcome::kEnd);
       EXPECT_EQ(integrator.t(), stop);
-      error = std::max(error, std::abs(integrator.x()(0) - SquareWaveExact(stop)));
+      error = std::max(error, std::abs(integrator.x()(0) - testing::SquareWaveClampExact(stop)));
     }
     EXPECT_LE(error, 1e-8);
     if (general)
@@ -352,7 +308,7 @@ TEST(AutoIntegratorScope, AFailedJumpEndsTheRunAtT0AsIntegrateAutos) {
   EXPECT_EQ(integrator.AdvanceTo(0.5), StepOutcome::kFailure);
   EXPECT_EQ(integrator.t(), 0.0);
   EXPECT_EQ(integrator.x(), x0);
-  ExpectSameRun(integrator.trajectory(), one_shot);
+  ExpectSameCertifiedRun(integrator.trajectory(), one_shot);
   testing::ExpectThrowNaming([&] { integrator.Reinit(0.5, x0); }, "the run has failed");
 }
 
