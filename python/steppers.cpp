@@ -209,10 +209,11 @@ void BindSteppers(py::module_& module) {
   py::class_<Stepper<EventDrivenIntegrator>> stepper(
       module, "EventDrivenIntegrator",
       "The event-driven integrator (Sect. 5) as an object to step, stop and resume: step(), "
-      "advance_to(t), reinit(t, x); options as integrate_event's keywords (no output_times: "
-      "every step is sampled)");
-  DefConstructor<EventDrivenIntegrator, Lcs>(stepper, "An Lcs (2.8) on a box K");
-  DefConstructor<EventDrivenIntegrator, Dvi>(stepper, "A Dvi of Python callables on a box K");
+      "advance_to(t), reinit(t, x); options as integrate_event's keywords (output_times "
+      "too), the problems integrate_event takes (a non-box K, breakpoints); step() to the end "
+      "is integrate_event bit for bit");
+  DefConstructor<EventDrivenIntegrator, Lcs>(stepper, "An Lcs (2.8)");
+  DefConstructor<EventDrivenIntegrator, Dvi>(stepper, "A Dvi of Python callables");
   DefConstructor<EventDrivenIntegrator, FilippovSystem>(stepper,
                                                         "A Filippov system as its separable DVI");
   DefMembers(stepper);
