@@ -236,5 +236,27 @@ TEST(EventDrivenIntegratorScope, StepStopsAtEachBreakpoint) {
   EXPECT_EQ(reached, lcs.breakpoints);
 }
 
+// A source that steps at a breakpoint and leaves x inconsistent: x' = u,
+// 0 ≤ u ⊥ x + q(t) ≥ 0, q = 0 before t = 1 and −1 from it (D = 0). From
+// x = 0.5 nothing moves until t = 1, where x + q = −0.5 admits no u: the
+// LCS's state jump x⁺ = x⁻ + η, η = 0.5, to x = 1, which then rests
+// (u = 0). The object jumps there as IntegrateEventDriven does.
+TEST(EventDrivenIntegratorScope, AStateJumpAtABreakpointIsIntegrateEventDrivens) {
+  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Zero(1, 1));
+  lcs.q_source = [](double t, Eigen::VectorXd& out) { out[0] = t < 1 ? 0.0 : -1.0; };
+  lcs.breakpoints = {1};
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 0.5);
+  const Trajectory one_shot = ExpectSteppedIsIntegrateEventDriven(lcs, x0, 2, TightOptions());
+  const auto jump = std::find_if(one_shot.events.begin(), one_shot.events.end(),
+                                 [](const Event& event) { return event.kind == EventKind::kJump; });
+  ASSERT_NE(jump, one_shot.events.end());
+  EXPECT_EQ(jump->time, 1.0);
+  EXPECT_NEAR(jump->impulse(0), 0.5, 1e-12);
+  EXPECT_NEAR(one_shot.states.back()(0), 1.0, 1e-12);
+  const auto exact = [](double t) { return Eigen::VectorXd::Constant(1, t < 1 ? 0.5 : 1.0); };
+  EXPECT_LE(AdvanceToStops(lcs, x0, 2, TightOptions(), exact), 1e-12);
+}
+
 }  // namespace
 }  // namespace dvi
