@@ -221,8 +221,9 @@ void BindSteppers(py::module_& module) {
   DefStepper<EventDrivenIntegrator>(
       module,
       "The event-driven integrator (Sect. 5) as an object to step, stop and resume: step(), "
-      "advance_to(t), reinit(t, x); options as integrate_event's keywords (no output_times: "
-      "every step is sampled)");
+      "advance_to(t), reinit(t, x); options as integrate_event's keywords (output_times "
+      "too), the problems integrate_event takes (a non-box K, breakpoints); step() to the end "
+      "is integrate_event bit for bit");
   DefStepper<AutoIntegrator>(
       module,
       "The automatic driver (integrate_auto) as an object to step, stop and resume: step(), "

@@ -25,6 +25,7 @@
 namespace dvi {
 namespace {
 
+using testing::ExpectSameIntervals;
 using testing::ExpectSameTrajectory;
 using testing::ExpectThrowNaming;
 
@@ -60,16 +61,6 @@ AutoOptions WindowOptions(const zoo::ZooModel& model) {
 bool HasMethod(const Trajectory& trajectory, IntegrationMethod method) {
   return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
                      [method](const MethodInterval& interval) { return interval.method == method; });
-}
-
-void ExpectSameIntervals(const Trajectory& a, const Trajectory& b) {
-  ASSERT_EQ(a.intervals.size(), b.intervals.size());
-  for (std::size_t k = 0; k < a.intervals.size(); ++k) {
-    EXPECT_EQ(a.intervals[k].method, b.intervals[k].method) << "interval " << k;
-    EXPECT_EQ(a.intervals[k].from, b.intervals[k].from) << "interval " << k;
-    EXPECT_EQ(a.intervals[k].to, b.intervals[k].to) << "interval " << k;
-    EXPECT_EQ(a.intervals[k].reason, b.intervals[k].reason) << "interval " << k;
-  }
 }
 
 struct Case {

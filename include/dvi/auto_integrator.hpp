@@ -34,17 +34,18 @@ namespace dvi {
 /// inconsistent x0, an LCS whose intervals run on IDA), and stepped to the
 /// end with Step() its trajectory() is IntegrateAuto's, bit for bit.
 ///
-/// Where every step is sampled (empty event.output_times), K is a box, the
-/// problem has no source breakpoints and the intervals run on CVODE, the
-/// event-driven intervals are EventDrivenIntegrators: a Step is one CVODE
-/// step, and AdvanceTo stops exactly at its time (CVODE's stop time, which
-/// shortens a step: a split run equals the one-shot run to the tolerance,
-/// not to the bit). Otherwise an event-driven interval is run whole in the
-/// call that starts it, as IntegrateAuto runs it (the interval goes on to
-/// t_end or to where it fails, crossing the breakpoints): Step goes to its
-/// end, AdvanceTo(t) to a time inside it stops at t, x() and u() being its
-/// rows or its dense output there (Trajectory::StateAt), and a split run
-/// equals the one-shot run bit for bit. A time-stepping window and a Zeno
+/// Where the intervals run on CVODE (with output times, a non-box K and
+/// source breakpoints too), the event-driven intervals are
+/// EventDrivenIntegrators: a Step is one CVODE step (never across a
+/// breakpoint), and AdvanceTo stops exactly at its time (CVODE's stop time,
+/// which shortens a step: a split run equals the one-shot run to the
+/// tolerance, not to the bit). On IDA (an LCS whose modes run as mode
+/// DAEs) an event-driven interval is run whole in the call that starts it,
+/// as IntegrateAuto runs it (the interval goes on to t_end or to where it
+/// fails): Step goes to its end, AdvanceTo(t) to a time inside it stops at
+/// t, x() and u() being its rows or its dense output there
+/// (Trajectory::StateAt), and a split run equals the one-shot run bit for
+/// bit. A time-stepping window and a Zeno
 /// extrapolation are computed whole in the call that enters them (a window
 /// is re-run at h/2, h/4, … until its certificate holds, so it cannot stop
 /// inside); t() then passes through them: AdvanceTo(t) to a time inside

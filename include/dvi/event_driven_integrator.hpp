@@ -28,20 +28,31 @@ namespace dvi {
 ///   }
 ///   Trajectory trajectory = integrator.trajectory();
 ///
-/// Every accepted step is sampled (options.output_times must be empty), and
-/// each event adds its sample, as IntegrateEventDriven without output times.
-/// Scope: K a box (the KKT lifting of other sets and the source breakpoints
-/// of IntegrateEventDriven are one-shot only) and a consistent x0 (no state
-/// jump at the start); trajectory() has no certificate (certify it with the
-/// one-shot run).
+/// It takes what IntegrateEventDriven takes, and stepped to the end its
+/// trajectory() is that run's, row for row (without the certificate:
+/// certify with the one-shot run):
+/// - output times: rows there, interpolated within the steps, as the
+///   one-shot records them (Step() returns at CVODE's step ends between
+///   them, which are not rows; AdvanceTo(t) adds a row at t);
+/// - a K that is not a box (polyhedra, balls, products with them): the
+///   run is on its KKT system (Sect. 2.4) on a box, and x(), u(),
+///   MultiplierAt and trajectory() are in the original problem's terms
+///   (u of m entries); mode() is the lifted problem's (for each of u and
+///   K's constraint multipliers: free, lower or upper bound);
+/// - source breakpoints (dvi.breakpoints, Lcs::breakpoints): Step() never
+///   steps across one; it stops there, and the next piece starts from the
+///   state reached with its initial VI at the sources' right limits (an
+///   LCS's state jump there where a source stepped), as the one-shot.
+/// Scope: a consistent x0 (no state jump at the start: IntegrateEventDriven
+/// or AutoIntegrator make it).
 class EventDrivenIntegrator {
  public:
   /// Selects the mode at (t0, x0) (Theorem 5.1 / Sect. 5.3, or the
   /// differentiation procedure of Theorems 5.2/5.3). t_end is the horizon:
   /// the longest run, and the scale of the look-ahead and the Zeno window.
   /// @throws InvalidInputError on an invalid problem, x0, t0/t_end or
-  /// options, on a non-box K or source breakpoints; failure to find a mode
-  /// at t0 is status() kNotIndexOne / kStepFailure, not an exception.
+  /// options, or an empty K (the VI has no solution); failure to find a
+  /// mode at t0 is status() kNotIndexOne / kStepFailure, not an exception.
   EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
                         const EventDrivenOptions& options = {});
   /// An LCS (2.8) through Lcs::ToDvi, with its constant matrices (and KLU).
@@ -51,8 +62,8 @@ class EventDrivenIntegrator {
   EventDrivenIntegrator& operator=(EventDrivenIntegrator&&) noexcept;
   ~EventDrivenIntegrator();
 
-  /// One CVODE step (and the event at its end), never past t_end or a
-  /// pending AdvanceTo time. After kEnd, kFailure or kUserStop it returns
+  /// One CVODE step (and the event at its end), never past t_end, a
+  /// source breakpoint or a pending AdvanceTo time. After kEnd, kFailure or kUserStop it returns
   /// the same again without stepping. options.observation's observer sees
   /// every sample and step end; its user events stop the run (kUserStop)
   /// or modify the state and go on (kEvent).
@@ -73,8 +84,9 @@ class EventDrivenIntegrator {
 
   double t() const;
   double t_end() const;
-  /// The state and the multiplier at t() (the last sample; x0 and an empty
-  /// u if the start failed).
+  /// The state and the multiplier at t(): the last sample where it is at
+  /// t(), else (output times) CVODE's state there and the mode's u at it;
+  /// x0 and an empty u if the start failed.
   Eigen::VectorXd x() const;
   Eigen::VectorXd u() const;
   /// Live dense output (CVodeGetDky): x at t in the last step, from where

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The resumable automatic driver: the driver's run (auto_run.hpp) with each
 // event-driven interval an EventDrivenIntegrator, stepped call by call, or,
-// beyond that object's scope, run whole as IntegrateAuto runs it
+// on IDA's mode DAEs, run whole as IntegrateAuto runs it
 // (whole_interval.hpp).
 #include "dvi/auto_integrator.hpp"
 
@@ -58,12 +58,10 @@ struct AutoIntegrator::State {
         run_t_end(t_end),
         x_minus(x0) {}
 
-  // Whether the EventDrivenIntegrator takes the intervals: every step
-  // sampled, K a box, no source breakpoints, CVODE (not IDA's mode DAEs).
-  bool Live() const {
-    return options.event.output_times.empty() && dvi.K.IsBox() && dvi.breakpoints.empty() &&
-           !(lcs && internal::UsesModeDae(*lcs, options));
-  }
+  // Whether the EventDrivenIntegrator takes the intervals: on CVODE (it
+  // takes output times, a non-box K and source breakpoints as
+  // IntegrateEventDriven does), not on IDA's mode DAEs.
+  bool Live() const { return !(lcs && internal::UsesModeDae(*lcs, options)); }
 
   internal::EventMethod Method() const {
     if (!Live()) return lcs ? internal::WholeIntervals(*lcs, run_t_end, options)

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The automatic driver's event-driven intervals run whole at their start
-// (whole_interval.hpp): IntegrateAuto's, and AutoIntegrator's beyond the
-// EventDrivenIntegrator's scope.
+// (whole_interval.hpp): IntegrateAuto's, and AutoIntegrator's on IDA.
 #include "whole_interval.hpp"
 
 #include <algorithm>
@@ -79,7 +78,7 @@ Eigen::VectorXd WholeInterval::MultiplierAt(double t) const {
 const Mode& WholeInterval::mode() const {
   std::ostringstream message;
   message << "mode: the event-driven interval from t = " << t0_
-          << " is run whole (output times, a non-box K, source breakpoints or IDA's mode DAEs) "
+          << " is run whole on IDA's mode DAEs "
              "and keeps no mode";
   throw InvalidInputError(message.str());
 }

@@ -17,7 +17,7 @@ namespace dvi::internal {
 /// An event-driven interval run whole when it starts, by the one-shot run
 /// with all of its scope (output times, the KKT lifting of a non-box K,
 /// source breakpoints, IDA's mode DAEs): IntegrateAuto's intervals, and
-/// AutoIntegrator's where its EventDrivenIntegrator does not reach. Step
+/// AutoIntegrator's on IDA (its CVODE intervals are EventDrivenIntegrators). Step
 /// goes to its end (kEnd, or kFailure where it stopped short); AdvanceTo(t)
 /// before there moves the cursor t() to t, x() and u() being the run's rows
 /// there or its dense output (Trajectory::StateAt); Reinit(t, x) keeps the

@@ -3,17 +3,14 @@
 
 #include <cmath>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 
 #include "certify.hpp"
 #include "check.hpp"
-#include "cvode/event_driven_run.hpp"
+#include "cvode/event_driven_piece.hpp"
 #include "cvode/event_driven_validated.hpp"
 #include "dvi/error.hpp"
 #include "events/breakpoint_pieces.hpp"
-#include "modes/kkt_lifting.hpp"
-#include "non_finite_samples.hpp"
 #include "output_times_check.hpp"
 #include "source_breakpoints.hpp"
 #include "state_jump.hpp"
@@ -32,32 +29,15 @@ namespace {
 // is (F affine, see BoxModeSystem), or null.
 Trajectory IntegrateOnePiece(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
                              double t_end, const EventDrivenOptions& options) {
-  if (dvi.K.IsBox()) {
-    internal::EventDrivenRun run(dvi, lcs != nullptr, lcs, x0, t0, t_end, options,
-                                 UsesKlu(dvi, lcs, options));
-    Trajectory trajectory = run.Run();
-    internal::EndAtFirstNonFiniteSample(trajectory);
-    return trajectory;
-  }
-  // Polyhedra, balls and products with them: the KKT system on a box, whose
-  // modes are the active sets of K's constraints. On an empty K its Newton
-  // would only run out of iterations: the projection proves the emptiness.
-  try {
-    dvi.K.Project(Eigen::VectorXd::Zero(dvi.m));
-  } catch (const EmptySetError& empty) {
+  const std::string empty = EmptySetFailure(dvi);
+  if (!empty.empty()) {
     Trajectory trajectory;
     trajectory.status = IntegrationStatus::kStepFailure;
-    trajectory.message = std::string("event: K is empty, so the VI has no solution: ") + empty.what();
+    trajectory.message = empty;
     return trajectory;
-  } catch (const std::runtime_error&) {
-    // A projection that fails without proving K empty leaves it to the run.
   }
-  const internal::KktLifting lifting = internal::LiftToBox(dvi);
-  internal::EventDrivenRun run(lifting.dvi, lcs && dvi.K.IsPolyhedral(), nullptr, x0, t0, t_end, options,
-                     false);
-  Trajectory trajectory = internal::Unlift(run.Run(), lifting);
-  internal::EndAtFirstNonFiniteSample(trajectory);
-  return trajectory;
+  EventDrivenPiece piece(dvi, lcs, x0, t0, t_end, options);
+  return piece.Run();
 }
 
 }  // namespace

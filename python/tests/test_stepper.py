@@ -77,6 +77,46 @@ def test_stepping_to_the_end_is_the_one_shot_run(problem, x0):
     assert_same_run(stepped.trajectory(), one_shot)
 
 
+def decay_on(K, breakpoints=()):
+    """x' = u, u in SOL(K, u + x) in R^2 (tests/support/reference_dvis'
+    ProjectedDecay): from (3, 0), x1 = 3 - t until t = 2, e^(2 - t) after."""
+    return dvi.Dvi(n=2, m=2, f=lambda t, x, u: u, F=lambda t, x, u: u + x, K=K,
+                   breakpoints=list(breakpoints))
+
+
+# What integrate_event takes the stepper takes (C++:
+# tests/event_driven_integrator_scope_test): output times, a ball K (its KKT
+# lifting; u of two entries), a declared breakpoint. step() to the end is
+# integrate_event bit for bit, in more than one call.
+@pytest.mark.parametrize("K, keywords, breakpoints", [
+    (dvi.ConvexSet.box([-1.0, -1.0], [1.0, 1.0]), {"output_times": list(np.linspace(0, 4, 41))},
+     ()),
+    (dvi.ConvexSet.ball([0.0, 0.0], 1.0), {}, ()),
+    (dvi.ConvexSet.ball([0.0, 0.0], 1.0), {"output_times": list(np.linspace(0, 4, 41))}, ()),
+    (dvi.ConvexSet.box([-1.0, -1.0], [1.0, 1.0]), {}, (1.0, 3.0)),
+])
+def test_the_stepper_takes_output_times_a_ball_and_breakpoints(K, keywords, breakpoints):
+    problem = decay_on(K, breakpoints)
+    one_shot = dvi.integrate_event(problem, [3.0, 0.0], 0.0, 4.0, rtol=RTOL, atol=ATOL,
+                                   **keywords)
+    assert one_shot.succeeded, one_shot.message
+    stepped = dvi.EventDrivenIntegrator(problem, [3.0, 0.0], 0.0, 4.0, rtol=RTOL, atol=ATOL,
+                                        **keywords)
+    calls = 0
+    while stepped.step() not in (dvi.StepOutcome.END, dvi.StepOutcome.FAILURE):
+        calls += 1
+    assert calls > 3
+    assert_same_run(stepped.trajectory(), one_shot)
+    assert len(stepped.u) == 2
+    stopped = dvi.EventDrivenIntegrator(problem, [3.0, 0.0], 0.0, 4.0, rtol=RTOL, atol=ATOL,
+                                        **keywords)
+    for t in np.linspace(0.25, 4.0, 16):
+        stopped.advance_to(t)
+        assert stopped.t == t
+        assert abs(stopped.x[0] - saturated_decay_exact(t)) <= STATE_ERROR
+        assert abs(stopped.x[1]) <= STATE_ERROR
+
+
 def test_step_outcome_is_an_enum_whose_str_is_dvis_name():
     assert [str(o) for o in dvi.StepOutcome.__members__.values()] == [
         "step", "event", "stop-time", "end", "failure", "user-stop"]
@@ -268,15 +308,6 @@ def test_bad_arguments_raise_naming_the_problem():
     with pytest.raises(dvi.InvalidInputError,
                        match="EventDrivenIntegrator: unknown keyword.*rtoll"):
         dvi.EventDrivenIntegrator(clamp_lcs(), [1.0], 0.0, 2.0, rtoll=1e-6)
-    with pytest.raises(ValueError, match=r"EventDrivenIntegrator: output_times has 2 entries; the "
-                                         r"stepper samples every step \(stop at a time with "
-                                         r"advance_to\)"):
-        dvi.EventDrivenIntegrator(clamp_lcs(), [1.0], 0.0, 2.0, output_times=[0.0, 2.0])
-    with pytest.raises(ValueError, match=r"EventDrivenIntegrator: the problem has 1 source "
-                                         r"breakpoint.*\(integrate_event does\)"):
-        dvi.EventDrivenIntegrator(
-            dvi.Dvi(n=1, m=1, f=lambda t, x, u: u, F=lambda t, x, u: u + x,
-                    K=dvi.ConvexSet.box([-1.0], [1.0]), breakpoints=[0.5]), [3.0], 0.0, 1.0)
     with pytest.raises(TypeError):
         dvi.EventDrivenIntegrator("not a problem", [1.0], 0.0, 2.0)
 

@@ -20,6 +20,37 @@ Dvi ProjectedDecay(ConvexSet K) {
   return dvi;
 }
 
+ConvexSet Diamond() {
+  Eigen::MatrixXd G(4, 2);
+  G << 1, 1, 1, -1, -1, 1, -1, -1;
+  return ConvexSet::Polyhedron(G, Eigen::VectorXd::Ones(4), Eigen::MatrixXd(0, 2),
+                               Eigen::VectorXd(0));
+}
+
+Eigen::VectorXd ProjectedDecayExact(double t) {
+  return Eigen::Vector2d(t <= 2 ? 3 - t : std::exp(2 - t), 0);
+}
+
+Lcs SquareWaveClamp() {
+  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Constant(1, 1, -1), Eigen::MatrixXd::Ones(1, 1),
+                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1));
+  lcs.p_source = [](double t, Eigen::VectorXd& out) {
+    out[0] = static_cast<long>(std::floor(t)) % 2 == 0 ? 1.0 : -1.0;
+  };
+  lcs.breakpoints = {1, 2, 3};
+  return lcs;
+}
+
+double SquareWaveClampExact(double t) {
+  const double x1 = 1 - std::exp(-1.0), t1 = 1 + std::log(x1 + 1);
+  const double x2 = -0.5 + 0.5 * std::exp(-2 * (2 - t1)), t2 = 2 + 0.5 * std::log(1 - 2 * x2);
+  if (t <= 1) return 1 - std::exp(-t);
+  if (t <= t1) return -1 + (x1 + 1) * std::exp(-(t - 1));
+  if (t <= 2) return -0.5 + 0.5 * std::exp(-2 * (t - t1));
+  if (t <= t2) return 0.5 + (x2 - 0.5) * std::exp(-2 * (t - 2));
+  return 1 - std::exp(-(t - t2));
+}
+
 ClampBank Clamps(int n) {
   ClampBank bank;
   bank.k.resize(n);

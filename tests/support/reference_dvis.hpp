@@ -29,6 +29,13 @@ Eigen::VectorXd SaturatedDecayExact(double t);
 /// x = SaturatedDecayExact(t)·d.
 Dvi ProjectedDecay(ConvexSet K);
 
+/// The diamond |u1| + |u2| ≤ 1 as a polyhedron (four rows), for
+/// ProjectedDecay.
+ConvexSet Diamond();
+
+/// x(t) of ProjectedDecay from (3, 0): (SaturatedDecayExact(t), 0).
+Eigen::VectorXd ProjectedDecayExact(double t);
+
 /// n independent clamps as a sparse LCS, x_i' = −k_i + u_i, 0 ≤ u ⊥ x ≥ 0
 /// (D = 0: index two once x_i = 0), k_i = 1 + i mod 7, x0_i in [0.5, 2):
 /// x_i = max(x0_i − k_i t, 0), and u_i = k_i from the arrival x0_i/k_i on.
@@ -37,6 +44,15 @@ struct ClampBank {
   Eigen::VectorXd k, x0;
 };
 ClampBank Clamps(int n);
+
+/// A square wave through a one-sided clamp (lcs_sources_test):
+///   x' = s(t) − x + u,  0 ≤ u ⊥ x + u ≥ 0,
+/// s = +1 on [0, 1) and [2, 3), −1 on [1, 2), declared breakpoints 1, 2, 3.
+Lcs SquareWaveClamp();
+
+/// x(t) of SquareWaveClamp from x0 = 0 at t0 = 0 (the clamp releases and
+/// engages once each on [0, 3]).
+double SquareWaveClampExact(double t);
 
 /// A spiral into the unit disc B with one kink, u in a ball:
 ///   x' = Ω x − u,   u ∈ SOL(B, u − x),   Ω = [[0, −1], [1, 0]],

@@ -30,4 +30,28 @@ inline void ExpectSameTrajectory(const Trajectory& a, const Trajectory& b) {
   EXPECT_EQ(a.stats.rhs_evals, b.stats.rhs_evals);
 }
 
+/// The same intervals: method, span and reason.
+inline void ExpectSameIntervals(const Trajectory& a, const Trajectory& b) {
+  ASSERT_EQ(a.intervals.size(), b.intervals.size());
+  for (std::size_t k = 0; k < a.intervals.size(); ++k) {
+    EXPECT_EQ(a.intervals[k].method, b.intervals[k].method) << "interval " << k;
+    EXPECT_EQ(a.intervals[k].from, b.intervals[k].from) << "interval " << k;
+    EXPECT_EQ(a.intervals[k].to, b.intervals[k].to) << "interval " << k;
+    EXPECT_EQ(a.intervals[k].reason, b.intervals[k].reason) << "interval " << k;
+  }
+}
+
+/// ExpectSameTrajectory, and the same status, message, intervals and event
+/// impulses: a stepper run to its end against the one-shot run it
+/// reproduces.
+inline void ExpectSameRun(const Trajectory& a, const Trajectory& b) {
+  ExpectSameTrajectory(a, b);
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.message, b.message);
+  ExpectSameIntervals(a, b);
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (std::size_t k = 0; k < a.events.size(); ++k)
+    EXPECT_EQ(a.events[k].impulse, b.events[k].impulse) << "event " << k;
+}
+
 }  // namespace dvi::testing
