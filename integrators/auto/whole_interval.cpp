@@ -185,14 +185,23 @@ EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& opti
       [&lcs, t_end, mode_dae, dvi, dae_options](double t, const Eigen::VectorXd& x,
                                                 const EventDrivenOptions& run) {
         if (mode_dae) {
-          Trajectory part = IntegrateModeDaeUncertified(lcs, x, t, t_end, dae_options(run));
+          // The observations of an interval that CVODE redoes never reach
+          // the run's observer: held until IDA keeps it.
+          ModeDaeOptions dae = dae_options(run);
+          std::vector<HeldObservation> held;
+          dae.observation.user_events = run.observation.user_events;
+          if (run.observation.observer) dae.observation.observer = HoldingObserver(held);
+          Trajectory part = IntegrateModeDaeUncertified(lcs, x, t, t_end, dae);
           // A mode DAE needs u unique; CVODE's mode ODE needs only x' to
           // be (Proposition 5.1's semi-affine case, free directions: a
           // bridge whose diodes all block), and its mode layer has the
           // rules IDA lacks. Where IDA finds a mode not index one, CVODE
           // (KLU) takes the interval from its start, and refuses in turn
           // where the flow is not unique either.
-          if (part.status != IntegrationStatus::kNotIndexOne) return part;
+          if (part.status != IntegrationStatus::kNotIndexOne) {
+            Replay(held, run.observation.observer);
+            return part;
+          }
           if (!*dvi) dvi->emplace(lcs.ToDvi());
         }
         return IntegrateEventDrivenValidated(**dvi, &lcs, x, t, t_end, run);
