@@ -208,6 +208,53 @@ TEST(AutoObserver, SeesOutputTimesOnceAcrossWindows) {
   EXPECT_GT(seen.size(), run.times.size());  // the step ends between them
 }
 
+// The automatic driver's IDA path (n + m ≥ 200 on a box, auto_driver_test's
+// clamps): n = 100 independent x_i' = −k_i + u_i, 0 ≤ u ⊥ x ≥ 0, x_i =
+// max(x0_i − k_i t, 0). The observer sees every row and output time once;
+// g = x_0 − 1/4 falling (x0_0 = 1/2, k_0 = 1), a stop, at t = 1/4 exactly.
+TEST(AutoUserEvents, IdaIntervalsObserveAndStopAtTheExactCrossing) {
+  constexpr int n = 100;
+  Eigen::VectorXd k(n), x0(n);
+  for (int i = 0; i < n; ++i) {
+    k(i) = 1 + i % 7;
+    x0(i) = 0.5 + 1.5 * ((i * 37) % n) / n;
+  }
+  SparseMatrix identity(n, n);
+  identity.setIdentity();
+  const Lcs lcs = Lcs::Sparse(SparseMatrix(n, n), identity, identity, SparseMatrix(n, n), -k);
+  AutoOptions options;
+  options.event.rtol = 1e-10;
+  options.event.atol = 1e-12;
+  for (int j = 0; j <= 20; ++j) options.event.output_times.push_back(0.05 * j);
+  std::vector<Seen> seen;
+  options.observation.observer = Recorder(seen);
+  const Trajectory run = IntegrateAuto(lcs, x0, 0, 1, options);
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  ASSERT_NE(run.intervals.front().reason.find("IDA"), std::string::npos)
+      << run.intervals.front().reason;
+  std::vector<double> rows_seen;
+  for (std::size_t j = 0; j < seen.size(); ++j) {
+    if (j > 0) {
+      ASSERT_GT(seen[j].t, seen[j - 1].t) << "observation " << j;
+    }
+    if (std::binary_search(run.times.begin(), run.times.end(), seen[j].t))
+      rows_seen.push_back(seen[j].t);
+    EXPECT_NEAR(seen[j].x(3), std::max(x0(3) - k(3) * seen[j].t, 0.0), 1e-10);
+  }
+  EXPECT_EQ(rows_seen, run.times);
+
+  options.observation.user_events.g = [](double, const Eigen::VectorXd& x,
+                                         const Eigen::VectorXd&) {
+    return Eigen::VectorXd::Constant(1, x(0) - 0.25);
+  };
+  options.observation.user_events.events = {{EventDirection::kFalling, UserEventAction::kStop}};
+  seen.clear();
+  const Trajectory stopped = IntegrateAuto(lcs, x0, 0, 1, options);
+  EXPECT_EQ(stopped.status, IntegrationStatus::kStoppedByUser) << stopped.message;
+  EXPECT_NEAR(stopped.times.back(), 0.25, kEventTimeError);
+  EXPECT_EQ(seen.back().t, stopped.times.back());
+}
+
 // A capacitor drained into an ideal diode: v = 2e^{−t} − 1 until the clamp
 // at ln 2. g = v − 1/2 falling, action stop: the run ends at ln(4/3).
 Lcs Diode() {
@@ -249,6 +296,10 @@ TEST(AutoUserEvents, StopEventInsideAWindowEndsTheRunThere) {
   EXPECT_EQ(run.status, IntegrationStatus::kStoppedByUser) << run.message;
   EXPECT_NEAR(run.times.back(), SampledDataRelay::kPeriod, kEventTimeError);
   EXPECT_NEAR(run.states.back()(0), SampledDataRelay::V(SampledDataRelay::kPeriod), kExact);
+  ASSERT_FALSE(run.intervals.empty());
+  EXPECT_EQ(run.intervals.back().method, IntegrationMethod::kTimeStepping)
+      << run.Report(ReportDetail::kFull);
+  EXPECT_EQ(run.intervals.back().to, run.times.back());
 }
 
 // The observer's stop: the run ends at the first state below 1/2, which is

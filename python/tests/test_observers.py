@@ -325,7 +325,7 @@ def test_auto_takes_observers_and_user_events():
     run = dvi.integrate_auto(linear_relay_lcs(), x0, 0.0, 2.3, **windows,
                              events=[linear_relay_event()], observer=seen.append)
     assert run.succeeded, run.message
-    assert "time-stepping" in [interval["method"] for interval in run.intervals]
+    assert "stepping" in [interval["method"] for interval in run.intervals]
     user_times = [time for time, kind, _ in run.events if kind == "user"]
     assert len(user_times) == 4
     for k, time in enumerate(user_times, start=1):
