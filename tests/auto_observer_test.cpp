@@ -185,27 +185,36 @@ TEST(AutoObserver, SeesEachKeptRowOnceAcrossZenoHandOvers) {
 }
 
 // With output times the observer sees each of them once, and the step ends
-// between them, in increasing t, across the windows.
-TEST(AutoObserver, SeesOutputTimesOnceAcrossWindows) {
-  const zoo::ZooModel model = zoo::ZooModelNamed("filippov_spiral");
-  AutoOptions options = ZenoOptions(model, false);
-  for (int k = 0; k <= 100; ++k) options.event.output_times.push_back(model.horizon * k / 100);
-  std::vector<Seen> seen;
-  options.observation.observer = Recorder(seen);
-  const Trajectory run = IntegrateAuto(model.lcs, model.x0, 0, model.horizon, options);
-  ASSERT_TRUE(run.succeeded()) << run.message;
-  ASSERT_TRUE(HasMethod(run, IntegrationMethod::kTimeStepping));
-  std::vector<double> rows_seen;
-  for (std::size_t k = 0; k < seen.size(); ++k) {
-    if (k > 0) {
-      ASSERT_GT(seen[k].t, seen[k - 1].t) << "observation " << k;
+// between them, in increasing t, across the spiral's windows and the
+// twisting controller's extrapolation (its rows in [t_k, t*] the driver's).
+TEST(AutoObserver, SeesOutputTimesOnceAcrossHandOvers) {
+  for (const auto& [name, extrapolate, handover] :
+       {std::tuple{"filippov_spiral", false, IntegrationMethod::kTimeStepping},
+        std::tuple{"twisting_controller", true, IntegrationMethod::kZenoExtrapolation}}) {
+    SCOPED_TRACE(name);
+    const zoo::ZooModel model = zoo::ZooModelNamed(name);
+    AutoOptions options = ZenoOptions(model, extrapolate);
+    for (int k = 0; k <= 100; ++k) options.event.output_times.push_back(model.horizon * k / 100);
+    std::vector<Seen> seen;
+    options.observation.observer = Recorder(seen);
+    const Trajectory run = IntegrateAuto(model.lcs, model.x0, 0, model.horizon, options);
+    ASSERT_TRUE(run.succeeded()) << run.message;
+    ASSERT_TRUE(HasMethod(run, handover));
+    std::vector<double> rows_seen, output_times;
+    for (std::size_t k = 0; k < seen.size(); ++k) {
+      if (k > 0) {
+        ASSERT_GT(seen[k].t, seen[k - 1].t) << "observation " << k;
+      }
+      if (std::binary_search(run.times.begin(), run.times.end(), seen[k].t))
+        rows_seen.push_back(seen[k].t);
+      if (seen[k].point == ObservationPoint::kOutputTime) output_times.push_back(seen[k].t);
     }
-    if (std::binary_search(run.times.begin(), run.times.end(), seen[k].t))
-      rows_seen.push_back(seen[k].t);
+    // Every row is seen (output times, events, the ends), each output time
+    // but the ends as one.
+    EXPECT_EQ(rows_seen, run.times);
+    EXPECT_GT(seen.size(), run.times.size());  // the step ends between them
+    EXPECT_GE(output_times.size(), 90u);
   }
-  // Every row is seen (output times, events, the ends).
-  EXPECT_EQ(rows_seen, run.times);
-  EXPECT_GT(seen.size(), run.times.size());  // the step ends between them
 }
 
 // The automatic driver's IDA path (n + m ≥ 200 on a box, auto_driver_test's
