@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -20,31 +19,22 @@
 #include "support/expect_throw.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/sampled_data_relay.hpp"
+#include "support/seen_observations.hpp"
 #include "support/zoo/models.hpp"
 
 namespace dvi {
 namespace {
 
 using testing::ExpectThrowNaming;
+using testing::Recorder;
 using testing::SampledDataRelay;
+using testing::Seen;
 
 // Backward Euler and CVODE are exact on the relay's lines to rounding.
 constexpr double kExact = 1e-10;
 // An event's time: the root finders' tolerance (issue 33's goal).
 constexpr double kEventTimeError = 1e-10;
 
-struct Seen {
-  double t;
-  Eigen::VectorXd x, u;
-  ObservationPoint point;
-};
-
-Observer Recorder(std::vector<Seen>& seen) {
-  return [&seen](const Observation& observation) {
-    seen.push_back({observation.t, observation.x, observation.u, observation.point});
-    return ObserverReply::kContinue;
-  };
-}
 
 bool HasMethod(const Trajectory& trajectory, IntegrationMethod method) {
   return std::any_of(trajectory.intervals.begin(), trajectory.intervals.end(),
@@ -76,31 +66,31 @@ AutoOptions OneStepEventRuns() {
   return options;
 }
 
+// The relay controller over [0, 2.3] (4 samples) under OneStepEventRuns,
+// observed into `seen`.
+constexpr double kRelayEnd = 2.3;
+AutoOptions ObservedRelay(std::vector<Seen>& seen) {
+  AutoOptions options = OneStepEventRuns();
+  options.observation.user_events = SampledDataRelay::Controller();
+  options.observation.observer = Recorder(seen);
+  return options;
+}
+
 // The relay's user events every T reset s and τ; backward Euler and CVODE
 // are exact on its lines, so every row is v(t) to rounding, in windows and
 // event-driven intervals alike, and each event is at kT.
 TEST(AutoUserEvents, SampledDataRelayAcrossWindowsMatchesTheExactSolution) {
-  constexpr double t_end = 2.3;
-  AutoOptions options = OneStepEventRuns();
-  options.observation.user_events = SampledDataRelay::Controller();
   std::vector<Seen> seen;
-  options.observation.observer = Recorder(seen);
-  const Trajectory run =
-      IntegrateAuto(SampledDataRelay::Problem(), SampledDataRelay::Start(), 0, t_end, options);
+  const Trajectory run = IntegrateAuto(SampledDataRelay::Problem(), SampledDataRelay::Start(), 0,
+                                       kRelayEnd, ObservedRelay(seen));
   ASSERT_TRUE(run.succeeded()) << run.message;
   ASSERT_TRUE(HasMethod(run, IntegrationMethod::kTimeStepping)) << run.Report(ReportDetail::kFull);
-  int user_events = 0;
-  for (const Event& event : run.events) {
-    if (event.kind != EventKind::kUser) continue;
-    ++user_events;
-    EXPECT_NEAR(event.time, user_events * SampledDataRelay::kPeriod, kEventTimeError);
-  }
+  const int user_events = SampledDataRelay::UserEventCount(run);
   EXPECT_EQ(user_events, 4);
-  double worst = 0;
-  for (std::size_t k = 0; k < run.times.size(); ++k)
-    worst = std::max(worst, std::abs(run.states[k](0) - SampledDataRelay::V(run.times[k])));
+  EXPECT_LE(SampledDataRelay::EventTimeError(run), kEventTimeError);
+  const double worst = SampledDataRelay::StateError(run);
   EXPECT_LT(worst, kExact);
-  EXPECT_NEAR(run.states.back()(0), SampledDataRelay::V(t_end), kExact);
+  EXPECT_NEAR(run.states.back()(0), SampledDataRelay::V(kRelayEnd), kExact);
   // At an event the rows hold x⁻ then x⁺ (the same t); elsewhere t rises.
   ExpectSeesTheRows(seen, run);
   int pairs = 0;
@@ -114,18 +104,15 @@ TEST(AutoUserEvents, SampledDataRelayAcrossWindowsMatchesTheExactSolution) {
 
 // The same run stepped by AutoIntegrator: the same rows and observations.
 TEST(AutoUserEvents, AutoIntegratorSteppedIsIntegrateAutoWithObservers) {
-  constexpr double t_end = 2.3;
-  AutoOptions options = OneStepEventRuns();
-  options.observation.user_events = SampledDataRelay::Controller();
   std::vector<Seen> seen;
-  options.observation.observer = Recorder(seen);
-  const Trajectory run =
-      IntegrateAuto(SampledDataRelay::Problem(), SampledDataRelay::Start(), 0, t_end, options);
+  const AutoOptions options = ObservedRelay(seen);
+  const Trajectory run = IntegrateAuto(SampledDataRelay::Problem(), SampledDataRelay::Start(), 0,
+                                       kRelayEnd, options);
   ASSERT_TRUE(run.succeeded()) << run.message;
   const std::vector<Seen> one_shot = std::move(seen);
   ASSERT_EQ(one_shot.size(), run.times.size());
   seen.clear();
-  AutoIntegrator integrator(SampledDataRelay::Problem(), SampledDataRelay::Start(), 0, t_end,
+  AutoIntegrator integrator(SampledDataRelay::Problem(), SampledDataRelay::Start(), 0, kRelayEnd,
                             options);
   StepOutcome outcome = StepOutcome::kStep;
   int calls = 0;
@@ -163,18 +150,34 @@ AutoOptions ZenoOptions(const zoo::ZooModel& model, bool extrapolate) {
   return options;
 }
 
+struct ZenoCase {
+  const char* model;
+  bool extrapolate;
+  IntegrationMethod handover;  // the hand-over the run must make
+};
+const ZenoCase kZenoCases[] = {
+    {"filippov_spiral", false, IntegrationMethod::kTimeStepping},
+    {"twisting_controller", true, IntegrationMethod::kZenoExtrapolation},
+};
+
+// The case's model over its horizon, observed into `seen`, with `outputs`
+// output times (0: every step sampled).
+Trajectory ObservedZenoRun(const ZenoCase& zeno, int outputs, std::vector<Seen>& seen) {
+  const zoo::ZooModel model = zoo::ZooModelNamed(zeno.model);
+  AutoOptions options = ZenoOptions(model, zeno.extrapolate);
+  for (int k = 0; k < outputs; ++k)
+    options.event.output_times.push_back(model.horizon * k / (outputs - 1));
+  options.observation.observer = Recorder(seen);
+  return IntegrateAuto(model.lcs, model.x0, 0, model.horizon, options);
+}
+
 TEST(AutoObserver, SeesEachKeptRowOnceAcrossZenoHandOvers) {
-  for (const auto& [name, extrapolate, handover] :
-       {std::tuple{"filippov_spiral", false, IntegrationMethod::kTimeStepping},
-        std::tuple{"twisting_controller", true, IntegrationMethod::kZenoExtrapolation}}) {
-    SCOPED_TRACE(name);
-    const zoo::ZooModel model = zoo::ZooModelNamed(name);
-    AutoOptions options = ZenoOptions(model, extrapolate);
+  for (const ZenoCase& zeno : kZenoCases) {
+    SCOPED_TRACE(zeno.model);
     std::vector<Seen> seen;
-    options.observation.observer = Recorder(seen);
-    const Trajectory run = IntegrateAuto(model.lcs, model.x0, 0, model.horizon, options);
+    const Trajectory run = ObservedZenoRun(zeno, 0, seen);
     ASSERT_TRUE(run.succeeded()) << run.message;
-    ASSERT_TRUE(HasMethod(run, handover)) << run.Report(ReportDetail::kFull);
+    ASSERT_TRUE(HasMethod(run, zeno.handover)) << run.Report(ReportDetail::kFull);
     ExpectSeesTheRows(seen, run);
     for (std::size_t k = 1; k < seen.size(); ++k)
       ASSERT_GT(seen[k].t, seen[k - 1].t) << "observation " << k << " at t = " << seen[k].t;
@@ -188,18 +191,12 @@ TEST(AutoObserver, SeesEachKeptRowOnceAcrossZenoHandOvers) {
 // between them, in increasing t, across the spiral's windows and the
 // twisting controller's extrapolation (its rows in [t_k, t*] the driver's).
 TEST(AutoObserver, SeesOutputTimesOnceAcrossHandOvers) {
-  for (const auto& [name, extrapolate, handover] :
-       {std::tuple{"filippov_spiral", false, IntegrationMethod::kTimeStepping},
-        std::tuple{"twisting_controller", true, IntegrationMethod::kZenoExtrapolation}}) {
-    SCOPED_TRACE(name);
-    const zoo::ZooModel model = zoo::ZooModelNamed(name);
-    AutoOptions options = ZenoOptions(model, extrapolate);
-    for (int k = 0; k <= 100; ++k) options.event.output_times.push_back(model.horizon * k / 100);
+  for (const ZenoCase& zeno : kZenoCases) {
+    SCOPED_TRACE(zeno.model);
     std::vector<Seen> seen;
-    options.observation.observer = Recorder(seen);
-    const Trajectory run = IntegrateAuto(model.lcs, model.x0, 0, model.horizon, options);
+    const Trajectory run = ObservedZenoRun(zeno, 101, seen);
     ASSERT_TRUE(run.succeeded()) << run.message;
-    ASSERT_TRUE(HasMethod(run, handover));
+    ASSERT_TRUE(HasMethod(run, zeno.handover));
     std::vector<double> rows_seen, output_times;
     for (std::size_t k = 0; k < seen.size(); ++k) {
       if (k > 0) {
@@ -217,20 +214,13 @@ TEST(AutoObserver, SeesOutputTimesOnceAcrossHandOvers) {
   }
 }
 
-// The automatic driver's IDA path (n + m ≥ 200 on a box, auto_driver_test's
-// clamps): n = 100 independent x_i' = −k_i + u_i, 0 ≤ u ⊥ x ≥ 0, x_i =
-// max(x0_i − k_i t, 0). The observer sees every row and output time once;
-// g = x_0 − 1/4 falling (x0_0 = 1/2, k_0 = 1), a stop, at t = 1/4 exactly.
+// The automatic driver's IDA path (n + m ≥ 200 on a box): 100 independent
+// clamps x_i = max(x0_i − k_i t, 0). The observer sees every row and output
+// time once; g = x_0 − 1/4 falling (x0_0 = 1/2, k_0 = 1), a stop, at t = 1/4.
 TEST(AutoUserEvents, IdaIntervalsObserveAndStopAtTheExactCrossing) {
-  constexpr int n = 100;
-  Eigen::VectorXd k(n), x0(n);
-  for (int i = 0; i < n; ++i) {
-    k(i) = 1 + i % 7;
-    x0(i) = 0.5 + 1.5 * ((i * 37) % n) / n;
-  }
-  SparseMatrix identity(n, n);
-  identity.setIdentity();
-  const Lcs lcs = Lcs::Sparse(SparseMatrix(n, n), identity, identity, SparseMatrix(n, n), -k);
+  const testing::ClampBank clamps = testing::Clamps(100);
+  const Lcs& lcs = clamps.lcs;
+  const Eigen::VectorXd &k = clamps.k, &x0 = clamps.x0;
   AutoOptions options;
   options.event.rtol = 1e-10;
   options.event.atol = 1e-12;
@@ -316,10 +306,7 @@ TEST(AutoUserEvents, StopEventInsideAWindowEndsTheRunThere) {
 TEST(AutoObserver, StopsTheRunWhereItAsks) {
   AutoOptions options;
   std::vector<Seen> seen;
-  options.observation.observer = [&seen](const Observation& observation) {
-    seen.push_back({observation.t, observation.x, observation.u, observation.point});
-    return observation.x(0) < 0.5 ? ObserverReply::kStop : ObserverReply::kContinue;
-  };
+  options.observation.observer = Recorder(seen, 0.5);
   const Trajectory run = IntegrateAuto(Diode(), Eigen::VectorXd::Ones(1), 0, 2, options);
   EXPECT_EQ(run.status, IntegrationStatus::kStoppedByUser);
   EXPECT_NE(run.message.find("observer"), std::string::npos) << run.message;
