@@ -47,10 +47,12 @@ struct AutoOptions {
   /// it, only those of the run it keeps; a hand-over's time once, with the
   /// state of the part that goes on). User events are located by each
   /// part's own machinery (CVODE's or IDA's root finding, time-stepping's
-  /// crossing of its steps); a kModify goes on from the new state within
-  /// the part, a kStop ends the run. K a box (the KKT lifting of other sets
+  /// crossing of its steps: every run of a window calls g and modify, so
+  /// they must be free of side effects); a kModify goes on from the new
+  /// state within the part, a kStop ends the run. The observer's kStop ends
+  /// the run at that observation. K a box (the KKT lifting of other sets
   /// changes u). event.observation and stepping.observation must stay
-  /// empty: this one serves both.
+  /// empty: this one serves both (docs/auto.md).
   ObservationOptions observation;
 
   /// @throws InvalidInputError naming the field out of range.
