@@ -324,6 +324,67 @@ TEST(AutoObserver, StopsTheRunWhereItAsks) {
   EXPECT_LT(integrator.x()(0), 0.5);
 }
 
+// AutoIntegrator with output times runs its intervals whole: AdvanceTo
+// inside one, then Reinit there, runs it anew from the new state. The
+// observer sees the rows the run keeps, each once (the old state at the
+// reset, then the new one), never the first run's rows after the reset;
+// stepped without a reset it is IntegrateAuto's observer.
+TEST(AutoObserver, ReinitInsideAnIntervalRunWholeDropsItsRest) {
+  AutoOptions options;
+  options.event.rtol = 1e-12;
+  options.event.atol = 1e-14;
+  for (int k = 1; k <= 20; ++k) options.event.output_times.push_back(0.1 * k);
+  std::vector<Seen> seen;
+  options.observation.observer = Recorder(seen);
+  const Trajectory one_shot = IntegrateAuto(Diode(), Eigen::VectorXd::Ones(1), 0, 2, options);
+  const std::vector<Seen> one_shot_seen = std::move(seen);
+  seen.clear();
+  {
+    AutoIntegrator integrator(Diode(), Eigen::VectorXd::Ones(1), 0, 2, options);
+    for (const double t : {0.35, 1.0, 2.0}) ASSERT_NE(integrator.AdvanceTo(t), StepOutcome::kFailure);
+    ASSERT_EQ(seen.size(), one_shot_seen.size());
+    for (std::size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k].t, one_shot_seen[k].t) << k;
+  }
+  seen.clear();
+  AutoIntegrator integrator(Diode(), Eigen::VectorXd::Ones(1), 0, 2, options);
+  ASSERT_EQ(integrator.AdvanceTo(0.35), StepOutcome::kStopTime);
+  // The old state at 0.35, as the object reports it (between the samples
+  // at 0.3 and 0.4 the interval run whole gives Trajectory::StateAt's).
+  const double v_reset = integrator.x()(0);
+  integrator.Reinit(0.35, Eigen::VectorXd::Constant(1, 0.8));
+  ASSERT_EQ(integrator.AdvanceTo(2), StepOutcome::kEnd) << integrator.trajectory().message;
+  const Trajectory run = integrator.trajectory();
+  std::vector<double> rows_seen;
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    if (k > 0) {
+      EXPECT_GE(seen[k].t, seen[k - 1].t) << k;
+    }
+    if (std::binary_search(run.times.begin(), run.times.end(), seen[k].t))
+      rows_seen.push_back(seen[k].t);
+    // v = 2e^{−t} − 1 before the reset, 1.8e^{−(t − 0.35)} − 1 after it.
+    if (seen[k].t == 0.35) continue;
+    const double exact = seen[k].t > 0.35 ? std::max(1.8 * std::exp(-(seen[k].t - 0.35)) - 1, 0.0)
+                                          : 2 * std::exp(-seen[k].t) - 1;
+    EXPECT_NEAR(seen[k].x(0), exact, 1e-9) << "t = " << seen[k].t;
+  }
+  EXPECT_EQ(rows_seen, run.times);
+  const auto at_reset = std::find_if(seen.begin(), seen.end(), [](const Seen& s) { return s.t == 0.35; });
+  ASSERT_TRUE(at_reset != seen.end() && at_reset + 1 != seen.end());
+  EXPECT_EQ(at_reset->x(0), v_reset);
+  EXPECT_EQ((at_reset + 1)->t, 0.35);
+  EXPECT_EQ((at_reset + 1)->x(0), 0.8);
+
+  // Without output times the interval is an EventDrivenIntegrator, which
+  // observes its own restart: the rows once each too.
+  options.event.output_times.clear();
+  seen.clear();
+  AutoIntegrator live(Diode(), Eigen::VectorXd::Ones(1), 0, 2, options);
+  ASSERT_EQ(live.AdvanceTo(0.35), StepOutcome::kStopTime);
+  live.Reinit(0.35, Eigen::VectorXd::Constant(1, 0.8));
+  ASSERT_EQ(live.AdvanceTo(2), StepOutcome::kEnd) << live.trajectory().message;
+  ExpectSeesTheRows(seen, live.trajectory());
+}
+
 TEST(AutoObserver, InvalidUseIsNamed) {
   const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
   const Observer observer = [](const Observation&) { return ObserverReply::kContinue; };

@@ -63,6 +63,21 @@ void AutoObservations::HoldRows(const Trajectory& rows, ObservationPoint point) 
     Hold({rows.times[k], rows.states[k], rows.multipliers[k], last_mode_, point});
 }
 
+void AutoObservations::Restarted(std::size_t mark, double t, const Trajectory& part) {
+  const auto restart = held_.begin() + static_cast<std::ptrdiff_t>(mark);
+  const auto old_end = std::remove_if(held_.begin(), restart,
+                                      [t](const HeldObservation& held) { return held.t > t; });
+  const bool seen_at_t = (old_end != held_.begin() && (old_end - 1)->t == t) ||
+                         (last_time_ && *last_time_ == t);
+  auto kept = held_.erase(old_end, restart);
+  if (seen_at_t) return;
+  const auto row = std::lower_bound(part.times.begin(), part.times.end(), t);
+  if (row == part.times.end() || *row != t) return;
+  const auto k = static_cast<std::size_t>(row - part.times.begin());
+  const Mode mode = kept != held_.begin() ? (kept - 1)->mode : last_mode_;
+  held_.insert(kept, {t, part.states[k], part.multipliers[k], mode, ObservationPoint::kStep});
+}
+
 std::optional<AutoObservations::Stop> AutoObservations::Release(double before) {
   std::size_t k = 0;
   for (; k < held_.size() && held_[k].t < before; ++k) {

@@ -53,6 +53,14 @@ class AutoObservations {
   /// run fails, its last row, located by CVODE; a Zeno extrapolation's).
   void HoldRows(const Trajectory& rows, ObservationPoint point);
 
+  /// How many observations are held (a mark for Restarted).
+  std::size_t held() const { return held_.size(); }
+  /// The current part was restarted at t (Reinit): of the observations
+  /// held before `mark`, those after t go (an interval run whole ran past
+  /// t; it runs anew from t); the old state at t, `part`'s first row there,
+  /// is held before the restart's observations unless one at t was.
+  void Restarted(std::size_t mark, double t, const Trajectory& part);
+
   /// Where the user's observer stopped the run: its observation, and how
   /// many observations at the same time it saw before it (a user event's
   /// x⁻ and x⁺ are two samples at one time).

@@ -617,7 +617,9 @@ void AutoRun::Reinit(double t, const Eigen::VectorXd& x) {
                                     << "], computed whole; AdvanceTo(" << passing_to_
                                     << ") first, where event-driven integration resumes");
   if (phase_ == Phase::kPassing) StartInterval();
+  const std::size_t mark = observations_.held();
   interval_->Reinit(t, x);
+  if (observations_.active()) observations_.Restarted(mark, t, interval_->trajectory());
 }
 
 double AutoRun::t() const {
