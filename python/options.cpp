@@ -171,6 +171,7 @@ AutoOptions AutomaticOptions(const py::kwargs& kwargs, const char* function, Eig
   keywords.Take("window_rtol", options.window_rtol);
   keywords.Take("window_atol", options.window_atol);
   keywords.Take("extrapolate_zeno", options.extrapolate_zeno);
+  TakeObservation(keywords, options.observation, states);
   keywords.Finish();
   return options;
 }

@@ -27,7 +27,8 @@ struct HasObservation<Options, std::void_t<decltype(std::declval<Options>().obse
 /// numpy array of `states` entries: atol_per_state, and atol their largest,
 /// as a scene's array). @throws InvalidInputError on an unknown keyword, a
 /// wrong type or an atol of another length.
-/// EventOptions also reads observer= and events= (observation.hpp).
+/// EventOptions and AutomaticOptions also read observer= and events=
+/// (observation.hpp).
 EventDrivenOptions EventOptions(const py::kwargs& kwargs, const char* function,
                                 Eigen::Index states);
 ModeDaeOptions DaeOptions(const py::kwargs& kwargs, const char* function, Eigen::Index states);

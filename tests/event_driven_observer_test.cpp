@@ -16,6 +16,7 @@
 #include "dvi/event_driven_integrator.hpp"
 #include "dvi/observer.hpp"
 #include "support/expect_throw.hpp"
+#include "support/seen_observations.hpp"
 
 namespace dvi {
 namespace {
@@ -48,18 +49,8 @@ Lcs Diode() {
 double DiodeV(double t) { return t < std::log(2.0) ? 2 * std::exp(-t) - 1 : 0; }
 double DiodeU(double t) { return t < std::log(2.0) ? 0 : 1; }
 
-struct Seen {
-  double t;
-  Eigen::VectorXd x, u;
-  ObservationPoint point;
-};
-
-Observer Recorder(std::vector<Seen>& seen) {
-  return [&seen](const Observation& observation) {
-    seen.push_back({observation.t, observation.x, observation.u, observation.point});
-    return ObserverReply::kContinue;
-  };
-}
+using testing::Recorder;
+using testing::Seen;
 
 TEST(EventDrivenObserver, SeesEverySampleInOrderAtTheExactSolution) {
   std::vector<Seen> seen;
@@ -123,10 +114,7 @@ TEST(EventDrivenObserver, SeesOutputTimesAndEveryStepEnd) {
 TEST(EventDrivenObserver, StopsTheRunWhereItAsks) {
   EventDrivenOptions options = TightOptions();
   std::vector<Seen> seen;
-  options.observation.observer = [&seen](const Observation& observation) {
-    seen.push_back({observation.t, observation.x, observation.u, observation.point});
-    return observation.x(0) < 0.5 ? ObserverReply::kStop : ObserverReply::kContinue;
-  };
+  options.observation.observer = Recorder(seen, 0.5);
   const Trajectory run = IntegrateEventDriven(Diode(), Eigen::VectorXd::Ones(1), 0, 2, options);
   EXPECT_EQ(run.status, IntegrationStatus::kStoppedByUser);
   EXPECT_NE(run.message.find("observer"), std::string::npos) << run.message;

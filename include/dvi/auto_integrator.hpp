@@ -57,8 +57,9 @@ namespace dvi {
 ///
 /// An inconsistent x0 of an LCS jumps at t0 as in IntegrateAuto (x() there
 /// is x⁺; trajectory() has the row x⁻ and the jump event); a jump that
-/// fails ends the run at t0 (status(), kFailure from every Step). Observers
-/// and user events are refused as by IntegrateAuto (AutoOptions::Validate).
+/// fails ends the run at t0 (status(), kFailure from every Step).
+/// options.observation as IntegrateAuto's (auto_options.hpp): after each
+/// call the observer has seen what the run keeps before t().
 class AutoIntegrator {
  public:
   /// Starts the first event-driven interval at (t0, x0) (its mode selected;

@@ -39,6 +39,21 @@ struct AutoOptions {
   /// (an interval `zeno-extrapolation`, held to the windows' accuracy);
   /// false steps over the accumulation with a time-stepping window instead.
   bool extrapolate_zeno = true;
+  /// The observer and user events of the whole run, across every hand-over
+  /// (event-driven ↔ time-stepping ↔ IDA ↔ Zeno extrapolation). The
+  /// observer sees each sample the run keeps, and each accepted step's end
+  /// between them, once and in time order: a part's observations are held
+  /// until the driver keeps the part (a window's at h and h/2 never reach
+  /// it, only those of the run it keeps; a hand-over's time once, with the
+  /// state of the part that goes on). User events are located by each
+  /// part's own machinery (CVODE's or IDA's root finding, time-stepping's
+  /// crossing of its steps: every run of a window calls g and modify, so
+  /// they must be free of side effects); a kModify goes on from the new
+  /// state within the part, a kStop ends the run. The observer's kStop ends
+  /// the run at that observation. K a box (the KKT lifting of other sets
+  /// changes u). event.observation and stepping.observation must stay
+  /// empty: this one serves both (docs/auto.md).
+  ObservationOptions observation;
 
   /// @throws InvalidInputError naming the field out of range.
   void Validate() const;

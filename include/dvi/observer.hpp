@@ -89,7 +89,8 @@ struct UserEvents {
 /// (IntegrateEventDriven and EventDrivenIntegrator alike; K a box there: the
 /// KKT lifting of other sets changes u), TimeSteppingOptions::observation
 /// and ModeDaeOptions::observation (the one-shot functions and the
-/// integrator objects). Not under the automatic driver yet.
+/// integrator objects), and AutoOptions::observation across the automatic
+/// driver's hand-overs.
 struct ObservationOptions {
   Observer observer;  ///< Empty: none.
   UserEvents user_events;

@@ -16,10 +16,10 @@ void AutoOptions::Validate() const {
   } catch (const InvalidInputError& error) {
     throw InvalidInputError(std::string("AutoOptions.event.") + error.what());
   }
+  // One observation serves every interval, whichever method runs it.
   DVI_THROW_UNLESS(event.observation.empty(),
-                   "AutoOptions.event.observation: observers and user events are not yet "
-                   "supported by the automatic driver (use IntegrateEventDriven or "
-                   "EventDrivenIntegrator)");
+                   "AutoOptions.event.observation: set AutoOptions.observation instead, which "
+                   "serves the event-driven intervals and the time-stepping windows alike");
   TimeSteppingOptions stepping_checked = stepping;
   stepping_checked.output_times.clear();  // ignored: event.output_times serve both
   stepping_checked.initial_guess.resize(0);  // ignored: each interval's is set
@@ -29,9 +29,13 @@ void AutoOptions::Validate() const {
     throw InvalidInputError(std::string("AutoOptions.stepping.") + error.what());
   }
   DVI_THROW_UNLESS(stepping.observation.empty(),
-                   "AutoOptions.stepping.observation: observers and user events are not yet "
-                   "supported by the automatic driver (use IntegrateTimeStepping or "
-                   "TimeSteppingIntegrator)");
+                   "AutoOptions.stepping.observation: set AutoOptions.observation instead, "
+                   "which serves the event-driven intervals and the time-stepping windows alike");
+  try {
+    observation.Validate();
+  } catch (const InvalidInputError& error) {
+    throw InvalidInputError(std::string("AutoOptions.") + error.what());
+  }
   DVI_THROW_UNLESS(std::isfinite(stepping_window) && stepping_window > 0 && stepping_window <= 1,
                    "AutoOptions.stepping_window: " << stepping_window << " is outside (0, 1]");
   for (const auto& [name, value] : {std::pair{"window_rtol", window_rtol}, {"window_atol", window_atol}})

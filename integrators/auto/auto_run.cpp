@@ -15,6 +15,7 @@
 #include "check.hpp"
 #include "events/event_times.hpp"
 #include "events/trajectory_parts.hpp"
+#include "events/user_roots.hpp"
 #include "events/zeno_extrapolation.hpp"
 #include "events/zeno_prediction.hpp"
 #include "stepper_calls.hpp"
@@ -68,6 +69,30 @@ std::vector<double> DistinctEventTimes(const std::vector<Event>& events, double 
   return times;
 }
 
+// The events of the modes after a run's last user event: a modified state
+// starts another sequence of switches (the driver restarts from it, as
+// from a Reinit).
+std::vector<Event> ModeEventsSinceUserEvent(const std::vector<Event>& events) {
+  const auto last_user = std::find_if(events.rbegin(), events.rend(), [](const Event& event) {
+    return event.kind == EventKind::kUser;
+  });
+  return std::vector<Event>(last_user.base(), events.end());
+}
+
+// The first user event whose g crosses zero from (t_a, x_a) to (t*, x*) (u
+// the last switch's on both sides: the extrapolation's), or −1. Compared
+// at the ends only: a g that crosses twice over [t_a, t*] is not seen.
+int UserEventAcross(const UserEvents& events, double t_a, const Eigen::VectorXd& x_a,
+                    const Eigen::VectorXd& u_a, double t_star, const Eigen::VectorXd& x_star) {
+  if (events.empty()) return -1;
+  std::vector<double> g_a(events.events.size()), g_star(events.events.size());
+  EvaluateUserRoots(events, t_a, x_a, u_a, g_a.data());
+  EvaluateUserRoots(events, t_star, x_star, u_a, g_star.data());
+  for (std::size_t k = 0; k < g_a.size(); ++k)
+    if (CrossesZero(events.events[k].direction, g_a[k], g_star[k])) return static_cast<int>(k);
+  return -1;
+}
+
 // The states at a run's distinct switch times: the rows it sampled there.
 std::vector<Eigen::VectorXd> StatesAt(const Trajectory& run, const std::vector<double>& times) {
   std::vector<Eigen::VectorXd> states;
@@ -113,30 +138,50 @@ Eigen::VectorXd Excursion(const Trajectory& run, double from, double to,
 // budget: `spent`, the earlier windows' error / bound, plus this one's must
 // stay ≤ 1. The finest run is kept, carrying the work of all of them and the
 // estimate (its ratio the sum); one still above after kMaxWindowHalvings
-// ends `uncertified`.
+// ends `uncertified`. Each run locates the user events itself (a kStop
+// ends it there, and the runs are compared over the rows they share); the
+// observations of the run kept go to `held` (null: no observer), those of
+// the others nowhere.
 Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eigen::VectorXd& x_a,
                            const Eigen::VectorXd& u_a, double t_b,
                            const std::vector<double>& outputs, double spent,
-                           const AutoOptions& options) {
+                           const AutoOptions& options, std::vector<HeldObservation>* held) {
   const double rtol = options.window_rtol > 0 ? options.window_rtol : options.event.rtol;
   const Eigen::VectorXd atol =
       options.window_atol > 0 ? Eigen::VectorXd::Constant(x_a.size(), options.window_atol)
                               : options.event.AbsoluteTolerances(x_a.size());
+  // The observations of the runs at 4h, 2h and h.
+  std::vector<HeldObservation> coarse_seen, fine_seen, finest_seen;
+  const auto run = [&](double run_refinement, std::vector<HeldObservation>& seen) {
+    ObservationOptions observation;
+    observation.user_events = options.observation.user_events;
+    seen.clear();
+    if (held) observation.observer = HoldingObserver(seen);
+    return stepping(t_a, x_a, u_a, t_b, outputs, run_refinement, observation);
+  };
+  const auto usable = [](const Trajectory& part) {
+    return part.succeeded() || part.status == IntegrationStatus::kStoppedByUser;
+  };
+  const auto kept = [&](Trajectory& part, std::vector<HeldObservation>& seen) {
+    if (held) *held = std::move(seen);
+    return std::move(part);
+  };
   double refinement = 1;
-  Trajectory coarse = stepping(t_a, x_a, u_a, t_b, outputs, refinement);
-  if (!coarse.succeeded()) return coarse;
-  Trajectory fine = stepping(t_a, x_a, u_a, t_b, outputs, refinement / 2);
+  Trajectory coarse = run(refinement, coarse_seen);
+  if (!usable(coarse)) return kept(coarse, coarse_seen);
+  Trajectory fine = run(refinement / 2, fine_seen);
   for (int halvings = 2;; ++halvings) {
-    const auto failed = [&](Trajectory& run, double run_refinement) {
-      run.message = "checking the window's error at h = " +
-                    Short(options.stepping.h * run_refinement) + ": " + run.message;
-      return std::move(run);
+    const auto failed = [&](Trajectory& part, double run_refinement,
+                            std::vector<HeldObservation>& seen) {
+      part.message = "checking the window's error at h = " +
+                     Short(options.stepping.h * run_refinement) + ": " + part.message;
+      return kept(part, seen);
     };
     internal::AddWork(coarse.stats, fine.stats);
-    if (!fine.succeeded()) return failed(fine, refinement / 2);
-    Trajectory finest = stepping(t_a, x_a, u_a, t_b, outputs, refinement / 4);
+    if (!usable(fine)) return failed(fine, refinement / 2, fine_seen);
+    Trajectory finest = run(refinement / 4, finest_seen);
     internal::AddWork(fine.stats, finest.stats);
-    if (!finest.succeeded()) return failed(finest, refinement / 4);
+    if (!usable(finest)) return failed(finest, refinement / 4, finest_seen);
     const CertifiedMeasure d1 = internal::WindowError(coarse, fine, rtol, atol);
     CertifiedMeasure error = internal::WindowError(fine, finest, rtol, atol);
     const double drop = d1.ratio / error.ratio;  // 2ᵖ
@@ -179,10 +224,12 @@ Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eig
         finest.status = IntegrationStatus::kUncertified;
         finest.message = message.str();
       }
-      return finest;
+      return kept(finest, finest_seen);
     }
     coarse = std::move(fine);
     fine = std::move(finest);
+    coarse_seen = std::move(fine_seen);
+    fine_seen = std::move(finest_seen);
   }
 }
 
@@ -190,6 +237,18 @@ Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eig
 // stepping scheme), or `fallback`.
 std::string OwnReason(const Trajectory& part, const std::string& fallback) {
   return part.intervals.empty() ? fallback : part.intervals.front().reason;
+}
+
+// Appends the live event-driven interval from `from` so far (unchecked),
+// with its interval record.
+void AppendLiveInterval(Trajectory& whole, Trajectory&& part, double from,
+                        const std::string& resumed) {
+  if (!part.times.empty() && part.times.back() > from)
+    whole.intervals.push_back({from, part.times.back(), IntegrationMethod::kEventDriven,
+                               resumed + OwnReason(part, "event-driven"),
+                               part.intervals.empty() ? std::nullopt
+                                                      : part.intervals.front().linear_solver});
+  AppendPart(whole, std::move(part));
 }
 
 }  // namespace
@@ -205,7 +264,8 @@ AutoRun::AutoRun(EventMethod event, SteppingMethod stepping, const Eigen::Vector
       base_window_(options.stepping_window * (t_end - t0)),
       t_(t0),
       x_(x0),
-      window_(base_window_) {
+      window_(base_window_),
+      observations_(options.observation.observer) {
   StartInterval();
 }
 
@@ -215,13 +275,16 @@ const EventDrivenOptions& AutoRun::RunOptions() const {
 
 void AutoRun::StartInterval() {
   const std::vector<double>& outputs = options_.event.output_times;
-  as_given_ = t_ == t0_ && ClipKeepsAll(outputs, t0_, t_end_) && zeno_window_ < 0;
+  as_given_ = t_ == t0_ && ClipKeepsAll(outputs, t0_, t_end_) && zeno_window_ < 0 &&
+              options_.observation.empty();
   if (!as_given_) {
     clipped_ = options_.event;
     clipped_.output_times = Clip(outputs, t_, t_end_, false);
     if (zeno_window_ >= 0) clipped_.zeno_window = zeno_window_;
     clipped_.x0_error = x0_error_;
+    clipped_.observation = {observations_.PartObserver(), options_.observation.user_events};
   }
+  observations_.BeginPart(t_);
   interval_ = event_.start(t_, x_, RunOptions());
   x0_error_ = 0;
   phase_ = Phase::kEventDriven;
@@ -244,6 +307,7 @@ StepOutcome AutoRun::PassPart() {
 }
 
 StepOutcome AutoRun::Ended() const {
+  if (whole_.status == IntegrationStatus::kStoppedByUser) return StepOutcome::kUserStop;
   return whole_.final_time() >= t_end_ && (whole_.succeeded() ||
                                            whole_.status == IntegrationStatus::kUncertified)
              ? StepOutcome::kEnd
@@ -254,6 +318,7 @@ void AutoRun::Conclude() {
   const std::vector<double>& outputs = options_.event.output_times;
   Trajectory run = interval_->Take();
   interval_.reset();
+  observations_.HoldRows(run, ObservationPoint::kStep);
   const double t = t_;
   // The part the run integrated well: all of its samples (its last is the
   // state where it stopped, located by CVODE / IDA).
@@ -261,12 +326,20 @@ void AutoRun::Conclude() {
   const Eigen::VectorXd x_a = run.times.empty() ? x_ : Eigen::VectorXd(run.states.back());
   // The switches of a failed run, after those of the Zeno sequence it
   // continues, and their prediction (events/zeno_prediction.hpp).
+  // A user event's modified state starts another sequence; a user event's
+  // (or the observer's) stop ends the run.
+  const bool stopped = run.status == IntegrationStatus::kStoppedByUser;
+  const std::vector<Event> mode_events = ModeEventsSinceUserEvent(run.events);
   std::vector<double> event_times = std::move(zeno_times_);
   std::vector<Eigen::VectorXd> event_states = std::move(zeno_states_);
   zeno_times_.clear();
   zeno_states_.clear();
-  if (!run.succeeded()) {
-    const std::vector<double> run_times = DistinctEventTimes(run.events, same_time_);
+  if (mode_events.size() < run.events.size()) {
+    event_times.clear();
+    event_states.clear();
+  }
+  if (!run.succeeded() && !stopped) {
+    const std::vector<double> run_times = DistinctEventTimes(mode_events, same_time_);
     const std::vector<Eigen::VectorXd> run_states = StatesAt(run, run_times);
     event_times.insert(event_times.end(), run_times.begin(), run_times.end());
     event_states.insert(event_states.end(), run_states.begin(), run_states.end());
@@ -275,7 +348,7 @@ void AutoRun::Conclude() {
   // A failed run's rows at t_a give way to time-stepping's first row there;
   // a Zeno run's last switch, where the extrapolation starts, stays.
   std::size_t output_rows = run.times.size();
-  if (!run.succeeded() && !zeno.found && t_end_ - t_a > same_time_)
+  if (!run.succeeded() && !stopped && !zeno.found && t_end_ - t_a > same_time_)
     while (output_rows > 0 && run.times[output_rows - 1] >= t_a) --output_rows;
   event_.certify(run, output_rows, RunOptions());
   const bool succeeded = run.succeeded();
@@ -304,7 +377,7 @@ void AutoRun::Conclude() {
   // the trouble is wider than the window, so the next one doubles.
   if (t > t0_) window_ = t_a - t < window_ ? 2 * window_ : base_window_;
   AppendPart(whole_, std::move(run));
-  if (succeeded || t_end_ - t_a <= same_time_) {
+  if (succeeded || stopped || t_end_ - t_a <= same_time_) {
     phase_ = Phase::kOver;
     return;
   }
@@ -337,8 +410,19 @@ void AutoRun::Conclude() {
     const Eigen::VectorXd resolution = (rtol * StateScale(whole_)).array() + atol;
     const ZenoExtrapolation extrapolation =
         ExtrapolateAccumulation(zeno, event_times, event_states, resolution);
-    if (extrapolation.found && extrapolation.accumulation_time > t_a &&
-        extrapolation.accumulation_time < t_end_) {
+    const int user_event =
+        extrapolation.found ? UserEventAcross(options_.observation.user_events, t_a, x_a, u_a,
+                                              extrapolation.accumulation_time, extrapolation.state)
+                            : -1;
+    if (user_event >= 0) {
+      // The user's event falls between the last switch and t*: the window
+      // steps over the accumulation and locates it.
+      extrapolation_failure = "; no extrapolation: " +
+                              DescribeUserEvent(options_.observation.user_events, user_event,
+                                                extrapolation.accumulation_time) +
+                              " is crossed before it";
+    } else if (extrapolation.found && extrapolation.accumulation_time > t_a &&
+               extrapolation.accumulation_time < t_end_) {
       inside = Clip(outputs, t_a, extrapolation.accumulation_time, true);
       if (!inside.empty() && inside.back() >= extrapolation.accumulation_time) inside.pop_back();
       const double cycle_start =
@@ -371,6 +455,7 @@ void AutoRun::Conclude() {
         whole_.intervals.push_back({t_a, extrapolation.accumulation_time,
                                     IntegrationMethod::kZenoExtrapolation, account.str()});
         x0_error_ = rows.certificate.window.value;
+        observations_.HoldRows(rows, ObservationPoint::kOutputTime);
         AppendPart(whole_, std::move(rows));
         resumed_ = "resumed at the extrapolated accumulation; ";
         zeno_window_ = -1;
@@ -417,11 +502,17 @@ void AutoRun::Conclude() {
   // none falls in the window, its end alone (always sampled) stands in.
   std::vector<double> window_outputs = Clip(outputs, t_a, t_b, true);
   if (window_outputs.empty() && !outputs.empty()) window_outputs.push_back(t_b);
-  Trajectory steps = CertifiedWindow(stepping_, t_a, x_a, u_a, t_b, window_outputs,
-                                     whole_.certificate.window.ratio, options_);
+  std::vector<HeldObservation> window_seen;
+  Trajectory steps =
+      CertifiedWindow(stepping_, t_a, x_a, u_a, t_b, window_outputs,
+                      whole_.certificate.window.ratio, options_,
+                      observations_.active() ? &window_seen : nullptr);
+  observations_.BeginPart(t_a);
+  for (HeldObservation& observation : window_seen) observations_.Hold(std::move(observation));
   const bool stepped = steps.succeeded();
-  // The failure of an interval, not of the run's start, and why it began.
-  if (!stepped)
+  // The failure of an interval, not of the run's start, and why it began
+  // (a user event's stop is the user's).
+  if (!stepped && steps.status != IntegrationStatus::kStoppedByUser)
     steps.message = "time-stepping over [" + Short(t_a) + ", " + Short(t_b) + "] (" + reason +
                     "): " + steps.message;
   const double t_stepped = steps.times.empty() ? t_a : steps.times.back();
@@ -433,14 +524,10 @@ void AutoRun::Conclude() {
   EnterPart(IntegrationMethod::kTimeStepping, t_a, t_stepped, stepped && t_b < t_end_);
 }
 
+void AutoRun::TakeLiveInterval() { AppendLiveInterval(whole_, interval_->Take(), t_, resumed_); }
+
 void AutoRun::EndOnException() {
-  if (phase_ == Phase::kEventDriven && interval_) {
-    Trajectory part = interval_->Take();
-    if (!part.times.empty() && part.times.back() > t_)
-      whole_.intervals.push_back({t_, part.times.back(), IntegrationMethod::kEventDriven,
-                                  resumed_ + OwnReason(part, "event-driven")});
-    AppendPart(whole_, std::move(part));
-  }
+  if (phase_ == Phase::kEventDriven && interval_) TakeLiveInterval();
   interval_.reset();
   if (whole_.succeeded()) {
     whole_.status = IntegrationStatus::kStepFailure;
@@ -461,12 +548,26 @@ StepOutcome AutoRun::Guarded(Call call) {
 }
 
 StepOutcome AutoRun::Step() {
-  return Guarded([this] { return StepOnce(); });
+  return Guarded([this] { return Observed(StepOnce()); });
 }
 
 StepOutcome AutoRun::AdvanceTo(double t) {
   CheckAdvanceTime(t, this->t(), t_end_);
-  return Guarded([this, t] { return AdvanceUntil(t); });
+  return Guarded([this, t] { return Observed(AdvanceUntil(t)); });
+}
+
+StepOutcome AutoRun::Observed(StepOutcome outcome) {
+  if (!observations_.active()) return outcome;
+  const std::optional<AutoObservations::Stop> stop =
+      observations_.Release(phase_ == Phase::kOver ? INFINITY : t());
+  if (!stop) return outcome;
+  if (phase_ == Phase::kEventDriven) TakeLiveInterval();
+  interval_.reset();
+  EndAtObserverStop(whole_, *stop);
+  whole_.status = IntegrationStatus::kStoppedByUser;
+  whole_.message = "auto: the observer stopped the run at t = " + Short(stop->observation.t);
+  phase_ = Phase::kOver;
+  return last_ = StepOutcome::kUserStop;
 }
 
 StepOutcome AutoRun::StepOnce() {
@@ -516,7 +617,9 @@ void AutoRun::Reinit(double t, const Eigen::VectorXd& x) {
                                     << "], computed whole; AdvanceTo(" << passing_to_
                                     << ") first, where event-driven integration resumes");
   if (phase_ == Phase::kPassing) StartInterval();
+  const std::size_t mark = observations_.held();
   interval_->Reinit(t, x);
+  if (observations_.active()) observations_.Restarted(mark, t, interval_->trajectory());
 }
 
 double AutoRun::t() const {
@@ -609,13 +712,7 @@ IntegrationStatus AutoRun::status() const {
 Trajectory AutoRun::trajectory() const {
   Trajectory so_far = whole_;
   if (phase_ != Phase::kEventDriven) return so_far;
-  Trajectory part = interval_->trajectory();
-  if (!part.times.empty() && part.times.back() > t_)
-    so_far.intervals.push_back({t_, part.times.back(), IntegrationMethod::kEventDriven,
-                                resumed_ + OwnReason(part, "event-driven"),
-                                part.intervals.empty() ? std::nullopt
-                                                       : part.intervals.front().linear_solver});
-  AppendPart(so_far, std::move(part));
+  AppendLiveInterval(so_far, interval_->trajectory(), t_, resumed_);
   return so_far;
 }
 

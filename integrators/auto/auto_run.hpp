@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "auto_observations.hpp"
 #include "dvi/auto_options.hpp"
 #include "dvi/mode.hpp"
 #include "dvi/step_outcome.hpp"
@@ -55,10 +56,11 @@ struct EventMethod {
 };
 /// Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`, its u⁰
 /// warm-started from u_a, with the step (and, adaptive, the step-doubling
-/// tolerances) of the options times `refinement`.
+/// tolerances) of the options times `refinement`, and `observation` (the
+/// run's user events, and an observer that holds what it sees).
 using SteppingMethod = std::function<Trajectory(
     double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a, double t_b,
-    const std::vector<double>& outputs, double refinement)>;
+    const std::vector<double>& outputs, double refinement, const ObservationOptions& observation)>;
 
 /// The automatic driver's run (method `auto`) as a state machine: an
 /// event-driven interval from the current state; where it fails, a
@@ -70,6 +72,11 @@ using SteppingMethod = std::function<Trajectory(
 /// certificate), and the call ends at its end (t() there, method() its
 /// method; the next call resumes event-driven integration), or inside it
 /// at the time AdvanceTo asks for, the state there the part's dense output.
+/// The observer (options.observation) sees a part's observations once the
+/// run keeps them (AutoObservations): after each call, those before t()
+/// (the sample at t() may yet give way to the next part's), all at the end.
+/// Where it answers kStop the run ends there (kUserStop), as where a user
+/// event's kStop ends a part.
 /// `options` outlive the run; the checks of the arguments are the caller's.
 class AutoRun {
  public:
@@ -121,6 +128,11 @@ class AutoRun {
   template <typename Call>
   dvi::StepOutcome Guarded(Call call);
   void EndOnException();
+  // The live interval's rows, with its interval record, into whole_.
+  void TakeLiveInterval();
+  // Hands the observations the run keeps to the observer (see the class),
+  // and ends the run where it stops it; `outcome` is the call's.
+  dvi::StepOutcome Observed(dvi::StepOutcome outcome);
   const EventDrivenOptions& RunOptions() const;
   void StartInterval();
   // The interval is over: its certificate, interval record, and the
@@ -164,6 +176,7 @@ class AutoRun {
   bool as_given_ = true;
   EventDrivenOptions clipped_;
   std::unique_ptr<EventInterval> interval_;
+  AutoObservations observations_;
   Phase phase_ = Phase::kEventDriven;
   // The part being passed: its method, span, the cursor in it, and whether
   // an event-driven interval follows it.

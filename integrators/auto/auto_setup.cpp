@@ -34,10 +34,19 @@ void CheckStart(int n, const Eigen::VectorXd& x0, double t0, double t_end,
   }
 }
 
+// What an observer sees is u of a box K; the KKT lifting of other sets
+// integrates other multipliers.
+void CheckObservedSet(const ConvexSet& K, const AutoOptions& options) {
+  DVI_THROW_UNLESS(options.observation.empty() || K.IsBox(),
+                   "AutoOptions.observation: observers and user events need a box K, not "
+                       << K.Describe() << " (its KKT lifting integrates other multipliers than u)");
+}
+
 template <typename Problem>
 SteppingMethod SteppingOfProblem(const Problem& problem, const AutoOptions& options) {
   return [&problem, &options](double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a,
-                              double t_b, const std::vector<double>& outputs, double refinement) {
+                              double t_b, const std::vector<double>& outputs, double refinement,
+                              const ObservationOptions& observation) {
     TimeSteppingOptions stepping = options.stepping;
     stepping.h *= refinement;
     if (stepping.adaptive) {
@@ -47,6 +56,7 @@ SteppingMethod SteppingOfProblem(const Problem& problem, const AutoOptions& opti
     }
     stepping.output_times = outputs;
     stepping.initial_guess = u_a;
+    stepping.observation = observation;
     return IntegrateTimeStepping(problem, x_a, t_a, t_b, stepping);
   };
 }
@@ -57,6 +67,7 @@ void CheckAutoStart(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double
                     const AutoOptions& options) {
   dvi.Validate();
   CheckStart(dvi.n, x0, t0, t_end, options);
+  CheckObservedSet(dvi.K, options);
   dvi.CheckShapes(t0, x0);
 }
 
@@ -65,6 +76,7 @@ void CheckAutoStart(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double
   lcs.Validate();
   lcs.CheckSources(t0);
   CheckStart(lcs.n(), x0, t0, t_end, options);
+  CheckObservedSet(lcs.K, options);
 }
 
 bool UsesModeDae(const Lcs& lcs, const AutoOptions& options) {

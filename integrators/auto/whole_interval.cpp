@@ -184,7 +184,13 @@ EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& opti
       [&lcs, t_end, mode_dae, dvi, dae_options](double t, const Eigen::VectorXd& x,
                                                 const EventDrivenOptions& run) {
         if (mode_dae) {
-          Trajectory part = IntegrateModeDaeUncertified(lcs, x, t, t_end, dae_options(run));
+          // The observations of an interval that CVODE redoes never reach
+          // the run's observer: held until IDA keeps it.
+          ModeDaeOptions dae = dae_options(run);
+          std::vector<HeldObservation> held;
+          dae.observation.user_events = run.observation.user_events;
+          if (run.observation.observer) dae.observation.observer = HoldingObserver(held);
+          Trajectory part = IntegrateModeDaeUncertified(lcs, x, t, t_end, dae);
           // A mode DAE needs u unique; CVODE's mode ODE needs only x' to
           // be (Proposition 5.1's semi-affine case, free directions: a
           // bridge whose diodes all block), and its mode layer has the
@@ -195,7 +201,10 @@ EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& opti
           // there): the bridge ladder of 197 cells is refused at t = 0
           // before IDA's first step, and auto's run is CVODE's alone, step
           // for step (free_directions_test): nothing is done twice.
-          if (part.status != IntegrationStatus::kNotIndexOne) return part;
+          if (part.status != IntegrationStatus::kNotIndexOne) {
+            Replay(held, run.observation.observer);
+            return part;
+          }
           if (!*dvi) dvi->emplace(lcs.ToDvi());
         }
         return IntegrateEventDrivenValidated(**dvi, &lcs, x, t, t_end, run);

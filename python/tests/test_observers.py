@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """Observers and user events from Python (issue 33): observer= and events=
-of integrate_event and dvi.EventDrivenIntegrator against exact solutions
-(the C++ tests/event_driven_observer_test.cpp's), the exceptions of the
-callables reaching the caller as themselves, and the refusals."""
+of integrate_event and dvi.EventDrivenIntegrator, and of integrate_auto and
+dvi.AutoIntegrator, against exact solutions (the C++
+tests/event_driven_observer_test.cpp's and auto_observer_test.cpp's), the
+exceptions of the callables reaching the caller as themselves, and the
+refusals."""
 import math
 
 import numpy as np
@@ -256,8 +258,6 @@ def test_bad_observers_and_events_are_named():
         dvi.UserEvent(lambda t, x, u: x[0], action="modify")
     with pytest.raises(dvi.InvalidInputError, match="UserEvent: modify is given but action is"):
         dvi.UserEvent(lambda t, x, u: x[0], modify=lambda t, x: x)
-    with pytest.raises(dvi.InvalidInputError, match="integrate_auto: unknown keyword.*observer"):
-        dvi.integrate_auto(diode(), [1.0], 0.0, 2.0, observer=print)
 
 
 def test_observed_lcs_runs_hold_the_gil_in_threads():
@@ -278,3 +278,67 @@ def test_observed_lcs_runs_hold_the_gil_in_threads():
         thread.join()
     for k in range(2):
         assert runs[k].succeeded and counts[k] == list(runs[k].times)
+
+
+
+# The C++ tests' linear relay (tests/support/sampled_data_relay.hpp):
+# v' = s + u, 0 <= u ⊥ v >= 0, s' = 0, τ' = 1; every T the event resets
+# τ = 0 and sets s = +1 if v < 0.45, else -2. Backward Euler and CVODE are
+# exact on its lines, in windows and event-driven intervals alike.
+def linear_relay_lcs():
+    A = np.zeros((3, 3))
+    A[0, 1] = 1.0
+    B, C = np.zeros((3, 1)), np.zeros((1, 3))
+    B[0, 0] = C[0, 0] = 1.0
+    return dvi.Lcs(A=A, B=B, C=C, D=np.zeros((1, 1)), p=[0.0, 0.0, 1.0])
+
+
+def linear_relay_event():
+    return dvi.UserEvent(lambda t, x, u: x[2] - T, direction="rising", action="modify",
+                         modify=lambda t, x: [x[0], 1.0 if x[0] < 0.45 else -2.0, 0.0])
+
+
+def linear_relay_v(t):
+    v, s, start = 0.3, -2.0, 0.0
+    while t > start + T:
+        v = max(0.0, v + s * T)
+        s = 1.0 if v < 0.45 else -2.0
+        start += T
+    return max(0.0, v + s * (t - start))
+
+
+def test_auto_takes_observers_and_user_events():
+    """integrate_auto: the stop event at ln(4/3), the observer seeing each
+    row once; the relay run across time-stepping windows (event-driven runs
+    of one CVODE step), its user events at kT; AutoIntegrator the same."""
+    half = dvi.UserEvent(lambda t, x, u: x[0] - 0.5, direction="falling", action="stop")
+    seen = []
+    run = dvi.integrate_auto(diode(), [1.0], 0.0, 2.0, rtol=RTOL, atol=ATOL, events=[half],
+                             observer=seen.append)
+    assert run.status == "stopped-by-user" and "user event 0" in run.message
+    assert abs(run.times[-1] - math.log(4 / 3)) <= EVENT_TIME_ERROR
+    assert [obs.t for obs in seen] == list(run.times)
+
+    windows = dict(rtol=1e-10, atol=1e-12, max_steps=1, h=0.04, stepping_window=0.02)
+    x0 = [0.3, -2.0, 0.0]
+    seen = []
+    run = dvi.integrate_auto(linear_relay_lcs(), x0, 0.0, 2.3, **windows,
+                             events=[linear_relay_event()], observer=seen.append)
+    assert run.succeeded, run.message
+    assert "stepping" in [interval["method"] for interval in run.intervals]
+    user_times = [time for time, kind, _ in run.events if kind == "user"]
+    assert len(user_times) == 4
+    for k, time in enumerate(user_times, start=1):
+        assert abs(time - k * T) <= EVENT_TIME_ERROR
+    assert [obs.t for obs in seen] == list(run.times)
+    assert max(abs(x[0] - linear_relay_v(t)) for t, x in zip(run.times, run.states)) <= 1e-10
+
+    stepped_seen = []
+    integrator = dvi.AutoIntegrator(linear_relay_lcs(), x0, 0.0, 2.3, **windows,
+                                    events=[linear_relay_event()], observer=stepped_seen.append)
+    assert integrator.advance_to(2.3) == dvi.StepOutcome.END
+    np.testing.assert_array_equal(integrator.trajectory().times, run.times)
+    assert [obs.t for obs in stepped_seen] == [obs.t for obs in seen]
+
+    with pytest.raises(dvi.InvalidInputError, match="integrate_auto: observer must be a callable"):
+        dvi.integrate_auto(diode(), [1.0], 0.0, 2.0, observer=3)

@@ -47,4 +47,25 @@ double SampledDataRelay::V(double t) {
   return std::max(0.0, v + s * (t - start));
 }
 
+double SampledDataRelay::EventTimeError(const Trajectory& run) {
+  double worst = 0;
+  int k = 0;
+  for (const Event& event : run.events)
+    if (event.kind == EventKind::kUser)
+      worst = std::max(worst, std::abs(event.time - ++k * kPeriod));
+  return worst;
+}
+
+int SampledDataRelay::UserEventCount(const Trajectory& run) {
+  return static_cast<int>(std::count_if(run.events.begin(), run.events.end(),
+                                        [](const Event& e) { return e.kind == EventKind::kUser; }));
+}
+
+double SampledDataRelay::StateError(const Trajectory& run) {
+  double worst = 0;
+  for (std::size_t k = 0; k < run.times.size(); ++k)
+    worst = std::max(worst, std::abs(run.states[k](0) - V(run.times[k])));
+  return worst;
+}
+
 }  // namespace dvi::testing

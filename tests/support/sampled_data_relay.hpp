@@ -5,6 +5,7 @@
 
 #include "dvi/lcs.hpp"
 #include "dvi/observer.hpp"
+#include "dvi/trajectory.hpp"
 
 namespace dvi::testing {
 
@@ -24,6 +25,12 @@ struct SampledDataRelay {
   static Eigen::VectorXd Start();  ///< (0.3, −2, 0)
   /// The exact v(t) (the value at the period's end at t = kT).
   static double V(double t);
+  /// The largest |t_k − kT| over a run's user events (the k-th at kT).
+  static double EventTimeError(const Trajectory& run);
+  /// How many user events a run has.
+  static int UserEventCount(const Trajectory& run);
+  /// The largest |v − V(t)| over a run's rows.
+  static double StateError(const Trajectory& run);
 };
 
 }  // namespace dvi::testing
