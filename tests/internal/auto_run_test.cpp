@@ -99,9 +99,10 @@ TEST(AutoRun, AWindowAfterAWindowResumesFromItsMultiplier) {
   internal::AutoRun run(
       std::move(event),
       [&](double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a, double t_b,
-          const std::vector<double>& outputs, double refinement) {
+          const std::vector<double>& outputs, double refinement,
+          const ObservationOptions& observation) {
         if (refinement == 1) guesses.push_back(u_a);
-        return stepping(t_a, x_a, u_a, t_b, outputs, refinement);
+        return stepping(t_a, x_a, u_a, t_b, outputs, refinement, observation);
       },
       Eigen::VectorXd::Zero(2), 0, 1, options);
   while (!internal::Over(run.Step())) {
