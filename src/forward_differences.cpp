@@ -32,6 +32,25 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
   }
 }
 
+void CentralDifferencesInX(const TimeStateFunction& g, int rows, double t,
+                           const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::MatrixXd& Jx) {
+  const double cbrt_eps = std::cbrt(std::numeric_limits<double>::epsilon());
+  Jx.resize(rows, x.size());
+  Eigen::VectorXd ahead(rows), behind(rows);
+  Eigen::VectorXd xs = x;
+  for (int k = 0; k < x.size(); ++k) {
+    const double step = cbrt_eps * std::max(1.0, std::abs(x(k)));
+    // The increments as represented: x_k ± step round to other distances.
+    const double plus = x(k) + step, minus = x(k) - step;
+    xs(k) = plus;
+    g(t, xs, u, ahead);
+    xs(k) = minus;
+    g(t, xs, u, behind);
+    Jx.col(k) = (ahead - behind) / (plus - minus);
+    xs(k) = x(k);
+  }
+}
+
 void Jacobians(const TimeStateFunction& g, const TimeStateJacobian& g_jacobian, int rows, double t,
                const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::MatrixXd& Jx,
                Eigen::MatrixXd& Ju) {

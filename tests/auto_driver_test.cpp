@@ -204,6 +204,9 @@ TEST(AutoDriver, AWindowIsHeldToTheRunsToleranceByDefault) {
   EXPECT_EQ(trajectory.status, IntegrationStatus::kUncertified) << trajectory.message;
   EXPECT_TRUE(Contains(trajectory.message, "time-stepping over [1.48")) << trajectory.message;
   EXPECT_TRUE(Contains(trajectory.message, "5 halvings")) << trajectory.message;
+  // The run's atol as written, not its per-state vector one entry a line.
+  EXPECT_TRUE(Contains(trajectory.message, "atol = " + options.event.AtolText() + ") after"))
+      << trajectory.message;
   EXPECT_GT(trajectory.certificate.window.ratio, 1);
 }
 

@@ -92,6 +92,11 @@ constexpr Reproducer kReproducers[] = {
     {"lcs-index2", 41,
      "every method 1.5 times outside the bound at t = 0.15: the reference's error estimate "
      "missed an erratic second-order error of its coarse levels at an index-two contact"},
+    {"sources-index2", 23,
+     "event: not-index-one, mode lff entered at t = 0.957868 no longer holds (u_1 = −7.3e-5): "
+     "without Jacobians, a reduced mode's rows took F_x by forward differences, whose round-off "
+     "put u_1 at +1.5e-7 in the selection and −3.1e-8 in the mode; auto: uncertified over "
+     "[0.95, 1.05]"},
 };
 
 TEST(DifferentialReproducers, EveryMethodAgrees) {

@@ -31,8 +31,12 @@ using TimeMatrixFunction =
 
 /// The DVI (2.2) as an initial-value problem:
 ///   x' = f(t, x, u),   u ∈ SOL(K, F(t, x, ·)),   x(0) = x0.
-/// Without Jacobians the integrators use forward differences. Boundary
-/// conditions (Sect. 9) are a separate problem type, not a field here.
+/// Without Jacobians the integrators use forward differences, except in the
+/// rows the differentiation procedure of Theorems 5.2/5.3 forms from F's
+/// derivatives: there F_x and F_t are central differences (their error
+/// moves u of a reduced mode, and √ε of forward ones decided on which side
+/// of its bound a component that reaches it sits). Boundary conditions
+/// (Sect. 9) are a separate problem type, not a field here.
 struct Dvi {
   int n = 0;  ///< State dimension, ≥ 1.
   int m = 0;  ///< Dimension of u (of K), ≥ 0.
@@ -41,7 +45,7 @@ struct Dvi {
   TimeStateFunction F;
   TimeStateJacobian F_jacobian;  ///< Optional.
   /// ∂F/∂t (m entries), optional: the differentiation procedure of Theorems
-  /// 5.2/5.3 needs it for time-dependent F; forward differences otherwise
+  /// 5.2/5.3 needs it for time-dependent F; central differences otherwise
   /// (exact, zero, for an autonomous F).
   TimeStateFunction F_time_derivative;
   ConvexSet K = ConvexSet::Orthant(0);

@@ -218,7 +218,10 @@ Trajectory CertifiedWindow(const SteppingMethod& stepping, double t_a, const Eig
                 << error.bound << ", which with the earlier windows' makes " << error.ratio
                 << " times the budget (" << Certificate::kWindowSafety
                 << "·(atol + rtol·max |x_" << error.component << "|), rtol = " << rtol
-                << ", atol = " << atol << ") after " << kMaxWindowHalvings
+                << ", atol = "
+                << (options.window_atol > 0 ? Short(options.window_atol)
+                                            : options.event.AtolText())
+                << ") after " << kMaxWindowHalvings
                 << " halvings of the step: a looser window_rtol, a smaller h, or time-stepping "
                    "alone";
         finest.status = IntegrationStatus::kUncertified;

@@ -113,13 +113,27 @@ void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, d
   }
   // The rate ∂G/∂t dt + ∂G/∂x dx of the previous rows G = G^{k−1}: F's own
   // derivatives on the first pass (Theorem 5.2, one Jacobian evaluation for
-  // G^0's and the rate), differences after it.
+  // G^0's and the rate), differences after it. Without the user's F_x, by
+  // central differences, not forward ones: their round-off (√ε·|F| relative
+  // to |x|, and different at states an ulp apart) moved a reduced mode's u
+  // by 1.9e-7 between its selection and the mode's own solve, across the
+  // bound of a component leaving its constraint (sources-index2 seed 23 of
+  // bench/differential), as a forward F_t did (FTimeDerivative).
   Eigen::MatrixXd Fx;
   Eigen::VectorXd Ft;
   if (k == 1) {
     EvalF(t, x, u, G);
     Eigen::MatrixXd Fu;
-    FJacobians(t, x, u, Fx, Fu);
+    if (dvi_.F_jacobian) {
+      FJacobians(t, x, u, Fx, Fu);
+    } else {
+      CentralDifferencesInX(dvi_.F, m(), t, x, u, Fx);
+      // ∂F/∂u enters G_u alone (Newton's matrix and (5.8)'s regularity).
+      if (Gu) {
+        Fu.resize(m(), m());
+        ForwardDifferences(dvi_.F, m(), t, x, u, G, nullptr, Fu);
+      }
+    }
     FTimeDerivative(t, x, u, Ft);
     if (Gu) *Gu = std::move(Fu);
     if (Gx) *Gx = Fx;

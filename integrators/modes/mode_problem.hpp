@@ -88,7 +88,8 @@ class ModeProblem {
   /// (k = 0) with the dependent rows of passes 1…k each replaced by the
   /// derivative of its u-free combination along the flow,
   /// Φ̇ = P (∂G^{k−1}/∂t + ∂G^{k−1}/∂x f). Pass 1 takes F's Jacobians
-  /// (Theorem 5.2), a later pass central differences of G^{k−1} (CentralRate).
+  /// (Theorem 5.2; without the user's, F_x and F_t by central differences),
+  /// a later pass central differences of G^{k−1} (CentralRate).
   /// Gu = ∂G^k/∂u, its differentiated rows P ∂G^{k−1}/∂x f_u (the rows of
   /// (5.8)); Gx ≈ ∂G^k/∂x, those rows P ∂G^{k−1}/∂x f_x (second derivatives
   /// dropped: only CVODE's Newton sees it). m rows.

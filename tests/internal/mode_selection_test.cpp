@@ -3,6 +3,7 @@
 // the mode chosen at a state, in the three ways Sect. 5 chooses it.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "dvi/solve.hpp"
 #include "dvi/mode.hpp"
 #include "modes/mode_problem.hpp"
+#include "modes/mode_reduction.hpp"
 #include "modes/mode_selection.hpp"
 
 namespace dvi::internal {
@@ -110,6 +112,56 @@ TEST(ModeProblem, TheTimeDerivativeOfFWithoutF_tIsTheCentralDifferencesOwnAccura
   problem.FTimeDerivative(0.7, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), Ft);
   constexpr double kCentralDifferenceError = 1e-10;  // ε^{2/3} ≈ 4e-11, times a few
   EXPECT_NEAR(Ft(0), -std::cos(0.7), kCentralDifferenceError);
+}
+
+// An ideal diode clamping a state to a source, x' = p + A x + B u,
+// 0 ≤ u ⊥ q(t) + Bᵀx ≥ 0 (index two: ∂F/∂u = 0), given as a Dvi without
+// Jacobians: the reduced mode's row is w' = q'(t) + Bᵀ(p + A x + B u)
+// (Theorem 5.2's first pass). Its value must not depend on the round-off of
+// the differences that form it: forward differences in x carried √ε·|F|
+// relative to |x| and moved with x at the ulp level, by up to 2.3e-7 here (2.5e-10 now),
+// which put u of the sources-index2 instance 23 of bench/differential on
+// different sides of its bound in the mode's selection and in the mode.
+TEST(ModeProblem, AReducedRowWithoutJacobiansIsExactToTheDifferencesAccuracyAtEveryState) {
+  const Eigen::Matrix2d A = (Eigen::Matrix2d() << -0.3, 1.7, -1.7, -0.4).finished();
+  const Eigen::Vector2d B(0.8, -0.6), p(2.5, -3.5);
+  const auto q = [](double t) { return 4.5 + 3 * std::sin(2 * t); };
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 1;
+  dvi.f = [&](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = p + A * x + B * u;
+  };
+  dvi.F = [&](double t, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
+    out = Eigen::VectorXd::Constant(1, q(t) + B.dot(x));
+  };
+  dvi.K = ConvexSet::Orthant(1);
+  const ModeProblem problem(dvi, Eigen::VectorXd::Zero(1),
+                            Eigen::VectorXd::Constant(1, HUGE_VAL), SolverOptions(), false, nullptr);
+  constexpr double t = 0.9;
+  const Eigen::VectorXd u = Eigen::VectorXd::Constant(1, 2.1);
+  // A state on the constraint (F = 0), as a reduced mode's are, with |x| > 1.
+  Eigen::Vector2d on(-6, 0);
+  on(1) = -(q(t) + B(0) * on(0)) / B(1);
+  Eigen::MatrixXd Fx, Fu;
+  problem.FJacobians(t, on, u, Fx, Fu);
+  const std::vector<RowReduction> reductions{ReduceRows(Fu.sparseView(), {0})};
+  ASSERT_EQ(reductions[0].differentiated, std::vector<int>{0});
+  double worst = 0, scale = 0;
+  for (int k = 0; k < 64; ++k) {
+    // States a few ulps apart, as a root's and its projection are.
+    Eigen::VectorXd x = on;
+    x(k % 2) *= 1 + (k / 2) * std::numeric_limits<double>::epsilon();
+    Eigen::VectorXd G;
+    problem.PassRows(reductions, 1, t, x, u, G, nullptr, nullptr);
+    const Eigen::Vector2d xdot = p + A * x + B * u(0);
+    const double exact = 6 * std::cos(2 * t) + B.dot(xdot);
+    worst = std::max(worst, std::abs(G(0) - exact));
+    scale = std::max(scale, std::abs(6 * std::cos(2 * t)) + B.cwiseAbs().dot(xdot.cwiseAbs()));
+  }
+  // Central differences: O(ε^{2/3}) ≈ 4e-11 relative to the row's terms.
+  constexpr double kCentralDifferenceError = 1e-10;
+  EXPECT_LE(worst, kCentralDifferenceError * scale);
 }
 
 // The look-ahead VI of the autonomous buck converter (the zoo's
