@@ -201,15 +201,13 @@ class LemkePivoting {
     }
     if (min_ratio == kLemkeInf) return -1;
     const double tie = kTieTolerance * (1.0 + min_ratio);
+    const int z0_row = row_of_[2 * Dim()];
     int tie_count = 0;
     for (int i = 0; i < Dim(); ++i) {
       if (column_(i) > threshold && std::max(x_(i), 0.0) / column_(i) <= min_ratio + tie) {
+        if (i == z0_row) return z0_row;
         ties_[tie_count++] = i;
       }
-    }
-    const int z0_row = row_of_[2 * Dim()];
-    if (z0_row >= 0 && std::find(ties_, ties_ + tie_count, z0_row) != ties_ + tie_count) {
-      return z0_row;
     }
     // Break the remaining ties column by column of B⁻¹ [CPS §4.9]: its rows
     // are linearly independent, so one row remains at the end.
