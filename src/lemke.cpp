@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -34,6 +36,36 @@ constexpr double kPolishMargin = 1e-3;
 
 using Clock = std::chrono::steady_clock;
 using internal::LemkePivoting;
+
+// True when no q_i is negative: z = 0 solves LCP(q, M). A plain loop: Eigen's
+// reduction set-up (minCoeff) outweighs the comparisons at m ≤ 10.
+bool AllNonnegative(const Eigen::VectorXd& q) {
+  for (Eigen::Index i = 0; i < q.size(); ++i)
+    if (q(i) < 0.0) return false;
+  return true;
+}
+
+// exp2(round(log2(‖q‖∞))) for q ≠ 0: the power of two nearest ‖q‖∞ in the
+// log scale, by which the pivoting divides q (a power of two keeps the
+// scaling exact). log2 is the one libm call left: round and exp2 of the
+// integer it gives are exact, so they are done here in the same arithmetic
+// (round half away from zero on the exactly split fraction, the exponent
+// written into the bits where 2^k is a normal number).
+double PowerOfTwoScale(const Eigen::VectorXd& q) {
+  double q_max = 0.0;
+  for (Eigen::Index i = 0; i < q.size(); ++i) q_max = std::max(q_max, std::abs(q(i)));
+  const double log_q = std::log2(q_max);  // finite: q is finite and nonzero
+  const auto whole = static_cast<long long>(log_q);  // |log_q| ≤ 1075
+  const double fraction = log_q - static_cast<double>(whole);  // exact
+  const long long k = whole + (fraction >= 0.5) - (fraction <= -0.5);
+  if (k < std::numeric_limits<double>::min_exponent - 1 ||
+      k > std::numeric_limits<double>::max_exponent - 1)
+    return std::exp2(static_cast<double>(k));
+  const std::uint64_t bits = static_cast<std::uint64_t>(k + 1023) << 52;
+  double scale;
+  std::memcpy(&scale, &bits, sizeof scale);
+  return scale;
+}
 
 // Solves M_αα z_α = −q_α on the final complementary basis (z = 0 off α) and
 // clips the rounding-level negative entries of degenerate basic z's.
@@ -95,7 +127,8 @@ void Evaluate(const Lcp& lcp, SolveResult& result) {
   result.residual = internal::OrthantNaturalResidual(result.z, result.w);
 }
 
-SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibility);
+void RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibility,
+              SolveResult& result);
 
 using Outcome = internal::LemkeOutcome;
 
@@ -113,8 +146,7 @@ struct Pivoted {
 // indices are collected only when RunLemke will polish.
 template <int kDim>
 Pivoted Pivot(const Lcp& lcp, int max_pivots, double tolerance, SolveResult& result) {
-  // A power of two keeps the scaling exact.
-  const double scale = std::exp2(std::round(std::log2(lcp.q.cwiseAbs().maxCoeff())));
+  const double scale = PowerOfTwoScale(lcp.q);
   LemkePivoting<kDim> lemke(lcp.M, lcp.q, scale);
   Pivoted pivoted;
   pivoted.outcome = lemke.Run(max_pivots);
@@ -147,7 +179,8 @@ void DecideFeasibility(const Lcp& lcp, const SolverOptions& options, SolveResult
   feasibility.q.tail(m) = lcp.q;
   SolverOptions feasibility_options = options;
   feasibility_options.max_iterations = 0;
-  const SolveResult answer = RunLemke(feasibility, feasibility_options, false);
+  SolveResult answer;
+  RunLemke(feasibility, feasibility_options, false, answer);
   const std::string pivots = std::to_string(answer.iterations) + " pivots";
   if (answer.status == SolveStatus::kInfeasible && answer.certificate.size() == 2 * m) {
     Eigen::VectorXd y = answer.certificate.tail(m);
@@ -172,21 +205,24 @@ void DecideFeasibility(const Lcp& lcp, const SolverOptions& options, SolveResult
   }
 }
 
-// SolveLemke; decide_feasibility is off for the feasibility LCP itself,
-// whose skew-symmetric M makes every ray a certificate. The pivots of the
-// feasibility LCP are reported in the message, not in result.iterations
+// SolveLemke into `result`, every field of which it sets (a reused result
+// keeps only its storage); decide_feasibility is off for the feasibility LCP
+// itself, whose skew-symmetric M makes every ray a certificate. The pivots of
+// the feasibility LCP are reported in the message, not in result.iterations
 // (which count the pivots on LCP(q, M) itself).
-SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibility) {
-  const auto start = Clock::now();
+void RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibility,
+              SolveResult& result) {
   const int m = lcp.dim();
-  SolveResult result;
   result.method = SolverMethod::kLemke;
+  result.iterations = 0;
+  result.seconds = 0.0;
+  result.certificate.resize(0);
   // The accuracy the residual certifies z and w to.
   double index_set_tolerance = options.tolerance;
   const int max_pivots =
       options.max_iterations > 0 ? options.max_iterations : kPivotsPerDimension * (m + 1);
 
-  if (m == 0 || lcp.q.minCoeff() >= 0.0) {
+  if (AllNonnegative(lcp.q)) {
     result.z.setZero(m);
     Evaluate(lcp, result);
     result.status = SolveStatus::kSolved;
@@ -262,17 +298,23 @@ SolveResult RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_f
     }
   }
   result.has_index_sets = true;
-  result.index_sets = internal::OrthantIndexSets(result.z, result.w, index_set_tolerance);
-  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  return result;
+  internal::OrthantIndexSets(result.z, result.w, index_set_tolerance, result.index_sets);
 }
 
 }  // namespace
 
 SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options) {
+  const auto start = Clock::now();
+  SolveResult result;
+  SolveLemke(lcp, options, result);
+  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+void SolveLemke(const Lcp& lcp, const SolverOptions& options, SolveResult& result) {
   lcp.Validate();
   options.Validate();
-  return RunLemke(lcp, options, true);
+  RunLemke(lcp, options, true, result);
 }
 
 }  // namespace dvi

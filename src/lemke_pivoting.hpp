@@ -195,21 +195,22 @@ class LemkePivoting {
     double scale = 0.0;
     for (int i = 0; i < Dim(); ++i) scale = std::max(scale, std::abs(column_(i)));
     const double threshold = kPivotTolerance * std::max(scale, 1.0);
+    // Each ratio is divided out once and kept for the tie test (a division
+    // costs several cycles; ineligible rows get +inf, which ties nothing).
     double min_ratio = kLemkeInf;
     for (int i = 0; i < Dim(); ++i) {
-      if (column_(i) > threshold) min_ratio = std::min(min_ratio, std::max(x_(i), 0.0) / column_(i));
+      work_(i) = column_(i) > threshold ? std::max(x_(i), 0.0) / column_(i) : kLemkeInf;
+      min_ratio = std::min(min_ratio, work_(i));
     }
     if (min_ratio == kLemkeInf) return -1;
     const double tie = kTieTolerance * (1.0 + min_ratio);
+    const int z0_row = row_of_[2 * Dim()];
     int tie_count = 0;
     for (int i = 0; i < Dim(); ++i) {
-      if (column_(i) > threshold && std::max(x_(i), 0.0) / column_(i) <= min_ratio + tie) {
+      if (work_(i) <= min_ratio + tie) {
+        if (i == z0_row) return z0_row;
         ties_[tie_count++] = i;
       }
-    }
-    const int z0_row = row_of_[2 * Dim()];
-    if (z0_row >= 0 && std::find(ties_, ties_ + tie_count, z0_row) != ties_ + tie_count) {
-      return z0_row;
     }
     // Break the remaining ties column by column of B⁻¹ [CPS §4.9]: its rows
     // are linearly independent, so one row remains at the end.
@@ -373,7 +374,7 @@ class LemkePivoting {
   Eigen::Map<Eigen::VectorXd> x_;       // basic values, x = B⁻¹ q
   Eigen::Map<Eigen::VectorXd> column_;  // B⁻¹ A_e of the entering variable
   Eigen::Map<Eigen::VectorXd> eta_;     // c − e_r of the current pivot; scratch
-  Eigen::Map<Eigen::VectorXd> work_;    // scratch of the drift check
+  Eigen::Map<Eigen::VectorXd> work_;    // scratch: the ratios, the drift check's products
   int* basis_;           // variable basic in each row (m)
   int* row_of_;          // row of each basic variable, −1 if nonbasic (2m + 1)
   // Columns i of B⁻¹ that are not unit vectors (w_i nonbasic), with each

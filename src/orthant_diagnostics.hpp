@@ -20,6 +20,11 @@ double OrthantNaturalResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& w
 /// BoxIndexSets(0, +inf, z, w, tol) without the bound vectors.
 IndexSets OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, double tol);
 
+/// The same sets into `sets`, reusing its vectors' storage (no allocation
+/// once their capacity suffices): SolveLemke's in-place overload.
+void OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, double tol,
+                      IndexSets& sets);
+
 /// prefix + count + suffix in one allocation: the success message of the
 /// LCP solvers, where to_string and concatenation (or snprintf, whose format
 /// parsing costs more than a whole 2×2 pivot) weighed on a tiny solve.

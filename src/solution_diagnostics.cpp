@@ -27,20 +27,21 @@ double MaxAbs(const Expression& d) {
   return d.size() == 0 ? 0.0 : d.cwiseAbs().maxCoeff();
 }
 
-// The index sets of components 0 … m−1 by kind(i) (0: α, 1: β, 2: γ),
-// counted first so that each set is sized by one allocation: a solve inside
-// an integrator's event asks for them every time.
+// The index sets of components 0 … m−1 by kind(i) (0: α, 1: β, 2: γ) into
+// `sets`, counted first so that each set is sized at once: a fresh set costs
+// one allocation, a reused one none once its capacity suffices (a solve
+// inside an integrator's event asks for them every time).
 template <typename Kind>
-IndexSets SetsByKind(int m, const Kind& kind) {
+void SetsByKind(int m, const Kind& kind, IndexSets& sets) {
   int counts[3] = {0, 0, 0};
   for (int i = 0; i < m; ++i) ++counts[kind(i)];
-  IndexSets sets;
-  sets.alpha.reserve(counts[0]);
-  sets.beta.reserve(counts[1]);
-  sets.gamma.reserve(counts[2]);
   std::vector<int>* const targets[3] = {&sets.alpha, &sets.beta, &sets.gamma};
-  for (int i = 0; i < m; ++i) targets[kind(i)]->push_back(i);
-  return sets;
+  int* filled[3];
+  for (int k = 0; k < 3; ++k) {
+    targets[k]->resize(static_cast<std::size_t>(counts[k]));
+    filled[k] = targets[k]->data();
+  }
+  for (int i = 0; i < m; ++i) *filled[kind(i)]++ = i;
 }
 
 }  // namespace
@@ -91,7 +92,9 @@ IndexSets BoxIndexSets(const Eigen::VectorXd& lower, const Eigen::VectorXd& uppe
     // reported with the free ones, where F_i = 0 is the missing condition.
     return 0;
   };
-  return SetsByKind(static_cast<int>(z.size()), kind);
+  IndexSets sets;
+  SetsByKind(static_cast<int>(z.size()), kind, sets);
+  return sets;
 }
 
 namespace internal {
@@ -108,6 +111,13 @@ double OrthantNaturalResidual(const Eigen::VectorXd& z, const Eigen::VectorXd& w
 }
 
 IndexSets OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, double tol) {
+  IndexSets sets;
+  OrthantIndexSets(z, w, tol, sets);
+  return sets;
+}
+
+void OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, double tol,
+                      IndexSets& sets) {
   CheckSizes(z.size(), z, w);
   DVI_THROW_UNLESS(tol >= 0.0, "tol = " << tol << " must be nonnegative");
   // BoxIndexSets' tests with l = 0 and u = +inf: z_i is at its bound when
@@ -121,7 +131,7 @@ IndexSets OrthantIndexSets(const Eigen::VectorXd& z, const Eigen::VectorXd& w, d
     if (std::abs(w(i)) <= w_zero) return 1;   // β
     return w(i) > 0.0 ? 2 : 0;                // γ, or pushed off the bound: α
   };
-  return SetsByKind(m, kind);
+  SetsByKind(m, kind, sets);
 }
 
 }  // namespace internal

@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -434,6 +435,88 @@ TEST(Lemke, ARayWithoutCancellationIsNoCertificate) {
   lcp.q = -Eigen::Vector2d::Ones();
   const SolveResult result = SolveLemke(lcp);
   EXPECT_NE(result.status, SolveStatus::kInfeasible) << result.message;
+}
+
+// Every field but seconds, compared exactly: the in-place overload must give
+// the by-value answer bit for bit.
+void ExpectSameAnswer(const SolveResult& expected, const SolveResult& actual) {
+  EXPECT_EQ(actual.status, expected.status);
+  EXPECT_EQ(actual.message, expected.message);
+  EXPECT_EQ(actual.method, expected.method);
+  EXPECT_EQ(actual.iterations, expected.iterations);
+  EXPECT_EQ(actual.residual, expected.residual);
+  EXPECT_EQ(actual.z, expected.z);
+  EXPECT_EQ(actual.w, expected.w);
+  EXPECT_EQ(actual.certificate, expected.certificate);
+  EXPECT_EQ(actual.has_index_sets, expected.has_index_sets);
+  EXPECT_EQ(actual.index_sets.alpha, expected.index_sets.alpha);
+  EXPECT_EQ(actual.index_sets.beta, expected.index_sets.beta);
+  EXPECT_EQ(actual.index_sets.gamma, expected.index_sets.gamma);
+}
+
+// One result reused across LCPs of every outcome and of changing size: each
+// in-place solve must overwrite what the one before left (a certificate, a
+// message, iterations, longer vectors).
+TEST(Lemke, SolvesIntoACallerOwnedResultExactlyAsByValue) {
+  std::mt19937 rng(3);
+  SolverOptions limited;
+  limited.max_iterations = 1;
+  const Lcp pang = test::ReadSiconosLcp(test::SiconosDataDirectory() +
+                                        "/lcp/lcp_Pang_isolated_sol_perturbed.dat")
+                       .lcp;
+  const std::vector<std::pair<Lcp, SolverOptions>> sequence = {
+      {Lcp{test::RandomPMatrix(30, rng), test::RandomVector(30, rng)}, {}},
+      {pang, {}},  // infeasible, certified by the feasibility LP
+      {Lcp{test::RandomPMatrix(2, rng), test::RandomVector(2, rng)}, {}},
+      {Lcp{-Eigen::MatrixXd::Identity(2, 2), Eigen::Vector2d(-1.0, -2.0)}, {}},  // ray
+      {Lcp{test::RandomPMatrix(10, rng), -Eigen::VectorXd::Ones(10)}, limited},
+      {Lcp{test::RandomPMatrix(4, rng), Eigen::VectorXd::Ones(4)}, {}},  // q ≥ 0
+      {Lcp{Eigen::MatrixXd(0, 0), Eigen::VectorXd(0)}, {}},
+      {Lcp{test::RandomPMatrix(30, rng), test::RandomVector(30, rng)}, {}},
+  };
+  SolveResult reused;
+  for (std::size_t k = 0; k < sequence.size(); ++k) {
+    SCOPED_TRACE(testing::Message() << "problem " << k);
+    const auto& [lcp, options] = sequence[k];
+    const SolveResult expected = SolveLemke(lcp, options);
+    SolveLemke(lcp, options, reused);
+    ExpectSameAnswer(expected, reused);
+    EXPECT_EQ(reused.seconds, 0.0);  // not measured in place
+  }
+}
+
+// Solving the same-size LCP again writes into the storage the first solve
+// left: no allocation for z, w or the index sets after the first call.
+TEST(Lemke, ReusesTheCallerOwnedResultsStorage) {
+  std::mt19937 rng(5);
+  const Lcp lcp{test::RandomPMatrix(10, rng), test::RandomVector(10, rng)};
+  SolveResult result;
+  SolveLemke(lcp, {}, result);
+  ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
+  ASSERT_FALSE(result.index_sets.alpha.empty());
+  ASSERT_FALSE(result.index_sets.gamma.empty());
+  const double* const z = result.z.data();
+  const double* const w = result.w.data();
+  const int* const alpha = result.index_sets.alpha.data();
+  const int* const gamma = result.index_sets.gamma.data();
+  SolveLemke(lcp, {}, result);
+  EXPECT_EQ(result.z.data(), z);
+  EXPECT_EQ(result.w.data(), w);
+  EXPECT_EQ(result.index_sets.alpha.data(), alpha);
+  EXPECT_EQ(result.index_sets.gamma.data(), gamma);
+}
+
+TEST(Lemke, LeavesTheCallerOwnedResultAsItWasOnBadInput) {
+  const Lcp good{Eigen::MatrixXd::Identity(2, 2), -Eigen::VectorXd::Ones(2)};
+  SolveResult result;
+  SolveLemke(good, {}, result);
+  const SolveResult before = result;
+  const Lcp wrong_size{Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Ones(2)};
+  EXPECT_THROW(SolveLemke(wrong_size, {}, result), InvalidInputError);
+  SolverOptions bad_options;
+  bad_options.tolerance = 0.0;
+  EXPECT_THROW(SolveLemke(good, bad_options, result), InvalidInputError);
+  ExpectSameAnswer(before, result);
 }
 
 TEST(Lemke, ThrowsOnBadInput) {

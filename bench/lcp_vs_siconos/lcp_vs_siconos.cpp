@@ -16,6 +16,7 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -427,10 +428,29 @@ void Harness::WriteCsv(const std::string& path) const {
 }
 
 // Our solvers, bound to one problem (the BoxMcp is built once, untimed).
+// Lemke solves into a SolveResult the solver object owns, the overload for
+// loops: like Siconos' driver, which writes into the z and w the harness
+// allocates outside the timed call, it allocates nothing for its output
+// after the first call and does not read the clock itself.
 Solver OurLemke(const Lcp& lcp) {
   const SolverOptions o =
       OurOptions(SolverMethod::kLemke, kLemkePivotsPerUnknown * (lcp.dim() + 1));
-  return OurSolver([&lcp, o]() { return SolveLemke(lcp, o); });
+  auto result = std::make_shared<SolveResult>();
+  return [&lcp, o, result]() {
+    Attempt a;
+    try {
+      const auto start = std::chrono::steady_clock::now();
+      SolveLemke(lcp, o, *result);
+      a.seconds = SecondsSince(start);
+      a.z = result->z;
+      a.iterations = result->iterations;
+      a.status = std::string(ToString(result->status));
+    } catch (const std::exception& e) {
+      a.ran = false;
+      a.status = std::string("threw: ") + e.what();
+    }
+    return a;
+  };
 }
 
 Solver OurPgs(const Lcp& lcp) {

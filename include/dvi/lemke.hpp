@@ -22,4 +22,15 @@ namespace dvi {
 /// @throws InvalidInputError from lcp.Validate() or options.Validate().
 SolveResult SolveLemke(const Lcp& lcp, const SolverOptions& options = {});
 
+/// SolveLemke(lcp, options) into a caller-owned result, for loops that
+/// solve many small LCPs: the same answer bit for bit (z, w, residual,
+/// status, message, index sets, certificate), every field of `result`
+/// overwritten, but z, w and the index sets reuse its storage, so solving
+/// LCPs of one size again and again allocates nothing for the result after
+/// the first call. result.seconds is not measured (set to 0): time the loop
+/// instead; two reads of the steady clock cost about 50 ns on a virtual
+/// machine, a quarter of a 2×2 solve. On a throw, `result` is left as it was.
+/// @throws InvalidInputError from lcp.Validate() or options.Validate().
+void SolveLemke(const Lcp& lcp, const SolverOptions& options, SolveResult& result);
+
 }  // namespace dvi
