@@ -63,7 +63,12 @@ Eigen::VectorXd Trajectory::StateAt(double t) const {
 }
 
 Eigen::VectorXd Trajectory::MultiplierAt(double t) const {
-  return multipliers[SampleAtOrAfter(times, t)];
+  const size_t k = SampleAtOrAfter(times, t);
+  if (times[k] != t && dense_multipliers && dense.Covers(t)) {
+    Eigen::VectorXd u;
+    if (dense_multipliers->Multiplier(t, dense.State(t), u)) return u;
+  }
+  return multipliers[k];
 }
 
 std::string_view ToString(IntegrationMethod method) {

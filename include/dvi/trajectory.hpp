@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -10,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/certificate.hpp"
+#include "dvi/dense_multipliers.hpp"
 #include "dvi/dense_output.hpp"
 #include "dvi/enum_output.hpp"
 #include "dvi/integration_options.hpp"
@@ -160,6 +162,12 @@ struct Trajectory {
   /// Every accepted step's interpolant (empty when the integrator's
   /// dense_output option is off).
   DenseOutput dense;
+  /// u between samples at the integrator's accuracy, where the dense output
+  /// is kept and u is smooth inside a mode (event-driven: each step's mode
+  /// solved at StateAt(t), on demand; IDA: its interpolant of u); null for
+  /// time-stepping, a trajectory read from CSV or built by hand. Shared
+  /// and immutable: copying a Trajectory copies the pointer.
+  std::shared_ptr<const DenseMultipliers> dense_multipliers;
   /// The output checked against the VI and the ODE (certificate.hpp).
   Certificate certificate;
 
@@ -176,8 +184,12 @@ struct Trajectory {
   /// samples (x̂ᴴ when every step is a sample).
   /// @throws InvalidInputError when t lies outside [times.front(), times.back()].
   Eigen::VectorXd StateAt(double t) const;
-  /// u at time t: at a sample time its value there, between samples the
-  /// value of the next sample (ûᴴ). @throws InvalidInputError as StateAt.
+  /// u at time t: at a sample time its value there (the right limit at a
+  /// switch: never a value across it). Between samples, where
+  /// dense_multipliers and the dense output cover t, u at the integrator's
+  /// own accuracy (the step's mode at StateAt(t), or IDA's interpolant);
+  /// else the value of the next sample (ûᴴ: time-stepping's own u, which is
+  /// piecewise constant). @throws InvalidInputError as StateAt.
   Eigen::VectorXd MultiplierAt(double t) const;
 
   /// The run in words, as Ceres' Solver::Summary reports a solve. kBrief: one

@@ -731,6 +731,7 @@ void EventDrivenRun::Conclude(Trajectory& trajectory) const {
     trajectory.intervals.push_back({t0_, trajectory.times.back(), IntegrationMethod::kEventDriven, reason,
                                      klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }
+  if (multipliers_) trajectory.dense_multipliers = std::make_shared<const ModeMultipliers>(*multipliers_);
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_clock_).count();
 }

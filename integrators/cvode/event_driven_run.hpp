@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "events/output_schedule.hpp"
 #include "events/step_ends.hpp"
 #include "modes/box_mode.hpp"
+#include "modes/mode_multipliers.hpp"
 #include "modes/step_root_check.hpp"
 #include "sundials/handles.hpp"
 #include "sundials/linear_solvers.hpp"
@@ -57,6 +59,9 @@ class EventDrivenRun {
     // CVodeGetDky sums the q + 1 Nordsieck columns into dky_ at every output
     // time: in one fused loop instead of a scale and q axpys, the same sums.
     N_VEnableLinearCombination_Serial(dky_.get(), SUNTRUE);
+    if (KeepsDenseOutput(options.dense_output, options.output_times))
+      multipliers_.emplace(dvi, dvi.K.BoxBounds().first, dvi.K.BoxBounds().second, options.solver,
+                           affine, lcs);
     // Only the chosen solver's matrix: a dense one is n² doubles.
     if (klu)
       klu_ = std::make_unique<KluLinearSolver>(y_.get(), x0.size(), 1, context_.get());
@@ -233,6 +238,8 @@ class EventDrivenRun {
       defect_start_;
   Eigen::MatrixXd scaled_taylor_;
   double recorded_until_ = -std::numeric_limits<double>::infinity();  // RecordStep's last end
+  // u between samples: each dense piece's mode (kept with the dense output).
+  std::optional<ModeMultipliers> multipliers_;
   // StepClear and StepViolation: the last step's end kept as the next's
   // start (its root values, x and x' there), whether this step starts
   // there, how far x moves within it, x at its end; the whole-step check of

@@ -184,10 +184,11 @@ void EventDrivenRun::DropSamplesFrom(double t) {
 }
 
 // Where the dense output is kept: the last step's interpolant over [its
-// start, end] (end: the step's end, or the event that cut it short), and
-// its ODE defect at the midpoint (Certificate). A step whose interpolant
-// CVODE refuses is left out of both, one whose mode's Newton fails at the
-// midpoint out of the defect.
+// start, end] (end: the step's end, or the event that cut it short), the
+// step's mode for u there (ModeMultipliers), and its ODE defect at the
+// midpoint (Certificate). A step whose interpolant CVODE refuses is left
+// out of all three, one whose mode's Newton fails at the midpoint out of
+// the defect.
 void EventDrivenRun::RecordStep(double end) {
   if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
   const auto [t_n, h, q] = LastStep();
@@ -199,6 +200,7 @@ void EventDrivenRun::RecordStep(double end) {
   double power = 1;
   for (int k = 1; k <= q; ++k) scaled.col(k) *= (power *= h);
   trajectory_.dense.Append(begin, end, t_n, h, scaled);
+  multipliers_->Append(begin, end, system_.mode(), system_.u());
   // The certificate's ODE defect at the midpoint, u from the step's mode
   // there: the piece is output, so it is checked as the rows are.
   const double mid = begin + (end - begin) / 2;

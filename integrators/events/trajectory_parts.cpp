@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "events/joined_multipliers.hpp"
+
 namespace dvi::internal {
 
 void AppendPart(Trajectory& whole, Trajectory&& part) {
@@ -26,6 +28,8 @@ void AppendPart(Trajectory& whole, Trajectory&& part) {
   if (!part.dense.empty()) {
     whole.dense.TruncateAfter(part.dense.begin());
     whole.dense.Append(part.dense);
+    whole.dense_multipliers = JoinedMultipliers::Join(whole.dense_multipliers, part.dense.begin(),
+                                                      std::move(part.dense_multipliers));
   }
   whole.certificate.Merge(part.certificate);
   whole.events.insert(whole.events.end(), part.events.begin(), part.events.end());

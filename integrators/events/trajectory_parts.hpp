@@ -7,7 +7,8 @@ namespace dvi::internal {
 
 /// Appends a part of a run that starts where `whole` ends: samples (a
 /// junction sample at the same time is replaced by the part's, whose u is
-/// the right limit), dense output, the certificate, events, step records and
+/// the right limit), dense output (and u between samples, each part by its
+/// own rule: JoinedMultipliers), the certificate, events, step records and
 /// statistics; the status and message become the part's. Intervals are the
 /// caller's to merge.
 void AppendPart(Trajectory& whole, Trajectory&& part);

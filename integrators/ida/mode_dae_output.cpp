@@ -90,10 +90,10 @@ void ModeDaeRun::MeasureDefect(double t) {
                          trajectory_.certificate.ode);
 }
 
-// Where the dense output is kept: the last step's interpolant of x over
-// [its start, end] (end: the step's end, or the root that cut it short; its
-// start no earlier than what is kept already), and its ODE defect at the
-// midpoint (Certificate).
+// Where the dense output is kept: the last step's interpolant of x (and of
+// u, InterpolatedMultipliers) over [its start, end] (end: the step's end,
+// or the root that cut it short; its start no earlier than what is kept
+// already), and its ODE defect at the midpoint (Certificate).
 void ModeDaeRun::RecordStep(double end) {
   if (!KeepsDenseOutput(options_.dense_output, options_.output_times)) return;
   double t_n = 0, h = 0;
@@ -106,14 +106,17 @@ void ModeDaeRun::RecordStep(double end) {
   if (!(end > begin)) return;
   const Eigen::Map<const Eigen::VectorXd> dky(dky_.data(), dae_.size());
   scaled_taylor_.resize(n_, q + 1);
+  scaled_taylor_u_.resize(m_, q + 1);
   double scale = 1;  // h^k / k!
   for (int k = 0; k <= q; ++k) {
     if (k > 0) scale *= h / k;
     if (IDAGetDky(ida, t_n, k, dky_.get()) != IDA_SUCCESS) return;
     scaled_taylor_.col(k) = scale * dky.head(n_);
+    scaled_taylor_u_.col(k) = scale * dky.tail(m_);
   }
   recorded_until_ = end;
   trajectory_.dense.Append(begin, end, t_n, h, scaled_taylor_);
+  if (m_ > 0) multipliers_.Append(begin, end, t_n, h, scaled_taylor_u_);
   // The piece is output, so it is checked as the rows are.
   MeasureDefect(begin + (end - begin) / 2);
 }

@@ -467,6 +467,8 @@ void ModeDaeRun::Conclude(Trajectory& trajectory) const {
     trajectory.intervals.push_back({t0_, trajectory.final_time(), IntegrationMethod::kModeDae,
                                     reason.str(), klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }
+  if (!trajectory.dense.empty() && m_ > 0)
+    trajectory.dense_multipliers = std::make_shared<const InterpolatedMultipliers>(multipliers_);
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_clock_).count();
 }

@@ -20,6 +20,7 @@
 #include "events/output_schedule.hpp"
 #include "events/step_ends.hpp"
 #include "events/user_roots.hpp"
+#include "ida/interpolated_multipliers.hpp"
 #include "ida/ida_memory.hpp"
 #include "ida/lcs_mode_dae.hpp"
 #include "ida/mode_dae_callbacks.hpp"
@@ -185,6 +186,10 @@ class ModeDaeRun {
   double recorded_until_ = -std::numeric_limits<double>::infinity();
   Eigen::MatrixXd scaled_taylor_;
   Eigen::VectorXd mid_y_, mid_yp_, mid_f_, mid_rounding_, mid_size_;
+
+  // u between samples: IDA's interpolant of u over the dense output's pieces.
+  Eigen::MatrixXd scaled_taylor_u_;
+  InterpolatedMultipliers multipliers_;
   // MissedRoot's screen: the last step's end, its y, y' and root values
   // (the next step's start), and how far y and the root functions move.
   StepEnds step_ends_;

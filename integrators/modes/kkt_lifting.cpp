@@ -245,7 +245,31 @@ KktLifting LiftToBox(const Dvi& dvi) {
   return lifting;
 }
 
+namespace {
+
+// u between samples of the lifted run: the head of its multiplier z.
+class UnliftedMultipliers final : public DenseMultipliers {
+ public:
+  UnliftedMultipliers(std::shared_ptr<const DenseMultipliers> lifted, int m)
+      : lifted_(std::move(lifted)), m_(m) {}
+  bool Multiplier(double t, const Eigen::VectorXd& x, Eigen::VectorXd& u) const override {
+    Eigen::VectorXd z;
+    if (!lifted_->Multiplier(t, x, z)) return false;
+    u = z.head(m_);
+    return true;
+  }
+
+ private:
+  std::shared_ptr<const DenseMultipliers> lifted_;
+  int m_;
+};
+
+}  // namespace
+
 Trajectory Unlift(Trajectory lifted, const KktLifting& lifting) {
+  if (lifted.dense_multipliers)
+    lifted.dense_multipliers =
+        std::make_shared<const UnliftedMultipliers>(std::move(lifted.dense_multipliers), lifting.m);
   VectorSamples u;
   u.reserve(lifted.multipliers.size(), lifting.m);
   for (const auto z : lifted.multipliers) u.push_back(z.head(lifting.m));

@@ -160,3 +160,19 @@ def test_a_callables_exception_reaches_the_caller():
     for integrate in (dvi.integrate_event, dvi.integrate_stepping, dvi.integrate_auto):
         with pytest.raises(ZeroDivisionError, match="boom in f"):
             integrate(problem, [3.0], 0.0, 1.0)
+
+
+def test_multiplier_at_between_samples_solves_the_mode():
+    """u = -1 until the switch at t = 2, then -e^(2 - t): multiplier_at on a
+    10x finer grid within 10x the error at the samples (issue 33), where the
+    next sample's value would be off by the step times |u'|."""
+    run = dvi.integrate_event(saturated_decay(), [3.0], 0.0, 5.0, rtol=1e-10, atol=1e-12)
+    assert run.succeeded, run.message
+
+    def exact_u(t):
+        return -1.0 if t <= 2 else -np.exp(2 - t)
+
+    sample_error = max(abs(u[0] - exact_u(t)) for t, u in zip(run.times, run.multipliers))
+    fine = np.linspace(0.0, 5.0, 10 * len(run.times))
+    dense_error = max(abs(run.multiplier_at(t)[0] - exact_u(t)) for t in fine)
+    assert dense_error <= 10 * max(sample_error, 1e-12), (dense_error, sample_error)
