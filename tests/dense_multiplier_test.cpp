@@ -13,24 +13,18 @@
 #include "dvi/mode_dae.hpp"
 #include "dvi/time_stepping.hpp"
 #include "support/convergence.hpp"
+#include "support/index_one_box.hpp"
 
 namespace dvi {
 namespace {
 
+using testing::IndexOneBox;
 using testing::Linspace;
 
 // x' = −1 + u, u ∈ [0, ½] ⊥-box x + u (D = 1, index one) from x0 = 1
-// (mode_dae_integrator_test's IndexOneBox): u = 0 until t = 1, then
+// (testing::IndexOneBox, tests/support): u = 0 until t = 1, then
 // u = −x = 1 − e^{−(t−1)} (free, smooth) until it reaches ½ at 1 + ln 2,
 // then u = ½.
-Lcs IndexOneBox() {
-  Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                       Eigen::VectorXd::Constant(1, -1.0));
-  lcs.K = ConvexSet::Box(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 0.5));
-  return lcs;
-}
-
 const double kUpper = 1 + std::log(2.0);
 
 double ExactU(double t) {
