@@ -191,7 +191,8 @@ class EventDrivenRun {
   const char* const reduction_theorem_;
   const double t0_;
   const double t_end_;
-  const Eigen::VectorXd& x0_;
+  // A copy: the caller's x0 may be a temporary (an Eigen expression's value).
+  const Eigen::VectorXd x0_;
   BoxModeSystem system_;
   Trajectory trajectory_;
   std::string index_one_reason_;

@@ -145,7 +145,8 @@ class ModeDaeRun {
   const ModeDaeOptions& options_;
   const double t0_;
   const double t_end_;
-  const Eigen::VectorXd& x0_;
+  // A copy: the caller's x0 may be a temporary (an Eigen expression's value).
+  const Eigen::VectorXd x0_;
   LcsModeDae dae_;
   const int n_;
   const int m_;
