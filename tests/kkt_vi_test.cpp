@@ -2,7 +2,6 @@
 #include "dvi/kkt_vi.hpp"
 
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include <Eigen/QR>
@@ -13,7 +12,6 @@
 namespace dvi {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // The default solver tolerance on the natural residual ‖z − Π_K(z − F(z))‖∞.
 constexpr double kResidualTolerance = 1e-10;
 // Hand-computed solutions are exact rationals; the KKT Newton solve ends

@@ -12,14 +12,11 @@ shift || true
 targets=("$@")
 ((${#targets[@]})) || targets=(scene_fuzzer problem_fuzzer complementarity_fuzzer run_fuzzer)
 
-# Debian's clang 14; libFuzzer's runtime (libclang_rt.fuzzer-x86_64.a) is in
-# libclang-rt-14-dev.
-"$root/scripts/install-deps.sh" clang libclang-rt-14-dev
 build="$root/build-fuzz"
-# -O1 with line tables: fast to build, stacks readable; asserts (Eigen's) stay on.
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
-      -DDVI_FUZZ=ON -DDVI_BUILD_TESTS=OFF -DDVI_BUILD_BENCHMARKS=OFF >/dev/null
+# A fresh tree builds the targets alone; one already configured keeps its
+# settings (.ci/run's has the test suite in it too: one sanitizer build).
+[[ -f $build/CMakeCache.txt ]] ||
+  "$root/scripts/configure-sanitized.sh" "$build" -DDVI_BUILD_TESTS=OFF
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]}"
 
 corpus="$root/tests/fuzz/corpus"
