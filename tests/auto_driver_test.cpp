@@ -4,8 +4,6 @@
 // intervals and their reasons, and the merge of the parts.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +17,7 @@
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
 #include "support/reference_dvis.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
@@ -26,12 +25,7 @@ namespace {
 using testing::ExpectThrowNaming;
 using testing::Linspace;
 using testing::MaxStateError;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
+using testing::Scientific;
 
 bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;

@@ -11,8 +11,6 @@
 // solution.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -24,18 +22,14 @@
 #include "support/expect_throw.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/test_properties.hpp"
 #include "support/zoo/models.hpp"
 
 namespace dvi {
 namespace {
 
 using testing::Linspace;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
+using testing::Scientific;
 
 // The certificate too: IntegrateAuto's rows are certified.
 void ExpectSameCertifiedRun(const Trajectory& a, const Trajectory& b) {

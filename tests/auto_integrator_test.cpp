@@ -7,8 +7,6 @@
 // to IntegrateAuto are named.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,6 +18,7 @@
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/test_properties.hpp"
 #include "support/zoo/models.hpp"
 
 namespace dvi {
@@ -28,12 +27,7 @@ namespace {
 using testing::ExpectSameIntervals;
 using testing::ExpectSameTrajectory;
 using testing::ExpectThrowNaming;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
+using testing::Scientific;
 
 // zeno_extrapolation_test's options for the zoo's Zeno models (atol 1e-14:
 // the shrinking cycles magnify an absolute error), without output times:

@@ -23,9 +23,12 @@
 #include "support/convergence.hpp"
 #include "support/rectifier.hpp"
 #include "support/reference_dvis.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
+
+using testing::Scientific;
 
 // What a scenario asks of a back-end: its local error tolerances and the
 // times it samples.
@@ -86,12 +89,6 @@ struct Auto {
     return IntegrateAuto(lcs, x0, 0, t_end, options);
   }
 };
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << value;
-  return text.str();
-}
 
 template <typename Backend>
 class EventDrivenBackend : public ::testing::Test {

@@ -8,8 +8,6 @@
 // accuracy of the exact solution.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,23 +18,19 @@
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
 
 using testing::Linspace;
+using testing::Scientific;
 
 // rtol 1e-10, atol 1e-12: the one-shot runs of these contracting flows
 // stay within 1e-8 of their exact solutions (event_driven_test,
 // auto_integrator_scope_test).
 constexpr double kStateError = 1e-8;
 constexpr int kStops = 24;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
 
 EventDrivenOptions TightOptions() {
   EventDrivenOptions options;

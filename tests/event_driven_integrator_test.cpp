@@ -6,11 +6,9 @@
 // invalid calls are named.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <string>
 #include <limits>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -21,6 +19,7 @@
 #include "support/expect_throw.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
@@ -29,6 +28,7 @@ using testing::ExpectSameTrajectory;
 using testing::ExpectThrowNaming;
 using testing::SaturatedDecay;
 using testing::SaturatedDecayExact;
+using testing::Scientific;
 
 // rtol 1e-10, atol 1e-12 on states of size ≤ 3: a few hundred steps of
 // local error ≤ 3e-10 each on these contracting flows stay below 1e-8, the
@@ -39,12 +39,6 @@ constexpr double kStateError = 1e-8;
 // An event's time: the root finder's (100 ε (|t| + |h|)) plus the state's
 // error over |x'| ≥ 1 at the crossing.
 constexpr double kEventTimeError = 1e-9;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
 
 EventDrivenOptions TightOptions() {
   EventDrivenOptions options;

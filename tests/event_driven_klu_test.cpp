@@ -7,8 +7,6 @@
 // where there is no LCS.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,20 +18,16 @@
 #include "dvi/mode_dae.hpp"
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
 
 using testing::Linspace;
 using testing::MaxStateError;
+using testing::Scientific;
 
 const double kPi = std::acos(-1.0);
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
 
 EventDrivenOptions Options(LinearSolver linear_solver, double rtol,
                            std::vector<double> output_times) {

@@ -3,7 +3,6 @@
 // the KKT lifting (modes = active sets of K's constraints), and projected
 // dynamics on a ball through (2.10), an index-two DCP reduced by Theorem 5.2.
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -12,6 +11,7 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "support/convergence.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
@@ -19,12 +19,7 @@ namespace {
 using testing::FittedOrder;
 using testing::Linspace;
 using testing::MaxStateError;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << value;
-  return text.str();
-}
+using testing::Scientific;
 
 // x' = −u, u = Π_K(x) (F = u − x, strongly monotone) for a convex K.
 Dvi DecayThroughProjection(ConvexSet K) {

@@ -5,8 +5,6 @@
 // the chattering guard.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +17,7 @@
 #include "support/expect_throw.hpp"
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
@@ -28,12 +27,7 @@ using testing::Linspace;
 using testing::MaxStateError;
 using testing::SaturatedDecay;
 using testing::SaturatedOscillator;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
+using testing::Scientific;
 
 // Largest error of the samples against an exact x(t) (componentwise max).
 class EventDrivenMethod : public ::testing::TestWithParam<OdeMethod> {};

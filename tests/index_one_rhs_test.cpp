@@ -8,8 +8,6 @@
 // integrator; and the errors.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -32,6 +30,7 @@
 #include "dvi/adapters/odeint_system.hpp"
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
@@ -39,15 +38,10 @@ namespace {
 using testing::Linspace;
 using testing::SaturatedDecay;
 using testing::SaturatedDecayExact;
+using testing::Scientific;
 
 namespace odeint = boost::numeric::odeint;
 namespace ublas = boost::numeric::ublas;
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << std::setprecision(3) << value;
-  return text.str();
-}
 
 // Π_{[−1,1]}(−x), the VI's solution in closed form.
 double ExactMultiplier(double x) { return std::clamp(-x, -1.0, 1.0); }

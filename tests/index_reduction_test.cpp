@@ -7,7 +7,6 @@
 // backend_suite_test.
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,15 +17,12 @@
 #include "dvi/filippov.hpp"
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
 
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << value;
-  return text.str();
-}
+using testing::Scientific;
 
 EventDrivenOptions Tight() {
   EventDrivenOptions options;

@@ -4,7 +4,6 @@
 // Reinit matches the exact piecewise solution, invalid calls are named.
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -14,21 +13,17 @@
 #include "support/expect_throw.hpp"
 #include "support/index_one_box.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << value;
-  return text.str();
-}
 
 using testing::ExpectSameTrajectory;
 using testing::ExpectThrowNaming;
 using testing::IndexOneBox;
 using testing::IndexOneBoxOptions;
 using testing::IndexOneBoxX;
+using testing::Scientific;
 using testing::kIndexOneBoxStateError;
 
 TEST(ModeDaeIntegrator, OneShotRunIsTheStepperRunToTheEnd) {

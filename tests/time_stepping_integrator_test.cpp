@@ -6,7 +6,6 @@
 // the live dense output is the step's line, and invalid calls are named.
 #include <cmath>
 #include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,20 +19,16 @@
 #include "support/rectifier.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/test_properties.hpp"
 
 namespace dvi {
 namespace {
-
-std::string Scientific(double value) {
-  std::ostringstream text;
-  text << std::scientific << value;
-  return text.str();
-}
 
 using testing::ExpectSameTrajectory;
 using testing::ExpectThrowNaming;
 using testing::SaturatedDecay;
 using testing::SaturatedDecayExact;
+using testing::Scientific;
 
 constexpr int kStops = 100;
 
