@@ -12,6 +12,7 @@
 #include "dvi/projected_dynamics.hpp"
 #include "support/convergence.hpp"
 #include "support/test_properties.hpp"
+#include "support/tight_options.hpp"
 
 namespace dvi {
 namespace {
@@ -20,6 +21,7 @@ using testing::FittedOrder;
 using testing::Linspace;
 using testing::MaxStateError;
 using testing::Scientific;
+using testing::Tight;
 
 // x' = −u, u = Π_K(x) (F = u − x, strongly monotone) for a convex K.
 Dvi DecayThroughProjection(ConvexSet K) {
@@ -39,6 +41,23 @@ Dvi DecayThroughProjection(ConvexSet K) {
   };
   dvi.K = std::move(K);
   return dvi;
+}
+
+// A Tight() run: one event, at `time`, and x = exact(t) at every row.
+template <typename Exact>
+void ExpectOneEventAndTheExactState(const Trajectory& run, double time, const Exact& exact) {
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  ASSERT_EQ(run.events.size(), 1u);
+  EXPECT_LE(std::abs(run.events[0].time - time), 1e-9);
+  EXPECT_LE(MaxStateError(run, exact), 1e-8);
+}
+
+// ExpectOneEventAndTheExactState, the event the release of K's row `row`.
+template <typename Exact>
+void ExpectOneRelease(const Trajectory& run, int row, double time, const Exact& exact) {
+  ASSERT_NO_FATAL_FAILURE(ExpectOneEventAndTheExactState(run, time, exact));
+  EXPECT_EQ(run.events[0].kind, EventKind::kConstraintReleased);
+  EXPECT_EQ(run.events[0].index, row);
 }
 
 // Error against exact() over rtol = 1e-4 … 1e-8 and the fitted slope.
@@ -83,17 +102,9 @@ TEST(EventDrivenSets, BallReleasesItsConstraintAtTheExactTime) {
   const auto exact = [&direction](double t) -> Eigen::VectorXd {
     return direction * (t <= 2 ? 3 - t : std::exp(-(t - 2)));
   };
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  const Trajectory trajectory = IntegrateEventDriven(dvi, 3 * direction, 0, 4, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ASSERT_EQ(trajectory.events.size(), 1u);
-  EXPECT_EQ(trajectory.events[0].kind, EventKind::kConstraintReleased);
-  EXPECT_EQ(trajectory.events[0].index, 0);
+  const Trajectory trajectory = IntegrateEventDriven(dvi, 3 * direction, 0, 4, Tight());
+  ASSERT_NO_FATAL_FAILURE(ExpectOneRelease(trajectory, 0, 2, exact));
   const double event_error = std::abs(trajectory.events[0].time - 2);
-  EXPECT_LE(event_error, 1e-9);
-  EXPECT_LE(MaxStateError(trajectory, exact), 1e-8);
   std::vector<double> errors;
   const double slope = ToleranceSlope(dvi, 3 * direction, 4, exact, errors);
   EXPECT_GE(slope, 0.8);
@@ -104,24 +115,18 @@ TEST(EventDrivenSets, BallReleasesItsConstraintAtTheExactTime) {
 
 // K = {u1 + u2 ≤ 1}, x0 = (2, 2): on the face s = x1 + x2 = 4 − t and
 // x1 − x2 = 0 until s = 1 at t = 3, then u = x and x = ½(1, 1)e^{−(t − 3)}.
+Eigen::VectorXd HalfPlaneExact(double t) {
+  return Eigen::Vector2d::Constant(t <= 3 ? (4 - t) / 2 : 0.5 * std::exp(-(t - 3)));
+}
+
 TEST(EventDrivenSets, HalfPlaneReleasesItsFaceAtTheExactTime) {
   const Dvi dvi = DecayThroughProjection(ConvexSet::Polyhedron(
       Eigen::RowVector2d(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd(0, 2),
       Eigen::VectorXd(0)));
-  const auto exact = [](double t) -> Eigen::VectorXd {
-    return Eigen::Vector2d::Constant(t <= 3 ? (4 - t) / 2 : 0.5 * std::exp(-(t - 3)));
-  };
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::Vector2d(2, 2), 0, 5, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ASSERT_EQ(trajectory.events.size(), 1u);
-  EXPECT_EQ(trajectory.events[0].kind, EventKind::kConstraintReleased);
-  EXPECT_LE(std::abs(trajectory.events[0].time - 3), 1e-9);
-  EXPECT_LE(MaxStateError(trajectory, exact), 1e-8);
+  ASSERT_NO_FATAL_FAILURE(ExpectOneRelease(
+      IntegrateEventDriven(dvi, Eigen::Vector2d(2, 2), 0, 5, Tight()), 0, 3, HalfPlaneExact));
   std::vector<double> errors;
-  EXPECT_GE(ToleranceSlope(dvi, Eigen::Vector2d(2, 2), 5, exact, errors), 0.8);
+  EXPECT_GE(ToleranceSlope(dvi, Eigen::Vector2d(2, 2), 5, HalfPlaneExact, errors), 0.8);
 }
 
 // The half plane above with its face given twice (u1 + u2 ≤ 1 and
@@ -133,21 +138,8 @@ TEST(EventDrivenSets, RepeatedRowsOfAPolyhedronDoNotBreakTheLifting) {
   const Dvi doubled = DecayThroughProjection(ConvexSet::Polyhedron(
       (Eigen::MatrixXd(2, 2) << 1, 1, 2, 2).finished(), Eigen::Vector2d(1, 2),
       Eigen::MatrixXd(0, 2), Eigen::VectorXd(0)));
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  const Trajectory face = IntegrateEventDriven(doubled, Eigen::Vector2d(2, 2), 0, 5, options);
-  ASSERT_TRUE(face.succeeded()) << face.message;
-  ASSERT_EQ(face.events.size(), 1u);
-  EXPECT_EQ(face.events[0].kind, EventKind::kConstraintReleased);
-  EXPECT_EQ(face.events[0].index, 0);
-  EXPECT_LE(std::abs(face.events[0].time - 3), 1e-9);
-  EXPECT_LE(MaxStateError(face,
-                          [](double t) -> Eigen::VectorXd {
-                            return Eigen::Vector2d::Constant(
-                                t <= 3 ? (4 - t) / 2 : 0.5 * std::exp(-(t - 3)));
-                          }),
-            1e-8);
+  ASSERT_NO_FATAL_FAILURE(ExpectOneRelease(
+      IntegrateEventDriven(doubled, Eigen::Vector2d(2, 2), 0, 5, Tight()), 0, 3, HalfPlaneExact));
 
   const ConvexSet repeated_first = ConvexSet::Polyhedron(
       Eigen::Vector2d(1, 2), Eigen::Vector2d(5, 10), Eigen::MatrixXd(0, 1), Eigen::VectorXd(0));
@@ -155,18 +147,11 @@ TEST(EventDrivenSets, RepeatedRowsOfAPolyhedronDoNotBreakTheLifting) {
       Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd(0, 1),
       Eigen::VectorXd(0));
   const Dvi product = DecayThroughProjection(ConvexSet::Product({repeated_first, face_second}));
-  const Trajectory released = IntegrateEventDriven(product, Eigen::Vector2d(1, 3), 0, 4, options);
-  ASSERT_TRUE(released.succeeded()) << released.message;
-  ASSERT_EQ(released.events.size(), 1u);
-  EXPECT_EQ(released.events[0].kind, EventKind::kConstraintReleased);
-  EXPECT_EQ(released.events[0].index, 2);
-  EXPECT_LE(std::abs(released.events[0].time - 2), 1e-9);
-  EXPECT_LE(MaxStateError(released,
-                          [](double t) -> Eigen::VectorXd {
-                            return Eigen::Vector2d(std::exp(-t),
-                                                   t <= 2 ? 3 - t : std::exp(-(t - 2)));
-                          }),
-            1e-8);
+  ASSERT_NO_FATAL_FAILURE(ExpectOneRelease(
+      IntegrateEventDriven(product, Eigen::Vector2d(1, 3), 0, 4, Tight()), 2, 2,
+      [](double t) -> Eigen::VectorXd {
+        return Eigen::Vector2d(std::exp(-t), t <= 2 ? 3 - t : std::exp(-(t - 2)));
+      }));
 }
 
 // Projected dynamics x' ∈ a − N(x; unit disc), a = (1, 0), x0 = (0, ½), as the
@@ -184,14 +169,8 @@ TEST(EventDrivenSets, ProjectedDynamicsOnABallSlidesAlongTheCircle) {
     const double phi = 2 * std::atan(std::tan(M_PI / 12) * std::exp(-(t - t1)));
     return Eigen::Vector2d(std::cos(phi), std::sin(phi));
   };
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::Vector2d(0, 0.5), 0, 4, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ASSERT_EQ(trajectory.events.size(), 1u);
-  EXPECT_LE(std::abs(trajectory.events[0].time - t1), 1e-9);
-  EXPECT_LE(MaxStateError(trajectory, exact), 1e-8);
+  const Trajectory trajectory = IntegrateEventDriven(dvi, Eigen::Vector2d(0, 0.5), 0, 4, Tight());
+  ASSERT_NO_FATAL_FAILURE(ExpectOneEventAndTheExactState(trajectory, t1, exact));
   EXPECT_LE(trajectory.stats.max_constraint_drift, 1e-10);
   std::vector<double> errors;
   const double slope = ToleranceSlope(dvi, Eigen::Vector2d(0, 0.5), 4, exact, errors);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/test_properties.hpp"
+#include "support/tight_options.hpp"
 
 namespace dvi {
 namespace {
@@ -28,6 +30,7 @@ using testing::MaxStateError;
 using testing::SaturatedDecay;
 using testing::SaturatedOscillator;
 using testing::Scientific;
+using testing::Tight;
 
 // Largest error of the samples against an exact x(t) (componentwise max).
 class EventDrivenMethod : public ::testing::TestWithParam<OdeMethod> {};
@@ -136,10 +139,7 @@ TEST(EventDriven, StiffModeChangeIsDecidedByRates) {
     Jx(0, 0) = 0;
     Ju(0, 0) = k;
   };
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  options.output_times = Linspace(0, 4, 401);
+  const EventDrivenOptions options = Tight(Linspace(0, 4, 401));
   const Trajectory trajectory =
       IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 3), 0, 4, options);
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
@@ -301,9 +301,7 @@ TEST(EventDriven, SlidesWhereTheIndexOneModesWouldChatter) {
     out(0) = x(0) * x(0) * u(0) + x(0);
   };
   dvi.K = ConvexSet::Box(Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1));
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
+  const EventDrivenOptions options = Tight();
   const Trajectory trajectory =
       IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 2), 0, 5, options);
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
@@ -338,9 +336,7 @@ TEST(EventDriven, BurstGuardStopsEventsCloserThanTheMinimumSpacing) {
   C << 1, 0, 0, 0;
   D << 0, 1, -1, 0;
   const Lcs relay = Lcs::Dense(A, B, C, D, Eigen::Vector2d(0, -1), Eigen::Vector2d(0, 2));
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
+  EventDrivenOptions options = Tight();
   const double horizon = 20;
   // Unguarded, the run switches 749 times and reaches the horizon.
   const Trajectory full = IntegrateEventDriven(relay, Eigen::Vector2d(1, 0), 0, horizon, options);
@@ -389,9 +385,7 @@ TEST(EventDriven, IntegratesAnOdeWithoutMultipliers) {
   dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd&, Eigen::VectorXd& out) {
     out << x(1), -x(0);
   };
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
+  const EventDrivenOptions options = Tight();
   const double period = 2 * std::acos(-1.0);
   const Trajectory trajectory =
       IntegrateEventDriven(dvi, Eigen::Vector2d(1, 0), 0, period, options);
@@ -488,10 +482,7 @@ Dvi SquareRootClamp(double shift) {
 }
 
 TEST(EventDriven, EventBeforeFBecomesUndefinedIsFound) {
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  options.output_times = {1, 2, 3.5, 3.9, 5};
+  const EventDrivenOptions options = Tight({1, 2, 3.5, 3.9, 5});
   const Trajectory trajectory =
       IntegrateEventDriven(SquareRootClamp(0), Eigen::VectorXd::Constant(1, 4), 0, 6, options);
   ASSERT_EQ(trajectory.events.size(), 1u);
@@ -543,10 +534,7 @@ TEST(EventDriven, RootCrossedTwiceWithinAStepIsFoundFromTheSamples) {
     out(0) = x(0);
   };
   dvi.K = ConvexSet::Orthant(1);
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  options.output_times = Linspace(0, 8, 17);
+  const EventDrivenOptions options = Tight(Linspace(0, 8, 17));
   const Trajectory trajectory =
       IntegrateEventDriven(dvi, Eigen::VectorXd::Constant(1, 0.001), 0, 8, options);
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
@@ -642,9 +630,7 @@ TEST(EventDriven, AWrongJacobianIsNamedBeforeAnyStep) {
   ExpectThrowNaming([&] { IntegrateTimeStepping(wrong, x0, 0, 3); }, name);
   ExpectThrowNaming([&] { IntegrateAuto(wrong, x0, 0, 3); }, name);
 
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
+  const EventDrivenOptions options = Tight();
   for (const auto& [dvi, x2_end] : {std::pair{contact(0.5, 0, false), 1.5},
                                     std::pair{contact(0, 1, true), 0.0},
                                     std::pair{contact(0, -1, true), 0.0}}) {

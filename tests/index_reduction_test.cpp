@@ -18,18 +18,13 @@
 #include "support/convergence.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/test_properties.hpp"
+#include "support/tight_options.hpp"
 
 namespace dvi {
 namespace {
 
 using testing::Scientific;
-
-EventDrivenOptions Tight() {
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  return options;
-}
+using testing::Tight;
 
 // x' = −1 + u, 0 ≤ u ⊥ x ≥ 0 (A = 0, B = 1, p = −1, C = 1, D = 0): exact
 // x = max(1 − t, 0), and u = 1 on the contact interval, where Φ = x gives
