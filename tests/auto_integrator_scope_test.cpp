@@ -20,8 +20,10 @@
 #include "dvi/auto_integrator.hpp"
 #include "support/convergence.hpp"
 #include "support/expect_throw.hpp"
+#include "support/projected_decay_runs.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/step_to_end.hpp"
 #include "support/test_properties.hpp"
 #include "support/zoo/models.hpp"
 
@@ -44,13 +46,8 @@ Trajectory ExpectSteppedIsIntegrateAuto(const Problem& problem, const Eigen::Vec
   const Trajectory one_shot = IntegrateAuto(problem, x0, 0, t_end, options);
   EXPECT_TRUE(one_shot.succeeded()) << one_shot.message;
   AutoIntegrator integrator(problem, x0, 0, t_end, options);
-  StepOutcome outcome = StepOutcome::kStep;
-  for (int calls = 0; outcome != StepOutcome::kEnd && outcome != StepOutcome::kFailure; ++calls) {
-    EXPECT_LT(calls, 100000);
-    if (calls >= 100000) break;
-    outcome = integrator.Step();
-  }
-  EXPECT_EQ(outcome, StepOutcome::kEnd) << integrator.trajectory().message;
+  EXPECT_EQ(testing::StepToTheEnd(integrator).outcome, StepOutcome::kEnd)
+      << integrator.trajectory().message;
   EXPECT_EQ(integrator.t(), t_end);
   ExpectSameCertifiedRun(integrator.trajectory(), one_shot);
   return one_shot;
@@ -182,33 +179,19 @@ AutoOptions TightOptions() {
 }
 
 TEST(AutoIntegratorScope, ABallAndAPolyhedronKAreIntegrateAutos) {
-  constexpr double kHorizon = 4;
-  for (const ConvexSet& K : {ConvexSet::Ball(Eigen::Vector2d::Zero(), 1), testing::Diamond()}) {
-    SCOPED_TRACE(K.Describe());
-    const Dvi dvi = testing::ProjectedDecay(K);
-    const Eigen::VectorXd x0 = Eigen::Vector2d(3, 0);
-    for (const bool sampled : {false, true}) {
-      SCOPED_TRACE(sampled ? "output times" : "every step");
-      AutoOptions options = TightOptions();
-      if (sampled) options.event.output_times = Linspace(0, kHorizon, 41);
-      const Trajectory one_shot = ExpectSteppedIsIntegrateAuto(dvi, x0, kHorizon, options);
-      ASSERT_FALSE(one_shot.events.empty());
-      for (const Event& event : one_shot.events) EXPECT_NEAR(event.time, 2, 1e-9);
-      double error = 0;
-      for (std::size_t k = 0; k < one_shot.times.size(); ++k)
-        error = std::max(error, (one_shot.states[k] -
-                                 testing::ProjectedDecayExact(one_shot.times[k]))
-                                    .lpNorm<Eigen::Infinity>());
-      EXPECT_LE(error, 1e-8);
-      ExpectFirstStepIsOneStep(dvi, x0, kHorizon, options);
-      const double split = ExpectAdvanceToStopsExactly(
-          dvi, x0, kHorizon, options, Stops(kHorizon, 29), EveryStep(dvi, x0, kHorizon, options),
-          1e-8);
-      RecordProperty(std::string(sampled ? "sampled_" : "") + "split_" +
-                         (K.IsPolyhedral() ? "diamond" : "ball"),
-                     Scientific(split));
-    }
-  }
+  testing::ForEachProjectedDecayRun([](const testing::ProjectedDecayRun& run) {
+    AutoOptions options = TightOptions();
+    options.event.output_times = run.output_times;
+    const Trajectory one_shot =
+        ExpectSteppedIsIntegrateAuto(run.dvi, run.x0, run.t_end, options);
+    ASSERT_NO_FATAL_FAILURE(testing::ExpectReleasesAtTwo(one_shot));
+    EXPECT_LE(testing::MaxStateError(one_shot, testing::ProjectedDecayExact), 1e-8);
+    ExpectFirstStepIsOneStep(run.dvi, run.x0, run.t_end, options);
+    const double split = ExpectAdvanceToStopsExactly(
+        run.dvi, run.x0, run.t_end, options, Stops(run.t_end, 29),
+        EveryStep(run.dvi, run.x0, run.t_end, options), 1e-8);
+    RecordProperty(run.Property("split"), Scientific(split));
+  });
 }
 
 // Reinit inside an interval on the ball's KKT system (every step sampled

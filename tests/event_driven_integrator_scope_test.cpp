@@ -16,28 +16,25 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/event_driven_integrator.hpp"
 #include "support/convergence.hpp"
+#include "support/projected_decay_runs.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/step_to_end.hpp"
 #include "support/test_properties.hpp"
+#include "support/tight_options.hpp"
 
 namespace dvi {
 namespace {
 
 using testing::Linspace;
 using testing::Scientific;
+using testing::Tight;
 
 // rtol 1e-10, atol 1e-12: the one-shot runs of these contracting flows
 // stay within 1e-8 of their exact solutions (event_driven_test,
 // auto_integrator_scope_test).
 constexpr double kStateError = 1e-8;
 constexpr int kStops = 24;
-
-EventDrivenOptions TightOptions() {
-  EventDrivenOptions options;
-  options.rtol = 1e-10;
-  options.atol = 1e-12;
-  return options;
-}
 
 // Step() to the end: IntegrateEventDriven's run, bit for bit. Returns it.
 template <typename Problem>
@@ -46,16 +43,10 @@ Trajectory ExpectSteppedIsIntegrateEventDriven(const Problem& problem, const Eig
   const Trajectory one_shot = IntegrateEventDriven(problem, x0, 0, t_end, options);
   EXPECT_TRUE(one_shot.succeeded()) << one_shot.message;
   EventDrivenIntegrator integrator(problem, x0, 0, t_end, options);
-  StepOutcome outcome = StepOutcome::kStep;
-  int calls = 0;
-  for (; outcome != StepOutcome::kEnd && outcome != StepOutcome::kFailure; ++calls) {
-    EXPECT_LT(calls, 100000);
-    if (calls >= 100000) break;
-    outcome = integrator.Step();
-  }
-  EXPECT_EQ(outcome, StepOutcome::kEnd) << integrator.trajectory().message;
+  const testing::SteppedRun run = testing::StepToTheEnd(integrator);
+  EXPECT_EQ(run.outcome, StepOutcome::kEnd) << integrator.trajectory().message;
   EXPECT_EQ(integrator.t(), t_end);
-  EXPECT_GT(calls, 3) << "Step() is one internal step, not the whole run";
+  EXPECT_GT(run.calls, 3) << "Step() is one internal step, not the whole run";
   const Trajectory stepped = integrator.trajectory();
   testing::ExpectSameRun(stepped, one_shot);
   EXPECT_EQ(integrator.x(), one_shot.states.back());
@@ -93,8 +84,7 @@ double AdvanceToStops(const Problem& problem, const Eigen::VectorXd& x0, double 
 TEST(EventDrivenIntegratorScope, OutputTimesAreIntegrateEventDrivens) {
   {
     SCOPED_TRACE("SaturatedDecay");
-    EventDrivenOptions options = TightOptions();
-    options.output_times = Linspace(0, 5, 41);
+    const EventDrivenOptions options = Tight(Linspace(0, 5, 41));
     const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 3);
     const Trajectory one_shot =
         ExpectSteppedIsIntegrateEventDriven(testing::SaturatedDecay(), x0, 5, options);
@@ -110,8 +100,7 @@ TEST(EventDrivenIntegratorScope, OutputTimesAreIntegrateEventDrivens) {
   {
     SCOPED_TRACE("Clamps");
     const testing::ClampBank clamps = testing::Clamps(10);
-    EventDrivenOptions options = TightOptions();
-    options.output_times = Linspace(0, 2, 41);
+    const EventDrivenOptions options = Tight(Linspace(0, 2, 41));
     const Trajectory one_shot =
         ExpectSteppedIsIntegrateEventDriven(clamps.lcs, clamps.x0, 2, options);
     EXPECT_EQ(one_shot.events.size(), 10u);
@@ -134,44 +123,31 @@ Eigen::VectorXd ProjectedDecayMultiplier(double t) {
 }
 
 TEST(EventDrivenIntegratorScope, ABallAndAPolyhedronKAreIntegrateEventDrivens) {
-  constexpr double kHorizon = 4;
-  for (const ConvexSet& K : {ConvexSet::Ball(Eigen::Vector2d::Zero(), 1), testing::Diamond()}) {
-    SCOPED_TRACE(K.Describe());
-    const Dvi dvi = testing::ProjectedDecay(K);
-    const Eigen::VectorXd x0 = Eigen::Vector2d(3, 0);
-    for (const bool sampled : {false, true}) {
-      SCOPED_TRACE(sampled ? "output times" : "every step");
-      EventDrivenOptions options = TightOptions();
-      if (sampled) options.output_times = Linspace(0, kHorizon, 41);
-      const Trajectory one_shot = ExpectSteppedIsIntegrateEventDriven(dvi, x0, kHorizon, options);
-      ASSERT_FALSE(one_shot.events.empty());
-      for (const Event& event : one_shot.events) {
-        EXPECT_NEAR(event.time, 2, 1e-9);
-        EXPECT_EQ(event.kind, EventKind::kConstraintReleased);
-      }
-      // Stops: x() and u() (2 entries) against the exact solution.
-      EventDrivenIntegrator integrator(dvi, x0, 0, kHorizon, options);
-      EXPECT_EQ(integrator.u().size(), 2);
-      double x_error = 0, u_error = 0;
-      for (const double stop : Stops(kHorizon)) {
-        EXPECT_EQ(integrator.AdvanceTo(stop),
-                  stop < kHorizon ? StepOutcome::kStopTime : StepOutcome::kEnd);
-        EXPECT_EQ(integrator.t(), stop);
-        x_error = std::max(x_error, (integrator.x() - testing::ProjectedDecayExact(stop))
-                                        .lpNorm<Eigen::Infinity>());
-        if (stop == 2) continue;  // u jumps there: either side
-        ASSERT_EQ(integrator.u().size(), 2);
-        u_error = std::max(u_error, (integrator.u() - ProjectedDecayMultiplier(stop))
-                                        .lpNorm<Eigen::Infinity>());
-        EXPECT_EQ(integrator.MultiplierAt(stop), integrator.u()) << "t = " << stop;
-      }
-      EXPECT_LE(x_error, kStateError);
-      EXPECT_LE(u_error, kStateError);
-      RecordProperty(std::string(sampled ? "sampled_" : "") + "x_error_" +
-                         (K.IsPolyhedral() ? "diamond" : "ball"),
-                     Scientific(x_error));
+  testing::ForEachProjectedDecayRun([](const testing::ProjectedDecayRun& run) {
+    const EventDrivenOptions options = Tight(run.output_times);
+    const Trajectory one_shot =
+        ExpectSteppedIsIntegrateEventDriven(run.dvi, run.x0, run.t_end, options);
+    ASSERT_NO_FATAL_FAILURE(testing::ExpectReleasesAtTwo(one_shot));
+    // Stops: x() and u() (2 entries) against the exact solution.
+    EventDrivenIntegrator integrator(run.dvi, run.x0, 0, run.t_end, options);
+    EXPECT_EQ(integrator.u().size(), 2);
+    double x_error = 0, u_error = 0;
+    for (const double stop : Stops(run.t_end)) {
+      EXPECT_EQ(integrator.AdvanceTo(stop),
+                stop < run.t_end ? StepOutcome::kStopTime : StepOutcome::kEnd);
+      EXPECT_EQ(integrator.t(), stop);
+      x_error = std::max(x_error, (integrator.x() - testing::ProjectedDecayExact(stop))
+                                      .lpNorm<Eigen::Infinity>());
+      if (stop == 2) continue;  // u jumps there: either side
+      ASSERT_EQ(integrator.u().size(), 2);
+      u_error = std::max(u_error, (integrator.u() - ProjectedDecayMultiplier(stop))
+                                      .lpNorm<Eigen::Infinity>());
+      EXPECT_EQ(integrator.MultiplierAt(stop), integrator.u()) << "t = " << stop;
     }
-  }
+    EXPECT_LE(x_error, kStateError);
+    EXPECT_LE(u_error, kStateError);
+    RecordProperty(run.Property("x_error"), Scientific(x_error));
+  });
 }
 
 // The square wave through a clamp (testing::SquareWaveClamp: breakpoints
@@ -186,7 +162,7 @@ TEST(EventDrivenIntegratorScope, SourceBreakpointsAreIntegrateEventDrivens) {
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(1);
   for (const bool sampled : {false, true}) {
     SCOPED_TRACE(sampled ? "output times" : "every step");
-    EventDrivenOptions options = TightOptions();
+    EventDrivenOptions options = Tight();
     if (sampled) options.output_times = Linspace(0, kHorizon, 31);
     for (const bool general : {false, true}) {
       SCOPED_TRACE(general ? "Dvi" : "Lcs");
@@ -214,7 +190,7 @@ TEST(EventDrivenIntegratorScope, SourceBreakpointsAreIntegrateEventDrivens) {
 // returns there, t() on it.
 TEST(EventDrivenIntegratorScope, StepStopsAtEachBreakpoint) {
   const Lcs lcs = testing::SquareWaveClamp();
-  EventDrivenIntegrator integrator(lcs, Eigen::VectorXd::Zero(1), 0, 3, TightOptions());
+  EventDrivenIntegrator integrator(lcs, Eigen::VectorXd::Zero(1), 0, 3, Tight());
   std::vector<double> reached;
   double before = 0;
   for (int calls = 0; calls < 100000; ++calls) {
@@ -241,7 +217,7 @@ TEST(EventDrivenIntegratorScope, AStateJumpAtABreakpointIsIntegrateEventDrivens)
   lcs.q_source = [](double t, Eigen::VectorXd& out) { out[0] = t < 1 ? 0.0 : -1.0; };
   lcs.breakpoints = {1};
   const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 0.5);
-  const Trajectory one_shot = ExpectSteppedIsIntegrateEventDriven(lcs, x0, 2, TightOptions());
+  const Trajectory one_shot = ExpectSteppedIsIntegrateEventDriven(lcs, x0, 2, Tight());
   const auto jump = std::find_if(one_shot.events.begin(), one_shot.events.end(),
                                  [](const Event& event) { return event.kind == EventKind::kJump; });
   ASSERT_NE(jump, one_shot.events.end());
@@ -249,7 +225,7 @@ TEST(EventDrivenIntegratorScope, AStateJumpAtABreakpointIsIntegrateEventDrivens)
   EXPECT_NEAR(jump->impulse(0), 0.5, 1e-12);
   EXPECT_NEAR(one_shot.states.back()(0), 1.0, 1e-12);
   const auto exact = [](double t) { return Eigen::VectorXd::Constant(1, t < 1 ? 0.5 : 1.0); };
-  EXPECT_LE(AdvanceToStops(lcs, x0, 2, TightOptions(), exact), 1e-12);
+  EXPECT_LE(AdvanceToStops(lcs, x0, 2, Tight(), exact), 1e-12);
 }
 
 }  // namespace

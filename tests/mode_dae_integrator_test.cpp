@@ -13,6 +13,7 @@
 #include "support/expect_throw.hpp"
 #include "support/index_one_box.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/step_to_end.hpp"
 #include "support/test_properties.hpp"
 
 namespace dvi {
@@ -36,16 +37,10 @@ TEST(ModeDaeIntegrator, OneShotRunIsTheStepperRunToTheEnd) {
   EXPECT_EQ(advanced.trajectory().certificate.certified(), one_shot.certificate.certified());
 
   ModeDaeIntegrator stepped(IndexOneBox(), x0, 0, 3, IndexOneBoxOptions());
-  long calls = 0, events = 0;
-  StepOutcome outcome = StepOutcome::kStep;
-  while (outcome == StepOutcome::kStep || outcome == StepOutcome::kEvent) {
-    outcome = stepped.Step();
-    ++calls;
-    if (outcome == StepOutcome::kEvent) ++events;
-  }
-  ASSERT_EQ(outcome, StepOutcome::kEnd) << stepped.trajectory().message;
-  EXPECT_EQ(events, 2);
-  EXPECT_LE(calls, one_shot.stats.steps + 2);
+  const testing::SteppedRun run = testing::StepToTheEnd(stepped);
+  ASSERT_EQ(run.outcome, StepOutcome::kEnd) << stepped.trajectory().message;
+  EXPECT_EQ(run.events, 2);
+  EXPECT_LE(run.calls, one_shot.stats.steps + 2);
   ExpectSameTrajectory(stepped.trajectory(), one_shot);
 }
 

@@ -19,6 +19,7 @@
 #include "support/rectifier.hpp"
 #include "support/reference_dvis.hpp"
 #include "support/same_trajectory.hpp"
+#include "support/step_to_end.hpp"
 #include "support/test_properties.hpp"
 
 namespace dvi {
@@ -123,16 +124,10 @@ TEST(TimeSteppingIntegrator, HundredAdvanceToCallsAtGridTimesAreTheOneShotRunBit
 
     // Step by step: one step per Step, kEvent where a mode change is recorded.
     TimeSteppingIntegrator stepped = c.make(c.options);
-    long calls = 0, events = 0;
-    StepOutcome outcome = StepOutcome::kStep;
-    while (outcome == StepOutcome::kStep || outcome == StepOutcome::kEvent) {
-      outcome = stepped.Step();
-      ++calls;
-      if (outcome == StepOutcome::kEvent) ++events;
-    }
-    ASSERT_EQ(outcome, StepOutcome::kEnd) << stepped.trajectory().message;
-    EXPECT_EQ(calls, one_shot.stats.steps);
-    EXPECT_GT(events, 0);
+    const testing::SteppedRun run = testing::StepToTheEnd(stepped);
+    ASSERT_EQ(run.outcome, StepOutcome::kEnd) << stepped.trajectory().message;
+    EXPECT_EQ(run.calls, one_shot.stats.steps);
+    EXPECT_GT(run.events, 0);
     EXPECT_EQ(stepped.Step(), StepOutcome::kEnd);
     ExpectSameTrajectory(stepped.trajectory(), one_shot);
   }
