@@ -41,6 +41,12 @@ bool HasMethod(const Trajectory& trajectory, IntegrationMethod method) {
                      [method](const MethodInterval& interval) { return interval.method == method; });
 }
 
+// The run succeeded and handed an interval to `handover`.
+void ExpectHandsOverTo(const Trajectory& run, IntegrationMethod handover) {
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  ASSERT_TRUE(HasMethod(run, handover)) << run.Report(ReportDetail::kFull);
+}
+
 // Without output times every kept step is a row: the observer sees the
 // trajectory's rows, each once, in order, each with its state.
 void ExpectSeesTheRows(const std::vector<Seen>& seen, const Trajectory& run) {
@@ -51,6 +57,20 @@ void ExpectSeesTheRows(const std::vector<Seen>& seen, const Trajectory& run) {
     EXPECT_EQ(seen[k].u, Eigen::VectorXd(run.multipliers[k])) << "t = " << seen[k].t;
   }
   EXPECT_EQ(seen.front().point, ObservationPoint::kStart);
+}
+
+// With output times the observer also sees the step ends between rows: the
+// observations in increasing t, the trajectory's rows among them.
+void ExpectSeesTheRowsInIncreasingTime(const std::vector<Seen>& seen, const Trajectory& run) {
+  std::vector<double> rows_seen;
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    if (k > 0) {
+      ASSERT_GT(seen[k].t, seen[k - 1].t) << "observation " << k;
+    }
+    if (std::binary_search(run.times.begin(), run.times.end(), seen[k].t))
+      rows_seen.push_back(seen[k].t);
+  }
+  EXPECT_EQ(rows_seen, run.times);
 }
 
 // Event-driven runs limited to one CVODE step (auto_driver_test's
@@ -83,8 +103,7 @@ TEST(AutoUserEvents, SampledDataRelayAcrossWindowsMatchesTheExactSolution) {
   std::vector<Seen> seen;
   const Trajectory run = IntegrateAuto(SampledDataRelay::Problem(), SampledDataRelay::Start(), 0,
                                        kRelayEnd, ObservedRelay(seen));
-  ASSERT_TRUE(run.succeeded()) << run.message;
-  ASSERT_TRUE(HasMethod(run, IntegrationMethod::kTimeStepping)) << run.Report(ReportDetail::kFull);
+  ASSERT_NO_FATAL_FAILURE(ExpectHandsOverTo(run, IntegrationMethod::kTimeStepping));
   const int user_events = SampledDataRelay::UserEventCount(run);
   EXPECT_EQ(user_events, 4);
   EXPECT_LE(SampledDataRelay::EventTimeError(run), kEventTimeError);
@@ -160,58 +179,50 @@ const ZenoCase kZenoCases[] = {
     {"twisting_controller", true, IntegrationMethod::kZenoExtrapolation},
 };
 
-// The case's model over its horizon, observed into `seen`, with `outputs`
-// output times (0: every step sampled).
-Trajectory ObservedZenoRun(const ZenoCase& zeno, int outputs, std::vector<Seen>& seen) {
-  const zoo::ZooModel model = zoo::ZooModelNamed(zeno.model);
-  AutoOptions options = ZenoOptions(model, zeno.extrapolate);
-  for (int k = 0; k < outputs; ++k)
-    options.event.output_times.push_back(model.horizon * k / (outputs - 1));
-  options.observation.observer = Recorder(seen);
-  return IntegrateAuto(model.lcs, model.x0, 0, model.horizon, options);
+// Each case's model over its horizon with `outputs` output times (0: every
+// step sampled), observed: check(seen, run) once the run has made the
+// case's hand-over.
+template <typename Check>
+void ForEachObservedZenoRun(int outputs, const Check& check) {
+  for (const ZenoCase& zeno : kZenoCases) {
+    SCOPED_TRACE(zeno.model);
+    const zoo::ZooModel model = zoo::ZooModelNamed(zeno.model);
+    AutoOptions options = ZenoOptions(model, zeno.extrapolate);
+    for (int k = 0; k < outputs; ++k)
+      options.event.output_times.push_back(model.horizon * k / (outputs - 1));
+    std::vector<Seen> seen;
+    options.observation.observer = Recorder(seen);
+    const Trajectory run = IntegrateAuto(model.lcs, model.x0, 0, model.horizon, options);
+    ASSERT_NO_FATAL_FAILURE(ExpectHandsOverTo(run, zeno.handover));
+    check(seen, run);
+  }
 }
 
 TEST(AutoObserver, SeesEachKeptRowOnceAcrossZenoHandOvers) {
-  for (const ZenoCase& zeno : kZenoCases) {
-    SCOPED_TRACE(zeno.model);
-    std::vector<Seen> seen;
-    const Trajectory run = ObservedZenoRun(zeno, 0, seen);
-    ASSERT_TRUE(run.succeeded()) << run.message;
-    ASSERT_TRUE(HasMethod(run, zeno.handover)) << run.Report(ReportDetail::kFull);
+  ForEachObservedZenoRun(0, [](const std::vector<Seen>& seen, const Trajectory& run) {
     ExpectSeesTheRows(seen, run);
     for (std::size_t k = 1; k < seen.size(); ++k)
       ASSERT_GT(seen[k].t, seen[k - 1].t) << "observation " << k << " at t = " << seen[k].t;
     EXPECT_EQ(std::count_if(seen.begin(), seen.end(),
                             [](const Seen& s) { return s.point == ObservationPoint::kStart; }),
               1);
-  }
+  });
 }
 
 // With output times the observer sees each of them once, and the step ends
 // between them, in increasing t, across the spiral's windows and the
 // twisting controller's extrapolation (its rows in [t_k, t*] the driver's).
 TEST(AutoObserver, SeesOutputTimesOnceAcrossHandOvers) {
-  for (const ZenoCase& zeno : kZenoCases) {
-    SCOPED_TRACE(zeno.model);
-    std::vector<Seen> seen;
-    const Trajectory run = ObservedZenoRun(zeno, 101, seen);
-    ASSERT_TRUE(run.succeeded()) << run.message;
-    ASSERT_TRUE(HasMethod(run, zeno.handover));
-    std::vector<double> rows_seen, output_times;
-    for (std::size_t k = 0; k < seen.size(); ++k) {
-      if (k > 0) {
-        ASSERT_GT(seen[k].t, seen[k - 1].t) << "observation " << k;
-      }
-      if (std::binary_search(run.times.begin(), run.times.end(), seen[k].t))
-        rows_seen.push_back(seen[k].t);
-      if (seen[k].point == ObservationPoint::kOutputTime) output_times.push_back(seen[k].t);
-    }
+  ForEachObservedZenoRun(101, [](const std::vector<Seen>& seen, const Trajectory& run) {
     // Every row is seen (output times, events, the ends), each output time
     // but the ends as one.
-    EXPECT_EQ(rows_seen, run.times);
+    ASSERT_NO_FATAL_FAILURE(ExpectSeesTheRowsInIncreasingTime(seen, run));
+    const auto output_times = std::count_if(seen.begin(), seen.end(), [](const Seen& s) {
+      return s.point == ObservationPoint::kOutputTime;
+    });
     EXPECT_GT(seen.size(), run.times.size());  // the step ends between them
-    EXPECT_GE(output_times.size(), 90u);
-  }
+    EXPECT_GE(output_times, 90);
+  });
 }
 
 // The automatic driver's IDA path (n + m ≥ 200 on a box): 100 independent
@@ -231,16 +242,8 @@ TEST(AutoUserEvents, IdaIntervalsObserveAndStopAtTheExactCrossing) {
   ASSERT_TRUE(run.succeeded()) << run.message;
   ASSERT_NE(run.intervals.front().reason.find("IDA"), std::string::npos)
       << run.intervals.front().reason;
-  std::vector<double> rows_seen;
-  for (std::size_t j = 0; j < seen.size(); ++j) {
-    if (j > 0) {
-      ASSERT_GT(seen[j].t, seen[j - 1].t) << "observation " << j;
-    }
-    if (std::binary_search(run.times.begin(), run.times.end(), seen[j].t))
-      rows_seen.push_back(seen[j].t);
-    EXPECT_NEAR(seen[j].x(3), std::max(x0(3) - k(3) * seen[j].t, 0.0), 1e-10);
-  }
-  EXPECT_EQ(rows_seen, run.times);
+  ASSERT_NO_FATAL_FAILURE(ExpectSeesTheRowsInIncreasingTime(seen, run));
+  for (const Seen& s : seen) EXPECT_NEAR(s.x(3), std::max(x0(3) - k(3) * s.t, 0.0), 1e-10);
 
   options.observation.user_events.g = [](double, const Eigen::VectorXd& x,
                                          const Eigen::VectorXd&) {
