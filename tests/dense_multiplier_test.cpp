@@ -65,12 +65,9 @@ void ExpectSampleValuesAtEvents(const Trajectory& trajectory) {
   }
 }
 
-TEST(DenseMultipliers, EventDrivenSolvesTheModeBetweenSamples) {
-  EventDrivenOptions options;
-  options.rtol = 1e-9;
-  options.atol = 1e-11;
-  const Trajectory trajectory =
-      IntegrateEventDriven(IndexOneBox(), Eigen::VectorXd::Ones(1), 0, 3, options);
+// A run with dense output: u between the samples within kWithinSamples
+// times its error at them, and the sample's value at each switch.
+void ExpectDenseMultipliers(const Trajectory& trajectory) {
   ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
   const MultiplierErrors errors = Measure(trajectory);
   EXPECT_LE(errors.between, kWithinSamples * std::max(errors.at_samples, 1e-12))
@@ -78,17 +75,23 @@ TEST(DenseMultipliers, EventDrivenSolvesTheModeBetweenSamples) {
   ExpectSampleValuesAtEvents(trajectory);
 }
 
-TEST(DenseMultipliers, ModeDaeInterpolatesItsOwnU) {
-  ModeDaeOptions options;
+// rtol 1e-9, atol 1e-11, for either integrator with dense output.
+template <typename Options>
+Options Accurate() {
+  Options options;
   options.rtol = 1e-9;
   options.atol = 1e-11;
-  const Trajectory trajectory =
-      IntegrateModeDae(IndexOneBox(), Eigen::VectorXd::Ones(1), 0, 3, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  const MultiplierErrors errors = Measure(trajectory);
-  EXPECT_LE(errors.between, kWithinSamples * std::max(errors.at_samples, 1e-12))
-      << "samples " << errors.at_samples;
-  ExpectSampleValuesAtEvents(trajectory);
+  return options;
+}
+
+TEST(DenseMultipliers, EventDrivenSolvesTheModeBetweenSamples) {
+  ExpectDenseMultipliers(IntegrateEventDriven(IndexOneBox(), Eigen::VectorXd::Ones(1), 0, 3,
+                                              Accurate<EventDrivenOptions>()));
+}
+
+TEST(DenseMultipliers, ModeDaeInterpolatesItsOwnU) {
+  ExpectDenseMultipliers(IntegrateModeDae(IndexOneBox(), Eigen::VectorXd::Ones(1), 0, 3,
+                                          Accurate<ModeDaeOptions>()));
 }
 
 // Without dense output (output times given) there is nothing to solve
