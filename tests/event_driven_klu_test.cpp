@@ -140,31 +140,39 @@ TEST(EventDrivenKlu, OneSidedSpringMatchesDenseAndExactSolution) {
 // −offset_k, an index-two mode). The source pulls the last node down; each
 // clamp then pulls the next diode's node down to its own, so the diodes
 // switch on one after the other.
+// From x = 1 over [0, 0.5], sampled at 21 times.
 struct Ladder {
-  int n = 2000;
   std::vector<int> nodes;
   std::vector<double> offsets;
+  Lcs lcs;
+  Eigen::VectorXd x0;
+  double t_end = 0.5;
+  std::vector<double> grid = Linspace(0, t_end, 21);
+
+  // The event-driven run on `linear_solver` at rtol 1e-10.
+  Trajectory Run(LinearSolver linear_solver) const {
+    return IntegrateEventDriven(lcs, x0, 0, t_end, Options(linear_solver, 1e-10, grid));
+  }
 };
 
 Ladder ThreeDiodeLadder(int n) {
   Ladder ladder;
-  ladder.n = n;
   ladder.nodes = {n - 1, n - 4, n - 9};
   ladder.offsets = {0.5, 0.3, 0.1};
-  return ladder;
-}
-
-Lcs LadderLcs(const Ladder& ladder) {
   circuits::RcDiodeLadderParameters parameters;
-  parameters.n = ladder.n;
-  return circuits::RcLadderWithClamps(
+  parameters.n = n;
+  ladder.lcs = circuits::RcLadderWithClamps(
       parameters, ladder.nodes,
       Eigen::Map<const Eigen::VectorXd>(ladder.offsets.data(),
                                         static_cast<Eigen::Index>(ladder.offsets.size())));
+  ladder.x0 = Eigen::VectorXd::Ones(n);
+  return ladder;
 }
 
-// The diodes switch on in order, and each clamped node stays at −offset.
+// The run succeeded, the diodes switch on in order, and each clamped node
+// stays at −offset.
 void ExpectClampsInOrder(const Ladder& ladder, const Trajectory& run) {
+  ASSERT_TRUE(run.succeeded()) << run.message;
   ASSERT_EQ(run.events.size(), ladder.nodes.size());
   for (std::size_t j = 0; j < ladder.nodes.size(); ++j) {
     EXPECT_EQ(run.events[j].kind, EventKind::kLeftBound);
@@ -184,25 +192,17 @@ void ExpectClampsInOrder(const Ladder& ladder, const Trajectory& run) {
 // round-off, reduced modes (Project, differentiated rows) included.
 TEST(EventDrivenKlu, LadderWithIdealDiodesMatchesDense) {
   const Ladder ladder = ThreeDiodeLadder(500);
-  const Lcs lcs = LadderLcs(ladder);
-  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(ladder.n);
-  const double t_end = 0.5;
-  const std::vector<double> grid = Linspace(0, t_end, 21);
-  const Trajectory dense =
-      IntegrateEventDriven(lcs, x0, 0, t_end, Options(LinearSolver::kDense, 1e-10, grid));
-  const Trajectory klu =
-      IntegrateEventDriven(lcs, x0, 0, t_end, Options(LinearSolver::kKlu, 1e-10, grid));
+  const Trajectory dense = ladder.Run(LinearSolver::kDense);
+  const Trajectory klu = ladder.Run(LinearSolver::kKlu);
   ASSERT_TRUE(dense.succeeded()) << dense.message;
-  ASSERT_TRUE(klu.succeeded()) << klu.message;
-  ExpectClampsInOrder(ladder, klu);
+  ASSERT_NO_FATAL_FAILURE(ExpectClampsInOrder(ladder, klu));
   const double difference = RelativeDifference(dense, klu);
   EXPECT_LE(difference, 1e-9);
   RecordProperty("klu_vs_dense", Scientific(difference));
   RecordProperty("steps", std::to_string(klu.stats.steps));
   // The default, kAuto, takes KLU at n = 500: the KLU run to the last bit,
   // which the dense run is not.
-  const Trajectory automatic =
-      IntegrateEventDriven(lcs, x0, 0, t_end, Options(LinearSolver::kAuto, 1e-10, grid));
+  const Trajectory automatic = ladder.Run(LinearSolver::kAuto);
   EXPECT_EQ(RelativeDifference(klu, automatic), 0);
   EXPECT_GT(difference, 0);
 }
@@ -212,26 +212,20 @@ TEST(EventDrivenKlu, LadderWithIdealDiodesMatchesDense) {
 // formulation, at the same tight tolerances.
 TEST(EventDrivenKlu, LargeLadderMatchesModeDae) {
   const Ladder ladder = ThreeDiodeLadder(2000);
-  const Lcs lcs = LadderLcs(ladder);
-  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(ladder.n);
-  const double t_end = 0.5;
-  const std::vector<double> grid = Linspace(0, t_end, 21);
-  const Trajectory klu =
-      IntegrateEventDriven(lcs, x0, 0, t_end, Options(LinearSolver::kKlu, 1e-10, grid));
-  ASSERT_TRUE(klu.succeeded()) << klu.message;
-  ExpectClampsInOrder(ladder, klu);
+  const Trajectory klu = ladder.Run(LinearSolver::kKlu);
+  ASSERT_NO_FATAL_FAILURE(ExpectClampsInOrder(ladder, klu));
   ModeDaeOptions dae_options;
   dae_options.rtol = 1e-10;
   dae_options.atol = 1e-12;
-  dae_options.output_times = grid;
-  const Trajectory dae = IntegrateModeDae(lcs, x0, 0, t_end, dae_options);
+  dae_options.output_times = ladder.grid;
+  const Trajectory dae = IntegrateModeDae(ladder.lcs, ladder.x0, 0, ladder.t_end, dae_options);
   ASSERT_TRUE(dae.succeeded()) << dae.message;
   ASSERT_EQ(dae.events.size(), klu.events.size());
   double event_difference = 0, state_difference = 0;
   for (std::size_t j = 0; j < klu.events.size(); ++j)
     event_difference =
         std::max(event_difference, std::abs(klu.events[j].time - dae.events[j].time));
-  for (const double t : grid)
+  for (const double t : ladder.grid)
     state_difference =
         std::max(state_difference, (klu.StateAt(t) - dae.StateAt(t)).cwiseAbs().maxCoeff());
   EXPECT_LE(event_difference, 1e-8);
