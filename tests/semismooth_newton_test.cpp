@@ -652,14 +652,19 @@ TEST(SemismoothNewton, IterationLimitIsReported) {
   EXPECT_EQ(r.w.size(), m);
 }
 
+// An MCP whose F or Jacobian returns NaN: kFailed, the message naming `part`.
+void ExpectNanFailureNaming(const BoxMcp& mcp, const std::string& part) {
+  const SolveResult r = SolveNewton(mcp);
+  EXPECT_EQ(r.status, SolveStatus::kFailed);
+  EXPECT_NE(r.message.find(part), std::string::npos) << r.message;
+}
+
 TEST(SemismoothNewton, NanFromFIsAFailureNotACrash) {
   BoxMcp mcp = KojimaShindoNcp(true);
   mcp.F = [](const Eigen::VectorXd&, Eigen::VectorXd& f) {
     f.setConstant(std::numeric_limits<double>::quiet_NaN());
   };
-  const SolveResult r = SolveNewton(mcp);
-  EXPECT_EQ(r.status, SolveStatus::kFailed);
-  EXPECT_NE(r.message.find("not finite"), std::string::npos) << r.message;
+  ExpectNanFailureNaming(mcp, "not finite");
 }
 
 TEST(SemismoothNewton, NanInTheJacobianIsAFailure) {
@@ -667,9 +672,7 @@ TEST(SemismoothNewton, NanInTheJacobianIsAFailure) {
   mcp.jacobian = [](const Eigen::VectorXd&, Eigen::MatrixXd& J) {
     J.setConstant(std::numeric_limits<double>::quiet_NaN());
   };
-  const SolveResult r = SolveNewton(mcp);
-  EXPECT_EQ(r.status, SolveStatus::kFailed);
-  EXPECT_NE(r.message.find("Jacobian"), std::string::npos) << r.message;
+  ExpectNanFailureNaming(mcp, "Jacobian");
 }
 
 // 0 ≤ z ⊥ F(z) ≥ 0 with F(z) = (z − 1)² + 1 > 0 has the solution z = 0; with
