@@ -86,15 +86,21 @@ TEST(SiconosLcp, PerturbedPangIsReportedInfeasibleWithCertificate) {
   EXPECT_LT(instance.lcp.q.dot(y), -kRoundOff);
 }
 
+// An MLCP or relay problem solved through the MCP path: by Newton, to
+// kResidualTolerance.
+void ExpectSolvedByNewton(const SolveResult& result) {
+  EXPECT_EQ(result.method, SolverMethod::kNewton);
+  ::testing::Test::RecordProperty("residual", std::to_string(result.residual));
+  ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
+  EXPECT_LE(result.residual, kResidualTolerance);
+}
+
 class SiconosMlcp : public testing::TestWithParam<std::string> {};
 
 TEST_P(SiconosMlcp, SolvedThroughTheMcpPath) {
   const test::SiconosMcpInstance instance = test::ReadSiconosMlcp(GetParam());
   const SolveResult result = Solve(instance.mcp);
-  EXPECT_EQ(result.method, SolverMethod::kNewton);
-  RecordProperty("residual", std::to_string(result.residual));
-  ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
-  EXPECT_LE(result.residual, kResidualTolerance);
+  ASSERT_NO_FATAL_FAILURE(ExpectSolvedByNewton(result));
   // Equality rows hold, complementary ones are complementary.
   const Eigen::VectorXd w = instance.M * result.z + instance.q;
   const int n = instance.num_equalities;
@@ -111,10 +117,7 @@ class SiconosRelay : public testing::TestWithParam<std::string> {};
 TEST_P(SiconosRelay, SolvedThroughTheMcpPath) {
   const test::SiconosMcpInstance instance = test::ReadSiconosRelay(GetParam());
   const SolveResult result = Solve(instance.mcp);
-  EXPECT_EQ(result.method, SolverMethod::kNewton);
-  RecordProperty("residual", std::to_string(result.residual));
-  ASSERT_EQ(result.status, SolveStatus::kSolved) << result.message;
-  EXPECT_LE(result.residual, kResidualTolerance);
+  ASSERT_NO_FATAL_FAILURE(ExpectSolvedByNewton(result));
   EXPECT_TRUE(result.has_index_sets);
 }
 

@@ -142,6 +142,23 @@ Eigen::MatrixXd ReadRowMajor(TokenReader& in, const std::string& name, int rows,
   return A;
 }
 
+// "n", then an n×n M and q: how the LCP and the relay files begin.
+struct SquareSystem {
+  int n;
+  Eigen::MatrixXd M;
+  Eigen::VectorXd q;
+};
+
+SquareSystem ReadSquareSystem(TokenReader& in) {
+  const int n = in.ReadSize("n");
+  Eigen::MatrixXd M = ReadMatrixBlock(in, "M");
+  if (M.rows() != n || M.cols() != n)
+    in.Fail("M is " + std::to_string(M.rows()) + "x" + std::to_string(M.cols()) +
+            ", expected " + std::to_string(n) + "x" + std::to_string(n));
+  Eigen::VectorXd q = ReadVector(in, "q", n);
+  return {n, std::move(M), std::move(q)};
+}
+
 template <typename Derived>
 void RequireFinite(const TokenReader& in, const Eigen::MatrixBase<Derived>& A,
                    const std::string& name) {
@@ -206,15 +223,10 @@ std::string SiconosInstanceName(const std::string& path) {
 
 SiconosLcpInstance ReadSiconosLcp(const std::string& path) {
   TokenReader in(path);
-  const int n = in.ReadSize("n");
-  Eigen::MatrixXd M = ReadMatrixBlock(in, "M");
-  if (M.rows() != n || M.cols() != n)
-    in.Fail("M is " + std::to_string(M.rows()) + "x" + std::to_string(M.cols()) +
-            ", expected " + std::to_string(n) + "x" + std::to_string(n));
-  Eigen::VectorXd q = ReadVector(in, "q", n);
-  RequireFinite(in, M, "M");
-  RequireFinite(in, q, "q");
-  return SiconosLcpInstance{SiconosInstanceName(path), Lcp{std::move(M), std::move(q)}};
+  SquareSystem lcp = ReadSquareSystem(in);
+  RequireFinite(in, lcp.M, "M");
+  RequireFinite(in, lcp.q, "q");
+  return SiconosLcpInstance{SiconosInstanceName(path), Lcp{std::move(lcp.M), std::move(lcp.q)}};
 }
 
 SiconosMcpInstance ReadSiconosMlcp(const std::string& path) {
@@ -291,20 +303,16 @@ SiconosMcpInstance ReadSiconosMlcp(const std::string& path) {
 
 SiconosMcpInstance ReadSiconosRelay(const std::string& path) {
   TokenReader in(path);
-  const int n = in.ReadSize("n");
-  Eigen::MatrixXd M = ReadMatrixBlock(in, "M");
-  if (M.rows() != n || M.cols() != n)
-    in.Fail("M is " + std::to_string(M.rows()) + "x" + std::to_string(M.cols()) +
-            ", expected " + std::to_string(n) + "x" + std::to_string(n));
-  Eigen::VectorXd q = ReadVector(in, "q", n);
+  SquareSystem relay = ReadSquareSystem(in);
+  const int n = relay.n;
   Eigen::VectorXd lb = ReadVector(in, "lb", n);
   Eigen::VectorXd ub = ReadVector(in, "ub", n);
-  RequireFinite(in, M, "M");
-  RequireFinite(in, q, "q");
+  RequireFinite(in, relay.M, "M");
+  RequireFinite(in, relay.q, "q");
   for (int i = 0; i < n; ++i)
     if (!(lb(i) <= ub(i))) in.Fail("lb[" + std::to_string(i) + "] > ub[" + std::to_string(i) + "]");
   if (!in.AtEnd()) in.Fail("unexpected data after ub");
-  return MakeInstance(path, std::move(M), std::move(q), std::move(lb), std::move(ub));
+  return MakeInstance(path, std::move(relay.M), std::move(relay.q), std::move(lb), std::move(ub));
 }
 
 }  // namespace dvi::test
