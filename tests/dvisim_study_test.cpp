@@ -36,11 +36,25 @@ constexpr double kSecondOrderMargin = 0.25;
 constexpr double kEventSlope = 0.8;
 constexpr double kEventDecades = 4;
 
-StudyResult Study(const std::string& file, int jobs = 2) {
+// One repeat per run (no timing is asserted), on `jobs` threads.
+StudyOptions OneRepeat(int jobs) {
   StudyOptions options;
   options.jobs = jobs;
   options.repeats = 1;
-  return RunStudy(ReadScene(kScenes + file), options);
+  return options;
+}
+
+StudyResult Study(const std::string& file, int jobs = 2) {
+  return RunStudy(ReadScene(kScenes + file), OneRepeat(jobs));
+}
+
+// An example scene (examples/scenes/), as JSON for a test to edit.
+nlohmann::json ExampleScene(const std::string& file) {
+  return nlohmann::json::parse(ReadTextFile(DVI_EXAMPLES_DIR "/scenes/" + file));
+}
+
+StudyResult StudyOf(const nlohmann::json& scene) {
+  return RunStudy(ParseScene(scene.dump()), OneRepeat(2));
 }
 
 const Slope& SlopeOf(const StudyResult& result, StudyMethod method) {
@@ -91,11 +105,18 @@ void ExpectBaselinesRefusedAsIndexTwo(const StudyResult& result) {
     }
 }
 
-TEST(StudyOrders, IndexOneBoxDviAsAnLcs) {
-  const StudyResult result = Study("box_lcs_saturation.json");
+// The study of a scene with an exact solution: the reference agrees, the
+// event-driven error follows rtol, and θ = 0 stepping is first order.
+StudyResult ExactSceneStudy(const std::string& file) {
+  StudyResult result = Study(file);
   ExpectExactReferenceAgrees(result);
   ExpectEventErrorFollowsRtol(result);
   ExpectOrder(result, StudyMethod::kSteppingTheta0, 1, kFirstOrderMargin);
+  return result;
+}
+
+TEST(StudyOrders, IndexOneBoxDviAsAnLcs) {
+  const StudyResult result = ExactSceneStudy("box_lcs_saturation.json");
   // u = clamp(−x) is continuous: scheme (7.2) at θ = γ = ½ is second order.
   ExpectOrder(result, StudyMethod::kSteppingHalf, 2, kSecondOrderMargin);
   // Index one: the baselines run, and converge.
@@ -109,20 +130,14 @@ TEST(StudyOrders, IndexOneBoxDviAsAnLcs) {
 }
 
 TEST(StudyOrders, IndexTwoClamp) {
-  const StudyResult result = Study("index_two_clamp.json");
-  ExpectExactReferenceAgrees(result);
-  ExpectEventErrorFollowsRtol(result);
-  ExpectOrder(result, StudyMethod::kSteppingTheta0, 1, kFirstOrderMargin);
+  const StudyResult result = ExactSceneStudy("index_two_clamp.json");
   // u = cos t + sin t reaches 0 continuously at the release (t = 3π/4).
   ExpectOrder(result, StudyMethod::kSteppingHalf, 2, kSecondOrderMargin);
   ExpectBaselinesRefusedAsIndexTwo(result);
 }
 
 TEST(StudyOrders, FilippovSlide) {
-  const StudyResult result = Study("filippov_slide.json");
-  ExpectExactReferenceAgrees(result);
-  ExpectEventErrorFollowsRtol(result);
-  ExpectOrder(result, StudyMethod::kSteppingTheta0, 1, kFirstOrderMargin);
+  const StudyResult result = ExactSceneStudy("filippov_slide.json");
   // The equivalent control jumps from 1 to ½ where the slide starts: θ = γ =
   // ½ keeps no second order there.
   EXPECT_LT(SlopeOf(result, StudyMethod::kSteppingHalf).slope, 2 - kSecondOrderMargin);
@@ -135,13 +150,9 @@ TEST(StudyOrders, FilippovSlide) {
 // are not neighbours on the ladder (θ = γ = ½ at h = 0.064, 0.032 and
 // 1.25e-4, the rungs between at round-off or of another mode sequence).
 TEST(StudyOrders, NoOrderFromErrorsAtTheSolversLevel) {
-  nlohmann::json scene =
-      nlohmann::json::parse(ReadTextFile(DVI_EXAMPLES_DIR "/scenes/filippov_relay.json"));
+  nlohmann::json scene = ExampleScene("filippov_relay.json");
   scene["study"] = {{"methods", {"event", "stepping-theta0", "stepping-theta0.5"}}};
-  StudyOptions options;
-  options.jobs = 2;
-  options.repeats = 1;
-  const StudyResult result = RunStudy(ParseScene(scene.dump()), options);
+  const StudyResult result = StudyOf(scene);
   for (const StudyMethod method : {StudyMethod::kSteppingTheta0, StudyMethod::kSteppingHalf}) {
     const Slope& slope = SlopeOf(result, method);
     EXPECT_LT(slope.rungs, 3) << ToString(method);
@@ -157,15 +168,11 @@ TEST(StudyOrders, NoOrderFromErrorsAtTheSolversLevel) {
 // reference, and Richardson extrapolation of the stepping runs agrees with it
 // within the bound the study states.
 TEST(StudyReference, WithoutAnExactBlockTheTwoReferencesAgree) {
-  nlohmann::json scene =
-      nlohmann::json::parse(ReadTextFile(DVI_EXAMPLES_DIR "/scenes/rc_diode_event.json"));
+  nlohmann::json scene = ExampleScene("rc_diode_event.json");
   scene["study"] = {{"rtol", {1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11}},
                     {"h", {4e-5, 2e-5, 1e-5, 5e-6, 2.5e-6}},
                     {"methods", {"event", "stepping-theta0", "stepping-theta0.5"}}};
-  StudyOptions options;
-  options.jobs = 2;
-  options.repeats = 1;
-  const StudyResult result = RunStudy(ParseScene(scene.dump()), options);
+  const StudyResult result = StudyOf(scene);
   const ReferenceReport& reference = result.reference;
   EXPECT_EQ(reference.kind, "event");
   EXPECT_NE(reference.cross_check.find("Richardson"), std::string::npos) << reference.cross_check;
@@ -184,18 +191,14 @@ TEST(StudyReference, WithoutAnExactBlockTheTwoReferencesAgree) {
 // falls as 6 − 4t to 0 at t* and stays 0: |V(x_ref) − V(t)| / 2 is a lower
 // bound on the reference's error ‖x_ref − x‖∞ that its estimate must cover.
 TEST(StudyReference, AnAutoReferenceThatSteppedEstimatesItsErrorThere) {
-  nlohmann::json scene =
-      nlohmann::json::parse(ReadTextFile(DVI_EXAMPLES_DIR "/scenes/filippov_spiral.json"));
+  nlohmann::json scene = ExampleScene("filippov_spiral.json");
   // auto steps over t*, as said above, certified to what its windows reach.
   scene["method"]["extrapolate_zeno"] = false;
   scene["method"]["window_rtol"] = scene["method"]["window_atol"] = 1e-3;
   scene["study"] = {{"rtol", {1e-8, 1e-9, 1e-10}},
                     {"h", {4e-4, 2e-4, 1e-4}},
                     {"methods", {"event", "auto", "stepping-theta0.5"}}};
-  StudyOptions options;
-  options.jobs = 2;
-  options.repeats = 1;
-  const StudyResult result = RunStudy(ParseScene(scene.dump()), options);
+  const StudyResult result = StudyOf(scene);
   const ReferenceReport& reference = result.reference;
   EXPECT_EQ(reference.kind, "auto");
   EXPECT_FALSE(reference.modes_known);
