@@ -53,4 +53,33 @@ HybridRules ClockwiseQuadrantRules(
   return rules;
 }
 
+ZooModel ClockwiseRelayPairModel(const ClockwiseRelayPair& pair) {
+  ZooModel model;
+  model.key = pair.key;
+  model.title = pair.title;
+  model.lcs = Lcs::Dense(pair.A, pair.B, -Eigen::MatrixXd::Identity(2, 2),
+                         Eigen::MatrixXd::Zero(2, 2));
+  model.lcs.K = ConvexSet::Box(-Eigen::VectorXd::Ones(2), Eigen::VectorXd::Ones(2));
+  model.x0 = pair.x0;
+  model.zeno_time = pair.zeno_time;
+  model.zeno_state = Eigen::Vector2d::Zero();
+  model.horizon = pair.horizon;
+  model.customary_h = pair.customary_h;
+  model.reference = [pair] {
+    // z = (x1, x2, 1): x' = A x + B s in each quadrant.
+    const HybridRules rules = ClockwiseQuadrantRules(
+        pair.key,
+        [&pair](double s1, double s2) {
+          Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+          M.topLeftCorner<2, 2>() = pair.A;
+          M.topRightCorner<2, 1>() = pair.B * Eigen::Vector2d(s1, s2);
+          return M;
+        },
+        pair.remaining);
+    return PiecewiseLinearReference(rules, Eigen::Vector3d(pair.x0(0), pair.x0(1), 1), pair.first,
+                                    pair.horizon);
+  };
+  return model;
+}
+
 }  // namespace dvi::zoo

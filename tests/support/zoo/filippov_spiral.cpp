@@ -29,34 +29,22 @@ struct Spiral {
 
 ZooModel FilippovSpiral() {
   const Spiral c;
-  ZooModel model;
-  model.key = "filippov_spiral";
-  model.title = "Filippov spiral x' = E sgn(x) (Zeno at t*)";
-  model.lcs = Lcs::Dense(Eigen::MatrixXd::Zero(2, 2), c.E(), -Eigen::MatrixXd::Identity(2, 2),
-                         Eigen::MatrixXd::Zero(2, 2));
-  model.lcs.K = ConvexSet::Box(-Eigen::VectorXd::Ones(2), Eigen::VectorXd::Ones(2));
+  ClockwiseRelayPair spiral;
+  spiral.key = "filippov_spiral";
+  spiral.title = "Filippov spiral x' = E sgn(x) (Zeno at t*)";
+  spiral.A = Eigen::Matrix2d::Zero();
+  spiral.B = c.E();
+  spiral.x0 = c.x0;
+  spiral.zeno_time = c.x0.lpNorm<1>() / 2;
+  spiral.horizon = 2.5;  // t* = 1.5
+  spiral.customary_h = 1e-3;
+  // V = |x1| + |x2| falls at rate 2.
+  spiral.remaining = [](int, const Eigen::VectorXd& z) { return z.head(2).lpNorm<1>() / 2; };
+  spiral.first = ModeEntry{c.x0(0) > 0 ? (c.x0(1) > 0 ? kPlusPlus : kPlusMinus)
+                                       : (c.x0(1) > 0 ? kMinusPlus : kMinusMinus),
+                           {}};
+  ZooModel model = ClockwiseRelayPairModel(spiral);
   model.scene_u_orthant = true;
-  model.x0 = c.x0;
-  model.zeno_time = c.x0.lpNorm<1>() / 2;
-  model.zeno_state = Eigen::Vector2d::Zero();
-  model.horizon = 2.5;  // t* = 1.5
-  model.customary_h = 1e-3;
-  model.reference = [c, horizon = model.horizon] {
-    // z = (x1, x2, 1): x' = E s in each quadrant.
-    const HybridRules rules = ClockwiseQuadrantRules(
-        "filippov_spiral",
-        [c](double s1, double s2) {
-          Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-          M.topRightCorner(2, 1) = c.E() * Eigen::Vector2d(s1, s2);
-          return M;
-        },
-        // V = |x1| + |x2| falls at rate 2.
-        [](int, const Eigen::VectorXd& z) { return z.head(2).lpNorm<1>() / 2; });
-    const int first = c.x0(0) > 0 ? (c.x0(1) > 0 ? kPlusPlus : kPlusMinus)
-                                  : (c.x0(1) > 0 ? kMinusPlus : kMinusMinus);
-    Eigen::Vector3d z0(c.x0(0), c.x0(1), 1);
-    return PiecewiseLinearReference(rules, z0, ModeEntry{first, {}}, horizon);
-  };
   return model;
 }
 

@@ -104,4 +104,22 @@ HybridRules ClockwiseQuadrantRules(
     const std::string& model, const std::function<Eigen::Matrix3d(double, double)>& flow,
     const std::function<double(int mode, const Eigen::VectorXd& z)>& remaining);
 
+/// A planar system under two relays, x' = A x + B s with s_j ∈ Sgn(x_j),
+/// as the box LCS s ∈ SOL([−1, 1]², −x) (C = −I, D = 0), that turns
+/// clockwise into the origin at zeno_time and rests there (the twisting
+/// controller, the spiral). Its reference: ClockwiseQuadrantRules with each
+/// quadrant's z' = M z made of A and B s, `remaining` as there, starting in
+/// `first` (x0's quadrant, and the coordinates on an axis).
+struct ClockwiseRelayPair {
+  std::string key, title;
+  Eigen::Matrix2d A, B;
+  Eigen::Vector2d x0;
+  double zeno_time = 0;
+  double horizon = 0;
+  double customary_h = 0;
+  std::function<double(int mode, const Eigen::VectorXd& z)> remaining;
+  ModeEntry first;
+};
+ZooModel ClockwiseRelayPairModel(const ClockwiseRelayPair& pair);  // clockwise_quadrants.cpp
+
 }  // namespace dvi::zoo

@@ -44,42 +44,26 @@ struct Twisting {
 
 ZooModel TwistingController() {
   const Twisting c;
-  ZooModel model;
-  model.key = "twisting_controller";
-  model.title = "twisting controller (Zeno at t*)";
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2, 2), B = Eigen::MatrixXd::Zero(2, 2);
-  A(0, 1) = 1;
-  B(1, 0) = -c.a;
-  B(1, 1) = -c.b;
-  model.lcs = Lcs::Dense(A, B, -Eigen::MatrixXd::Identity(2, 2), Eigen::MatrixXd::Zero(2, 2));
-  model.lcs.K = ConvexSet::Box(-Eigen::VectorXd::Ones(2), Eigen::VectorXd::Ones(2));
-  model.x0 = Eigen::Vector2d(c.X, 0);
-  model.zeno_time = c.ZenoTime();
-  model.zeno_state = Eigen::Vector2d::Zero();
-  model.horizon = 6;  // t* = 4.4614
-  model.customary_h = 1e-3;
-  model.reference = [c, horizon = model.horizon] {
-    // z = (x1, x2, 1): x1' = x2, x2' = −a s1 − b s2 in each quadrant.
-    const HybridRules rules = ClockwiseQuadrantRules(
-        "twisting_controller",
-        [c](double s1, double s2) {
-          Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-          M(0, 1) = 1;
-          M(1, 2) = -c.a * s1 - c.b * s2;
-          return M;
-        },
-        [c](int mode, const Eigen::VectorXd& z) {
-          // Entering ++ or −− the state is on x1 = 0 leaving with speed
-          // |x2|; entering +− or −+ it is on x2 = 0 turning back from |x1|.
-          if (mode % 2 == 0) return c.RemainingFromAxis(std::abs(z(1)));
-          return std::sqrt(2 * std::abs(z(0)) / (c.a - c.b)) +
-                 c.RemainingFromAxis(std::sqrt(2 * (c.a - c.b) * std::abs(z(0))));
-        });
-    // At x0 = (X, 0), X > 0, x2 falls: s = (+1, −1), x2 leaving 0.
-    return PiecewiseLinearReference(rules, Eigen::Vector3d(c.X, 0, 1), ModeEntry{kPlusMinus, {1}},
-                                    horizon);
+  ClockwiseRelayPair twisting;
+  twisting.key = "twisting_controller";
+  twisting.title = "twisting controller (Zeno at t*)";
+  // x1' = x2, x2' = −a s1 − b s2.
+  twisting.A << 0, 1, 0, 0;
+  twisting.B << 0, 0, -c.a, -c.b;
+  twisting.x0 = Eigen::Vector2d(c.X, 0);
+  twisting.zeno_time = c.ZenoTime();
+  twisting.horizon = 6;  // t* = 4.4614
+  twisting.customary_h = 1e-3;
+  twisting.remaining = [c](int mode, const Eigen::VectorXd& z) {
+    // Entering ++ or −− the state is on x1 = 0 leaving with speed |x2|;
+    // entering +− or −+ it is on x2 = 0 turning back from |x1|.
+    if (mode % 2 == 0) return c.RemainingFromAxis(std::abs(z(1)));
+    return std::sqrt(2 * std::abs(z(0)) / (c.a - c.b)) +
+           c.RemainingFromAxis(std::sqrt(2 * (c.a - c.b) * std::abs(z(0))));
   };
-  return model;
+  // At x0 = (X, 0), X > 0, x2 falls: s = (+1, −1), x2 leaving 0.
+  twisting.first = ModeEntry{kPlusMinus, {1}};
+  return ClockwiseRelayPairModel(twisting);
 }
 
 }  // namespace dvi::zoo
