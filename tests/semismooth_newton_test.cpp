@@ -23,6 +23,9 @@ constexpr double kResidualTolerance = 1e-10;
 // the generators' P-matrices that constant stays below ~1e2 here, and the
 // final natural-map polish step usually leaves 1e-14 anyway.
 constexpr double kSolutionTolerance = 1e-8;
+// Two paths to the same solution (KLU and dense, or two orders of the same
+// Newton matrices), each within kResidualTolerance of it.
+constexpr double kPathAgreement = 1e-10;
 
 // A known solution of the LCP / box MCP: component i of (z*, w*) with w* = F(z*).
 struct KnownSolution {
@@ -280,6 +283,16 @@ TEST(SemismoothNewton, KluPathSolvesALargeSparseLcp) {
   EXPECT_LE(r.iterations, 20);
 }
 
+// The MCP solved on the KLU path and with allow_sparse = false.
+struct SparseAndDense {
+  SolveResult sparse, dense;
+};
+SparseAndDense SolveOnBothPaths(const BoxMcp& mcp) {
+  SolverOptions dense_only;
+  dense_only.allow_sparse = false;
+  return {SolveNewton(mcp), SolveNewton(mcp, dense_only)};
+}
+
 TEST(SemismoothNewton, KluPathAgreesWithTheDensePath) {
   const int m = 300;
   std::mt19937 rng(12);
@@ -287,14 +300,10 @@ TEST(SemismoothNewton, KluPathAgreesWithTheDensePath) {
   const KnownSolution star = ComplementaryPair(m, rng);
   const Eigen::VectorXd q = star.w - M * star.z;
   const BoxMcp mcp = BoxMcp::Affine(M, q, Eigen::VectorXd::Zero(m), Eigen::VectorXd::Constant(m, kInf));
-  SolverOptions dense_only;
-  dense_only.allow_sparse = false;
-  const SolveResult sparse = SolveNewton(mcp);
-  const SolveResult dense = SolveNewton(mcp, dense_only);
+  const auto [sparse, dense] = SolveOnBothPaths(mcp);
   ASSERT_TRUE(sparse.solved()) << sparse.message;
   ASSERT_TRUE(dense.solved()) << dense.message;
   // Both end within the tolerance of the unique solution of this SPD LCP.
-  constexpr double kPathAgreement = 1e-10;
   EXPECT_LE((sparse.z - dense.z).lpNorm<Eigen::Infinity>(), kPathAgreement);
   EXPECT_EQ(sparse.iterations, dense.iterations);
 }
@@ -325,14 +334,10 @@ TEST(SemismoothNewton, KluPathHandlesAJacobianWithoutDiagonalEntries) {
   lower << Eigen::VectorXd::Zero(n), Eigen::VectorXd::Constant(p, -kInf);
   upper << Eigen::VectorXd::Constant(n, 2.0), Eigen::VectorXd::Constant(p, kInf);
   const BoxMcp mcp = BoxMcp::Affine(J, q, lower, upper);
-  SolverOptions dense_only;
-  dense_only.allow_sparse = false;
-  const SolveResult sparse = SolveNewton(mcp);
-  const SolveResult dense = SolveNewton(mcp, dense_only);
+  const auto [sparse, dense] = SolveOnBothPaths(mcp);
   ASSERT_TRUE(sparse.solved()) << sparse.message;
   ASSERT_TRUE(dense.solved()) << dense.message;
   // Q is positive definite, so z (not necessarily μ) is unique.
-  constexpr double kPathAgreement = 1e-10;
   EXPECT_LE((sparse.z.head(n) - dense.z.head(n)).lpNorm<Eigen::Infinity>(), kPathAgreement);
   for (int i = 0; i < p; ++i) {
     EXPECT_NEAR(sparse.z.segment(3 * i, 3).sum(), 1.0, kResidualTolerance);
@@ -381,7 +386,6 @@ TEST(SemismoothNewton, KluPathReadsAConstantJacobianAndAGivenOrder) {
   }
   // The same Newton matrices, factored in another order: the iterates agree
   // to rounding, so the iterations do too.
-  constexpr double kPathAgreement = 1e-10;
   EXPECT_EQ(in_place.z, through_copies.z);
   EXPECT_EQ(in_place.iterations, through_copies.iterations);
   EXPECT_LE((in_place.z.head(m) - in_given_order.z.head(m)).lpNorm<Eigen::Infinity>(),
