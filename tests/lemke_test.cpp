@@ -64,6 +64,20 @@ void ExpectFarkasCertificate(const Lcp& lcp, const Eigen::VectorXd& y) {
   EXPECT_LT(lcp.q.dot(y), -kCertificateTolerance * lcp.q.cwiseAbs().maxCoeff() * y_sum);
 }
 
+// Where M is copositive-plus Lemke's method ends in one of two ways: a
+// solution (z ≥ 0, residual within kResidualTolerance) or a certified
+// infeasibility. Returns whether it solved.
+bool ExpectSolutionOrCertificate(const Lcp& lcp, const SolveResult& result) {
+  if (result.status == SolveStatus::kSolved) {
+    EXPECT_LE(result.residual, kResidualTolerance);
+    EXPECT_GE(result.z.minCoeff(), 0.0);
+    return true;
+  }
+  EXPECT_EQ(result.status, SolveStatus::kInfeasible);
+  ExpectFarkasCertificate(lcp, result.certificate);
+  return false;
+}
+
 // Murty's upper triangular matrix (1 on the diagonal, 2 above it), on which
 // Lemke's method with d = 1 needs 2^m pivots (counting the one that brings z0
 // in) for the q of [Murty 1988, Ch. 6] (siconos data lcp_exp_murty2).
@@ -207,15 +221,7 @@ TEST(Lemke, SolvesOrCertifiesInfeasiblePsdLcps) {
         const SolveResult result = SolveLemke(lcp);
         SCOPED_TRACE(testing::Message() << "m=" << m << " skew=" << skew << " seed=" << seed
                                         << ": " << result.message);
-        if (result.status == SolveStatus::kSolved) {
-          ++solved;
-          EXPECT_LE(result.residual, kResidualTolerance);
-          EXPECT_GE(result.z.minCoeff(), 0.0);
-        } else {
-          ASSERT_EQ(result.status, SolveStatus::kInfeasible);
-          ++infeasible;
-          ExpectFarkasCertificate(lcp, result.certificate);
-        }
+        ++(ExpectSolutionOrCertificate(lcp, result) ? solved : infeasible);
       }
     }
   }
@@ -275,14 +281,7 @@ TEST(Lemke, TerminatesOnTieLadenIntegerPsdInstances) {
     if (trial % 2 == 1) lcp.M += N - N.transpose();
     const SolveResult result = SolveLemke(lcp);
     SCOPED_TRACE(testing::Message() << "trial=" << trial << ": " << result.message);
-    if (result.status == SolveStatus::kSolved) {
-      ++solved;
-      EXPECT_LE(result.residual, kResidualTolerance);
-    } else {
-      ASSERT_EQ(result.status, SolveStatus::kInfeasible);
-      ++infeasible;
-      ExpectFarkasCertificate(lcp, result.certificate);
-    }
+    ++(ExpectSolutionOrCertificate(lcp, result) ? solved : infeasible);
   }
   EXPECT_GT(solved, 0);
   EXPECT_GT(infeasible, 0);
