@@ -46,9 +46,7 @@ Trajectory ExpectSteppedIsIntegrateAuto(const Problem& problem, const Eigen::Vec
   const Trajectory one_shot = IntegrateAuto(problem, x0, 0, t_end, options);
   EXPECT_TRUE(one_shot.succeeded()) << one_shot.message;
   AutoIntegrator integrator(problem, x0, 0, t_end, options);
-  EXPECT_EQ(testing::StepToTheEnd(integrator).outcome, StepOutcome::kEnd)
-      << integrator.trajectory().message;
-  EXPECT_EQ(integrator.t(), t_end);
+  testing::ExpectStepsToTheEnd(integrator, t_end);
   ExpectSameCertifiedRun(integrator.trajectory(), one_shot);
   return one_shot;
 }

@@ -43,10 +43,8 @@ Trajectory ExpectSteppedIsIntegrateEventDriven(const Problem& problem, const Eig
   const Trajectory one_shot = IntegrateEventDriven(problem, x0, 0, t_end, options);
   EXPECT_TRUE(one_shot.succeeded()) << one_shot.message;
   EventDrivenIntegrator integrator(problem, x0, 0, t_end, options);
-  const testing::SteppedRun run = testing::StepToTheEnd(integrator);
-  EXPECT_EQ(run.outcome, StepOutcome::kEnd) << integrator.trajectory().message;
-  EXPECT_EQ(integrator.t(), t_end);
-  EXPECT_GT(run.calls, 3) << "Step() is one internal step, not the whole run";
+  EXPECT_GT(testing::ExpectStepsToTheEnd(integrator, t_end).calls, 3)
+      << "Step() is one internal step, not the whole run";
   const Trajectory stepped = integrator.trajectory();
   testing::ExpectSameRun(stepped, one_shot);
   EXPECT_EQ(integrator.x(), one_shot.states.back());

@@ -34,4 +34,13 @@ SteppedRun StepToTheEnd(Integrator& integrator, long max_calls = 100000) {
   return run;
 }
 
+/// StepToTheEnd, expecting the run to end at t_end (kEnd there).
+template <typename Integrator>
+SteppedRun ExpectStepsToTheEnd(Integrator& integrator, double t_end) {
+  const SteppedRun run = StepToTheEnd(integrator);
+  EXPECT_EQ(run.outcome, StepOutcome::kEnd) << integrator.trajectory().message;
+  EXPECT_EQ(integrator.t(), t_end);
+  return run;
+}
+
 }  // namespace dvi::testing
