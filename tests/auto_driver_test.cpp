@@ -50,6 +50,17 @@ void ExpectWellFormed(const Trajectory& trajectory, double t0, double t_end) {
     EXPECT_EQ(trajectory.intervals[k].from, trajectory.intervals[k - 1].to) << "interval " << k;
 }
 
+// A successful, well-formed run over [t0, t_end] that auto kept as one
+// event-driven interval, its reason naming `reason` ("": any).
+void ExpectOneEventDrivenInterval(const Trajectory& trajectory, double t0, double t_end,
+                                  const std::string& reason) {
+  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+  ExpectWellFormed(trajectory, t0, t_end);
+  ASSERT_EQ(trajectory.intervals.size(), 1u);
+  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
+  EXPECT_TRUE(Contains(trajectory.intervals[0].reason, reason)) << trajectory.intervals[0].reason;
+}
+
 // Siconos' tutorial Filippov spiral x' = Bλ, λ ∈ −Sgn(x),
 // B = 2[[1, −(1+c)], [1+c, 1]], as x' = E sgn(x) with E = −B through (4.2).
 // With V = |x1| + |x2|, V' = −4 in every open quadrant (in the first,
@@ -299,12 +310,7 @@ TEST(AutoDriver, IndexOneProblemRunsEventDrivenThroughout) {
   options.event.output_times = Linspace(0, 5, 201);
   const Trajectory trajectory =
       IntegrateAuto(testing::SaturatedDecay(), Eigen::VectorXd::Constant(1, 3), 0, 5, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ExpectWellFormed(trajectory, 0, 5);
-  ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
-  EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "index one"))
-      << trajectory.intervals[0].reason;
+  ASSERT_NO_FATAL_FAILURE(ExpectOneEventDrivenInterval(trajectory, 0, 5, "index one"));
   ASSERT_EQ(trajectory.events.size(), 1u);
   EXPECT_NEAR(trajectory.events[0].time, 2.0, 1e-9);
   EXPECT_LE(MaxStateError(trajectory, testing::SaturatedDecayExact), 1e-8);
@@ -374,12 +380,8 @@ TEST(AutoDriver, RestingMassAsAGeneralDviStaysOnTheGround) {
   options.event.atol = 1e-12;
   options.stepping.h = 1e-4;
   const Trajectory trajectory = IntegrateAuto(dvi, Eigen::Vector2d::Zero(), 0, 0.5, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ExpectWellFormed(trajectory, 0, 0.5);
-  ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
-  EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "differentiation procedure"))
-      << trajectory.intervals[0].reason;
+  ASSERT_NO_FATAL_FAILURE(
+      ExpectOneEventDrivenInterval(trajectory, 0, 0.5, "differentiation procedure"));
   EXPECT_LE(trajectory.states.back().lpNorm<Eigen::Infinity>(), 1e-12);
 }
 
@@ -550,11 +552,7 @@ TEST(AutoDriver, LargeSparseLcsRunsItsEventIntervalsAsModeDaes) {
   options.event.atol = 1e-12;
   options.event.output_times = Linspace(0, 2, 41);
   const Trajectory trajectory = IntegrateAuto(lcs, x0, 0, 2, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ExpectWellFormed(trajectory, 0, 2);
-  ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
-  EXPECT_TRUE(Contains(trajectory.intervals[0].reason, "IDA")) << trajectory.intervals[0].reason;
+  ASSERT_NO_FATAL_FAILURE(ExpectOneEventDrivenInterval(trajectory, 0, 2, "IDA"));
   // Each arrival is a root of a linear function: located to round-off.
   ASSERT_EQ(trajectory.events.size(), static_cast<std::size_t>(n));
   double time_error = 0;
@@ -589,10 +587,7 @@ TEST(AutoDriver, NonBoxSetRunsEventDrivenThroughItsKktSystem) {
   options.event.atol = 1e-12;
   options.event.output_times = Linspace(0, 4, 401);
   const Trajectory trajectory = IntegrateAuto(dvi, Eigen::Vector2d(3, 0), 0, 4, options);
-  ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
-  ExpectWellFormed(trajectory, 0, 4);
-  ASSERT_EQ(trajectory.intervals.size(), 1u);
-  EXPECT_EQ(trajectory.intervals[0].method, IntegrationMethod::kEventDriven);
+  ASSERT_NO_FATAL_FAILURE(ExpectOneEventDrivenInterval(trajectory, 0, 4, ""));
   ASSERT_EQ(trajectory.events.size(), 1u);
   EXPECT_EQ(trajectory.events[0].kind, EventKind::kConstraintReleased);
   EXPECT_NEAR(trajectory.events[0].time, 2, 1e-9);
