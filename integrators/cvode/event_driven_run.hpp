@@ -247,6 +247,7 @@ class EventDrivenRun {
   // a mode whose roots are no polynomials.
   StepEnds step_ends_;
   Eigen::VectorXd step_moves_;
+  Eigen::MatrixXd step_rate_;  // StepClear's x' at the step's end, column 1
   bool start_known_ = false;
   Eigen::VectorXd node_x_;
   StepRootCheck root_check_{system_};

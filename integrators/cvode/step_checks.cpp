@@ -72,6 +72,12 @@ bool EventDrivenRun::BeganBeforeMode(double t_n, double h) const {
 // at its ends: the end's are CVODE's (it evaluates the root functions at
 // every step's end), the start's the last step's end's, kept here with x
 // and x' there (start_known_ tells whether they are this step's start).
+// x' at t_n is zn[1]/h read in place where CVODE's array was found
+// (NordsieckArray::Taylor's column 1 alone): CVodeGetDky(t_n, 1) to the
+// bit for a tenth of its instructions (issue 31: 3.6M of the rectifier's
+// 115M). Not by ReadTaylor: a step whose Taylor coefficients were read
+// samples its output times by Horner (SampleOutputs), which rounds
+// otherwise than CVodeGetDky.
 bool EventDrivenRun::StepClear(double t_n, double h) {
   start_known_ = step_ends_.Begin(t_n, h);
   Eigen::VectorXd& end_roots = step_ends_.end_roots();
@@ -83,8 +89,15 @@ bool EventDrivenRun::StepClear(double t_n, double h) {
     end_roots.resize(2 * dvi_.m);
     system_.Roots(t_n, node_x_, end_roots.data());
   }
-  if (CVodeGetDky(cvode_.get(), t_n, 1, dky_.get()) != CV_SUCCESS) return false;
-  const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(dky_.data(), x0_.size());
+  const double* rate_data = dky_.data();
+  if (nordsieck_.located()) {
+    step_rate_.resize(x0_.size(), 2);
+    nordsieck_.Taylor(h, 1, 1, step_rate_);
+    rate_data = step_rate_.col(1).data();
+  } else if (CVodeGetDky(cvode_.get(), t_n, 1, dky_.get()) != CV_SUCCESS) {
+    return false;
+  }
+  const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(rate_data, x0_.size());
   bool clear = false;
   if (start_known_) {
     // How far each x_i moves from x_n within the step (StepEnds::Moves),
