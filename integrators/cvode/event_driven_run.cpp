@@ -696,19 +696,24 @@ Trajectory EventDrivenRun::Run() {
       advance = StepOnce();
   }
   Trajectory trajectory = std::move(trajectory_);
-  Conclude(trajectory);
+  // The run is over: its pieces move to the trajectory, not copied.
+  Conclude(trajectory, multipliers_ ? std::make_shared<const ModeMultipliers>(
+                                          std::move(*multipliers_))
+                                    : nullptr);
   return trajectory;
 }
 
 Trajectory EventDrivenRun::Snapshot() const {
   Trajectory trajectory = trajectory_;
-  Conclude(trajectory);
+  Conclude(trajectory,
+           multipliers_ ? std::make_shared<const ModeMultipliers>(*multipliers_) : nullptr);
   return trajectory;
 }
 
-// The statistics, the interval and the wall time of the run so far, added
-// to its samples (trajectory_ or a copy of it).
-void EventDrivenRun::Conclude(Trajectory& trajectory) const {
+// The statistics, the interval, u between samples and the wall time of the
+// run so far, added to its samples (trajectory_ or a copy of it).
+void EventDrivenRun::Conclude(Trajectory& trajectory,
+                              std::shared_ptr<const DenseMultipliers> multipliers) const {
   IntegrationStats& stats = trajectory.stats;
   if (segment_open_) AddUncountedSteps(stats);
   stats.rhs_evals += data_.rhs_evals;
@@ -731,7 +736,7 @@ void EventDrivenRun::Conclude(Trajectory& trajectory) const {
     trajectory.intervals.push_back({t0_, trajectory.times.back(), IntegrationMethod::kEventDriven, reason,
                                      klu_ ? LinearSolver::kKlu : LinearSolver::kDense});
   }
-  if (multipliers_) trajectory.dense_multipliers = std::make_shared<const ModeMultipliers>(*multipliers_);
+  if (multipliers) trajectory.dense_multipliers = std::move(multipliers);
   stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_clock_).count();
 }

@@ -110,7 +110,7 @@ class EventDrivenRun {
 
  private:
   bool Start(double t, const Eigen::VectorXd& x_start);
-  void Conclude(Trajectory& trajectory) const;
+  void Conclude(Trajectory& trajectory, std::shared_ptr<const DenseMultipliers> multipliers) const;
   std::pair<long, long> AddUncountedSteps(IntegrationStats& stats) const;
   bool TryMode(double t, Eigen::VectorXd& x, const Mode& mode, const Eigen::VectorXd& u,
                std::string& why);

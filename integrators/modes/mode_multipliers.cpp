@@ -21,7 +21,9 @@ ModeMultipliers::ModeMultipliers(const Dvi& dvi, Eigen::VectorXd lower, Eigen::V
 void ModeMultipliers::Append(double begin, double end, const Mode& mode,
                              const Eigen::VectorXd& u) {
   if (modes_.empty() || modes_.back() != mode) modes_.push_back(mode);
-  pieces_.push_back({begin, end, modes_.size() - 1, u});
+  if (pieces_.empty()) u_size_ = u.size();
+  pieces_.push_back({begin, end, modes_.size() - 1, u_values_.size()});
+  u_values_.insert(u_values_.end(), u.data(), u.data() + u.size());
 }
 
 bool ModeMultipliers::Multiplier(double t, const Eigen::VectorXd& x, Eigen::VectorXd& u) const {
@@ -30,7 +32,8 @@ bool ModeMultipliers::Multiplier(double t, const Eigen::VectorXd& x, Eigen::Vect
                                       [](const Piece& p, double time) { return p.end < time; });
   if (piece == pieces_.end() || t < piece->begin) return false;
   BoxModeSystem system(dvi_, lower_, upper_, solver_, affine_, lcs_ ? &*lcs_ : nullptr);
-  system.Enter(modes_[piece->mode], piece->u);
+  system.Enter(modes_[piece->mode],
+               Eigen::Map<const Eigen::VectorXd>(u_values_.data() + piece->u, u_size_));
   if (!system.Solve(t, x)) return false;
   u = system.u();
   return true;

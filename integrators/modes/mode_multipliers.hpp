@@ -28,7 +28,8 @@ class ModeMultipliers final : public DenseMultipliers {
                   const SolverOptions& solver, bool affine, const Lcs* lcs);
 
   /// The piece [begin, end] of a step in `mode`, u: its multiplier there.
-  /// Pieces come in time order and do not overlap (the dense output's).
+  /// Pieces come in time order and do not overlap (the dense output's);
+  /// u has the same size in every piece (the run's m).
   void Append(double begin, double end, const Mode& mode, const Eigen::VectorXd& u);
   bool Multiplier(double t, const Eigen::VectorXd& x, Eigen::VectorXd& u) const override;
 
@@ -37,7 +38,7 @@ class ModeMultipliers final : public DenseMultipliers {
     double begin;
     double end;
     std::size_t mode;  // in modes_
-    Eigen::VectorXd u;
+    std::size_t u;     // offset of its u in u_values_
   };
   Dvi dvi_;
   std::optional<Lcs> lcs_;
@@ -47,6 +48,10 @@ class ModeMultipliers final : public DenseMultipliers {
   bool affine_;
   std::vector<Mode> modes_;  // each mode once per visit, in order
   std::vector<Piece> pieces_;
+  // The pieces' u one after another, u_size_ each: one buffer, not a
+  // vector allocated per step (issue 31: a piece is appended at every step).
+  std::vector<double> u_values_;
+  Eigen::Index u_size_ = 0;
 };
 
 }  // namespace dvi::internal
