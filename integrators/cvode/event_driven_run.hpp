@@ -235,8 +235,7 @@ class EventDrivenRun {
   Eigen::VectorXd sample_x_;  // x at the step's end, for its sample (no allocation a step)
   // The certificate's scratch: x, u, x' and f where a defect is measured,
   // the step's scaled Taylor coefficients.
-  Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_, defect_size_,
-      defect_start_;
+  Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_, defect_size_;
   Eigen::MatrixXd scaled_taylor_;
   double recorded_until_ = -std::numeric_limits<double>::infinity();  // RecordStep's last end
   // u between samples: each dense piece's mode (kept with the dense output).

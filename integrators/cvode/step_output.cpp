@@ -155,20 +155,26 @@ void EventDrivenRun::AddDefect(double t, double h, const Eigen::VectorXd& x,
                                const Eigen::VectorXd& rate, const Eigen::VectorXd& f) {
   // The interpolant's derivative differences values of size |x| over the
   // step, f sums terms of its own size: a few ulps of each.
+  const Eigen::Index n = x.size();
   Eigen::VectorXd& rounding = defect_rounding_;
-  rounding = kRoundingUlps * std::numeric_limits<double>::epsilon() *
-             (h * (f.cwiseAbs() + rate.cwiseAbs()) + x.cwiseAbs());
+  rounding.resize(n);
+  const double ulps = kRoundingUlps * std::numeric_limits<double>::epsilon();
   // CVODE weighs the step's local error by x at its start, where it sets
   // its weights: |x| at t alone is ~0 where a component crosses zero there
   // (an oscillator's), and would ask the step for what its own test never did.
   Eigen::VectorXd& size = defect_size_;
-  size = x.cwiseAbs();
+  size.resize(n);
   const auto [t_n, h_n, q] = LastStep();
-  if (ReadTaylor(t_n, h_n, q)) {
-    Eigen::VectorXd& start = defect_start_;
-    start = taylor_.col(q);
-    for (int k = q - 1; k >= 0; --k) start = taylor_.col(k) - h_n * start;
-    size = size.cwiseMax(start.cwiseAbs());
+  const bool start_known = ReadTaylor(t_n, h_n, q);
+  // A component at a time (issue 31: this runs at every step, at n = 1 a
+  // loop of Eigen's set-up per vector operation cost three times the sums).
+  for (Eigen::Index i = 0; i < n; ++i) {
+    rounding(i) = ulps * (h * (std::abs(f(i)) + std::abs(rate(i))) + std::abs(x(i)));
+    size(i) = std::abs(x(i));
+    if (!start_known) continue;
+    double start = taylor_(i, q);
+    for (int k = q - 1; k >= 0; --k) start = taylor_(i, k) - h_n * start;
+    size(i) = std::max(size(i), std::abs(start));
   }
   AddOdeDefect(t, h, rate, f, size, rounding, options_.rtol, atol_per_state_,
                trajectory_.certificate.ode);
@@ -203,14 +209,20 @@ void EventDrivenRun::RecordStep(double end) {
   multipliers_->Append(begin, end, system_.mode(), system_.u());
   // The certificate's ODE defect at the midpoint, u from the step's mode
   // there: the piece is output, so it is checked as the rows are.
-  const double mid = begin + (end - begin) / 2;
+  const double mid = begin + (end - begin) / 2, s = mid - t_n;
   Eigen::VectorXd& x = defect_x_;
   Eigen::VectorXd& rate = defect_rate_;
-  x = taylor_.col(q);
-  rate = q * taylor_.col(q);
-  for (int k = q - 1; k >= 0; --k) {
-    x = taylor_.col(k) + (mid - t_n) * x;
-    if (k >= 1) rate = k * taylor_.col(k) + (mid - t_n) * rate;
+  x.resize(taylor_.rows());
+  rate.resize(taylor_.rows());
+  // Horner for x̂ and x̂' at once, a component at a time (AddDefect's reason).
+  for (Eigen::Index i = 0; i < taylor_.rows(); ++i) {
+    double value = taylor_(i, q), slope = q * taylor_(i, q);
+    for (int k = q - 1; k >= 0; --k) {
+      value = taylor_(i, k) + s * value;
+      if (k >= 1) slope = k * taylor_(i, k) + s * slope;
+    }
+    x(i) = value;
+    rate(i) = slope;
   }
   if (!system_.Solve(mid, x)) return;
   defect_f_.resize(x.size());
