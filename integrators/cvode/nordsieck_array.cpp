@@ -54,9 +54,11 @@ bool NordsieckArray::Taylor(double h, int q, int first, Eigen::MatrixXd& taylor)
     if (k > 1) factorial *= k;
     if (k > 0) h_power *= h;
     const double scale = k == 0 ? 1 : 1 / h_power;  // SUNRpowerI(h, −k)
-    const Eigen::Map<const Eigen::VectorXd> column(N_VGetArrayPointer_Serial(zn_[k]),
-                                                   taylor.rows());
-    taylor.col(k) = ((factorial * column.array()) * scale / factorial).matrix();
+    const double* column = N_VGetArrayPointer_Serial(zn_[k]);
+    // A plain loop: read at every step, at n = 1 Eigen's set-up per column
+    // cost more than the column (issue 31).
+    double* out = taylor.col(k).data();
+    for (Eigen::Index i = 0; i < taylor.rows(); ++i) out[i] = factorial * column[i] * scale / factorial;
   }
   return true;
 }

@@ -202,9 +202,13 @@ void EventDrivenRun::RecordStep(double end) {
   if (!(h > 0) || !(end > begin) || !ReadTaylor(t_n, h, q)) return;
   recorded_until_ = end;
   Eigen::MatrixXd& scaled = scaled_taylor_;
-  scaled = taylor_;
+  scaled.resize(taylor_.rows(), q + 1);
   double power = 1;
-  for (int k = 1; k <= q; ++k) scaled.col(k) *= (power *= h);
+  for (int k = 0; k <= q; ++k) {
+    if (k > 0) power *= h;
+    for (Eigen::Index i = 0; i < taylor_.rows(); ++i)
+      scaled(i, k) = k == 0 ? taylor_(i, k) : taylor_(i, k) * power;
+  }
   trajectory_.dense.Append(begin, end, t_n, h, scaled);
   multipliers_->Append(begin, end, system_.mode(), system_.u());
   // The certificate's ODE defect at the midpoint, u from the step's mode
