@@ -119,11 +119,13 @@ void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, d
   // by 1.9e-7 between its selection and the mode's own solve, across the
   // bound of a component leaving its constraint (sources-index2 seed 23 of
   // bench/differential), as a forward F_t did (FTimeDerivative).
-  Eigen::MatrixXd Fx;
-  Eigen::VectorXd Ft;
+  if (pass_scratch_.size() < static_cast<std::size_t>(k)) pass_scratch_.resize(k);
+  PassScratch& w = pass_scratch_[k - 1];
+  Eigen::MatrixXd& Fx = w.Fx;
+  Eigen::VectorXd& Ft = w.Ft;
   if (k == 1) {
     EvalF(t, x, u, G);
-    Eigen::MatrixXd Fu;
+    Eigen::MatrixXd& Fu = w.Fu;
     if (dvi_.F_jacobian) {
       FJacobians(t, x, u, Fx, Fu);
     } else {
@@ -135,33 +137,48 @@ void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, d
       }
     }
     FTimeDerivative(t, x, u, Ft);
-    if (Gu) *Gu = std::move(Fu);
+    if (Gu) *Gu = Fu;
     if (Gx) *Gx = Fx;
   } else {
     PassRows(reductions, k - 1, t, x, u, G, Gu, Gx);
   }
   const RowReduction& pass = reductions[k - 1];
-  Eigen::VectorXd xdot(n());
+  Eigen::VectorXd& xdot = w.xdot;
+  xdot.resize(n());
   dvi_.f(t, x, u, xdot);
-  Eigen::MatrixXd fx, fu;
-  if (Gu || Gx) SmallFJacobians(t, x, u, fx, fu);
-  const auto rate = [&](double dt, const Eigen::VectorXd& dx) -> Eigen::VectorXd {
-    if (k == 1) return dt * Ft + Fx * dx;
-    return CentralRate(reductions, k - 1, t, x, u, dt, dx);
+  if (Gu || Gx) SmallFJacobians(t, x, u, w.fx, w.fu);
+  // P (∂G/∂t dt + ∂G/∂x dx) into w.values.
+  const auto projected_rate = [&](double dt, const Eigen::VectorXd& dx) {
+    if (k == 1)
+      w.rate = dt * Ft + Fx * dx;
+    else
+      w.rate = CentralRate(reductions, k - 1, t, x, u, dt, dx);
+    w.values = pass.P * w.rate;
   };
-  // Φ̇ = P (∂G/∂t + ∂G/∂x f): (5.7) differentiated, ẋ substituted from f.
-  const Eigen::VectorXd values = pass.P * rate(1, xdot);
   const int d = static_cast<int>(pass.differentiated.size());
-  Eigen::MatrixXd rows_u(d, m()), rows_x(d, n());
-  if (Gu)
-    for (int j = 0; j < m(); ++j) rows_u.col(j) = pass.P * rate(0, fu.col(j));
-  if (Gx)
-    for (int i = 0; i < n(); ++i) rows_x.col(i) = pass.P * rate(0, fx.col(i));
+  if (Gu) {
+    w.rows_u.resize(d, m());
+    for (int j = 0; j < m(); ++j) {
+      w.direction = w.fu.col(j);
+      projected_rate(0, w.direction);
+      w.rows_u.col(j) = w.values;
+    }
+  }
+  if (Gx) {
+    w.rows_x.resize(d, n());
+    for (int i = 0; i < n(); ++i) {
+      w.direction = w.fx.col(i);
+      projected_rate(0, w.direction);
+      w.rows_x.col(i) = w.values;
+    }
+  }
+  // Φ̇ = P (∂G/∂t + ∂G/∂x f): (5.7) differentiated, ẋ substituted from f.
+  projected_rate(1, xdot);
   for (int r = 0; r < d; ++r) {
     const int row = pass.differentiated[r];
-    G(row) = values(r);
-    if (Gu) Gu->row(row) = rows_u.row(r);
-    if (Gx) Gx->row(row) = rows_x.row(r);
+    G(row) = w.values(r);
+    if (Gu) Gu->row(row) = w.rows_u.row(r);
+    if (Gx) Gx->row(row) = w.rows_x.row(r);
   }
 }
 

@@ -36,7 +36,7 @@ struct DenseAffineRows {
 /// (the given ones, else differences), the rows G^k of the differentiation
 /// procedure's passes (Sect. 5.4), the full VI at a state and the mode of a
 /// solution. An LCS's matrices are read once, at construction. Immutable
-/// but for a count of its solves.
+/// but for a count of its solves and PassRows' scratch.
 class ModeProblem {
  public:
   /// @pre dvi validated, lower.size() == upper.size() == dvi.m. affine: the
@@ -127,6 +127,16 @@ class ModeProblem {
   AffineRows lcs_rows_;
   DenseAffineRows dense_rows_;  // for checks of samples and the F slack
   mutable long solver_calls_ = 0;
+  // PassRows' work space of pass k at index k − 1 (a pass's central
+  // differences call the passes below it, never its own): a reduced mode
+  // evaluates its rows at every Newton iteration of every solve, and the
+  // dozen vectors and matrices they took, allocated afresh each time, were
+  // a third of an event run on the clamp (issue 31).
+  struct PassScratch {
+    Eigen::MatrixXd Fx, Fu, fx, fu, rows_u, rows_x;
+    Eigen::VectorXd Ft, xdot, rate, direction, values;
+  };
+  mutable std::vector<PassScratch> pass_scratch_;
 };
 
 }  // namespace dvi::internal
