@@ -148,12 +148,16 @@ void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, d
   dvi_.f(t, x, u, xdot);
   if (Gu || Gx) SmallFJacobians(t, x, u, w.fx, w.fu);
   // P (∂G/∂t dt + ∂G/∂x dx) into w.values.
+  // The products into kept vectors (noalias: no temporary), then summed as
+  // dt·F_t + (F_x dx) was: the same sums in the same order.
   const auto projected_rate = [&](double dt, const Eigen::VectorXd& dx) {
-    if (k == 1)
-      w.rate = dt * Ft + Fx * dx;
-    else
+    if (k == 1) {
+      w.product.noalias() = Fx * dx;
+      w.rate = dt * Ft + w.product;
+    } else {
       w.rate = CentralRate(reductions, k - 1, t, x, u, dt, dx);
-    w.values = pass.P * w.rate;
+    }
+    w.values.noalias() = pass.P * w.rate;
   };
   const int d = static_cast<int>(pass.differentiated.size());
   if (Gu) {

@@ -134,7 +134,7 @@ class ModeProblem {
   // a third of an event run on the clamp (issue 31).
   struct PassScratch {
     Eigen::MatrixXd Fx, Fu, fx, fu, rows_u, rows_x;
-    Eigen::VectorXd Ft, xdot, rate, direction, values;
+    Eigen::VectorXd Ft, xdot, product, rate, direction, values;
   };
   mutable std::vector<PassScratch> pass_scratch_;
 };
