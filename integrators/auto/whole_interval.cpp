@@ -14,9 +14,9 @@
 #include "auto_setup.hpp"
 #include "check.hpp"
 #include "cvode/event_driven_validated.hpp"
+#include "ida_interval.hpp"
 #include "dvi/mode_dae.hpp"
 #include "events/trajectory_parts.hpp"
-#include "ida/mode_dae_validated.hpp"
 #include "stepper_calls.hpp"
 
 namespace dvi::internal {
@@ -153,7 +153,8 @@ EventMethod WholeMethod(WholeInterval::Run run,
               -> std::unique_ptr<EventInterval> {
             return std::make_unique<WholeInterval>(run, t, x, options);
           },
-          std::move(certify)};
+          std::move(certify),
+          {}};
 }
 
 }  // namespace
@@ -169,55 +170,21 @@ EventMethod WholeIntervals(const Dvi& dvi, double t_end) {
 }
 
 EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& options) {
-  const bool mode_dae = UsesModeDae(lcs, options);
   // The Dvi only for CVODE's intervals: a circuit on IDA is not copied
-  // unless IDA hands an interval over.
+  // unless CVODE runs one of its intervals.
   auto dvi = std::make_shared<std::optional<Dvi>>();
-  if (!mode_dae) dvi->emplace(lcs.ToDvi());
-  const auto dae_options = [](const EventDrivenOptions& run) {
-    ModeDaeOptions dae;
-    static_cast<IntegrationOptions&>(dae) = run;
-    dae.max_events = run.max_events;
-    return dae;
+  const auto problem = [&lcs, dvi]() -> const Dvi& {
+    if (!*dvi) dvi->emplace(lcs.ToDvi());
+    return **dvi;
   };
-  return WholeMethod(
-      [&lcs, t_end, mode_dae, dvi, dae_options](double t, const Eigen::VectorXd& x,
-                                                const EventDrivenOptions& run) {
-        if (mode_dae) {
-          // The observations of an interval that CVODE redoes never reach
-          // the run's observer: held until IDA keeps it.
-          ModeDaeOptions dae = dae_options(run);
-          std::vector<HeldObservation> held;
-          dae.observation.user_events = run.observation.user_events;
-          if (run.observation.observer) dae.observation.observer = HoldingObserver(held);
-          Trajectory part = IntegrateModeDaeUncertified(lcs, x, t, t_end, dae);
-          // A mode DAE needs u unique; CVODE's mode ODE needs only x' to
-          // be (Proposition 5.1's semi-affine case, free directions: a
-          // bridge whose diodes all block), and its mode layer has the
-          // rules IDA lacks. Where IDA finds a mode not index one, CVODE
-          // (KLU) takes the interval from its start, and refuses in turn
-          // where the flow is not unique either. IDA meets such a mode
-          // where the interval starts, as a rule (its modes are chosen
-          // there): the bridge ladder of 197 cells is refused at t = 0
-          // before IDA's first step, and auto's run is CVODE's alone, step
-          // for step (free_directions_test): nothing is done twice.
-          if (part.status != IntegrationStatus::kNotIndexOne) {
-            Replay(held, run.observation.observer);
-            return part;
-          }
-          if (!*dvi) dvi->emplace(lcs.ToDvi());
-        }
-        return IntegrateEventDrivenValidated(**dvi, &lcs, x, t, t_end, run);
+  EventMethod cvode = WholeMethod(
+      [&lcs, t_end, problem](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
+        return IntegrateEventDrivenValidated(problem(), &lcs, x, t, t_end, run);
       },
-      [&lcs, mode_dae, dvi, dae_options](Trajectory& part, std::size_t rows,
-                                         const EventDrivenOptions& run) {
-        const bool on_ida = !part.intervals.empty() &&
-                            part.intervals.front().method == IntegrationMethod::kModeDae;
-        if (mode_dae && (on_ida || !*dvi))
-          CertifyModeDae(lcs, dae_options(run), rows, part);
-        else
-          CertifyEventDriven(**dvi, &lcs, run, rows, part);
+      [&lcs, problem](Trajectory& part, std::size_t rows, const EventDrivenOptions& run) {
+        CertifyEventDriven(problem(), &lcs, run, rows, part);
       });
+  return UsesModeDae(lcs, options) ? IdaIntervals(lcs, t_end, std::move(cvode)) : cvode;
 }
 
 }  // namespace dvi::internal
