@@ -26,8 +26,8 @@ struct TakeOverPoint {
 
 /// One event-driven interval of the automatic driver, from where it starts
 /// to where it ends or fails: a resumable integrator stepped call by call
-/// (AutoIntegrator: EventDrivenIntegrator), or a run made whole at its start
-/// (IntegrateAuto, whose intervals sample output times and lift non-box K).
+/// (AutoIntegrator's: EventDrivenIntegrator, IdaInterval; IntegrateAuto's
+/// on IDA), or a run made whole at its start (IntegrateAuto's on CVODE).
 /// Its rows are not checked against the VI (EventMethod::certify does that
 /// when it is over).
 class EventInterval {
@@ -79,7 +79,7 @@ using SteppingMethod = std::function<Trajectory(
 /// event-driven interval from the current state; where it fails, a
 /// certified time-stepping window (past the predicted accumulation time of
 /// a Zeno sequence) or the Zeno extrapolation, then event-driven again.
-/// IntegrateAuto steps it to the end (its intervals whole), AutoIntegrator
+/// IntegrateAuto steps it to the end (its CVODE intervals whole), AutoIntegrator
 /// call by call. A window and an extrapolation are computed whole in the
 /// call that enters them (a window is re-run at h/2, h/4, … for its
 /// certificate), and the call ends at its end (t() there, method() its
