@@ -69,6 +69,28 @@ bool Going(StepOutcome outcome) {
   return outcome == StepOutcome::kStep || outcome == StepOutcome::kEvent;
 }
 
+// Step() to t_end (kEnd), t() strictly increasing: how many calls, and the
+// longest advance of one.
+struct SteppedLive {
+  long calls = 0;
+  double longest = 0;
+};
+
+SteppedLive StepLive(AutoIntegrator& integrator) {
+  SteppedLive stepped;
+  StepOutcome outcome = StepOutcome::kStep;
+  while (Going(outcome) && stepped.calls < 100000) {
+    const double before = integrator.t();
+    outcome = integrator.Step();
+    ++stepped.calls;
+    EXPECT_GT(integrator.t(), before) << "call " << stepped.calls;
+    stepped.longest = std::max(stepped.longest, integrator.t() - before);
+  }
+  EXPECT_EQ(outcome, StepOutcome::kEnd) << integrator.trajectory().message;
+  EXPECT_EQ(integrator.t(), integrator.t_end());
+  return stepped;
+}
+
 // g = x_0 − 1/4 falling: x0_0 = 1/2 crosses it at ln(1.5/1.25) = ln 1.2.
 UserEvents QuarterCrossing(UserEventAction action) {
   UserEvents events;
@@ -99,21 +121,11 @@ TEST(AutoIdaLive, EachStepIsOneIdaStep) {
   ASSERT_EQ(one_shot.events.size(), static_cast<std::size_t>(kDiodes));
 
   AutoIntegrator integrator(bank.lcs, bank.x0, 0, kHorizon, options);
-  long calls = 0;
-  double before = 0, longest = 0;
-  StepOutcome outcome = StepOutcome::kStep;
-  while (Going(outcome) && calls < 100000) {
-    outcome = integrator.Step();
-    ++calls;
-    EXPECT_GT(integrator.t(), before) << "call " << calls;
-    longest = std::max(longest, integrator.t() - before);
-    before = integrator.t();
-  }
-  EXPECT_EQ(outcome, StepOutcome::kEnd) << integrator.trajectory().message;
-  EXPECT_EQ(calls, one_shot.stats.steps);
-  EXPECT_LT(longest, 0.25 * kHorizon);
+  const SteppedLive stepped = StepLive(integrator);
+  EXPECT_EQ(stepped.calls, one_shot.stats.steps);
+  EXPECT_LT(stepped.longest, 0.25 * kHorizon);
   testing::ExpectSameRun(integrator.trajectory(), one_shot);
-  RecordProperty("steps", std::to_string(calls));
+  RecordProperty("steps", std::to_string(stepped.calls));
 }
 
 // (b) mode() inside the IDA interval: diode i conducts (u_i free) once t_i
@@ -409,14 +421,7 @@ TEST(AutoIdaLive, ModifyToAModeNotIndexOneHandsTheIntervalToCvode) {
 
   seen.clear();
   AutoIntegrator integrator(lcs, BridgeStart(bank), 0, kHorizon, options);
-  StepOutcome outcome = StepOutcome::kStep;
-  double before = 0;
-  while (Going(outcome = integrator.Step())) {
-    EXPECT_GT(integrator.t(), before);
-    EXPECT_LT(integrator.t() - before, 0.25 * kHorizon);
-    before = integrator.t();
-  }
-  EXPECT_EQ(outcome, StepOutcome::kEnd) << integrator.trajectory().message;
+  EXPECT_LT(StepLive(integrator).longest, 0.25 * kHorizon);
   testing::ExpectSameRun(integrator.trajectory(), one_shot);
   ASSERT_EQ(seen.size(), one_shot_seen.size());
   for (std::size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k].t, one_shot_seen[k].t) << k;
