@@ -176,8 +176,8 @@ py::class_<Stepper<Integrator>> DefStepper(py::module_& module, const char* doc)
           "state_at", [](const Self& self, double t) { return self.integrator.StateAt(t); },
           py::arg("t"),
           "x(t) in the last step of the current mode, at the integrator's accuracy (CVodeGetDky; "
-          "auto: or on the interval run whole or the window being passed, up to t); earlier "
-          "times: trajectory().state_at")
+          "auto: or on an IDA interval from its start, or on the window being passed, up to t); "
+          "earlier times: trajectory().state_at")
       .def_property_readonly(
           "mode", [](const Self& self) { return ModeNames(self.integrator.mode()); },
           "Per component of u: \"free\", \"lower\" or \"upper\" (bound)")

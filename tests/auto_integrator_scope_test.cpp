@@ -5,10 +5,9 @@
 // IDA. On each, the object stepped to the end with Step() is IntegrateAuto
 // bit for bit; AdvanceTo stops exactly at each time asked (across
 // breakpoints and hand-overs) with x() and StateAt the trajectory's dense
-// output there (bit for bit on IDA's intervals, run whole; within 1e-8
-// where EventDrivenIntegrators step them, their stops shortening CVODE's
-// steps); Reinit inside a lifted interval restarts it, against an exact
-// solution.
+// output there (within 1e-8: EventDrivenIntegrators and IdaIntervals step
+// the intervals, their stops shortening CVODE's and IDA's steps); Reinit
+// inside a lifted interval restarts it, against an exact solution.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -52,13 +51,10 @@ Trajectory ExpectSteppedIsIntegrateAuto(const Problem& problem, const Eigen::Vec
 }
 
 // AdvanceTo each of `stops` (increasing, the last t_end): kStopTime exactly
-// there (kEnd at t_end); x() within `tolerance` of the one-shot run's dense
-// output (0: bit for bit, intervals run whole), and StateAt / MultiplierAt
-// halfway back to the previous stop the object's own trajectory's dense
-// output (tolerance 0) or within `tolerance` of the one-shot's (intervals
-// stepped by the EventDrivenIntegrator, whose stops shorten CVODE's steps),
-// where the live span reaches back that far. Returns the largest
-// |x() − one_shot(t)|.
+// there (kEnd at t_end); x(), and StateAt halfway back to the previous stop
+// where the live span reaches back that far, within `tolerance` of the
+// one-shot run's dense output (the intervals are stepped, and the stops
+// shorten CVODE's and IDA's steps). Returns the largest |x() − one_shot(t)|.
 template <typename Problem>
 double ExpectAdvanceToStopsExactly(const Problem& problem, const Eigen::VectorXd& x0,
                                    double t_end, const AutoOptions& options,
@@ -74,25 +70,20 @@ double ExpectAdvanceToStopsExactly(const Problem& problem, const Eigen::VectorXd
     difference = std::max(difference,
                           (integrator.x() - one_shot.StateAt(stop)).lpNorm<Eigen::Infinity>());
     const double back = 0.5 * (previous + stop);
-    const Trajectory so_far = integrator.trajectory();
     bool live = stop < t_end;
     try {
       if (live) integrator.StateAt(back);
     } catch (const InvalidInputError&) {
       live = false;  // a span that begins after `back` (a mode switch, a new part)
     }
-    if (live && tolerance > 0) {
+    if (live) {
       EXPECT_LE((integrator.StateAt(back) - one_shot.StateAt(back)).lpNorm<Eigen::Infinity>(),
                 tolerance)
           << "t = " << back;
-    } else if (live) {
-      EXPECT_EQ(integrator.StateAt(back), so_far.StateAt(back)) << "t = " << back;
-      EXPECT_EQ(integrator.MultiplierAt(back), so_far.MultiplierAt(back)) << "t = " << back;
     }
     previous = stop;
   }
   EXPECT_LE(difference, tolerance);
-  if (tolerance == 0) ExpectSameCertifiedRun(integrator.trajectory(), one_shot);
   return difference;
 }
 
@@ -342,7 +333,9 @@ TEST(AutoIntegratorScope, IdaIntervalsAreIntegrateAutos) {
     ASSERT_EQ(one_shot.intervals.size(), 1u);
     EXPECT_NE(one_shot.intervals[0].reason.find("IDA"), std::string::npos) << one_shot.intervals[0].reason;
     EXPECT_EQ(one_shot.events.size(), static_cast<std::size_t>(n));
-    ExpectAdvanceToStopsExactly(lcs, x0, kHorizon, options, Stops(kHorizon, 16), one_shot, 0);
+    const double split =
+        ExpectAdvanceToStopsExactly(lcs, x0, kHorizon, options, Stops(kHorizon, 16), one_shot, 1e-8);
+    RecordProperty(std::string(sampled ? "sampled_" : "") + "split_difference", Scientific(split));
     AutoIntegrator integrator(lcs, x0, 0, kHorizon, options);
     ASSERT_EQ(integrator.AdvanceTo(0.25), StepOutcome::kStopTime);
     double error = 0;

@@ -34,18 +34,17 @@ namespace dvi {
 /// inconsistent x0, an LCS whose intervals run on IDA), and stepped to the
 /// end with Step() its trajectory() is IntegrateAuto's, bit for bit.
 ///
-/// Where the intervals run on CVODE (with output times, a non-box K and
-/// source breakpoints too), the event-driven intervals are
-/// EventDrivenIntegrators: a Step is one CVODE step (never across a
-/// breakpoint), and AdvanceTo stops exactly at its time (CVODE's stop time,
-/// which shortens a step: a split run equals the one-shot run to the
-/// tolerance, not to the bit). On IDA (an LCS whose modes run as mode
-/// DAEs) an event-driven interval is run whole in the call that starts it,
-/// as IntegrateAuto runs it (the interval goes on to t_end or to where it
-/// fails): Step goes to its end, AdvanceTo(t) to a time inside it stops at
-/// t, x() and u() being its rows or its dense output there
-/// (Trajectory::StateAt), and a split run equals the one-shot run bit for
-/// bit. A time-stepping window and a Zeno
+/// Each event-driven interval is stepped live: on CVODE (with output times,
+/// a non-box K and source breakpoints too) an EventDrivenIntegrator, on IDA
+/// (an LCS whose modes run as mode DAEs) the mode-DAE run of
+/// ModeDaeIntegrator, with the run's output times. A Step is one CVODE or
+/// IDA step (never across a breakpoint), and AdvanceTo stops exactly at its
+/// time (the integrator's stop time, which shortens a step: a split run
+/// equals the one-shot run to the tolerance, not to the bit). Where IDA
+/// meets a mode that is not index one (u not unique) after it has returned
+/// steps, CVODE takes the interval over from that time and state, as
+/// IntegrateAuto does (its interval's reason says so). A time-stepping
+/// window and a Zeno
 /// extrapolation are computed whole in the call that enters them (a window
 /// is re-run at h/2, h/4, … until its certificate holds, so it cannot stop
 /// inside); t() then passes through them: AdvanceTo(t) to a time inside
@@ -74,9 +73,8 @@ class AutoIntegrator {
   AutoIntegrator& operator=(AutoIntegrator&&) noexcept;
   ~AutoIntegrator();
 
-  /// One CVODE step in an event-driven interval (kStep, kEvent), or an
-  /// interval run whole to its end (its outcome as below); where the
-  /// interval ends short of t_end, the hand-over: a window or an
+  /// One CVODE or IDA step in an event-driven interval (kStep, kEvent);
+  /// where the interval ends short of t_end, the hand-over: a window or an
   /// extrapolation computed whole, the call ending at its end (kStep,
   /// method() naming it; the next call resumes event-driven there), or
   /// event-driven on toward a Zeno accumulation (kEvent). kEnd at t_end;
@@ -88,9 +86,10 @@ class AutoIntegrator {
   StepOutcome AdvanceTo(double t);
   /// Restarts the event-driven interval at (t, x) after the caller changed
   /// the state or a parameter (EventDrivenIntegrator::Reinit: the VI at
-  /// (t, x) selects the mode; where none is found, the next Step hands over
-  /// to time-stepping). An interval run whole keeps its rows up to t (the
-  /// old state at t, then the new one) and is run anew from (t, x).
+  /// (t, x) selects the mode, on IDA the modified LCP; where none is found,
+  /// the next Step hands over to time-stepping, or on IDA to CVODE where
+  /// the mode is not index one). The rows keep the old state at t, then
+  /// the new one.
   /// @throws InvalidInputError if t is not in [t(), t_end), x has not n
   /// finite entries, the run is over, or t() is inside a window or an
   /// extrapolation (named, with its end: AdvanceTo there first; at its end
@@ -101,17 +100,17 @@ class AutoIntegrator {
   double t_end() const;
   Eigen::VectorXd x() const;
   Eigen::VectorXd u() const;
-  /// Live dense output: in an event-driven interval, the
-  /// EventDrivenIntegrator's (the current mode's last step) or, run whole,
-  /// the interval's from its start to t(); in a window or an extrapolation,
-  /// the part from its start to t(). Each is trajectory()'s dense output
-  /// there.
+  /// Live dense output: in an event-driven interval on CVODE, the
+  /// EventDrivenIntegrator's (the current mode's last step); on IDA, the
+  /// interval's rows and dense output from its start to t() (without dense
+  /// output, as with output times: its rows and the last step); in a window
+  /// or an extrapolation, the part from its start to t(). Each is
+  /// trajectory()'s dense output there (IDA's last step: its interpolant).
   /// @throws InvalidInputError if t is outside that span (named).
   Eigen::VectorXd StateAt(double t) const;
   Eigen::VectorXd MultiplierAt(double t) const;
-  /// The current mode. @throws InvalidInputError unless method() is
-  /// kEventDriven with the run going on, in an EventDrivenIntegrator's
-  /// interval (one run whole keeps no mode).
+  /// The current mode (CVODE's or IDA's). @throws InvalidInputError unless
+  /// method() is kEventDriven with the run going on.
   const Mode& mode() const;
   /// The method at t(): event-driven, time-stepping (a window) or
   /// zeno-extrapolation; once over, the last interval's.

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // IntegrateAuto: the automatic driver's run (auto_run.hpp) stepped to the
-// end, each event-driven interval run whole (whole_interval.hpp: output
-// times, the KKT lifting of non-box K, source breakpoints, IDA: all of
-// IntegrateEventDriven's and IntegrateModeDae's scope).
+// end, each event-driven interval on CVODE run whole (whole_interval.hpp:
+// output times, the KKT lifting of non-box K, source breakpoints: all of
+// IntegrateEventDriven's scope), on IDA an IdaInterval stepped to its end.
 #include "dvi/auto_driver.hpp"
 
 #include <chrono>

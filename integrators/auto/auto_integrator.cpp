@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The resumable automatic driver: the driver's run (auto_run.hpp) with each
-// event-driven interval an EventDrivenIntegrator, stepped call by call, or,
-// on IDA's mode DAEs, run whole as IntegrateAuto runs it
-// (whole_interval.hpp).
+// event-driven interval stepped call by call, an EventDrivenIntegrator on
+// CVODE or an IdaInterval on IDA's mode DAEs (ida_interval.hpp).
 #include "dvi/auto_integrator.hpp"
 
 #include <memory>
@@ -17,7 +16,7 @@
 #include "dvi/event_driven_integrator.hpp"
 #include "state_jump.hpp"
 #include "stepper_calls.hpp"
-#include "whole_interval.hpp"
+#include "ida_interval.hpp"
 
 namespace dvi {
 
@@ -58,23 +57,24 @@ struct AutoIntegrator::State {
         run_t_end(t_end),
         x_minus(x0) {}
 
-  // Whether the EventDrivenIntegrator takes the intervals: on CVODE (it
-  // takes output times, a non-box K and source breakpoints as
-  // IntegrateEventDriven does), not on IDA's mode DAEs.
-  bool Live() const { return !(lcs && internal::UsesModeDae(*lcs, options)); }
-
+  // The event-driven intervals: EventDrivenIntegrators on CVODE (they take
+  // output times, a non-box K and source breakpoints as IntegrateEventDriven
+  // does), IdaIntervals on IDA's mode DAEs where the LCS runs there.
   internal::EventMethod Method() const {
-    if (!Live()) return lcs ? internal::WholeIntervals(*lcs, run_t_end, options)
-                            : internal::WholeIntervals(dvi, run_t_end);
     const Lcs* linear = lcs ? &*lcs : nullptr;
-    return {[this](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
-              return std::make_unique<LiveInterval>(
-                  lcs ? EventDrivenIntegrator(*lcs, x, t, run_t_end, run)
-                      : EventDrivenIntegrator(dvi, x, t, run_t_end, run));
-            },
-            [this, linear](Trajectory& part, std::size_t rows, const EventDrivenOptions& run) {
-              internal::CertifyEventDriven(dvi, linear, run, rows, part);
-            }};
+    internal::EventMethod cvode{
+        [this](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
+          return std::make_unique<LiveInterval>(
+              lcs ? EventDrivenIntegrator(*lcs, x, t, run_t_end, run)
+                  : EventDrivenIntegrator(dvi, x, t, run_t_end, run));
+        },
+        [this, linear](Trajectory& part, std::size_t rows, const EventDrivenOptions& run) {
+          internal::CertifyEventDriven(dvi, linear, run, rows, part);
+        },
+        {}};
+    if (lcs && internal::UsesModeDae(*lcs, options))
+      return internal::IdaIntervals(*lcs, run_t_end, std::move(cvode));
+    return cvode;
   }
 
   template <typename Problem>

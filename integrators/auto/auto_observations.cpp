@@ -64,12 +64,9 @@ void AutoObservations::HoldRows(const Trajectory& rows, ObservationPoint point) 
 }
 
 void AutoObservations::Restarted(std::size_t mark, double t, const Trajectory& part) {
-  const auto restart = held_.begin() + static_cast<std::ptrdiff_t>(mark);
-  const auto old_end = std::remove_if(held_.begin(), restart,
-                                      [t](const HeldObservation& held) { return held.t > t; });
-  const bool seen_at_t = (old_end != held_.begin() && (old_end - 1)->t == t) ||
-                         (last_time_ && *last_time_ == t);
-  auto kept = held_.erase(old_end, restart);
+  const auto kept = held_.begin() + static_cast<std::ptrdiff_t>(mark);
+  const bool seen_at_t =
+      (kept != held_.begin() && (kept - 1)->t == t) || (last_time_ && *last_time_ == t);
   if (seen_at_t) return;
   const auto row = std::lower_bound(part.times.begin(), part.times.end(), t);
   if (row == part.times.end() || *row != t) return;

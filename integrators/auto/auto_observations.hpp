@@ -35,8 +35,7 @@ void Replay(const std::vector<HeldObservation>& held, const Observer& observer);
 /// before at and after its start time (AppendPart), so observations at or
 /// after a part's start are dropped, and the part's first observation
 /// there (its kStart) is seen instead, as the dropped one's point (a run's
-/// own kStart only at t0). A window's runs at h and h/2, and an IDA
-/// interval that CVODE redoes, never reach it.
+/// own kStart only at t0). A window's runs at h and h/2 never reach it.
 class AutoObservations {
  public:
   explicit AutoObservations(const Observer& observer) : observer_(observer) {}
@@ -55,10 +54,9 @@ class AutoObservations {
 
   /// How many observations are held (a mark for Restarted).
   std::size_t held() const { return held_.size(); }
-  /// The current part was restarted at t (Reinit): of the observations
-  /// held before `mark`, those after t go (an interval run whole ran past
-  /// t; it runs anew from t); the old state at t, `part`'s first row there,
-  /// is held before the restart's observations unless one at t was.
+  /// The current part was restarted at t (Reinit; the observations held
+  /// from `mark` on are the restart's): the old state at t, `part`'s first
+  /// row there, is held before them unless one at t was.
   void Restarted(std::size_t mark, double t, const Trajectory& part);
 
   /// Where the user's observer stopped the run: its observation, and how

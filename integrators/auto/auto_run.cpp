@@ -276,7 +276,7 @@ const EventDrivenOptions& AutoRun::RunOptions() const {
   return as_given_ ? options_.event : clipped_;
 }
 
-void AutoRun::StartInterval() {
+void AutoRun::StartInterval(bool take_over) {
   const std::vector<double>& outputs = options_.event.output_times;
   as_given_ = t_ == t0_ && ClipKeepsAll(outputs, t0_, t_end_) && zeno_window_ < 0 &&
               options_.observation.empty();
@@ -288,7 +288,7 @@ void AutoRun::StartInterval() {
     clipped_.observation = {observations_.PartObserver(), options_.observation.user_events};
   }
   observations_.BeginPart(t_);
-  interval_ = event_.start(t_, x_, RunOptions());
+  interval_ = (take_over ? event_.take_over : event_.start)(t_, x_, RunOptions());
   x0_error_ = 0;
   phase_ = Phase::kEventDriven;
 }
@@ -319,9 +319,12 @@ StepOutcome AutoRun::Ended() const {
 
 void AutoRun::Conclude() {
   const std::vector<double>& outputs = options_.event.output_times;
+  const std::optional<TakeOverPoint> take_over =
+      event_.take_over ? interval_->TakeOverAt() : std::nullopt;
   Trajectory run = interval_->Take();
   interval_.reset();
   observations_.HoldRows(run, ObservationPoint::kStep);
+  if (take_over) return TakeOver(std::move(run), *take_over);
   const double t = t_;
   // The part the run integrated well: all of its samples (its last is the
   // state where it stopped, located by CVODE / IDA).
@@ -525,6 +528,21 @@ void AutoRun::Conclude() {
   AppendPart(whole_, std::move(steps));
   t_ = t_b;
   EnterPart(IntegrationMethod::kTimeStepping, t_a, t_stepped, stepped && t_b < t_end_);
+}
+
+// IDA's part up to where it met the mode (the caller has seen its steps:
+// they stay, and nothing is done twice), then CVODE's interval from there.
+void AutoRun::TakeOver(Trajectory&& run, const TakeOverPoint& at) {
+  event_.certify(run, run.times.size(), RunOptions());
+  if (at.t > t_)
+    whole_.intervals.push_back(
+        {t_, at.t, IntegrationMethod::kEventDriven, resumed_ + OwnReason(run, "event-driven"),
+         run.intervals.empty() ? std::nullopt : run.intervals.front().linear_solver});
+  resumed_ = "CVODE takes over from IDA at t = " + Short(at.t) + " (" + run.message + "); ";
+  AppendPart(whole_, std::move(run));
+  t_ = at.t;
+  x_ = at.x;
+  StartInterval(/*take_over=*/true);
 }
 
 void AutoRun::TakeLiveInterval() { AppendLiveInterval(whole_, interval_->Take(), t_, resumed_); }

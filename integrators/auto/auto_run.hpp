@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,10 +17,17 @@
 
 namespace dvi::internal {
 
+/// Where another back-end takes an event-driven interval over (IDA met a
+/// mode it cannot integrate after it returned steps): the time and state.
+struct TakeOverPoint {
+  double t = 0;
+  Eigen::VectorXd x;
+};
+
 /// One event-driven interval of the automatic driver, from where it starts
 /// to where it ends or fails: a resumable integrator stepped call by call
-/// (AutoIntegrator: EventDrivenIntegrator), or a run made whole at its start
-/// (IntegrateAuto, whose intervals sample output times and lift non-box K).
+/// (AutoIntegrator's: EventDrivenIntegrator, IdaInterval; IntegrateAuto's
+/// on IDA), or a run made whole at its start (IntegrateAuto's on CVODE).
 /// Its rows are not checked against the VI (EventMethod::certify does that
 /// when it is over).
 class EventInterval {
@@ -40,19 +48,24 @@ class EventInterval {
   virtual Trajectory trajectory() const = 0;
   /// The interval, once over (it may be moved out).
   virtual Trajectory Take() = 0;
+  /// Once over: where EventMethod::take_over goes on from, if the interval
+  /// ended on a mode its back-end cannot integrate; none otherwise.
+  virtual std::optional<TakeOverPoint> TakeOverAt() const { return std::nullopt; }
 };
 
 /// An event-driven back-end: `start` begins an interval at (t, x) with
 /// `options` (the run's, or a copy with its output times clipped, a Zeno
 /// window and x0_error; it outlives the interval); `certify` checks the
 /// first `rows` of a finished one against the VI (the row where a failed
-/// run stops gives way to time-stepping's).
+/// run stops gives way to time-stepping's); `take_over` (empty: none)
+/// begins the interval that goes on where one ended at its TakeOverAt.
 struct EventMethod {
-  std::function<std::unique_ptr<EventInterval>(double t, const Eigen::VectorXd& x,
-                                               const EventDrivenOptions& options)>
-      start;
+  using Start = std::function<std::unique_ptr<EventInterval>(double t, const Eigen::VectorXd& x,
+                                                             const EventDrivenOptions& options)>;
+  Start start;
   std::function<void(Trajectory& part, std::size_t rows, const EventDrivenOptions& options)>
       certify;
+  Start take_over;
 };
 /// Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`, its u⁰
 /// warm-started from u_a, with the step (and, adaptive, the step-doubling
@@ -66,7 +79,7 @@ using SteppingMethod = std::function<Trajectory(
 /// event-driven interval from the current state; where it fails, a
 /// certified time-stepping window (past the predicted accumulation time of
 /// a Zeno sequence) or the Zeno extrapolation, then event-driven again.
-/// IntegrateAuto steps it to the end (its intervals whole), AutoIntegrator
+/// IntegrateAuto steps it to the end (its CVODE intervals whole), AutoIntegrator
 /// call by call. A window and an extrapolation are computed whole in the
 /// call that enters them (a window is re-run at h/2, h/4, … for its
 /// certificate), and the call ends at its end (t() there, method() its
@@ -134,7 +147,12 @@ class AutoRun {
   // and ends the run where it stops it; `outcome` is the call's.
   dvi::StepOutcome Observed(dvi::StepOutcome outcome);
   const EventDrivenOptions& RunOptions() const;
-  void StartInterval();
+  // The next event-driven interval at (t_, x_): event_.start's, or
+  // event_.take_over's.
+  void StartInterval(bool take_over = false);
+  // The interval ended at its TakeOverAt `at`: its part kept (certified,
+  // its interval record), and event_.take_over's interval goes on from `at`.
+  void TakeOver(Trajectory&& run, const TakeOverPoint& at);
   // The interval is over: its certificate, interval record, and the
   // hand-over (Drive's loop body).
   void Conclude();

@@ -1,147 +1,49 @@
 // SPDX-License-Identifier: Apache-2.0
-// The automatic driver's event-driven intervals run whole at their start
-// (whole_interval.hpp): IntegrateAuto's, and AutoIntegrator's on IDA.
+// IntegrateAuto's event-driven intervals run whole at their start
+// (whole_interval.hpp), and its back-ends.
 #include "whole_interval.hpp"
 
-#include <algorithm>
 #include <memory>
 #include <optional>
-#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
-#include <vector>
 
 #include "auto_setup.hpp"
-#include "check.hpp"
 #include "cvode/event_driven_validated.hpp"
-#include "dvi/mode_dae.hpp"
-#include "events/trajectory_parts.hpp"
-#include "ida/mode_dae_validated.hpp"
-#include "stepper_calls.hpp"
+#include "ida_interval.hpp"
 
 namespace dvi::internal {
 
-WholeInterval::WholeInterval(Run run, double t0, const Eigen::VectorXd& x0,
+WholeInterval::WholeInterval(const Run& run, double t0, const Eigen::VectorXd& x0,
                              const EventDrivenOptions& options)
-    : make_(std::move(run)), options_(options), t0_(t0), x0_(x0), cursor_(t0) {
-  run_ = make_(t0, x0, options);
-}
+    : t0_(t0), run_(run(t0, x0, options)), cursor_(t0) {}
 
 StepOutcome WholeInterval::Step() {
   cursor_ = End();
   return run_.succeeded() ? StepOutcome::kEnd : StepOutcome::kFailure;
 }
 
-StepOutcome WholeInterval::AdvanceTo(double t) {
-  if (t >= End()) return Step();
-  cursor_ = t;
-  return StepOutcome::kStopTime;
-}
-
-std::ptrdiff_t WholeInterval::RowAt(double t) const {
-  const auto after = std::upper_bound(run_.times.begin(), run_.times.end(), t);
-  if (after == run_.times.begin() || *(after - 1) != t) return -1;
-  return after - run_.times.begin() - 1;
-}
-
-Eigen::VectorXd WholeInterval::x() const {
-  if (run_.times.empty()) return x0_;
-  const std::ptrdiff_t row = RowAt(cursor_);
-  return row >= 0 ? Eigen::VectorXd(run_.states[static_cast<std::size_t>(row)])
-                  : run_.StateAt(cursor_);
-}
-
-Eigen::VectorXd WholeInterval::u() const {
-  if (run_.times.empty()) return Eigen::VectorXd();
-  const std::ptrdiff_t row = RowAt(cursor_);
-  return row >= 0 ? Eigen::VectorXd(run_.multipliers[static_cast<std::size_t>(row)])
-                  : run_.MultiplierAt(cursor_);
-}
-
-void WholeInterval::CheckSpan(const char* call, double t) const {
-  DVI_THROW_UNLESS(!run_.times.empty() && t >= t0_ && t <= cursor_,
-                   call << ": t = " << t << " is outside the event-driven interval run whole so "
-                        << "far, [" << t0_ << ", " << cursor_
-                        << "] (trajectory().StateAt interpolates the samples)");
-}
-
-Eigen::VectorXd WholeInterval::StateAt(double t) const {
-  CheckSpan("StateAt", t);
-  return run_.StateAt(t);
-}
-
-Eigen::VectorXd WholeInterval::MultiplierAt(double t) const {
-  CheckSpan("MultiplierAt", t);
-  return run_.MultiplierAt(t);
-}
-
-const Mode& WholeInterval::mode() const {
-  std::ostringstream message;
-  message << "mode: the event-driven interval from t = " << t0_
-          << " is run whole on IDA's mode DAEs "
-             "and keeps no mode";
-  throw InvalidInputError(message.str());
-}
-
 IntegrationStatus WholeInterval::status() const {
   return cursor_ < End() ? IntegrationStatus::kSuccess : run_.status;
 }
 
-// As EventDrivenIntegrator::Reinit: the rows keep the old state at t, then
-// the new one (a run that failed at its start has none); a run that failed
-// before t does not restart.
-void WholeInterval::Reinit(double t, const Eigen::VectorXd& x) {
-  if (t > End()) {
-    cursor_ = End();
-    return;
-  }
-  Trajectory head;
-  head.status = IntegrationStatus::kSuccess;
-  const auto rows = static_cast<std::size_t>(
-      std::upper_bound(run_.times.begin(), run_.times.end(), t) - run_.times.begin());
-  head.times.assign(run_.times.begin(), run_.times.begin() + static_cast<std::ptrdiff_t>(rows));
-  head.states.reserve(rows + 1, run_.state_dim());
-  head.multipliers.reserve(rows + 1, run_.multiplier_dim());
-  for (std::size_t k = 0; k < rows; ++k) {
-    head.states.push_back(run_.states[k]);
-    head.multipliers.push_back(run_.multipliers[k]);
-  }
-  if (!run_.times.empty() && (head.times.empty() || head.times.back() < t)) {
-    head.states.push_back(run_.StateAt(t));
-    head.multipliers.push_back(run_.MultiplierAt(t));
-    head.times.push_back(t);
-  }
-  for (const Event& event : run_.events)
-    if (event.time <= t) head.events.push_back(event);
-  for (const StepRecord& step : run_.step_log)
-    if (step.t <= t) head.step_log.push_back(step);
-  head.dense = std::move(run_.dense);
-  head.dense.TruncateAfter(t);
-  head.intervals = std::move(run_.intervals);
-  head.stats = run_.stats;  // the work after t was done too
-  head.certificate = run_.certificate;
-  // The run from (t, x), its output times those from t on.
-  std::optional<EventDrivenOptions> from_t;
-  const std::vector<double>& outputs = options_.output_times;
-  if (!outputs.empty() && outputs.front() < t) {
-    from_t = options_;
-    from_t->output_times.assign(std::lower_bound(outputs.begin(), outputs.end(), t),
-                                outputs.end());
-  }
-  Trajectory rest = make_(t, x, from_t ? *from_t : options_);
-  // AppendPart would replace the row at t by the restart's: both are kept.
-  std::vector<double> times = std::move(rest.times);
-  VectorSamples states = std::move(rest.states), multipliers = std::move(rest.multipliers);
-  rest.times.clear();
-  rest.states.clear();
-  rest.multipliers.clear();
-  AppendPart(head, std::move(rest));
-  head.times.insert(head.times.end(), times.begin(), times.end());
-  head.states.append(states);
-  head.multipliers.append(multipliers);
-  run_ = std::move(head);
-  cursor_ = t;
+namespace {
+
+[[noreturn]] void NotLive(const char* call) {
+  throw std::logic_error(std::string("WholeInterval::") + call +
+                         ": IntegrateAuto only steps its intervals run whole");
 }
+
+}  // namespace
+
+StepOutcome WholeInterval::AdvanceTo(double) { NotLive("AdvanceTo"); }
+void WholeInterval::Reinit(double, const Eigen::VectorXd&) { NotLive("Reinit"); }
+Eigen::VectorXd WholeInterval::x() const { NotLive("x"); }
+Eigen::VectorXd WholeInterval::u() const { NotLive("u"); }
+Eigen::VectorXd WholeInterval::StateAt(double) const { NotLive("StateAt"); }
+Eigen::VectorXd WholeInterval::MultiplierAt(double) const { NotLive("MultiplierAt"); }
+const Mode& WholeInterval::mode() const { NotLive("mode"); }
 
 namespace {
 
@@ -153,7 +55,8 @@ EventMethod WholeMethod(WholeInterval::Run run,
               -> std::unique_ptr<EventInterval> {
             return std::make_unique<WholeInterval>(run, t, x, options);
           },
-          std::move(certify)};
+          std::move(certify),
+          {}};
 }
 
 }  // namespace
@@ -169,55 +72,21 @@ EventMethod WholeIntervals(const Dvi& dvi, double t_end) {
 }
 
 EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& options) {
-  const bool mode_dae = UsesModeDae(lcs, options);
   // The Dvi only for CVODE's intervals: a circuit on IDA is not copied
-  // unless IDA hands an interval over.
+  // unless CVODE runs one of its intervals.
   auto dvi = std::make_shared<std::optional<Dvi>>();
-  if (!mode_dae) dvi->emplace(lcs.ToDvi());
-  const auto dae_options = [](const EventDrivenOptions& run) {
-    ModeDaeOptions dae;
-    static_cast<IntegrationOptions&>(dae) = run;
-    dae.max_events = run.max_events;
-    return dae;
+  const auto problem = [&lcs, dvi]() -> const Dvi& {
+    if (!*dvi) dvi->emplace(lcs.ToDvi());
+    return **dvi;
   };
-  return WholeMethod(
-      [&lcs, t_end, mode_dae, dvi, dae_options](double t, const Eigen::VectorXd& x,
-                                                const EventDrivenOptions& run) {
-        if (mode_dae) {
-          // The observations of an interval that CVODE redoes never reach
-          // the run's observer: held until IDA keeps it.
-          ModeDaeOptions dae = dae_options(run);
-          std::vector<HeldObservation> held;
-          dae.observation.user_events = run.observation.user_events;
-          if (run.observation.observer) dae.observation.observer = HoldingObserver(held);
-          Trajectory part = IntegrateModeDaeUncertified(lcs, x, t, t_end, dae);
-          // A mode DAE needs u unique; CVODE's mode ODE needs only x' to
-          // be (Proposition 5.1's semi-affine case, free directions: a
-          // bridge whose diodes all block), and its mode layer has the
-          // rules IDA lacks. Where IDA finds a mode not index one, CVODE
-          // (KLU) takes the interval from its start, and refuses in turn
-          // where the flow is not unique either. IDA meets such a mode
-          // where the interval starts, as a rule (its modes are chosen
-          // there): the bridge ladder of 197 cells is refused at t = 0
-          // before IDA's first step, and auto's run is CVODE's alone, step
-          // for step (free_directions_test): nothing is done twice.
-          if (part.status != IntegrationStatus::kNotIndexOne) {
-            Replay(held, run.observation.observer);
-            return part;
-          }
-          if (!*dvi) dvi->emplace(lcs.ToDvi());
-        }
-        return IntegrateEventDrivenValidated(**dvi, &lcs, x, t, t_end, run);
+  EventMethod cvode = WholeMethod(
+      [&lcs, t_end, problem](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
+        return IntegrateEventDrivenValidated(problem(), &lcs, x, t, t_end, run);
       },
-      [&lcs, mode_dae, dvi, dae_options](Trajectory& part, std::size_t rows,
-                                         const EventDrivenOptions& run) {
-        const bool on_ida = !part.intervals.empty() &&
-                            part.intervals.front().method == IntegrationMethod::kModeDae;
-        if (mode_dae && (on_ida || !*dvi))
-          CertifyModeDae(lcs, dae_options(run), rows, part);
-        else
-          CertifyEventDriven(**dvi, &lcs, run, rows, part);
+      [&lcs, problem](Trajectory& part, std::size_t rows, const EventDrivenOptions& run) {
+        CertifyEventDriven(problem(), &lcs, run, rows, part);
       });
+  return UsesModeDae(lcs, options) ? IdaIntervals(lcs, t_end, std::move(cvode)) : cvode;
 }
 
 }  // namespace dvi::internal

@@ -16,12 +16,12 @@ namespace dvi::internal {
 
 /// An event-driven interval run whole when it starts, by the one-shot run
 /// with all of its scope (output times, the KKT lifting of a non-box K,
-/// source breakpoints, IDA's mode DAEs): IntegrateAuto's intervals, and
-/// AutoIntegrator's on IDA (its CVODE intervals are EventDrivenIntegrators). Step
-/// goes to its end (kEnd, or kFailure where it stopped short); AdvanceTo(t)
-/// before there moves the cursor t() to t, x() and u() being the run's rows
-/// there or its dense output (Trajectory::StateAt); Reinit(t, x) keeps the
-/// run up to t (a row of the old state at t) and runs it anew from (t, x).
+/// source breakpoints): IntegrateAuto's intervals on CVODE, which it only
+/// steps: Step goes to the interval's end (kEnd, or kFailure where it
+/// stopped short). AutoIntegrator steps its intervals live
+/// (EventDrivenIntegrator, IdaInterval): the calls only a live interval
+/// answers (AdvanceTo, Reinit, x, u, StateAt, MultiplierAt, mode) throw
+/// std::logic_error here.
 class WholeInterval final : public EventInterval {
  public:
   /// The one-shot run from (t, x) to the driver's t_end with `options`
@@ -29,8 +29,8 @@ class WholeInterval final : public EventInterval {
   /// certified.
   using Run = std::function<Trajectory(double t, const Eigen::VectorXd& x,
                                        const EventDrivenOptions& options)>;
-  /// Runs the interval from (t0, x0). `options` outlive it.
-  WholeInterval(Run run, double t0, const Eigen::VectorXd& x0,
+  /// Runs the interval from (t0, x0).
+  WholeInterval(const Run& run, double t0, const Eigen::VectorXd& x0,
                 const EventDrivenOptions& options);
 
   dvi::StepOutcome Step() override;
@@ -39,10 +39,8 @@ class WholeInterval final : public EventInterval {
   double t() const override { return cursor_; }
   Eigen::VectorXd x() const override;
   Eigen::VectorXd u() const override;
-  /// @throws InvalidInputError outside [t0, t()] (named).
   Eigen::VectorXd StateAt(double t) const override;
   Eigen::VectorXd MultiplierAt(double t) const override;
-  /// @throws InvalidInputError: a run made whole keeps no mode.
   const Mode& mode() const override;
   /// kSuccess before the run's end, then the run's.
   IntegrationStatus status() const override;
@@ -51,14 +49,8 @@ class WholeInterval final : public EventInterval {
 
  private:
   double End() const { return run_.times.empty() ? t0_ : run_.times.back(); }
-  // The last row at t, or none (-1).
-  std::ptrdiff_t RowAt(double t) const;
-  void CheckSpan(const char* call, double t) const;
 
-  const Run make_;
-  const EventDrivenOptions& options_;
   const double t0_;
-  const Eigen::VectorXd x0_;
   Trajectory run_;
   double cursor_;
 };
@@ -67,9 +59,10 @@ class WholeInterval final : public EventInterval {
 /// IntegrateEventDriven's run on `dvi` (its rows certified against the VI
 /// when over). `dvi` outlives the method.
 EventMethod WholeIntervals(const Dvi& dvi, double t_end);
-/// The same on an LCS: on IDA (mode DAEs) where UsesModeDae says, an
-/// interval IDA finds not index one taken by CVODE from its start; on
-/// CVODE (KLU where the LCS is large) otherwise. `lcs` outlives the method.
+/// The same on an LCS: on IDA (mode DAEs, IdaIntervals, stepped to their
+/// end) where UsesModeDae says, CVODE taking an interval IDA cannot
+/// integrate; on CVODE (KLU where the LCS is large) otherwise. `lcs`
+/// outlives the method.
 EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& options);
 
 }  // namespace dvi::internal

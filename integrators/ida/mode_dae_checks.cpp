@@ -139,6 +139,7 @@ bool ModeDaeRun::ModeStillHolds() {
       trajectory_.states.push_back(kept_mode_y_.head(n_));
       trajectory_.multipliers.push_back(kept_mode_y_.tail(m_));
     }
+    refusal_ = {t_, y.head(n_)};
     return Fail(IntegrationStatus::kNotIndexOne, message.str());
   }
   kept_mode_y_.resize(0);

@@ -95,6 +95,7 @@ bool ModeDaeRun::EnterMode(double t, const Mode& mode, Eigen::VectorXd& x, Eigen
   } else {
     if (dae_.mode() != mode) dae_.Enter(mode);
     std::string why;
+    refusal_ = {t, x};
     if (!dae_.MakeConsistent(x, u, why)) {
       std::ostringstream message;
       message << "mode-dae: at t = " << t << ", mode " << DescribeMode(mode) << ": " << why;
@@ -439,6 +440,12 @@ void ModeDaeRun::InterpolateState(double t, Eigen::VectorXd& x) {
     return;
   }
   x = Eigen::Map<const Eigen::VectorXd>(dky_.data(), n_);
+}
+
+void ModeDaeRun::InterpolateMultiplier(double t, Eigen::VectorXd& u) {
+  const bool at_t = IDAGetDky(ida_.get(), t, 0, dky_.get()) == IDA_SUCCESS;
+  u = ConsistentMultiplier(Eigen::Map<const Eigen::VectorXd>(at_t ? dky_.data() : y_.data(),
+                                                             dae_.size()));
 }
 
 // The statistics (IDA's counts since its last reinitialization included),

@@ -98,6 +98,21 @@ class ModeDaeRun {
   /// current mode began on, to time(); x there by IDA's interpolant (IDAGetDky).
   std::pair<double, double> DenseSpan() const;
   void InterpolateState(double t, Eigen::VectorXd& x);
+  /// u at t in DenseSpan(): solved by (5.8) from IDA's interpolant there,
+  /// as the samples' u are.
+  void InterpolateMultiplier(double t, Eigen::VectorXd& u);
+  /// u between the samples where the run keeps dense output: IDA's
+  /// interpolant of u (Snapshot's dense_multipliers).
+  const InterpolatedMultipliers& interpolated_multipliers() const { return multipliers_; }
+  /// Where the run ended on a mode it could not find or enter (status
+  /// kNotIndexOne): the time and the state it tried there (the start's, a
+  /// root's, a restart's), or the end of the step after which its mode
+  /// stopped holding. The automatic driver hands the interval to CVODE there.
+  struct Refusal {
+    double t = 0;
+    Eigen::VectorXd x;
+  };
+  const Refusal& refusal() const { return refusal_; }
 
  private:
   bool Start();
@@ -205,6 +220,7 @@ class ModeDaeRun {
   // leaves the DAE in the chosen mode.
   Eigen::VectorXd checked_x_, checked_u_;
   bool checked_at_x_ = false;
+  Refusal refusal_;
 };
 
 }  // namespace dvi::internal

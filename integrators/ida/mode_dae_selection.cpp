@@ -23,6 +23,7 @@ namespace dvi::internal {
 bool ModeDaeRun::ChooseMode(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& warm,
                             const std::vector<bool>& leaving, Mode& mode, Eigen::VectorXd& u) {
   checked_at_x_ = false;
+  refusal_ = {t, x};  // the state tried, should no mode hold there
   if (!ProposeMode(t, x, warm, leaving, mode, u)) return false;
   std::string proposed_why, ahead_why;
   if (ModeHolds(mode, x, u, proposed_why)) {

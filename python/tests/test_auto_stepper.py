@@ -141,3 +141,31 @@ def test_source_breakpoints_step_as_integrate_auto():
         assert integrator.advance_to(t) == dvi.StepOutcome.STOP_TIME
         assert integrator.t == t
         assert abs(integrator.x[0] - exact) <= 1e-8, t
+
+
+# 100 capacitors drained into ideal diodes, x_i' = -x_i - 1 + u_i,
+# 0 <= u_i _|_ x_i >= 0 (n + m = 200: auto's intervals run on IDA), x0_i in
+# [0.5, 2): x_i = max((1 + x0_i) e^(-t) - 1, 0) (C++:
+# tests/auto_ida_live_test.cpp). step() is one IDA step, mode is the current
+# one, and step() to the end is integrate_auto bit for bit.
+def test_an_ida_interval_steps_live():
+    n = 100
+    x0 = 0.5 + 1.5 * ((37 * np.arange(n)) % n) / n
+    diagonal = (list(range(n)), list(range(n)))
+    lcs = dvi.Lcs.from_triplets(n, n, A=diagonal + ([-1.0] * n,), B=diagonal + ([1.0] * n,),
+                                C=diagonal + ([1.0] * n,), D=([], [], []), p=[-1.0] * n)
+    options = dict(rtol=1e-10, atol=1e-12)
+    one_shot = dvi.integrate_auto(lcs, x0, 0.0, 2.0, **options)
+    assert one_shot.succeeded, one_shot.message
+    assert "IDA" in one_shot.intervals[0]["reason"]
+    integrator = dvi.AutoIntegrator(lcs, x0, 0.0, 2.0, **options)
+    assert integrator.step() == dvi.StepOutcome.STEP
+    assert 0.0 < integrator.t < 0.01
+    assert integrator.advance_to(0.7) == dvi.StepOutcome.STOP_TIME
+    clamped = np.log(1 + x0) < 0.7
+    assert integrator.mode == ["free" if c else "lower" for c in clamped]
+    exact = np.maximum((1 + x0) * math.exp(-0.7) - 1, 0.0)
+    assert np.max(np.abs(integrator.x - exact)) <= 1e-8
+    stepped = dvi.AutoIntegrator(lcs, x0, 0.0, 2.0, **options)
+    assert step_to_the_end(stepped) == dvi.StepOutcome.END
+    assert_same_run(stepped.trajectory(), one_shot)

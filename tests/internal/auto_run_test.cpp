@@ -95,7 +95,8 @@ TEST(AutoRun, AWindowAfterAWindowResumesFromItsMultiplier) {
       [](double t, const Eigen::VectorXd& x, const EventDrivenOptions&) {
         return std::make_unique<StoppingInterval>(t, x);
       },
-      [](Trajectory&, std::size_t, const EventDrivenOptions&) {}};
+      [](Trajectory&, std::size_t, const EventDrivenOptions&) {},
+      {}};
   internal::AutoRun run(
       std::move(event),
       [&](double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a, double t_b,
