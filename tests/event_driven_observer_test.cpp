@@ -308,11 +308,6 @@ TEST(EventDrivenUserEvents, InvalidUseIsNamed) {
   };
   ExpectThrowNaming([&] { IntegrateEventDriven(Diode(), x0, 0, 1, options); },
                     "modify returned 2 entries");
-  // K a ball: its KKT lifting integrates other multipliers.
-  Lcs ball = Diode();
-  ball.K = ConvexSet::Ball(Eigen::VectorXd::Zero(1), 1.0);
-  ExpectThrowNaming([&] { IntegrateEventDriven(ball.ToDvi(), x0, 0, 1, options); },
-                    "need a box K");
   // Not under the automatic driver yet.
   AutoOptions automatic;
   automatic.event.observation.observer = [](const Observation&) {
