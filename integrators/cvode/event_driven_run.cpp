@@ -289,7 +289,9 @@ bool EventDrivenRun::Accumulating(double t, std::string& why) {
 // function crossed changed — a free u_j that reached a bound sits on it, a
 // bound u_j whose F_j crossed zero is freed (BoxModeSystem::Roots' slots).
 bool EventDrivenRun::PredictNextMode() {
-  roots_found_.resize(2 * static_cast<std::size_t>(dvi_.m));
+  // CVodeGetRootInfo writes every root function's entry: the mode's 2m,
+  // then the user's.
+  roots_found_.resize(root_info_.size());
   if (CVodeGetRootInfo(cvode_.get(), roots_found_.data()) != CV_SUCCESS) return false;
   next_mode_ = system_.mode();
   bool crossed = false;
