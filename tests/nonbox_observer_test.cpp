@@ -19,6 +19,7 @@
 #include "dvi/event_driven_integrator.hpp"
 #include "dvi/observer.hpp"
 #include "dvi/time_stepping.hpp"
+#include "support/event_time_options.hpp"
 #include "support/seen_observations.hpp"
 
 namespace dvi {
@@ -27,19 +28,14 @@ namespace {
 using testing::Recorder;
 using testing::Seen;
 
-constexpr double kRtol = 1e-12, kAtol = 1e-14;
-// States of size ≤ 3 over a few hundred steps of local error ≤ 1e-12.
+// testing::EventTimeOptions (rtol 1e-12): states of size ≤ 3 over a few
+// hundred steps of local error ≤ 1e-12.
 constexpr double kStateError = 1e-9;
 // A user event's time: the root finder's plus the state's error over
 // |g'| ≥ 0.1 at the crossing.
 constexpr double kEventTimeError = 1e-10;
 
-EventDrivenOptions TightOptions() {
-  EventDrivenOptions options;
-  options.rtol = kRtol;
-  options.atol = kAtol;
-  return options;
-}
+EventDrivenOptions TightOptions() { return testing::EventTimeOptions(); }
 
 // x = (p1, p2, s): p' = (1, 0), s' = u1, u = Π_K(p), the VI u ∈ SOL(K, u − p).
 Dvi ProjectionOnto(const ConvexSet& K) {
