@@ -240,24 +240,24 @@ void ExpectStopsJustAfterBreakpoints(Integrator& integrator, const Eigen::Vector
 TEST(EventDrivenIntegratorScope, AdvanceToAFewUlpsAfterABreakpoint) {
   const Lcs lcs = testing::SquareWaveClamp();
   const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(1);
-  const Trajectory one_shot = IntegrateEventDriven(lcs, x0, 0, 3, TightOptions());
+  const Trajectory one_shot = IntegrateEventDriven(lcs, x0, 0, 3, Tight());
   ASSERT_TRUE(one_shot.succeeded()) << one_shot.message;
   for (const bool stop_at_breakpoints : {true, false}) {
     SCOPED_TRACE(stop_at_breakpoints ? "from the breakpoint" : "over the breakpoint");
     {
       SCOPED_TRACE("Lcs");
-      EventDrivenIntegrator integrator(lcs, x0, 0, 3, TightOptions());
+      EventDrivenIntegrator integrator(lcs, x0, 0, 3, Tight());
       ExpectStopsJustAfterBreakpoints(integrator, one_shot.states.back(), stop_at_breakpoints);
     }
     {
       SCOPED_TRACE("Dvi");
-      EventDrivenIntegrator integrator(lcs.ToDvi(), x0, 0, 3, TightOptions());
+      EventDrivenIntegrator integrator(lcs.ToDvi(), x0, 0, 3, Tight());
       ExpectStopsJustAfterBreakpoints(integrator, one_shot.states.back(), stop_at_breakpoints);
     }
     {
       SCOPED_TRACE("AutoIntegrator");
       AutoOptions options;
-      options.event = TightOptions();
+      options.event = Tight();
       AutoIntegrator integrator(lcs, x0, 0, 3, options);
       ExpectStopsJustAfterBreakpoints(integrator, one_shot.states.back(), stop_at_breakpoints);
     }
