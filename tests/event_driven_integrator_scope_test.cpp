@@ -5,7 +5,7 @@
 // to the end with Step() is IntegrateEventDriven's run bit for bit (times,
 // states, multipliers, events, status, intervals), and AdvanceTo stops
 // exactly at each of 24 times with x() (and u()) within the one-shot's
-// accuracy of the exact solution.
+// accuracy of the exact solution, also a few ulps after a breakpoint.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dvi/auto_integrator.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/event_driven_integrator.hpp"
 #include "support/convergence.hpp"
@@ -202,6 +203,65 @@ TEST(EventDrivenIntegratorScope, StepStopsAtEachBreakpoint) {
     if (outcome == StepOutcome::kEnd || outcome == StepOutcome::kFailure) break;
   }
   EXPECT_EQ(reached, lcs.breakpoints);
+}
+
+// AdvanceTo a breakpoint tb, then to the next representable times after it
+// (tb⁺ = nextafter(tb, ∞), then tb + 4 ulps), or over tb straight to a few
+// ulps after it: each stops exactly there (kStopTime) with x() the exact
+// solution, and the run goes on to the end as the one-shot's. Pieces of
+// one ulp are shorter than any step CVODE can take. Event-driven, as an
+// LCS and as its Dvi, and under the automatic driver (AutoIntegrator,
+// whose intervals share BreakpointPieces).
+template <typename Integrator>
+void ExpectStopsJustAfterBreakpoints(Integrator& integrator, const Eigen::VectorXd& one_shot_end,
+                                     bool stop_at_breakpoints) {
+  for (const double tb : {1.0, 2.0}) {
+    std::vector<double> stops;
+    if (stop_at_breakpoints) stops.push_back(tb);
+    double t = tb;
+    for (int ulps = 1; ulps <= 4; ++ulps) {
+      t = std::nextafter(t, INFINITY);
+      if (ulps == 1 || ulps == 4) stops.push_back(t);
+    }
+    for (const double stop : stops) {
+      SCOPED_TRACE("AdvanceTo(" + Scientific(stop - tb) + " after " + Scientific(tb) + ")");
+      ASSERT_EQ(integrator.AdvanceTo(stop), StepOutcome::kStopTime)
+          << integrator.trajectory().message;
+      EXPECT_EQ(integrator.t(), stop);
+      EXPECT_NEAR(integrator.x()(0), testing::SquareWaveClampExact(stop), kStateError);
+    }
+  }
+  ASSERT_EQ(integrator.AdvanceTo(3), StepOutcome::kEnd) << integrator.trajectory().message;
+  EXPECT_NEAR(integrator.x()(0), testing::SquareWaveClampExact(3), kStateError);
+  EXPECT_NEAR(integrator.x()(0), one_shot_end(0), kStateError);
+  EXPECT_TRUE(integrator.trajectory().succeeded()) << integrator.trajectory().message;
+}
+
+TEST(EventDrivenIntegratorScope, AdvanceToAFewUlpsAfterABreakpoint) {
+  const Lcs lcs = testing::SquareWaveClamp();
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Zero(1);
+  const Trajectory one_shot = IntegrateEventDriven(lcs, x0, 0, 3, Tight());
+  ASSERT_TRUE(one_shot.succeeded()) << one_shot.message;
+  for (const bool stop_at_breakpoints : {true, false}) {
+    SCOPED_TRACE(stop_at_breakpoints ? "from the breakpoint" : "over the breakpoint");
+    {
+      SCOPED_TRACE("Lcs");
+      EventDrivenIntegrator integrator(lcs, x0, 0, 3, Tight());
+      ExpectStopsJustAfterBreakpoints(integrator, one_shot.states.back(), stop_at_breakpoints);
+    }
+    {
+      SCOPED_TRACE("Dvi");
+      EventDrivenIntegrator integrator(lcs.ToDvi(), x0, 0, 3, Tight());
+      ExpectStopsJustAfterBreakpoints(integrator, one_shot.states.back(), stop_at_breakpoints);
+    }
+    {
+      SCOPED_TRACE("AutoIntegrator");
+      AutoOptions options;
+      options.event = Tight();
+      AutoIntegrator integrator(lcs, x0, 0, 3, options);
+      ExpectStopsJustAfterBreakpoints(integrator, one_shot.states.back(), stop_at_breakpoints);
+    }
+  }
 }
 
 // A source that steps at a breakpoint and leaves x inconsistent: x' = u,

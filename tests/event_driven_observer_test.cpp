@@ -15,6 +15,7 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/event_driven_integrator.hpp"
 #include "dvi/observer.hpp"
+#include "support/event_time_options.hpp"
 #include "support/expect_throw.hpp"
 #include "support/seen_observations.hpp"
 
@@ -23,21 +24,14 @@ namespace {
 
 using testing::ExpectThrowNaming;
 
-// Tight enough that an event's time is known to 1e-10 (at rtol 1e-10 the
-// state's error, 5e-10 at the clamp, moves it by as much).
-constexpr double kRtol = 1e-12, kAtol = 1e-14;
-// States of size ≤ 1 over a few hundred steps of local error ≤ 1e-12.
+// testing::EventTimeOptions (rtol 1e-12): states of size ≤ 1 over a few
+// hundred steps of local error ≤ 1e-12.
 constexpr double kStateError = 1e-10;
 // An event's time: the root finder's (100 ε (|t| + |h|)) plus the state's
 // error over |x'| ≥ 0.5 at the crossing.
 constexpr double kEventTimeError = 1e-10;
 
-EventDrivenOptions TightOptions() {
-  EventDrivenOptions options;
-  options.rtol = kRtol;
-  options.atol = kAtol;
-  return options;
-}
+EventDrivenOptions TightOptions() { return testing::EventTimeOptions(); }
 
 // A capacitor drained into an ideal diode (README's quick start):
 // v' = −v − 1 + u, 0 ≤ u ⊥ v ≥ 0, v(0) = 1: v = 2e^{−t} − 1, u = 0 until
@@ -308,11 +302,6 @@ TEST(EventDrivenUserEvents, InvalidUseIsNamed) {
   };
   ExpectThrowNaming([&] { IntegrateEventDriven(Diode(), x0, 0, 1, options); },
                     "modify returned 2 entries");
-  // K a ball: its KKT lifting integrates other multipliers.
-  Lcs ball = Diode();
-  ball.K = ConvexSet::Ball(Eigen::VectorXd::Zero(1), 1.0);
-  ExpectThrowNaming([&] { IntegrateEventDriven(ball.ToDvi(), x0, 0, 1, options); },
-                    "need a box K");
   // Not under the automatic driver yet.
   AutoOptions automatic;
   automatic.event.observation.observer = [](const Observation&) {

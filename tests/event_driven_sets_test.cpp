@@ -8,7 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include "dvi/auto_driver.hpp"
+#include "dvi/auto_integrator.hpp"
 #include "dvi/event_driven.hpp"
+#include "dvi/event_driven_integrator.hpp"
 #include "dvi/projected_dynamics.hpp"
 #include "support/convergence.hpp"
 #include "support/test_properties.hpp"
@@ -79,18 +82,38 @@ double ToleranceSlope(const Dvi& dvi, const Eigen::VectorXd& x0, double t_end, E
 }
 
 // 1 ≤ u ≤ −1 has no point: the run names the empty K at once (before, the
-// KKT system's Newton ran out of iterations and said only that).
-TEST(EventDrivenSets, EmptyPolyhedronIsNamed) {
+// KKT system's Newton ran out of iterations and said only that). An
+// infeasible VI is a numerical outcome, not an exception (error.hpp): the
+// one-shot run, the integrator object and the automatic driver alike end
+// failed at t0, without a sample, the message naming the empty K.
+TEST(EventDrivenSets, EmptyPolyhedronIsAFailedRunEverywhere) {
   const ConvexSet K =
       ConvexSet::Polyhedron((Eigen::MatrixXd(2, 1) << 1, -1).finished(), Eigen::Vector2d(-1, -1),
                             Eigen::MatrixXd(0, 1), Eigen::VectorXd(0));
-  const Trajectory trajectory =
-      IntegrateEventDriven(DecayThroughProjection(K), Eigen::VectorXd::Ones(1), 0, 1);
-  EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
-  EXPECT_NE(trajectory.message.find("event: K is empty, so the VI has no solution"),
-            std::string::npos)
-      << trajectory.message;
-  EXPECT_TRUE(trajectory.times.empty());
+  const Dvi dvi = DecayThroughProjection(K);
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(1);
+  const auto expect_named = [](const Trajectory& trajectory) {
+    EXPECT_EQ(trajectory.status, IntegrationStatus::kStepFailure);
+    EXPECT_NE(trajectory.message.find("K is empty, so the VI has no solution"),
+              std::string::npos)
+        << trajectory.message;
+    EXPECT_TRUE(trajectory.times.empty());
+  };
+  expect_named(IntegrateEventDriven(dvi, x0, 0, 1));
+  EventDrivenIntegrator integrator(dvi, x0, 0, 1);
+  EXPECT_EQ(integrator.status(), IntegrationStatus::kStepFailure);
+  EXPECT_EQ(integrator.Step(), StepOutcome::kFailure);
+  EXPECT_EQ(integrator.AdvanceTo(1), StepOutcome::kFailure);
+  EXPECT_EQ(integrator.t(), 0);
+  EXPECT_EQ(integrator.x(), x0);
+  expect_named(integrator.trajectory());
+  const Trajectory automatic = IntegrateAuto(dvi, x0, 0, 1);
+  EXPECT_NE(automatic.status, IntegrationStatus::kSuccess);
+  EXPECT_NE(automatic.message.find("K is empty"), std::string::npos) << automatic.message;
+  AutoIntegrator stepped(dvi, x0, 0, 1);
+  EXPECT_EQ(stepped.AdvanceTo(1), StepOutcome::kFailure);
+  EXPECT_NE(stepped.trajectory().message.find("K is empty"), std::string::npos)
+      << stepped.trajectory().message;
 }
 
 // K the unit ball, x0 = 3·(0.6, 0.8): u = x/|x| while |x| > 1, so |x| = 3 − t

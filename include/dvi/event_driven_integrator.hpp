@@ -51,8 +51,9 @@ class EventDrivenIntegrator {
   /// differentiation procedure of Theorems 5.2/5.3). t_end is the horizon:
   /// the longest run, and the scale of the look-ahead and the Zeno window.
   /// @throws InvalidInputError on an invalid problem, x0, t0/t_end or
-  /// options, or an empty K (the VI has no solution); failure to find a
-  /// mode at t0 is status() kNotIndexOne / kStepFailure, not an exception.
+  /// options. Failure to find a mode at t0 is status() kNotIndexOne /
+  /// kStepFailure, not an exception, and so is an empty K (the VI has no
+  /// solution: the message names it, as IntegrateEventDriven's).
   EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double t_end,
                         const EventDrivenOptions& options = {});
   /// An LCS (2.8) through Lcs::ToDvi, with its constant matrices (and KLU).

@@ -86,8 +86,10 @@ struct UserEvents {
 };
 
 /// Observer and user events of a run: EventDrivenOptions::observation
-/// (IntegrateEventDriven and EventDrivenIntegrator alike; K a box there: the
-/// KKT lifting of other sets changes u), TimeSteppingOptions::observation
+/// (IntegrateEventDriven and EventDrivenIntegrator alike; on a K that is
+/// not a box, run on its KKT lifting, the observer and g see u of K, a
+/// kModify reset is x itself, and an observation's mode is the lifted
+/// run's, as EventDrivenIntegrator::mode()), TimeSteppingOptions::observation
 /// and ModeDaeOptions::observation (the one-shot functions and the
 /// integrator objects), and AutoOptions::observation across the automatic
 /// driver's hand-overs.

@@ -79,18 +79,24 @@ std::vector<Event> ModeEventsSinceUserEvent(const std::vector<Event>& events) {
   return std::vector<Event>(last_user.base(), events.end());
 }
 
-// The first user event whose g crosses zero from (t_a, x_a) to (t*, x*) (u
-// the last switch's on both sides: the extrapolation's), or −1. Compared
-// at the ends only: a g that crosses twice over [t_a, t*] is not seen.
-int UserEventAcross(const UserEvents& events, double t_a, const Eigen::VectorXd& x_a,
-                    const Eigen::VectorXd& u_a, double t_star, const Eigen::VectorXd& x_star) {
+// The first user event whose g crosses zero along the extrapolated path
+// from the last switch (t_a, x_a) to (t*, x*), or −1: the path of the rows
+// the extrapolation gives (ExtrapolatedRows: x linear from x_a to x*, u the
+// last switch's), scanned as an event-driven step's interpolant is
+// (LocateMissedUserRoot: g compared at equal steps), so that a g that dips
+// below zero and back within [t_a, t*] is seen as within one CVODE step.
+// The flow itself stays within the certified bound of that path.
+int UserEventAlong(const UserEvents& events, double t_a, const Eigen::VectorXd& x_a,
+                   const Eigen::VectorXd& u_a, double t_star, const Eigen::VectorXd& x_star) {
   if (events.empty()) return -1;
-  std::vector<double> g_a(events.events.size()), g_star(events.events.size());
-  EvaluateUserRoots(events, t_a, x_a, u_a, g_a.data());
-  EvaluateUserRoots(events, t_star, x_star, u_a, g_star.data());
-  for (std::size_t k = 0; k < g_a.size(); ++k)
-    if (CrossesZero(events.events[k].direction, g_a[k], g_star[k])) return static_cast<int>(k);
-  return -1;
+  // Which event, not where: the bracket is not narrowed.
+  const UserRoot root =
+      LocateMissedUserRoot(events, t_a, t_star, t_star - t_a, [&](double t, double* g) {
+        const double weight = (t - t_a) / (t_star - t_a);
+        EvaluateUserRoots(events, t, x_a + weight * (x_star - x_a), u_a, g);
+        return true;
+      });
+  return root.found ? root.event : -1;
 }
 
 // The states at a run's distinct switch times: the rows it sampled there.
@@ -417,8 +423,8 @@ void AutoRun::Conclude() {
     const ZenoExtrapolation extrapolation =
         ExtrapolateAccumulation(zeno, event_times, event_states, resolution);
     const int user_event =
-        extrapolation.found ? UserEventAcross(options_.observation.user_events, t_a, x_a, u_a,
-                                              extrapolation.accumulation_time, extrapolation.state)
+        extrapolation.found ? UserEventAlong(options_.observation.user_events, t_a, x_a, u_a,
+                                             extrapolation.accumulation_time, extrapolation.state)
                             : -1;
     if (user_event >= 0) {
       // The user's event falls between the last switch and t*: the window

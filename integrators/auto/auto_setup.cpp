@@ -34,14 +34,6 @@ void CheckStart(int n, const Eigen::VectorXd& x0, double t0, double t_end,
   }
 }
 
-// What an observer sees is u of a box K; the KKT lifting of other sets
-// integrates other multipliers.
-void CheckObservedSet(const ConvexSet& K, const AutoOptions& options) {
-  DVI_THROW_UNLESS(options.observation.empty() || K.IsBox(),
-                   "AutoOptions.observation: observers and user events need a box K, not "
-                       << K.Describe() << " (its KKT lifting integrates other multipliers than u)");
-}
-
 template <typename Problem>
 SteppingMethod SteppingOfProblem(const Problem& problem, const AutoOptions& options) {
   return [&problem, &options](double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a,
@@ -67,7 +59,6 @@ void CheckAutoStart(const Dvi& dvi, const Eigen::VectorXd& x0, double t0, double
                     const AutoOptions& options) {
   dvi.Validate();
   CheckStart(dvi.n, x0, t0, t_end, options);
-  CheckObservedSet(dvi.K, options);
   dvi.CheckShapes(t0, x0);
 }
 
@@ -76,7 +67,6 @@ void CheckAutoStart(const Lcs& lcs, const Eigen::VectorXd& x0, double t0, double
   lcs.Validate();
   lcs.CheckSources(t0);
   CheckStart(lcs.n(), x0, t0, t_end, options);
-  CheckObservedSet(lcs.K, options);
 }
 
 bool UsesModeDae(const Lcs& lcs, const AutoOptions& options) {

@@ -29,13 +29,6 @@ namespace {
 // is (F affine, see BoxModeSystem), or null.
 Trajectory IntegrateOnePiece(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd& x0, double t0,
                              double t_end, const EventDrivenOptions& options) {
-  const std::string empty = EmptySetFailure(dvi);
-  if (!empty.empty()) {
-    Trajectory trajectory;
-    trajectory.status = IntegrationStatus::kStepFailure;
-    trajectory.message = empty;
-    return trajectory;
-  }
   EventDrivenPiece piece(dvi, lcs, x0, t0, t_end, options);
   return piece.Run();
 }
@@ -60,10 +53,6 @@ void CheckEventDrivenStart(const Dvi& dvi, const Lcs* lcs, const Eigen::VectorXd
                    "linear_solver: kKlu needs an Lcs on a box K, not " << dvi.K.Describe()
                                                                       << " (its KKT lifting is "
                                                                          "dense; use kDense)");
-  DVI_THROW_UNLESS(options.observation.empty() || dvi.K.IsBox(),
-                   "observation: observers and user events need a box K, not "
-                       << dvi.K.Describe()
-                       << " (its KKT lifting integrates other multipliers than u)");
   DVI_THROW_UNLESS(x0.size() == dvi.n, "x0 has " << x0.size() << " entries, expected " << dvi.n);
   for (int i = 0; i < x0.size(); ++i)
     DVI_THROW_UNLESS(std::isfinite(x0(i)), "x0(" << i << ") = " << x0(i) << " is not finite");

@@ -70,7 +70,7 @@ struct EventDrivenIntegrator::State {
     piece = std::make_unique<internal::EventDrivenPiece>(piece_dvi ? *piece_dvi : problem,
                                                          Affine(), piece_x0, current.a,
                                                          current.b, piece_options);
-    if (!piece->run().Begin()) {
+    if (!piece->Begin()) {
       last = internal::NotStarted(piece->run());
       return false;
     }
@@ -114,17 +114,6 @@ struct EventDrivenIntegrator::State {
   StepOutcome last = StepOutcome::kStep;  // kEnd or kFailure: the run is over
 };
 
-namespace {
-
-// IntegrateEventDriven's run ends at once on an empty K; here that is bad
-// input.
-void CheckNotEmpty(const Dvi& dvi) {
-  const std::string empty = internal::EmptySetFailure(dvi);
-  DVI_THROW_UNLESS(empty.empty(), "EventDrivenIntegrator: " << empty);
-}
-
-}  // namespace
-
 EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,
                                              double t_end, const EventDrivenOptions& options) {
   dvi.Validate();
@@ -132,7 +121,6 @@ EventDrivenIntegrator::EventDrivenIntegrator(const Dvi& dvi, const Eigen::Vector
   options.Validate();
   options.CheckStates(x0.size());
   internal::CheckEventDrivenStart(dvi, nullptr, x0, t0, t_end, options);
-  CheckNotEmpty(dvi);
   state_ = std::make_unique<State>(dvi, std::nullopt, x0, t0, t_end, options);
   state_->StartPiece();
 }
@@ -141,7 +129,6 @@ EventDrivenIntegrator::EventDrivenIntegrator(const Lcs& lcs, const Eigen::Vector
                                              double t_end, const EventDrivenOptions& options) {
   const Dvi dvi = internal::ValidatedLcsDvi(lcs, t0, x0.size(), options);
   internal::CheckEventDrivenStart(dvi, &lcs, x0, t0, t_end, options);
-  CheckNotEmpty(dvi);
   state_ = std::make_unique<State>(dvi, lcs, x0, t0, t_end, options);
   state_->StartPiece();
 }
@@ -228,7 +215,7 @@ Eigen::VectorXd EventDrivenIntegrator::MultiplierAt(double t) const {
 
 const Mode& EventDrivenIntegrator::mode() const { return state_->run().system().mode(); }
 IntegrationStatus EventDrivenIntegrator::status() const {
-  return state_->finished ? state_->finished->status : state_->run().samples().status;
+  return state_->finished ? state_->finished->status : state_->piece->status();
 }
 IntegrationStats EventDrivenIntegrator::stats() const { return trajectory().stats; }
 Trajectory EventDrivenIntegrator::trajectory() const {

@@ -15,20 +15,20 @@
 
 namespace dvi::internal {
 
-/// Why an event-driven run on `dvi` cannot begin: K (not a box) is empty,
-/// so the VI has no solution (its projection proves it; the KKT system's
-/// Newton would only run out of iterations), or "" when it can.
-std::string EmptySetFailure(const Dvi& dvi);
-
 /// One event-driven run on any K, from t0 to t_end (IntegrateEventDriven's
 /// run between source breakpoints, and EventDrivenIntegrator's): an
 /// EventDrivenRun on dvi itself when K is a box, else on its KKT system on
 /// a box (LiftToBox: polyhedra, balls and products with them, the modes
 /// the active sets of K's constraints), whose rows and multipliers are
-/// given back in the original u (Unlift, User). The trajectory ends at its
-/// first non-finite sample (EndAtFirstNonFiniteSample).
-/// @pre as EventDrivenRun's; EmptySetFailure(dvi) empty; dvi, lcs, x0 and
-/// options outlive the piece.
+/// given back in the original u (Unlift, User), as are the observer's
+/// observations and the u of the user's g (UnliftObservation). The
+/// trajectory ends at its first non-finite sample
+/// (EndAtFirstNonFiniteSample).
+/// An empty K (not a box: its projection proves it empty, where the KKT
+/// system's Newton would only run out of iterations) is a run that fails
+/// at its start, as one whose Newton finds no mode there: Begin() false,
+/// status() kStepFailure, the message naming the empty K.
+/// @pre as EventDrivenRun's; dvi, lcs, x0 and options outlive the piece.
 class EventDrivenPiece {
  public:
   /// lcs: the time-invariant LCS that dvi is (its matrices, KLU), or null.
@@ -37,6 +37,10 @@ class EventDrivenPiece {
 
   /// The whole run: Begin, StepOnce to the end, the trajectory.
   Trajectory Run();
+  /// The run's Begin(), false on an empty K without starting it.
+  bool Begin();
+  /// The run's status (kStepFailure on an empty K).
+  IntegrationStatus status() const;
   /// The run (on the lifted problem where K is not a box: its u is z).
   EventDrivenRun& run() { return run_; }
   const EventDrivenRun& run() const { return run_; }
@@ -48,8 +52,14 @@ class EventDrivenPiece {
 
  private:
   Trajectory Finish(Trajectory trajectory) const;
+  /// The run of an empty K: no sample, status kStepFailure, the reason.
+  Trajectory EmptySetRun() const;
 
+  const std::string empty_;  // why K is empty, or ""
   const std::optional<KktLifting> lifting_;  // before run_, which refers to it
+  // The options with the observation unlifted, where K is lifted and there
+  // is one (run_ refers to them).
+  const std::optional<EventDrivenOptions> lifted_options_;
   EventDrivenRun run_;
 };
 

@@ -289,7 +289,8 @@ bool EventDrivenRun::Accumulating(double t, std::string& why) {
 // function crossed changed — a free u_j that reached a bound sits on it, a
 // bound u_j whose F_j crossed zero is freed (BoxModeSystem::Roots' slots).
 bool EventDrivenRun::PredictNextMode() {
-  // CVodeGetRootInfo writes every root function's flag, the user's too.
+  // CVodeGetRootInfo writes every root function's entry: the mode's 2m,
+  // then the user's.
   roots_found_.resize(root_info_.size());
   if (CVodeGetRootInfo(cvode_.get(), roots_found_.data()) != CV_SUCCESS) return false;
   next_mode_ = system_.mode();
@@ -565,6 +566,14 @@ void EventDrivenRun::InterpolateState(double t, Eigen::VectorXd& x) {
 EventDrivenRun::Advance EventDrivenRun::StepOnce() {
   void* cvode = cvode_.get();
   const Eigen::Map<const Eigen::VectorXd> y(y_.data(), x0_.size());
+  // A stop time within CVODE's time fuzz of t_ (AdvanceTo a few ulps after
+  // a start at a source breakpoint: CVode refuses it, CV_TOO_CLOSE) is
+  // reached without a step: x moves by x'·gap, below what a step resolves.
+  if (stop_time_ - t_ <= RootTimeTolerance(stop_time_, 0)) {
+    SampleOutputs(stop_time_);
+    t_ = stop_time_;
+    return EndStep(true);
+  }
   double t_reached = t_;
   const int flag = CVode(cvode, stop_time_, y_.get(), &t_reached, CV_ONE_STEP);
   taylor_time_ = NAN;
@@ -666,7 +675,11 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
     unresolved_steps_ = 0;
     return at_stop ? Advance::kStopped : Advance::kEvent;
   }
-  const bool at_stop = flag == CV_TSTOP_RETURN || t_ >= stop_time_;
+  return EndStep(flag == CV_TSTOP_RETURN || t_ >= stop_time_);
+}
+
+EventDrivenRun::Advance EventDrivenRun::EndStep(bool at_stop) {
+  const Eigen::Map<const Eigen::VectorXd> y(y_.data(), x0_.size());
   const bool sampled = at_stop || options_.output_times.empty();
   if (sampled || observation_.observer) {
     Eigen::VectorXd& x = sample_x_;

@@ -152,6 +152,10 @@ class EventDrivenRun {
   /// or one it missed within the step (LocateMissedUserRoot); the earlier
   /// of the two is handled, both at one time. Moves t_ and y_ to it.
   int FirstUserRoot(int reported, bool& event);
+  /// The end at t_ of a step without an event (at the stop time or not):
+  /// its sample (every step's, or the stop time's) or the observer's step
+  /// end, and the step's outcome.
+  Advance EndStep(bool at_stop);
   /// User event k at (t_, x): recorded and sampled, then the run stops or
   /// restarts at the modified state.
   Advance HandleUserEvent(int k, const Eigen::VectorXd& x);

@@ -275,7 +275,12 @@ Trajectory Unlift(Trajectory lifted, const KktLifting& lifting) {
   for (const auto z : lifted.multipliers) u.push_back(z.head(lifting.m));
   lifted.multipliers = std::move(u);
   for (Event& event : lifted.events) {
-    if (event.index < lifting.m) continue;
+    // Bound events of u itself, and the user's (whose index is k, not a
+    // component of z), stay as they are.
+    const bool bound = event.kind == EventKind::kLeftBound ||
+                       event.kind == EventKind::kReachedLower ||
+                       event.kind == EventKind::kReachedUpper;
+    if (!bound || event.index < lifting.m) continue;
     // μ_k leaving 0 makes constraint k active; reaching 0 releases it (ν
     // has no bounds, so no events).
     event.kind = event.kind == EventKind::kLeftBound ? EventKind::kConstraintActive
@@ -283,6 +288,20 @@ Trajectory Unlift(Trajectory lifted, const KktLifting& lifting) {
     event.index = lifting.inequality_of_mu[static_cast<std::size_t>(event.index - lifting.m)];
   }
   return lifted;
+}
+
+ObservationOptions UnliftObservation(ObservationOptions observation, const KktLifting& lifting) {
+  const int m = lifting.m;
+  if (observation.observer)
+    observation.observer = [observer = std::move(observation.observer), m](const Observation& z) {
+      return observer(Observation{z.t, z.x, z.u.head(m), z.mode, z.point});
+    };
+  if (observation.user_events.g)
+    observation.user_events.g = [g = std::move(observation.user_events.g), m](
+                                    double t, const Eigen::VectorXd& x, const Eigen::VectorXd& z) {
+      return g(t, x, Eigen::VectorXd(z.head(m)));
+    };
+  return observation;
 }
 
 }  // namespace dvi::internal

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include "dvi/dvi_problem.hpp"
+#include "dvi/observer.hpp"
 #include "dvi/trajectory.hpp"
 
 namespace dvi::internal {
@@ -36,5 +37,13 @@ KktLifting LiftToBox(const Dvi& dvi);
 /// The trajectory of the original problem: u = the first m components of z,
 /// and the events of μ_k as constraint k becoming active or released.
 Trajectory Unlift(Trajectory lifted, const KktLifting& lifting);
+/// The observer and user events of the original problem as the lifted run
+/// calls them: its observations and g's u are z, of which they are handed
+/// the first m components, u of K. The lifting adds no state (x is the
+/// original x), so a kModify reset is the user's x as it is, and the lifted
+/// VI at it selects the mode anew. An observation's mode stays the lifted
+/// one (one entry per component of z: u's, then each μ_k at its lower bound
+/// where constraint k is inactive, free where it is active; ν free).
+ObservationOptions UnliftObservation(ObservationOptions observation, const KktLifting& lifting);
 
 }  // namespace dvi::internal

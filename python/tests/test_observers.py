@@ -342,3 +342,62 @@ def test_auto_takes_observers_and_user_events():
 
     with pytest.raises(dvi.InvalidInputError, match="integrate_auto: observer must be a callable"):
         dvi.integrate_auto(diode(), [1.0], 0.0, 2.0, observer=3)
+
+
+def disc_projection():
+    """x = (p1, p2, s): p' = (1, 0), s' = u1, u = the projection of p onto
+    the unit disc (u in SOL(K, u - p)): a K that is not a box, run on its
+    KKT lifting. From p = (-2, 1/2), u2 = 1/(2|p|) outside the disc rises
+    through 0.45 at t = 2 - sqrt(1/0.81 - 1/4) (the C++
+    tests/nonbox_observer_test.cpp)."""
+    return dvi.Dvi(n=3, m=2, f=lambda t, x, u: [1.0, 0.0, u[0]],
+                   F=lambda t, x, u: np.asarray(u) - np.asarray(x[:2]),
+                   K=dvi.ConvexSet.ball([0.0, 0.0], 1.0))
+
+
+DISC_CROSSING = 2 - math.sqrt(1 / 0.81 - 0.25)
+
+
+def disc_u(t):
+    p = np.array([t - 2, 0.5])
+    r = np.linalg.norm(p)
+    return p / r if r > 1 else p
+
+
+def test_observers_and_user_events_on_a_non_box_k_see_the_original_u():
+    """Observer and g see u of K (2 entries, the exact projection), not the
+    lifted multipliers; the stop is at the exact crossing, through
+    integrate_event, EventDrivenIntegrator, integrate_auto and
+    AutoIntegrator."""
+    sizes = []
+
+    def g(t, x, u):
+        sizes.append(len(u))
+        return u[1] - 0.45
+
+    def check(run, seen):
+        assert run.status == "stopped-by-user", run.message
+        assert abs(run.times[-1] - DISC_CROSSING) <= EVENT_TIME_ERROR
+        assert run.multipliers.shape[1] == 2
+        assert set(sizes) == {2}
+        assert seen and all(len(obs.u) == 2 for obs in seen)
+        for obs in seen:
+            if abs(np.linalg.norm([obs.t - 2, 0.5]) - 1) > 1e-8:
+                assert np.max(np.abs(obs.u - disc_u(obs.t))) <= 1e-8, obs.t
+
+    x0 = [-2.0, 0.5, 0.0]
+    keywords = dict(rtol=RTOL, atol=ATOL)
+    for integrate in (dvi.integrate_event, dvi.integrate_auto):
+        seen, sizes[:] = [], []
+        event = dvi.UserEvent(g, direction="rising", action="stop")
+        run = integrate(disc_projection(), x0, 0.0, 4.0, **keywords, events=[event],
+                        observer=seen.append)
+        check(run, seen)
+    for Integrator in (dvi.EventDrivenIntegrator, dvi.AutoIntegrator):
+        seen, sizes[:] = [], []
+        event = dvi.UserEvent(g, direction="rising", action="stop")
+        integrator = Integrator(disc_projection(), x0, 0.0, 4.0, **keywords, events=[event],
+                                observer=seen.append)
+        assert integrator.advance_to(4.0) == dvi.StepOutcome.USER_STOP
+        check(integrator.trajectory(), seen)
+        assert len(integrator.u) == 2
