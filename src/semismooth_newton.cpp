@@ -188,11 +188,18 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   SolveResult result;
   result.method = SolverMethod::kNewton;
   int iterations = 0;
+  // Every linear system below is factored afresh (SolveResult::factorizations).
+  int factorizations = 0;
+  auto solve_natural_map = [&](const std::vector<signed char>& active_set, double shift) {
+    ++factorizations;
+    return algebra.SolveNaturalMap(f, active_set, shift, d);
+  };
   double rounding_floor = 0;  // set where a stop within it is accepted
   auto finish = [&](SolveStatus status, std::string message) {
     result.status = status;
     result.message = std::move(message);
     result.iterations = iterations;
+    result.factorizations = factorizations;
     result.residual = BoxNaturalResidual(lower, upper, z, f);
     result.has_index_sets = true;
     result.index_sets = BoxIndexSets(lower, upper, z, f,
@@ -219,7 +226,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   // For a nonlinear F the step is kept only if it reduces max |F_f|.
   if (phi_map.MarkBounded(active) && algebra.EvaluateJacobian(z, f)) {
     d.setZero();
-    if (algebra.SolveNaturalMap(f, active, 0.0, d)) {
+    if (solve_natural_map(active, 0.0)) {
       z_trial = z + d;
       mcp.F(z_trial, f_trial);
       double free_before = 0;
@@ -374,7 +381,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       if (std::none_of(active_set.begin(), active_set.end(),
                        [](signed char held) { return held == 0; }))
         return true;
-      if (algebra.SolveNaturalMap(f, active_set, 0.0, d)) return true;
+      if (solve_natural_map(active_set, 0.0)) return true;
       // J_FF singular (a projection's KKT system with more free multipliers
       // than the dimension): the proximal shift J_FF + δI, δ = the natural
       // residual of the free components, is nonsingular for a monotone J and
@@ -389,7 +396,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       // surfaces, F = 0: the shift keeps them where they are).
       shift = proximal > 0 ? proximal : residual;
       phi_map.StepToActiveBounds(z, active_set, d);
-      return algebra.SolveNaturalMap(f, active_set, shift, d);
+      return solve_natural_map(active_set, shift);
     };
     const bool natural = natural_step(current_active, natural_shift);
     if (natural && phi_map.HoldCrossedBounds(z, d, current_active, crossed_active)) {
@@ -448,10 +455,12 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     // natural-map direction with a full line search, then steepest descent.
     if (t == 0) {
       bool newton = false;
+      ++factorizations;
       if (FactorAndSolve(algebra, da, db, phi, d)) {
         d = -d;
         newton = true;
       } else {
+        ++factorizations;
         newton = algebra.SolveRegularized(phi.norm(), da, db, gradient, d);
       }
       const double slope = newton ? gradient.dot(d) : 0.0;
@@ -459,7 +468,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       if (t == 0 && newton) t = projected_step();
       if (t == 0 && natural_slope < 0 && natural_backtracks < kMaxBacktracks) {
         phi_map.StepToActiveBounds(z, current_active, d);
-        if (algebra.SolveNaturalMap(f, current_active, natural_shift, d))
+        if (solve_natural_map(current_active, natural_shift))
           t = line_search(gradient.dot(d), &current_active, kMaxBacktracks);
       }
       if (t == 0) {
