@@ -39,6 +39,9 @@ class DenseAlgebra {
   static constexpr const char* kName = "dense LU";
   /// The natural-map step factors only J_FF (see kCheapNaturalMapSize).
   static constexpr bool kReducedNaturalMap = true;
+  /// RunNewton keeps a copy of the natural-map step across step 1a (a vector
+  /// beside J) instead of factoring J_FF again.
+  static constexpr bool kKeepsNaturalStep = true;
 
   /// J(z); forward differences around (z, f) when the problem has no
   /// Jacobian. Returns false if J has a non-finite entry.

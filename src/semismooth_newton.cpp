@@ -108,6 +108,7 @@ bool FactorAndSolve(Algebra& algebra, const Eigen::VectorXd& da, const Eigen::Ve
 struct CallerAlgebra {
   static constexpr const char* kName = "caller's structured";
   static constexpr bool kReducedNaturalMap = false;
+  static constexpr bool kKeepsNaturalStep = false;
   internal::NewtonLinearAlgebra& algebra;
 
   bool EvaluateJacobian(const Eigen::VectorXd& z, const Eigen::VectorXd& f) {
@@ -184,6 +185,11 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   Eigen::VectorXd f(m), phi(m), da(m), db(m), gradient(m), d(m);
   Eigen::VectorXd z_trial(m), f_trial(m), phi_trial(m);
   std::vector<signed char> active(m), crossed_active(m), next_active(m);
+  // Step 1a's rounds overwrite d; the dense path keeps the natural-map step
+  // they start from (m doubles beside its m² J, allocated at the first
+  // round) rather than factor J_FF again; the sparse and caller's paths
+  // solve it again (see above).
+  Eigen::VectorXd natural_d;
 
   SolveResult result;
   result.method = SolverMethod::kNewton;
@@ -410,7 +416,9 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       // free ones' proximal shift is then their own residual, which may
       // carry more of them across: held in turn, at most m rounds (F
       // independent of z: every sign goes to the bound −F points to). Where
-      // none is kept, the natural-map direction is solved again.
+      // none is kept, the natural-map direction is restored (kept or solved
+      // again).
+      if constexpr (Algebra::kKeepsNaturalStep) natural_d = d;
       double crossed_shift = 0;
       for (int round = 0; round < m && t == 0; ++round) {
         if (!natural_step(crossed_active, crossed_shift)) break;
@@ -420,7 +428,13 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
         }
         crossed_active.swap(next_active);
       }
-      if (t == 0) natural_step(current_active, natural_shift);
+      if (t == 0) {
+        if constexpr (Algebra::kKeepsNaturalStep) {
+          d.swap(natural_d);
+        } else {
+          natural_step(current_active, natural_shift);
+        }
+      }
     }
     if (natural && t == 0) {
       const double slope = gradient.dot(d);

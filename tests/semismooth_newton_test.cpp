@@ -641,6 +641,23 @@ TEST(SemismoothNewton, LargeLcpIsSolvedByCheapNaturalMapSteps) {
   EXPECT_LE(r.iterations, 60);
 }
 
+// What a dense step costs is its LU factorizations (O(m³) each, the rest is
+// O(m²)). Where the natural-map step crosses bounds, the rounds of step 1a
+// (the crossed components held) factor a smaller J_FF each; where none is
+// kept, the step of the current active set is the one the rounds started
+// from and is not factored again. The LCP of size 100 enters 1a in 15 of its
+// 17 steps and keeps it in none: main at c85e475 factored 82 matrices.
+TEST(SemismoothNewton, CrossedBoundRoundsDoNotFactorTheNaturalStepAgain) {
+  const int m = 100;
+  std::mt19937 rng(0);
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  const Eigen::VectorXd q = test::RandomVector(m, rng);
+  const SolveResult r = SolveNewton(OrthantAffine(M, q));
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_EQ(r.iterations, 17);
+  EXPECT_EQ(r.factorizations, 82 - 15);
+}
+
 TEST(SemismoothNewton, IterationLimitIsReported) {
   std::mt19937 rng(31);
   const int m = 100;
