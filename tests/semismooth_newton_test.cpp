@@ -305,7 +305,10 @@ TEST(SemismoothNewton, KluPathAgreesWithTheDensePath) {
   ASSERT_TRUE(dense.solved()) << dense.message;
   // Both end within the tolerance of the unique solution of this SPD LCP.
   EXPECT_LE((sparse.z - dense.z).lpNorm<Eigen::Infinity>(), kPathAgreement);
-  EXPECT_EQ(sparse.iterations, dense.iterations);
+  // At this size the dense path takes no held-crossed-bounds step (1a; see
+  // kCheapNaturalMapSize), which finishes the KLU path's second step.
+  EXPECT_EQ(sparse.iterations, 2);
+  EXPECT_EQ(dense.iterations, 3);
 }
 
 // KKT system of an equality-constrained QP with bounds, min ½zᵀQz + cᵀz s.t.
@@ -656,6 +659,24 @@ TEST(SemismoothNewton, CrossedBoundRoundsDoNotFactorTheNaturalStepAgain) {
   ASSERT_TRUE(r.solved()) << r.message;
   EXPECT_EQ(r.iterations, 17);
   EXPECT_EQ(r.factorizations, 82 - 15);
+}
+
+// From size 200 on (kCheapNaturalMapSize) the natural-map direction has its
+// full line search at once, and rounds of held crossed bounds, each an LU,
+// are not tried: one factorization per step. main at c85e475 factored 294
+// matrices in 48 steps of this LCP of size 300 (the benchmark's family),
+// 1a's last round saving it 2 steps; on lcp_vs_siconos' instance 0 at
+// n = 300 that cost 2.6x the instructions of the code of 2026-11-21 (314
+// LUs against 54, in 54 steps each; callgrind).
+TEST(SemismoothNewton, LargeLcpFactorsOneMatrixPerStep) {
+  const int m = 300;
+  std::mt19937 rng(0);
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  const Eigen::VectorXd q = test::RandomVector(m, rng);
+  const SolveResult r = SolveNewton(OrthantAffine(M, q));
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_EQ(r.iterations, 50);
+  EXPECT_EQ(r.factorizations, r.iterations);
 }
 
 TEST(SemismoothNewton, IterationLimitIsReported) {
