@@ -110,6 +110,7 @@ BoxMcp BoxMcp::Affine(Eigen::MatrixXd M, Eigen::VectorXd q, Eigen::VectorXd lowe
   auto matrix = std::make_shared<const Eigen::MatrixXd>(std::move(M));
   BoxMcp mcp = AffineMcp(matrix, std::move(q), std::move(lower), std::move(upper));
   mcp.jacobian = [matrix](const Eigen::VectorXd&, Eigen::MatrixXd& J) { J = *matrix; };
+  mcp.constant_dense_jacobian = matrix;
   mcp.Validate();
   return mcp;
 }

@@ -196,6 +196,7 @@ SolveResult SolveKktVi(const Vi& vi, const SolverOptions& options,
   const SolveResult kkt_result = SolveNewton(kkt, options, start_point);
 
   result.iterations = kkt_result.iterations;
+  result.factorizations = kkt_result.factorizations;
   result.z = kkt_result.z.head(n);
   result.w.resize(n);
   vi.F(result.z, result.w);

@@ -215,6 +215,7 @@ void RunLemke(const Lcp& lcp, const SolverOptions& options, bool decide_feasibil
   const int m = lcp.dim();
   result.method = SolverMethod::kLemke;
   result.iterations = 0;
+  result.factorizations = 0;
   result.seconds = 0.0;
   result.certificate.resize(0);
   // The accuracy the residual certifies z and w to.

@@ -18,7 +18,8 @@ namespace dvi::internal {
 
 /// The dense linear algebra of semismooth Newton (semismooth_newton.cpp's
 /// RunNewton is generic in it; newton_sparse_algebra.hpp is the other).
-/// Owns: J, the LU storage of H and of J_FF, the LM normal matrix.
+/// Owns: J (unless constant: mcp.constant_dense_jacobian, read in place),
+/// the LU storage of H and of J_FF, the LM normal matrix.
 /// Preconditions: mcp outlives it; m = mcp.dim(). Source: the Newton and
 /// Levenberg–Marquardt systems of [Facchinei–Pang 2003, §9.1; Fan–Yuan 2005].
 
@@ -32,17 +33,36 @@ const double kDifferenceStep = std::sqrt(std::numeric_limits<double>::epsilon())
 class DenseAlgebra {
  public:
   DenseAlgebra(const BoxMcp& mcp, int m)
-      : mcp_(mcp), m_(m), J_(m, m), lu_(m), z_shift_(m), f_shift_(m), product_(m) {
+      : mcp_(mcp), m_(m), lu_(m), z_shift_(m), f_shift_(m), product_(m) {
     free_.reserve(static_cast<std::size_t>(m));
+    if (mcp.constant_dense_jacobian) {
+      const Eigen::MatrixXd& constant = *mcp.constant_dense_jacobian;
+      DVI_THROW_UNLESS(constant.rows() == m_ && constant.cols() == m_,
+                       "mcp.constant_dense_jacobian is " << constant.rows() << "x"
+                                                         << constant.cols() << ", expected " << m_
+                                                         << "x" << m_);
+      jacobian_ = &constant;
+      constant_finite_ = constant.allFinite();
+    } else {
+      J_.resize(m, m);
+    }
   }
+
+  DenseAlgebra(const DenseAlgebra&) = delete;  // jacobian_ may point into it
+  DenseAlgebra& operator=(const DenseAlgebra&) = delete;
 
   static constexpr const char* kName = "dense LU";
   /// The natural-map step factors only J_FF (see kCheapNaturalMapSize).
   static constexpr bool kReducedNaturalMap = true;
+  /// RunNewton keeps a copy of the natural-map step across step 1a (a vector
+  /// beside J) instead of factoring J_FF again.
+  static constexpr bool kKeepsNaturalStep = true;
 
   /// J(z); forward differences around (z, f) when the problem has no
   /// Jacobian. Returns false if J has a non-finite entry.
   bool EvaluateJacobian(const Eigen::VectorXd& z, const Eigen::VectorXd& f) {
+    // A constant J is read in place, checked once (constructor).
+    if (jacobian_ != &J_) return constant_finite_;
     if (mcp_.jacobian) {
       mcp_.jacobian(z, J_);
       DVI_THROW_UNLESS(J_.rows() == m_ && J_.cols() == m_,
@@ -66,21 +86,21 @@ class DenseAlgebra {
 
   /// scale += |J| |z|, the magnitudes F's linear terms sum at z.
   void AddAbsJacobianTimes(const Eigen::VectorXd& z, Eigen::VectorXd& scale) const {
-    scale.noalias() += J_.cwiseAbs() * z.cwiseAbs();
+    scale.noalias() += J().cwiseAbs() * z.cwiseAbs();
   }
 
   /// ∇Ψ = Hᵀ Φ = Da∘Φ + Jᵀ (Db∘Φ).
   void Gradient(const Eigen::VectorXd& da, const Eigen::VectorXd& db, const Eigen::VectorXd& phi,
                 Eigen::VectorXd& scratch, Eigen::VectorXd& gradient) const {
     scratch = db.cwiseProduct(phi);
-    gradient.noalias() = J_.transpose() * scratch;
+    gradient.noalias() = J().transpose() * scratch;
     gradient += da.cwiseProduct(phi);
   }
 
   /// Assembles and factors H. Returns false when H is (numerically) singular.
   bool Factor(const Eigen::VectorXd& da, const Eigen::VectorXd& db) {
     auto H = lu_.Matrix(m_);
-    H.noalias() = db.asDiagonal() * J_;
+    H.noalias() = db.asDiagonal() * J();
     H.diagonal() += da;
     return lu_.Factor();
   }
@@ -103,11 +123,11 @@ class DenseAlgebra {
       if (active[static_cast<std::size_t>(i)] == 0) free_.push_back(i);
     }
     const int k = static_cast<int>(free_.size());
-    product_.noalias() = J_ * d;  // J_·A d_A, as d_F = 0
+    product_.noalias() = J() * d;  // J_·A d_A, as d_F = 0
     auto reduced = lu_.Matrix(k);
     for (int c = 0; c < k; ++c) {
       const int column = free_[static_cast<std::size_t>(c)];
-      for (int r = 0; r < k; ++r) reduced(r, c) = J_(free_[static_cast<std::size_t>(r)], column);
+      for (int r = 0; r < k; ++r) reduced(r, c) = J()(free_[static_cast<std::size_t>(r)], column);
     }
     reduced.diagonal().array() += shift;
     if (!lu_.Factor()) return false;
@@ -127,7 +147,7 @@ class DenseAlgebra {
     // Fallback only: the first call allocates.
     if (H_.rows() != m_) H_.resize(m_, m_);
     if (normal_.rows() != m_) normal_.resize(m_, m_);
-    H_.noalias() = db.asDiagonal() * J_;
+    H_.noalias() = db.asDiagonal() * J();
     H_.diagonal() += da;
     normal_.noalias() = H_.transpose() * H_;
     const double mu = RegularizationParameter(phi_norm, normal_.diagonal().maxCoeff());
@@ -140,6 +160,8 @@ class DenseAlgebra {
   }
 
  private:
+  const Eigen::MatrixXd& J() const { return *jacobian_; }
+
   void ForwardDifferences(const Eigen::VectorXd& z, const Eigen::VectorXd& f) {
     z_shift_ = z;
     for (int j = 0; j < m_; ++j) {
@@ -154,7 +176,9 @@ class DenseAlgebra {
 
   const BoxMcp& mcp_;
   int m_;
-  Eigen::MatrixXd J_;
+  Eigen::MatrixXd J_;  // J where it is evaluated (empty for a constant J)
+  const Eigen::MatrixXd* jacobian_ = &J_;  // J_ or mcp.constant_dense_jacobian
+  bool constant_finite_ = true;
   internal::DenseLu lu_;
   Eigen::VectorXd z_shift_;
   Eigen::VectorXd f_shift_;  // also the reduced right-hand side

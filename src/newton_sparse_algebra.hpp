@@ -40,6 +40,9 @@ class SparseAlgebra {
   static constexpr const char* kName = "KLU";
   /// The natural-map step factors a matrix of H's size and pattern.
   static constexpr bool kReducedNaturalMap = false;
+  /// RunNewton solves the natural-map step again after step 1a rather than
+  /// keep a vector of the problem's size (3·10⁶ unknowns in a boundary-value VI).
+  static constexpr bool kKeepsNaturalStep = false;
 
   bool EvaluateJacobian(const Eigen::VectorXd& z, const Eigen::VectorXd&) {
     if (const SparseMatrix* constant = mcp_.constant_jacobian.get()) {

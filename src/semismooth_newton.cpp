@@ -57,7 +57,13 @@ constexpr int kNaturalMapBacktracks = 2;
 // step one of size |F| ≈ m/2 (8× fewer flops) plus O(m²) per trial step,
 // and at m ≥ 200 the LU dominates the cost of a step. Taking more, cheaper
 // steps then wins: on dense P-matrix LCPs of size 1000, 114 steps in 1.0 s
-// instead of 71 steps in 2.8 s.
+// instead of 71 steps in 2.8 s. For the same reason step 1a (held crossed
+// bounds, below) is not tried there: each of its rounds is one more LU, and
+// the full line search already follows the natural-map direction across
+// the bounds it crosses. On those LCPs 1a was entered in nearly every step
+// (3–11 rounds each) and kept in none but the last, which the natural-map
+// step finishes as well: 5–6 LUs per step instead of 1 (main at c85e475,
+// size 300: 294 factorizations in 48 steps; 3.3× the instructions).
 constexpr int kCheapNaturalMapSize = 200;
 // A full step (t = 1) is tested against the largest merit of the last 3
 // iterates [Grippo–Lampariello–Lucidi 1986], shortened steps against the
@@ -108,6 +114,7 @@ bool FactorAndSolve(Algebra& algebra, const Eigen::VectorXd& da, const Eigen::Ve
 struct CallerAlgebra {
   static constexpr const char* kName = "caller's structured";
   static constexpr bool kReducedNaturalMap = false;
+  static constexpr bool kKeepsNaturalStep = false;
   internal::NewtonLinearAlgebra& algebra;
 
   bool EvaluateJacobian(const Eigen::VectorXd& z, const Eigen::VectorXd& f) {
@@ -173,9 +180,8 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   const Reformulation phi_map(lower, upper);
   const int max_iterations =
       options.max_iterations > 0 ? options.max_iterations : kDefaultMaxIterations;
-  const int natural_backtracks = Algebra::kReducedNaturalMap && m >= kCheapNaturalMapSize
-                                     ? kMaxBacktracks
-                                     : kNaturalMapBacktracks;
+  const bool cheap_natural_map = Algebra::kReducedNaturalMap && m >= kCheapNaturalMapSize;
+  const int natural_backtracks = cheap_natural_map ? kMaxBacktracks : kNaturalMapBacktracks;
 
   // The vectors of the problem's size, each 24 MB at 3·10⁶ unknowns (a
   // boundary-value VI of 10⁶ steps): d doubles as the scratch of the
@@ -184,15 +190,27 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   Eigen::VectorXd f(m), phi(m), da(m), db(m), gradient(m), d(m);
   Eigen::VectorXd z_trial(m), f_trial(m), phi_trial(m);
   std::vector<signed char> active(m), crossed_active(m), next_active(m);
+  // Step 1a's rounds overwrite d; the dense path keeps the natural-map step
+  // they start from (m doubles beside its m² J, allocated at the first
+  // round) rather than factor J_FF again; the sparse and caller's paths
+  // solve it again (see above).
+  Eigen::VectorXd natural_d;
 
   SolveResult result;
   result.method = SolverMethod::kNewton;
   int iterations = 0;
+  // Every linear system below is factored afresh (SolveResult::factorizations).
+  int factorizations = 0;
+  auto solve_natural_map = [&](const std::vector<signed char>& active_set, double shift) {
+    ++factorizations;
+    return algebra.SolveNaturalMap(f, active_set, shift, d);
+  };
   double rounding_floor = 0;  // set where a stop within it is accepted
   auto finish = [&](SolveStatus status, std::string message) {
     result.status = status;
     result.message = std::move(message);
     result.iterations = iterations;
+    result.factorizations = factorizations;
     result.residual = BoxNaturalResidual(lower, upper, z, f);
     result.has_index_sets = true;
     result.index_sets = BoxIndexSets(lower, upper, z, f,
@@ -219,7 +237,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
   // For a nonlinear F the step is kept only if it reduces max |F_f|.
   if (phi_map.MarkBounded(active) && algebra.EvaluateJacobian(z, f)) {
     d.setZero();
-    if (algebra.SolveNaturalMap(f, active, 0.0, d)) {
+    if (solve_natural_map(active, 0.0)) {
       z_trial = z + d;
       mcp.F(z_trial, f_trial);
       double free_before = 0;
@@ -374,7 +392,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       if (std::none_of(active_set.begin(), active_set.end(),
                        [](signed char held) { return held == 0; }))
         return true;
-      if (algebra.SolveNaturalMap(f, active_set, 0.0, d)) return true;
+      if (solve_natural_map(active_set, 0.0)) return true;
       // J_FF singular (a projection's KKT system with more free multipliers
       // than the dimension): the proximal shift J_FF + δI, δ = the natural
       // residual of the free components, is nonsingular for a monotone J and
@@ -389,10 +407,11 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       // surfaces, F = 0: the shift keeps them where they are).
       shift = proximal > 0 ? proximal : residual;
       phi_map.StepToActiveBounds(z, active_set, d);
-      return algebra.SolveNaturalMap(f, active_set, shift, d);
+      return solve_natural_map(active_set, shift);
     };
     const bool natural = natural_step(current_active, natural_shift);
-    if (natural && phi_map.HoldCrossedBounds(z, d, current_active, crossed_active)) {
+    if (natural && !cheap_natural_map &&
+        phi_map.HoldCrossedBounds(z, d, current_active, crossed_active)) {
       // 1a. The step carries a free bounded component across its bound: the
       // natural map's active set lags one step behind (a Filippov sign s
       // whose VI map −h(t, x) depends on s only through x = x⁰ + h f1 s
@@ -403,7 +422,9 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       // free ones' proximal shift is then their own residual, which may
       // carry more of them across: held in turn, at most m rounds (F
       // independent of z: every sign goes to the bound −F points to). Where
-      // none is kept, the natural-map direction is solved again.
+      // none is kept, the natural-map direction is restored (kept or solved
+      // again).
+      if constexpr (Algebra::kKeepsNaturalStep) natural_d = d;
       double crossed_shift = 0;
       for (int round = 0; round < m && t == 0; ++round) {
         if (!natural_step(crossed_active, crossed_shift)) break;
@@ -413,7 +434,13 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
         }
         crossed_active.swap(next_active);
       }
-      if (t == 0) natural_step(current_active, natural_shift);
+      if (t == 0) {
+        if constexpr (Algebra::kKeepsNaturalStep) {
+          d.swap(natural_d);
+        } else {
+          natural_step(current_active, natural_shift);
+        }
+      }
     }
     if (natural && t == 0) {
       const double slope = gradient.dot(d);
@@ -448,10 +475,12 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
     // natural-map direction with a full line search, then steepest descent.
     if (t == 0) {
       bool newton = false;
+      ++factorizations;
       if (FactorAndSolve(algebra, da, db, phi, d)) {
         d = -d;
         newton = true;
       } else {
+        ++factorizations;
         newton = algebra.SolveRegularized(phi.norm(), da, db, gradient, d);
       }
       const double slope = newton ? gradient.dot(d) : 0.0;
@@ -459,7 +488,7 @@ SolveResult RunNewton(const BoxMcp& mcp, const SolverOptions& options, Eigen::Ve
       if (t == 0 && newton) t = projected_step();
       if (t == 0 && natural_slope < 0 && natural_backtracks < kMaxBacktracks) {
         phi_map.StepToActiveBounds(z, current_active, d);
-        if (algebra.SolveNaturalMap(f, current_active, natural_shift, d))
+        if (solve_natural_map(current_active, natural_shift))
           t = line_search(gradient.dot(d), &current_active, kMaxBacktracks);
       }
       if (t == 0) {

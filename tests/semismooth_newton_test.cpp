@@ -305,7 +305,10 @@ TEST(SemismoothNewton, KluPathAgreesWithTheDensePath) {
   ASSERT_TRUE(dense.solved()) << dense.message;
   // Both end within the tolerance of the unique solution of this SPD LCP.
   EXPECT_LE((sparse.z - dense.z).lpNorm<Eigen::Infinity>(), kPathAgreement);
-  EXPECT_EQ(sparse.iterations, dense.iterations);
+  // At this size the dense path takes no held-crossed-bounds step (1a; see
+  // kCheapNaturalMapSize), which finishes the KLU path's second step.
+  EXPECT_EQ(sparse.iterations, 2);
+  EXPECT_EQ(dense.iterations, 3);
 }
 
 // KKT system of an equality-constrained QP with bounds, min ½zᵀQz + cᵀz s.t.
@@ -639,6 +642,41 @@ TEST(SemismoothNewton, LargeLcpIsSolvedByCheapNaturalMapSteps) {
   ASSERT_TRUE(r.solved()) << r.message;
   EXPECT_LE(r.residual, kResidualTolerance);
   EXPECT_LE(r.iterations, 60);
+}
+
+// What a dense step costs is its LU factorizations (O(m³) each, the rest is
+// O(m²)). Where the natural-map step crosses bounds, the rounds of step 1a
+// (the crossed components held) factor a smaller J_FF each; where none is
+// kept, the step of the current active set is the one the rounds started
+// from and is not factored again. The LCP of size 100 enters 1a in 15 of its
+// 17 steps and keeps it in none: main at c85e475 factored 82 matrices.
+TEST(SemismoothNewton, CrossedBoundRoundsDoNotFactorTheNaturalStepAgain) {
+  const int m = 100;
+  std::mt19937 rng(0);
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  const Eigen::VectorXd q = test::RandomVector(m, rng);
+  const SolveResult r = SolveNewton(OrthantAffine(M, q));
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_EQ(r.iterations, 17);
+  EXPECT_EQ(r.factorizations, 82 - 15);
+}
+
+// From size 200 on (kCheapNaturalMapSize) the natural-map direction has its
+// full line search at once, and rounds of held crossed bounds, each an LU,
+// are not tried: one factorization per step. main at c85e475 factored 294
+// matrices in 48 steps of this LCP of size 300 (the benchmark's family),
+// 1a's last round saving it 2 steps; on lcp_vs_siconos' instance 0 at
+// n = 300 that cost 2.6x the instructions of the code of 2026-11-21 (314
+// LUs against 54, in 54 steps each; callgrind).
+TEST(SemismoothNewton, LargeLcpFactorsOneMatrixPerStep) {
+  const int m = 300;
+  std::mt19937 rng(0);
+  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
+  const Eigen::VectorXd q = test::RandomVector(m, rng);
+  const SolveResult r = SolveNewton(OrthantAffine(M, q));
+  ASSERT_TRUE(r.solved()) << r.message;
+  EXPECT_EQ(r.iterations, 50);
+  EXPECT_EQ(r.factorizations, r.iterations);
 }
 
 TEST(SemismoothNewton, IterationLimitIsReported) {

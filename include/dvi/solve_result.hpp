@@ -42,6 +42,11 @@ struct SolveResult {
   Eigen::VectorXd z;     ///< The solution (or last iterate).
   Eigen::VectorXd w;     ///< F(z).
   int iterations = 0;    ///< Pivots (Lemke), sweeps (PGS), Newton or projection steps.
+  /// Linear systems semismooth Newton factored (an LU or KLU of its FB
+  /// matrix or of the natural map's reduced matrix J_FF, or its
+  /// Levenberg–Marquardt system), the bulk of a dense solve's cost; 0 for
+  /// the other methods.
+  int factorizations = 0;
   double residual = 0;   ///< ‖z − Π_K(z − F(z))‖∞, the natural-map residual.
   double seconds = 0;    ///< Wall time of the solve.
   bool has_index_sets = false;  ///< True for orthant and box problems.
