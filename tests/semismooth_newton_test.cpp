@@ -650,12 +650,17 @@ TEST(SemismoothNewton, LargeLcpIsSolvedByCheapNaturalMapSteps) {
 // kept, the step of the current active set is the one the rounds started
 // from and is not factored again. The LCP of size 100 enters 1a in 15 of its
 // 17 steps and keeps it in none: main at c85e475 factored 82 matrices.
-TEST(SemismoothNewton, CrossedBoundRoundsDoNotFactorTheNaturalStepAgain) {
-  const int m = 100;
+// Newton on the random P-matrix LCP of size m of the benchmark's family
+// (generator seed 0).
+SolveResult NewtonOnRandomPLcp(int m) {
   std::mt19937 rng(0);
   const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
   const Eigen::VectorXd q = test::RandomVector(m, rng);
-  const SolveResult r = SolveNewton(OrthantAffine(M, q));
+  return SolveNewton(OrthantAffine(M, q));
+}
+
+TEST(SemismoothNewton, CrossedBoundRoundsDoNotFactorTheNaturalStepAgain) {
+  const SolveResult r = NewtonOnRandomPLcp(100);
   ASSERT_TRUE(r.solved()) << r.message;
   EXPECT_EQ(r.iterations, 17);
   EXPECT_EQ(r.factorizations, 82 - 15);
@@ -669,11 +674,7 @@ TEST(SemismoothNewton, CrossedBoundRoundsDoNotFactorTheNaturalStepAgain) {
 // n = 300 that cost 2.6x the instructions of the code of 2026-11-21 (314
 // LUs against 54, in 54 steps each; callgrind).
 TEST(SemismoothNewton, LargeLcpFactorsOneMatrixPerStep) {
-  const int m = 300;
-  std::mt19937 rng(0);
-  const Eigen::MatrixXd M = test::RandomPMatrix(m, rng);
-  const Eigen::VectorXd q = test::RandomVector(m, rng);
-  const SolveResult r = SolveNewton(OrthantAffine(M, q));
+  const SolveResult r = NewtonOnRandomPLcp(300);
   ASSERT_TRUE(r.solved()) << r.message;
   EXPECT_EQ(r.iterations, 50);
   EXPECT_EQ(r.factorizations, r.iterations);
