@@ -5,8 +5,8 @@
 // study times it (dense output kept, sampled at every step, no output times),
 // or an oracle as work_precision times it (the study's grid and switch
 // points as output times, the schedule from the event run at rtol 1e-13):
-//   valgrind --tool=callgrind --toggle-collect='*MeasuredRun*' \
-//     work_precision_calls PROBLEM RTOL [event | oracle-limit | oracle] [bdf | adams] [RUNS]
+//   valgrind --tool=callgrind --toggle-collect='*MeasuredRun*' work_precision_calls
+//     PROBLEM RTOL [event | oracle-limit | oracle] [bdf | adams] [RUNS]
 // RTOL with atol = RTOL · the scene's atol/rtol; the family defaults to the
 // scene's; RUNS (default 1) measured runs after the set-up. Prints the
 // run's steps and RHS evaluations (the work_precision.csv row's).
