@@ -19,9 +19,11 @@ namespace dvi {
 namespace {
 
 // The run stepped to its end.
-Trajectory Drive(internal::EventMethod event, internal::SteppingMethod stepping,
-                 const Eigen::VectorXd& x0, double t0, double t_end, const AutoOptions& options) {
-  internal::AutoRun run(std::move(event), std::move(stepping), x0, t0, t_end, options);
+Trajectory Drive(internal::EventMethod<internal::EventInterval> event,
+                 internal::SteppingMethod stepping, const Eigen::VectorXd& x0, double t0,
+                 double t_end, const AutoOptions& options) {
+  internal::AutoRun<internal::EventInterval> run(std::move(event), std::move(stepping), x0, t0,
+                                                 t_end, options);
   while (!internal::Over(run.Step())) {
   }
   return run.Take();

@@ -22,10 +22,10 @@ namespace dvi {
 
 namespace {
 
-// An event-driven interval as the EventDrivenIntegrator that runs it.
-class LiveInterval final : public internal::EventInterval {
+// An event-driven interval on CVODE as the EventDrivenIntegrator that runs it.
+class CvodeInterval final : public internal::LiveEventInterval {
  public:
-  explicit LiveInterval(EventDrivenIntegrator integrator) : integrator_(std::move(integrator)) {}
+  explicit CvodeInterval(EventDrivenIntegrator integrator) : integrator_(std::move(integrator)) {}
   StepOutcome Step() override { return integrator_.Step(); }
   StepOutcome AdvanceTo(double t) override { return integrator_.AdvanceTo(t); }
   void Reinit(double t, const Eigen::VectorXd& x) override { integrator_.Reinit(t, x); }
@@ -60,11 +60,11 @@ struct AutoIntegrator::State {
   // The event-driven intervals: EventDrivenIntegrators on CVODE (they take
   // output times, a non-box K and source breakpoints as IntegrateEventDriven
   // does), IdaIntervals on IDA's mode DAEs where the LCS runs there.
-  internal::EventMethod Method() const {
+  internal::EventMethod<internal::LiveEventInterval> Method() const {
     const Lcs* linear = lcs ? &*lcs : nullptr;
-    internal::EventMethod cvode{
+    internal::EventMethod<internal::LiveEventInterval> cvode{
         [this](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
-          return std::make_unique<LiveInterval>(
+          return std::make_unique<CvodeInterval>(
               lcs ? EventDrivenIntegrator(*lcs, x, t, run_t_end, run)
                   : EventDrivenIntegrator(dvi, x, t, run_t_end, run));
         },
@@ -93,7 +93,7 @@ struct AutoIntegrator::State {
   // and no run).
   std::optional<internal::StateJump> jump;
   std::optional<Trajectory> failed;
-  std::optional<internal::AutoRun> run;
+  std::optional<internal::AutoRun<internal::LiveEventInterval>> run;
 };
 
 AutoIntegrator::AutoIntegrator(const Dvi& dvi, const Eigen::VectorXd& x0, double t0,

@@ -262,8 +262,10 @@ void AppendLiveInterval(Trajectory& whole, Trajectory&& part, double from,
 
 }  // namespace
 
-AutoRun::AutoRun(EventMethod event, SteppingMethod stepping, const Eigen::VectorXd& x0,
-                 double t0, double t_end, const AutoOptions& options)
+template <typename Interval>
+AutoRun<Interval>::AutoRun(EventMethod<Interval> event, SteppingMethod stepping,
+                           const Eigen::VectorXd& x0, double t0, double t_end,
+                           const AutoOptions& options)
     : event_(std::move(event)),
       stepping_(std::move(stepping)),
       options_(options),
@@ -278,11 +280,13 @@ AutoRun::AutoRun(EventMethod event, SteppingMethod stepping, const Eigen::Vector
   StartInterval();
 }
 
-const EventDrivenOptions& AutoRun::RunOptions() const {
+template <typename Interval>
+const EventDrivenOptions& AutoRun<Interval>::RunOptions() const {
   return as_given_ ? options_.event : clipped_;
 }
 
-void AutoRun::StartInterval(bool take_over) {
+template <typename Interval>
+void AutoRun<Interval>::StartInterval(bool take_over) {
   const std::vector<double>& outputs = options_.event.output_times;
   as_given_ = t_ == t0_ && ClipKeepsAll(outputs, t0_, t_end_) && zeno_window_ < 0 &&
               options_.observation.empty();
@@ -299,7 +303,8 @@ void AutoRun::StartInterval(bool take_over) {
   phase_ = Phase::kEventDriven;
 }
 
-void AutoRun::EnterPart(IntegrationMethod method, double from, double to, bool goes_on) {
+template <typename Interval>
+void AutoRun<Interval>::EnterPart(IntegrationMethod method, double from, double to, bool goes_on) {
   interval_.reset();
   phase_ = Phase::kPassing;
   passing_method_ = method;
@@ -308,14 +313,16 @@ void AutoRun::EnterPart(IntegrationMethod method, double from, double to, bool g
   passing_goes_on_ = goes_on;
 }
 
-StepOutcome AutoRun::PassPart() {
+template <typename Interval>
+StepOutcome AutoRun<Interval>::PassPart() {
   cursor_ = passing_to_;
   if (passing_goes_on_) return StepOutcome::kStep;
   phase_ = Phase::kOver;
   return Ended();
 }
 
-StepOutcome AutoRun::Ended() const {
+template <typename Interval>
+StepOutcome AutoRun<Interval>::Ended() const {
   if (whole_.status == IntegrationStatus::kStoppedByUser) return StepOutcome::kUserStop;
   return whole_.final_time() >= t_end_ && (whole_.succeeded() ||
                                            whole_.status == IntegrationStatus::kUncertified)
@@ -323,7 +330,8 @@ StepOutcome AutoRun::Ended() const {
              : StepOutcome::kFailure;
 }
 
-void AutoRun::Conclude() {
+template <typename Interval>
+void AutoRun<Interval>::Conclude() {
   const std::vector<double>& outputs = options_.event.output_times;
   const std::optional<TakeOverPoint> take_over =
       event_.take_over ? interval_->TakeOverAt() : std::nullopt;
@@ -538,7 +546,8 @@ void AutoRun::Conclude() {
 
 // IDA's part up to where it met the mode (the caller has seen its steps:
 // they stay, and nothing is done twice), then CVODE's interval from there.
-void AutoRun::TakeOver(Trajectory&& run, const TakeOverPoint& at) {
+template <typename Interval>
+void AutoRun<Interval>::TakeOver(Trajectory&& run, const TakeOverPoint& at) {
   event_.certify(run, run.times.size(), RunOptions());
   if (at.t > t_)
     whole_.intervals.push_back(
@@ -551,9 +560,13 @@ void AutoRun::TakeOver(Trajectory&& run, const TakeOverPoint& at) {
   StartInterval(/*take_over=*/true);
 }
 
-void AutoRun::TakeLiveInterval() { AppendLiveInterval(whole_, interval_->Take(), t_, resumed_); }
+template <typename Interval>
+void AutoRun<Interval>::TakeLiveInterval() {
+  AppendLiveInterval(whole_, interval_->Take(), t_, resumed_);
+}
 
-void AutoRun::EndOnException() {
+template <typename Interval>
+void AutoRun<Interval>::EndOnException() {
   if (phase_ == Phase::kEventDriven && interval_) TakeLiveInterval();
   interval_.reset();
   if (whole_.succeeded()) {
@@ -564,8 +577,9 @@ void AutoRun::EndOnException() {
   last_ = StepOutcome::kFailure;
 }
 
+template <typename Interval>
 template <typename Call>
-StepOutcome AutoRun::Guarded(Call call) {
+StepOutcome AutoRun<Interval>::Guarded(Call call) {
   try {
     return call();
   } catch (...) {
@@ -574,16 +588,19 @@ StepOutcome AutoRun::Guarded(Call call) {
   }
 }
 
-StepOutcome AutoRun::Step() {
+template <typename Interval>
+StepOutcome AutoRun<Interval>::Step() {
   return Guarded([this] { return Observed(StepOnce()); });
 }
 
-StepOutcome AutoRun::AdvanceTo(double t) {
+template <typename Interval>
+StepOutcome AutoRun<Interval>::AdvanceTo(double t) {
   CheckAdvanceTime(t, this->t(), t_end_);
   return Guarded([this, t] { return Observed(AdvanceUntil(t)); });
 }
 
-StepOutcome AutoRun::Observed(StepOutcome outcome) {
+template <typename Interval>
+StepOutcome AutoRun<Interval>::Observed(StepOutcome outcome) {
   if (!observations_.active()) return outcome;
   const std::optional<AutoObservations::Stop> stop =
       observations_.Release(phase_ == Phase::kOver ? INFINITY : t());
@@ -597,7 +614,8 @@ StepOutcome AutoRun::Observed(StepOutcome outcome) {
   return last_ = StepOutcome::kUserStop;
 }
 
-StepOutcome AutoRun::StepOnce() {
+template <typename Interval>
+StepOutcome AutoRun<Interval>::StepOnce() {
   if (phase_ == Phase::kOver) return last_;
   if (phase_ == Phase::kPassing) {
     if (cursor_ < passing_to_) return last_ = PassPart();
@@ -614,7 +632,8 @@ StepOutcome AutoRun::StepOnce() {
   return last_ = StepOutcome::kEvent;  // on event-driven toward a Zeno accumulation
 }
 
-StepOutcome AutoRun::AdvanceUntil(double t) {
+template <typename Interval>
+StepOutcome AutoRun<Interval>::AdvanceUntil(double t) {
   while (true) {
     if (phase_ == Phase::kOver) return last_;
     if (phase_ == Phase::kPassing) {
@@ -635,7 +654,8 @@ StepOutcome AutoRun::AdvanceUntil(double t) {
   }
 }
 
-void AutoRun::Reinit(double t, const Eigen::VectorXd& x) {
+template <typename Interval>
+void AutoRun<Interval>::Reinit(double t, const Eigen::VectorXd& x) {
   CheckReinit(last_, t, x, this->t(), t_end_, x_.size());
   DVI_THROW_UNLESS(phase_ == Phase::kEventDriven || cursor_ == passing_to_,
                    "Reinit: t() = " << this->t() << " is inside the "
@@ -649,7 +669,8 @@ void AutoRun::Reinit(double t, const Eigen::VectorXd& x) {
   if (observations_.active()) observations_.Restarted(mark, t, interval_->trajectory());
 }
 
-double AutoRun::t() const {
+template <typename Interval>
+double AutoRun<Interval>::t() const {
   switch (phase_) {
     case Phase::kEventDriven: return interval_->t();
     case Phase::kPassing: return cursor_;
@@ -662,7 +683,8 @@ double AutoRun::t() const {
 // last row (an extrapolation: rows only at output times), the
 // extrapolation's own x̂, linear to (t*, x*), and u the last row's
 // (ExtrapolatedRows).
-Eigen::VectorXd AutoRun::PassingState(double t) const {
+template <typename Interval>
+Eigen::VectorXd AutoRun<Interval>::PassingState(double t) const {
   if (whole_.times.empty()) return x_;
   const double last = whole_.times.back();
   if (t <= last) return whole_.StateAt(t);
@@ -670,25 +692,29 @@ Eigen::VectorXd AutoRun::PassingState(double t) const {
   return x_last + (x_ - x_last) * ((t - last) / (passing_to_ - last));
 }
 
-Eigen::VectorXd AutoRun::PassingMultiplier(double t) const {
+template <typename Interval>
+Eigen::VectorXd AutoRun<Interval>::PassingMultiplier(double t) const {
   if (whole_.times.empty()) return Eigen::VectorXd();
   return t <= whole_.times.back() ? whole_.MultiplierAt(t)
                                   : Eigen::VectorXd(whole_.multipliers.back());
 }
 
-Eigen::VectorXd AutoRun::x() const {
+template <typename Interval>
+Eigen::VectorXd AutoRun<Interval>::x() const {
   if (phase_ == Phase::kEventDriven) return interval_->x();
   if (phase_ == Phase::kPassing) return PassingState(cursor_);
   return whole_.times.empty() ? x_ : Eigen::VectorXd(whole_.states.back());
 }
 
-Eigen::VectorXd AutoRun::u() const {
+template <typename Interval>
+Eigen::VectorXd AutoRun<Interval>::u() const {
   if (phase_ == Phase::kEventDriven) return interval_->u();
   if (phase_ == Phase::kPassing) return PassingMultiplier(cursor_);
   return whole_.times.empty() ? Eigen::VectorXd() : Eigen::VectorXd(whole_.multipliers.back());
 }
 
-void AutoRun::CheckPassingSpan(const char* call, double t) const {
+template <typename Interval>
+void AutoRun<Interval>::CheckPassingSpan(const char* call, double t) const {
   DVI_THROW_UNLESS(phase_ == Phase::kPassing && t >= passing_from_ && t <= cursor_,
                    call << ": t = " << t
                         << (phase_ == Phase::kOver
@@ -699,19 +725,22 @@ void AutoRun::CheckPassingSpan(const char* call, double t) const {
                         << " (trajectory().StateAt interpolates the samples)");
 }
 
-Eigen::VectorXd AutoRun::StateAt(double t) const {
+template <typename Interval>
+Eigen::VectorXd AutoRun<Interval>::StateAt(double t) const {
   if (phase_ == Phase::kEventDriven) return interval_->StateAt(t);
   CheckPassingSpan("StateAt", t);
   return PassingState(t);
 }
 
-Eigen::VectorXd AutoRun::MultiplierAt(double t) const {
+template <typename Interval>
+Eigen::VectorXd AutoRun<Interval>::MultiplierAt(double t) const {
   if (phase_ == Phase::kEventDriven) return interval_->MultiplierAt(t);
   CheckPassingSpan("MultiplierAt", t);
   return PassingMultiplier(t);
 }
 
-const Mode& AutoRun::mode() const {
+template <typename Interval>
+const Mode& AutoRun<Interval>::mode() const {
   DVI_THROW_UNLESS(phase_ == Phase::kEventDriven,
                    "mode: at t() = " << t() << " the run is "
                                      << (phase_ == Phase::kOver
@@ -722,7 +751,8 @@ const Mode& AutoRun::mode() const {
   return interval_->mode();
 }
 
-IntegrationMethod AutoRun::method() const {
+template <typename Interval>
+IntegrationMethod AutoRun<Interval>::method() const {
   switch (phase_) {
     case Phase::kEventDriven: return IntegrationMethod::kEventDriven;
     case Phase::kPassing: return passing_method_;
@@ -732,17 +762,31 @@ IntegrationMethod AutoRun::method() const {
                                   : whole_.intervals.back().method;
 }
 
-IntegrationStatus AutoRun::status() const {
+template <typename Interval>
+IntegrationStatus AutoRun<Interval>::status() const {
   return phase_ == Phase::kEventDriven ? interval_->status() : whole_.status;
 }
 
-Trajectory AutoRun::trajectory() const {
+template <typename Interval>
+Trajectory AutoRun<Interval>::trajectory() const {
   Trajectory so_far = whole_;
   if (phase_ != Phase::kEventDriven) return so_far;
   AppendLiveInterval(so_far, interval_->trajectory(), t_, resumed_);
   return so_far;
 }
 
-Trajectory AutoRun::Take() { return std::move(whole_); }
+template <typename Interval>
+Trajectory AutoRun<Interval>::Take() { return std::move(whole_); }
+
+// AutoIntegrator's run, stepped, stopped and restarted call by call.
+template class AutoRun<LiveEventInterval>;
+// IntegrateAuto's, stepped to its end (Drive): what Drive calls. Its
+// intervals have no live calls, so AdvanceTo, Reinit, x, u, StateAt,
+// MultiplierAt and mode cannot be instantiated for it.
+template AutoRun<EventInterval>::AutoRun(EventMethod<EventInterval>, SteppingMethod,
+                                         const Eigen::VectorXd&, double, double,
+                                         const AutoOptions&);
+template StepOutcome AutoRun<EventInterval>::Step();
+template Trajectory AutoRun<EventInterval>::Take();
 
 }  // namespace dvi::internal

@@ -3,7 +3,6 @@
 
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,59 +13,10 @@
 #include "dvi/mode.hpp"
 #include "dvi/step_outcome.hpp"
 #include "dvi/trajectory.hpp"
+#include "event_interval.hpp"
 
 namespace dvi::internal {
 
-/// Where another back-end takes an event-driven interval over (IDA met a
-/// mode it cannot integrate after it returned steps): the time and state.
-struct TakeOverPoint {
-  double t = 0;
-  Eigen::VectorXd x;
-};
-
-/// One event-driven interval of the automatic driver, from where it starts
-/// to where it ends or fails: a resumable integrator stepped call by call
-/// (AutoIntegrator's: EventDrivenIntegrator, IdaInterval; IntegrateAuto's
-/// on IDA), or a run made whole at its start (IntegrateAuto's on CVODE).
-/// Its rows are not checked against the VI (EventMethod::certify does that
-/// when it is over).
-class EventInterval {
- public:
-  virtual ~EventInterval() = default;
-  /// As the integrator objects' (StepOutcome): kEnd or kFailure once over.
-  virtual dvi::StepOutcome Step() = 0;
-  virtual dvi::StepOutcome AdvanceTo(double t) = 0;
-  virtual void Reinit(double t, const Eigen::VectorXd& x) = 0;
-  virtual double t() const = 0;
-  virtual Eigen::VectorXd x() const = 0;
-  virtual Eigen::VectorXd u() const = 0;
-  virtual Eigen::VectorXd StateAt(double t) const = 0;
-  virtual Eigen::VectorXd MultiplierAt(double t) const = 0;
-  virtual const Mode& mode() const = 0;
-  virtual IntegrationStatus status() const = 0;
-  /// The interval so far.
-  virtual Trajectory trajectory() const = 0;
-  /// The interval, once over (it may be moved out).
-  virtual Trajectory Take() = 0;
-  /// Once over: where EventMethod::take_over goes on from, if the interval
-  /// ended on a mode its back-end cannot integrate; none otherwise.
-  virtual std::optional<TakeOverPoint> TakeOverAt() const { return std::nullopt; }
-};
-
-/// An event-driven back-end: `start` begins an interval at (t, x) with
-/// `options` (the run's, or a copy with its output times clipped, a Zeno
-/// window and x0_error; it outlives the interval); `certify` checks the
-/// first `rows` of a finished one against the VI (the row where a failed
-/// run stops gives way to time-stepping's); `take_over` (empty: none)
-/// begins the interval that goes on where one ended at its TakeOverAt.
-struct EventMethod {
-  using Start = std::function<std::unique_ptr<EventInterval>(double t, const Eigen::VectorXd& x,
-                                                             const EventDrivenOptions& options)>;
-  Start start;
-  std::function<void(Trajectory& part, std::size_t rows, const EventDrivenOptions& options)>
-      certify;
-  Start take_over;
-};
 /// Runs time-stepping from (t_a, x_a) to t_b, sampling `outputs`, its u⁰
 /// warm-started from u_a, with the step (and, adaptive, the step-doubling
 /// tolerances) of the options times `refinement`, and `observation` (the
@@ -91,10 +41,18 @@ using SteppingMethod = std::function<Trajectory(
 /// Where it answers kStop the run ends there (kUserStop), as where a user
 /// event's kStop ends a part.
 /// `options` outlive the run; the checks of the arguments are the caller's.
+///
+/// `Interval` is what its event-driven intervals are: EventInterval for a
+/// run stepped to its end (IntegrateAuto's: the constructor, Step and Take
+/// are instantiated for it), LiveEventInterval for one stepped, stopped and
+/// restarted call by call (AutoIntegrator's: AdvanceTo, Reinit, x, u,
+/// StateAt, MultiplierAt and mode call its intervals' live calls, and exist
+/// for it alone).
+template <typename Interval>
 class AutoRun {
  public:
-  AutoRun(EventMethod event, SteppingMethod stepping, const Eigen::VectorXd& x0, double t0,
-          double t_end, const AutoOptions& options);
+  AutoRun(EventMethod<Interval> event, SteppingMethod stepping, const Eigen::VectorXd& x0,
+          double t0, double t_end, const AutoOptions& options);
 
   /// An exception of the problem's functions ends the run where it was
   /// thrown (kFailure from then on) and is passed on, once.
@@ -166,7 +124,7 @@ class AutoRun {
   dvi::StepOutcome Ended() const;
   void EnterPart(IntegrationMethod method, double from, double to, bool goes_on);
 
-  const EventMethod event_;
+  const EventMethod<Interval> event_;
   const SteppingMethod stepping_;
   const AutoOptions& options_;
   const double t0_, t_end_;
@@ -193,7 +151,7 @@ class AutoRun {
   // `clipped_`.
   bool as_given_ = true;
   EventDrivenOptions clipped_;
-  std::unique_ptr<EventInterval> interval_;
+  std::unique_ptr<Interval> interval_;
   AutoObservations observations_;
   Phase phase_ = Phase::kEventDriven;
   // The part being passed: its method, span, the cursor in it, and whether
@@ -203,5 +161,14 @@ class AutoRun {
   bool passing_goes_on_ = false;
   dvi::StepOutcome last_ = dvi::StepOutcome::kStep;
 };
+
+// Instantiated in auto_run.cpp: AutoIntegrator's run whole, IntegrateAuto's
+// for what Drive calls.
+extern template class AutoRun<LiveEventInterval>;
+extern template AutoRun<EventInterval>::AutoRun(EventMethod<EventInterval>, SteppingMethod,
+                                                const Eigen::VectorXd&, double, double,
+                                                const AutoOptions&);
+extern template dvi::StepOutcome AutoRun<EventInterval>::Step();
+extern template Trajectory AutoRun<EventInterval>::Take();
 
 }  // namespace dvi::internal

@@ -131,10 +131,11 @@ std::optional<TakeOverPoint> IdaInterval::TakeOverAt() const {
   return TakeOverPoint{run_->refusal().t, run_->refusal().x};
 }
 
-EventMethod IdaIntervals(const Lcs& lcs, double t_end, EventMethod cvode) {
+template <typename Interval>
+EventMethod<Interval> IdaIntervals(const Lcs& lcs, double t_end, EventMethod<Interval> cvode) {
   auto start = [&lcs, t_end, cvode_start = cvode.start](
                    double t, const Eigen::VectorXd& x,
-                   const EventDrivenOptions& options) -> std::unique_ptr<EventInterval> {
+                   const EventDrivenOptions& options) -> std::unique_ptr<Interval> {
     auto ida = std::make_unique<IdaInterval>(lcs, t, x, t_end, options);
     // A mode DAE needs u unique; CVODE's mode ODE needs only x' to be
     // (Proposition 5.1's semi-affine case, free directions: a bridge whose
@@ -159,5 +160,10 @@ EventMethod IdaIntervals(const Lcs& lcs, double t_end, EventMethod cvode) {
   };
   return {std::move(start), std::move(certify), std::move(cvode.start)};
 }
+
+// IntegrateAuto's (its CVODE intervals run whole) and AutoIntegrator's.
+template EventMethod<EventInterval> IdaIntervals(const Lcs&, double, EventMethod<EventInterval>);
+template EventMethod<LiveEventInterval> IdaIntervals(const Lcs&, double,
+                                                     EventMethod<LiveEventInterval>);
 
 }  // namespace dvi::internal

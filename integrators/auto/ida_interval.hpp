@@ -6,11 +6,11 @@
 
 #include <Eigen/Dense>
 
-#include "auto_run.hpp"
 #include "dvi/event_driven_options.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/mode_dae_options.hpp"
 #include "dvi/trajectory.hpp"
+#include "event_interval.hpp"
 
 namespace dvi::internal {
 
@@ -31,7 +31,7 @@ ModeDaeOptions ModeDaeOptionsOf(const EventDrivenOptions& options);
 /// run (IntegrateModeDaeUncertified), bit for bit. Its rows are not checked
 /// against the VI (IdaIntervals' certify does that). Owns a copy of its
 /// options; `lcs` outlives it.
-class IdaInterval final : public EventInterval {
+class IdaInterval final : public LiveEventInterval {
  public:
   IdaInterval(const Lcs& lcs, double t0, const Eigen::VectorXd& x0, double t_end,
               const EventDrivenOptions& options);
@@ -83,7 +83,14 @@ class IdaInterval final : public EventInterval {
 /// only: Proposition 5.1's free directions) runs the interval instead, and
 /// where IDA meets such a mode later, `cvode` takes the interval over from
 /// there (EventMethod::take_over). Each part is certified by the back-end
-/// that ran it. `lcs` outlives the method.
-EventMethod IdaIntervals(const Lcs& lcs, double t_end, EventMethod cvode);
+/// that ran it. `lcs` outlives the method. `Interval` is `cvode`'s: an
+/// IdaInterval is either (EventInterval for IntegrateAuto, whose CVODE
+/// intervals run whole; LiveEventInterval for AutoIntegrator).
+template <typename Interval>
+EventMethod<Interval> IdaIntervals(const Lcs& lcs, double t_end, EventMethod<Interval> cvode);
+extern template EventMethod<EventInterval> IdaIntervals(const Lcs&, double,
+                                                        EventMethod<EventInterval>);
+extern template EventMethod<LiveEventInterval> IdaIntervals(const Lcs&, double,
+                                                            EventMethod<LiveEventInterval>);
 
 }  // namespace dvi::internal

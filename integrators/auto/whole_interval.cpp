@@ -5,8 +5,6 @@
 
 #include <memory>
 #include <optional>
-#include <stdexcept>
-#include <string>
 #include <utility>
 
 #include "auto_setup.hpp"
@@ -30,26 +28,9 @@ IntegrationStatus WholeInterval::status() const {
 
 namespace {
 
-[[noreturn]] void NotLive(const char* call) {
-  throw std::logic_error(std::string("WholeInterval::") + call +
-                         ": IntegrateAuto only steps its intervals run whole");
-}
-
-}  // namespace
-
-StepOutcome WholeInterval::AdvanceTo(double) { NotLive("AdvanceTo"); }
-void WholeInterval::Reinit(double, const Eigen::VectorXd&) { NotLive("Reinit"); }
-Eigen::VectorXd WholeInterval::x() const { NotLive("x"); }
-Eigen::VectorXd WholeInterval::u() const { NotLive("u"); }
-Eigen::VectorXd WholeInterval::StateAt(double) const { NotLive("StateAt"); }
-Eigen::VectorXd WholeInterval::MultiplierAt(double) const { NotLive("MultiplierAt"); }
-const Mode& WholeInterval::mode() const { NotLive("mode"); }
-
-namespace {
-
-EventMethod WholeMethod(WholeInterval::Run run,
-                        std::function<void(Trajectory&, std::size_t, const EventDrivenOptions&)>
-                            certify) {
+EventMethod<EventInterval> WholeMethod(
+    WholeInterval::Run run,
+    std::function<void(Trajectory&, std::size_t, const EventDrivenOptions&)> certify) {
   return {[run = std::move(run)](double t, const Eigen::VectorXd& x,
                                  const EventDrivenOptions& options)
               -> std::unique_ptr<EventInterval> {
@@ -61,7 +42,7 @@ EventMethod WholeMethod(WholeInterval::Run run,
 
 }  // namespace
 
-EventMethod WholeIntervals(const Dvi& dvi, double t_end) {
+EventMethod<EventInterval> WholeIntervals(const Dvi& dvi, double t_end) {
   return WholeMethod(
       [&dvi, t_end](double t, const Eigen::VectorXd& x, const EventDrivenOptions& options) {
         return IntegrateEventDrivenValidated(dvi, nullptr, x, t, t_end, options);
@@ -71,7 +52,8 @@ EventMethod WholeIntervals(const Dvi& dvi, double t_end) {
       });
 }
 
-EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& options) {
+EventMethod<EventInterval> WholeIntervals(const Lcs& lcs, double t_end,
+                                          const AutoOptions& options) {
   // The Dvi only for CVODE's intervals: a circuit on IDA is not copied
   // unless CVODE runs one of its intervals.
   auto dvi = std::make_shared<std::optional<Dvi>>();
@@ -79,7 +61,7 @@ EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& opti
     if (!*dvi) dvi->emplace(lcs.ToDvi());
     return **dvi;
   };
-  EventMethod cvode = WholeMethod(
+  EventMethod<EventInterval> cvode = WholeMethod(
       [&lcs, t_end, problem](double t, const Eigen::VectorXd& x, const EventDrivenOptions& run) {
         return IntegrateEventDrivenValidated(problem(), &lcs, x, t, t_end, run);
       },

@@ -5,12 +5,12 @@
 
 #include <Eigen/Dense>
 
-#include "auto_run.hpp"
 #include "dvi/auto_options.hpp"
 #include "dvi/dvi_problem.hpp"
 #include "dvi/event_driven_options.hpp"
 #include "dvi/lcs.hpp"
 #include "dvi/trajectory.hpp"
+#include "event_interval.hpp"
 
 namespace dvi::internal {
 
@@ -18,10 +18,7 @@ namespace dvi::internal {
 /// with all of its scope (output times, the KKT lifting of a non-box K,
 /// source breakpoints): IntegrateAuto's intervals on CVODE, which it only
 /// steps: Step goes to the interval's end (kEnd, or kFailure where it
-/// stopped short). AutoIntegrator steps its intervals live
-/// (EventDrivenIntegrator, IdaInterval): the calls only a live interval
-/// answers (AdvanceTo, Reinit, x, u, StateAt, MultiplierAt, mode) throw
-/// std::logic_error here.
+/// stopped short).
 class WholeInterval final : public EventInterval {
  public:
   /// The one-shot run from (t, x) to the driver's t_end with `options`
@@ -34,14 +31,7 @@ class WholeInterval final : public EventInterval {
                 const EventDrivenOptions& options);
 
   dvi::StepOutcome Step() override;
-  dvi::StepOutcome AdvanceTo(double t) override;
-  void Reinit(double t, const Eigen::VectorXd& x) override;
   double t() const override { return cursor_; }
-  Eigen::VectorXd x() const override;
-  Eigen::VectorXd u() const override;
-  Eigen::VectorXd StateAt(double t) const override;
-  Eigen::VectorXd MultiplierAt(double t) const override;
-  const Mode& mode() const override;
   /// kSuccess before the run's end, then the run's.
   IntegrationStatus status() const override;
   Trajectory trajectory() const override { return run_; }
@@ -58,11 +48,12 @@ class WholeInterval final : public EventInterval {
 /// IntegrateAuto's event-driven back-end, each interval a WholeInterval of
 /// IntegrateEventDriven's run on `dvi` (its rows certified against the VI
 /// when over). `dvi` outlives the method.
-EventMethod WholeIntervals(const Dvi& dvi, double t_end);
+EventMethod<EventInterval> WholeIntervals(const Dvi& dvi, double t_end);
 /// The same on an LCS: on IDA (mode DAEs, IdaIntervals, stepped to their
 /// end) where UsesModeDae says, CVODE taking an interval IDA cannot
 /// integrate; on CVODE (KLU where the LCS is large) otherwise. `lcs`
 /// outlives the method.
-EventMethod WholeIntervals(const Lcs& lcs, double t_end, const AutoOptions& options);
+EventMethod<EventInterval> WholeIntervals(const Lcs& lcs, double t_end,
+                                          const AutoOptions& options);
 
 }  // namespace dvi::internal

@@ -45,7 +45,7 @@ constexpr double kHalf = 0.5, kStop = 0.1;
 // before its first row.
 class StoppingInterval final : public internal::EventInterval {
  public:
-  StoppingInterval(double t, const Eigen::VectorXd& x) : t_(t), x_(x) {
+  explicit StoppingInterval(double t) : t_(t) {
     run_.status = IntegrationStatus::kStepFailure;
     if (t > 0) {
       run_.message = "stand-in: stops at its start";
@@ -59,22 +59,13 @@ class StoppingInterval final : public internal::EventInterval {
     }
   }
   StepOutcome Step() override { return StepOutcome::kFailure; }
-  StepOutcome AdvanceTo(double) override { return Step(); }
-  void Reinit(double, const Eigen::VectorXd&) override {}
   double t() const override { return run_.times.empty() ? t_ : run_.times.back(); }
-  Eigen::VectorXd x() const override { return x_; }
-  Eigen::VectorXd u() const override { return Eigen::VectorXd(); }
-  Eigen::VectorXd StateAt(double) const override { return x_; }
-  Eigen::VectorXd MultiplierAt(double) const override { return Eigen::VectorXd(); }
-  const Mode& mode() const override { return mode_; }
   IntegrationStatus status() const override { return run_.status; }
   Trajectory trajectory() const override { return run_; }
   Trajectory Take() override { return std::move(run_); }
 
  private:
   double t_;
-  Eigen::VectorXd x_;
-  Mode mode_;
   Trajectory run_;
 };
 
@@ -91,13 +82,13 @@ TEST(AutoRun, AWindowAfterAWindowResumesFromItsMultiplier) {
   options.stepping_window = 0.1;
   std::vector<Eigen::VectorXd> guesses;
   const internal::SteppingMethod stepping = internal::SteppingOf(lcs, options);
-  internal::EventMethod event{
-      [](double t, const Eigen::VectorXd& x, const EventDrivenOptions&) {
-        return std::make_unique<StoppingInterval>(t, x);
+  internal::EventMethod<internal::EventInterval> event{
+      [](double t, const Eigen::VectorXd&, const EventDrivenOptions&) {
+        return std::make_unique<StoppingInterval>(t);
       },
       [](Trajectory&, std::size_t, const EventDrivenOptions&) {},
       {}};
-  internal::AutoRun run(
+  internal::AutoRun<internal::EventInterval> run(
       std::move(event),
       [&](double t_a, const Eigen::VectorXd& x_a, const Eigen::VectorXd& u_a, double t_b,
           const std::vector<double>& outputs, double refinement,
