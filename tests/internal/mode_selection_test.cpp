@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -41,6 +42,7 @@ struct Chosen {
   Selection selection;
   Mode mode;
   long vi_solves = 0;
+  long iterations = 0;  // the VI solver's
 };
 
 Chosen Select(const ModeProblem& problem, double x, bool every_component) {
@@ -48,10 +50,9 @@ Chosen Select(const ModeProblem& problem, double x, bool every_component) {
   const SolveResult vi = problem.SolveVi(0, state, Eigen::VectorXd::Zero(1));
   EXPECT_TRUE(vi.solved());
   Chosen chosen;
-  long iterations = 0;
   std::string why;
   chosen.selection = SelectMode(problem, 0, state, vi, 1e-4, every_component, chosen.mode,
-                                &chosen.vi_solves, &iterations, &why);
+                                &chosen.vi_solves, &chosen.iterations, &why);
   return chosen;
 }
 
@@ -75,6 +76,61 @@ TEST(ModeSelection, ADegenerateComponentLeavesItsBoundByItsRate) {
   EXPECT_EQ(chosen.selection, Selection::kChosen);
   EXPECT_EQ(ModeLetters(chosen.mode), "f");
   EXPECT_EQ(chosen.vi_solves, 1);  // the rates' MLCP alone, no look-ahead
+}
+
+TEST(ModeSelection, OneDegenerateComponentsRatesNeedNoSolverIterations) {
+  // Issue 31: the derivative MLCP of one component near its bound (every
+  // event's crossing component) in closed form, v = −Ḟ/F_u = 1 here: before,
+  // a semismooth Newton solve of its 1×1 MLCP from v = 0.
+  const Dvi dvi = Saturation(0);
+  const ModeProblem problem(dvi, Eigen::VectorXd::Constant(1, -1), Eigen::VectorXd::Constant(1, 1),
+                            SolverOptions(), false, nullptr);
+  const Chosen chosen = Select(problem, 1, false);
+  EXPECT_EQ(ModeLetters(chosen.mode), "f");
+  EXPECT_EQ(chosen.vi_solves, 1);
+  EXPECT_EQ(chosen.iterations, 0);
+}
+
+// F = M u + b0 + q t with M = [1 2; 2 5], b0 = (−1, −2), u1 free and
+// u2 ∈ [0, ∞): at t = 0 u = (1, 0) with F2 = 0, degenerate. The free row
+// eliminated, Ḟ2 = a + σ v2 with the Schur complement σ = 5 − 2·2 = 1 and
+// a = q2 − 2 q1: u2's own rate q2 > 0 says it stays, its Schur complement's
+// decides.
+Dvi CoupledDegenerate(const Eigen::Vector2d& q) {
+  Dvi dvi;
+  dvi.n = 2;
+  dvi.m = 2;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u;
+  };
+  dvi.F = [q](double t, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    const Eigen::Matrix2d M = (Eigen::Matrix2d() << 1, 2, 2, 5).finished();
+    out = M * u + Eigen::Vector2d(-1, -2) + q * t;
+  };
+  dvi.K = ConvexSet::Box(Eigen::Vector2d(-HUGE_VAL, 0), Eigen::Vector2d(HUGE_VAL, HUGE_VAL));
+  return dvi;
+}
+
+TEST(ModeSelection, ADegenerateComponentsRateIsItsSchurComplementsAcrossTheFreeRows) {
+  for (const auto& [q, letters] : {std::pair{Eigen::Vector2d(1, 1), "ff"},  // a = −1: v2 = 1
+                                   std::pair{Eigen::Vector2d(1, 3), "fl"}}) {  // a = 1: v2 = 0
+    const Dvi dvi = CoupledDegenerate(q);
+    const ModeProblem problem(dvi, Eigen::Vector2d(-HUGE_VAL, 0),
+                              Eigen::Vector2d(HUGE_VAL, HUGE_VAL), SolverOptions(), false,
+                              nullptr);
+    const Eigen::VectorXd state = Eigen::VectorXd::Zero(2);
+    const SolveResult vi = problem.SolveVi(0, state, Eigen::VectorXd::Zero(2));
+    ASSERT_TRUE(vi.solved());
+    EXPECT_NEAR(vi.z(0), 1, 1e-12);
+    EXPECT_NEAR(vi.z(1), 0, 1e-12);
+    Mode mode;
+    long vi_solves = 0, iterations = 0;
+    std::string why;
+    EXPECT_EQ(SelectMode(problem, 0, state, vi, 1e-4, false, mode, &vi_solves, &iterations, &why),
+              Selection::kChosen);
+    EXPECT_EQ(ModeLetters(mode), letters) << "q = " << q.transpose();
+    EXPECT_EQ(vi_solves, 1);  // the rates alone decide
+  }
 }
 
 TEST(ModeSelection, TheLookAheadAgreesWithTheRates) {
