@@ -148,11 +148,14 @@ bool EventDrivenRun::TryMode(double t, Eigen::VectorXd& x, const Mode& mode,
 // along the flow (Proposition 5.1: a bridge of ideal diodes, a Filippov
 // crossing), which the look-ahead finds. Neither: kNotIndexOne with every
 // reason.
-bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode) {
+bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode,
+                                bool known_regular) {
   IntegrationStats& stats = trajectory_.stats;
   const double delta = LookAheadLength(t, t0_, t_end_);
   const MatrixClassVerdict regular =
-      IsStronglyRegular(system_.problem().MultiplierJacobian(t, x, vi.z), vi.index_sets);
+      known_regular
+          ? MatrixClassVerdict{true, true, ""}
+          : IsStronglyRegular(system_.problem().MultiplierJacobian(t, x, vi.z), vi.index_sets);
   const Eigen::VectorXd x_event = x;
   std::string reduced_why;
   if (!regular.holds) {
@@ -322,13 +325,19 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     system_.Project(t, x, correction, nullptr);
     x += correction;
   }
-  // Issue 31: on the mode the roots predict first, one linear solve where
-  // it holds (SolveViOnActiveSet's test is the VI solver's).
+  // Issue 31: at a root return, where the VI's solution is found without
+  // the VI solver — an LCS's on the mode the roots predict (one linear
+  // solve), a nonlinear F's the old mode's u at the root — it passed the VI
+  // solver's own test and is strongly regular (active_set_solve.hpp), which
+  // ChooseMode then need not ask again.
   SolveResult vi;
-  if (next_mode_.empty() ||
-      !SolveViOnActiveSet(system_.problem(), t, x, next_mode_,
-                          system_.problem().solver().tolerance, vi))
-    vi = system_.problem().SolveVi(t, x, system_.u());
+  const ModeProblem& problem = system_.problem();
+  const double tolerance = problem.solver().tolerance;
+  const bool regular =
+      !next_mode_.empty() &&
+      (problem.affine() ? SolveViOnActiveSet(problem, t, x, next_mode_, tolerance, vi)
+                        : AcceptViSolution(problem, t, x, system_.u(), tolerance, vi));
+  if (!regular) vi = problem.SolveVi(t, x, system_.u());
   if (!vi.solved()) {
     // The root's state carries CVODE's error and x' times the root's time
     // tolerance (100 ε (|t| + |h|)): x crossed a state constraint by up to
@@ -362,7 +371,7 @@ bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
     return Fail(IntegrationStatus::kStepFailure, message.str());
   }
   Mode mode = old_mode;
-  if (t_end_ - t > 0 && !ChooseMode(t, x, vi, mode)) return false;
+  if (t_end_ - t > 0 && !ChooseMode(t, x, vi, mode, regular)) return false;
   // A root that leaves mode and state as they are (a grazing contact, a
   // degenerate component) is no event: CVODE restarts from it and does not
   // report it again there, so such roots cannot pile up at one time.

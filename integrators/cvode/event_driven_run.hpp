@@ -114,7 +114,10 @@ class EventDrivenRun {
   std::pair<long, long> AddUncountedSteps(IntegrationStats& stats) const;
   bool TryMode(double t, Eigen::VectorXd& x, const Mode& mode, const Eigen::VectorXd& u,
                std::string& why);
-  bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode);
+  /// known_regular: vi is known to be strongly regular (Sect. 5.3), not
+  /// asked again.
+  bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode,
+                  bool known_regular = false);
   bool HandleEvent(double t, Eigen::VectorXd& x);
   /// next_mode_ from the roots CVODE found at its root return; false when
   /// it does not say which.

@@ -47,16 +47,27 @@ bool SolveViOnActiveSet(const ModeProblem& problem, double t, const Eigen::Vecto
     }
     // A singular M_AA gives a non-finite u, which the test below refuses.
     const Eigen::VectorXd u_A = M_AA.partialPivLu().solve(rhs);
-    for (int i = 0; i < a; ++i)
-      z(free[i]) = std::clamp(u_A(i), lower(free[i]), upper(free[i]));
+    for (int i = 0; i < a; ++i) z(free[i]) = u_A(i);
   }
+  return AcceptViSolution(problem, t, x, std::move(z), tolerance, result);
+}
+
+bool AcceptViSolution(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
+                      Eigen::VectorXd z, double tolerance, SolveResult& result) {
+  const Eigen::VectorXd& lower = problem.lower();
+  const Eigen::VectorXd& upper = problem.upper();
+  if (z.size() != problem.m() || !z.allFinite()) return false;
+  z = z.cwiseMax(lower).cwiseMin(upper);
   Eigen::VectorXd w;
   problem.EvalF(t, x, z, w);
-  if (!w.allFinite() || !z.allFinite()) return false;
+  if (!w.allFinite()) return false;
   const double residual = BoxNaturalResidual(lower, upper, z, w);
   if (!(residual <= tolerance)) return false;
   IndexSets sets = BoxIndexSets(lower, upper, z, w, kIndexSetFactor * tolerance);
-  if (!IsStronglyRegular(M, sets).holds) return false;
+  const bool regular = problem.HasDenseRows()
+                           ? IsStronglyRegular(problem.dense_rows().M, sets).holds
+                           : IsStronglyRegular(problem.MultiplierJacobian(t, x, z), sets).holds;
+  if (!regular) return false;
   result.status = SolveStatus::kSolved;
   result.message.clear();
   result.method = SolverMethod::kNewton;  // one Newton step on the active set's equations

@@ -36,4 +36,18 @@ namespace dvi::internal {
 bool SolveViOnActiveSet(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
                         const Mode& mode, double tolerance, SolveResult& result);
 
+/// SolveViOnActiveSet's test of a guess z of any box DVI, F nonlinear too:
+/// z clipped to the box, w = F(t, x, z), the natural residual ≤ tolerance,
+/// and z strongly regular there (∂F/∂u at z, the index sets as the
+/// semismooth Newton solver reads them). Then z is an isolated solution of
+/// the VI ([Seed] Sect. 5.3), and the one the VI solver converges to from
+/// a warm start at z (its first Newton step stays there to round-off).
+/// At a root return the old mode's u at the root is such a guess: the
+/// component that crossed sits at its bound with F_j = 0, where the old
+/// mode's equations and the new one's hold both, and every other component
+/// keeps the sign conditions it had (issue 31, cheaper events). On
+/// acceptance result as SolveViOnActiveSet's; else false, result untouched.
+bool AcceptViSolution(const ModeProblem& problem, double t, const Eigen::VectorXd& x,
+                      Eigen::VectorXd z, double tolerance, SolveResult& result);
+
 }  // namespace dvi::internal

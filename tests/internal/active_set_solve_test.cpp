@@ -2,6 +2,7 @@
 // modes/active_set_solve alone: the VI of a small LCS solved on a guessed
 // active set, accepted only where the VI solver's own test passes.
 #include <limits>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
@@ -89,6 +90,36 @@ TEST(ActiveSetSolve, ANonlinearProblemIsLeftToTheSolver) {
   const Fixture fixture(kPMatrix, false);
   SolveResult result;
   EXPECT_FALSE(fixture.Solve({kFree, kLower}, result));
+}
+
+// AcceptViSolution on the same VI taken as a nonlinear DVI (∂F/∂u by
+// differences): the solution, 1e-12 below its bound in u2, is clipped and
+// accepted with the solver's index sets; a guess off the solution is
+// refused, and so is the solution u = (3, 0) of D = [[1, 1], [1, 1]],
+// q = (−3, −3), w = (0, 0): u2 degenerate, ∂F/∂u's Schur complement on β is
+// 1 − 1 = 0, not strongly regular (u is not unique: every u1 + u2 = 3).
+TEST(ActiveSetSolve, AGuessOfANonlinearProblemIsAcceptedWhereItSolvesTheViStronglyRegularly) {
+  const Fixture fixture(kPMatrix, false);
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(1);
+  SolveResult result;
+  ASSERT_TRUE(AcceptViSolution(fixture.problem, 0, x, Eigen::Vector2d(1.5, -1e-12), kTolerance,
+                               result));
+  EXPECT_TRUE(result.solved());
+  EXPECT_EQ(result.z, Eigen::Vector2d(1.5, 0));
+  EXPECT_EQ(result.index_sets.alpha, std::vector<int>{0});
+  EXPECT_EQ(result.index_sets.gamma, std::vector<int>{1});
+  SolveResult refused;
+  EXPECT_FALSE(AcceptViSolution(fixture.problem, 0, x, Eigen::Vector2d(1.5 + 1e-6, 0), kTolerance,
+                                refused));
+  EXPECT_EQ(refused.z.size(), 0);
+  const Lcs segment = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 2),
+                                 Eigen::MatrixXd::Zero(2, 1), Eigen::MatrixXd::Ones(2, 2),
+                                 Eigen::VectorXd::Zero(1), Eigen::Vector2d(-3, -3));
+  const Dvi dvi = segment.ToDvi();
+  const ModeProblem problem(dvi, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Constant(2, kInfinity),
+                            SolverOptions(), false, nullptr);
+  EXPECT_FALSE(AcceptViSolution(problem, 0, x, Eigen::Vector2d(3, 0), kTolerance, refused));
+  EXPECT_EQ(refused.z.size(), 0);
 }
 
 }  // namespace

@@ -109,6 +109,59 @@ TEST(EventCost, TheBridgesKeptSwitchesScanNoStepForAMissedRoot) {
   }
 }
 
+// The work-precision study's rectifier (a sine source charging C through
+// an ideal diode in series with Rd = ½: v' = −v + u,
+// 0 ≤ u ⊥ u/2 + v − sin 10πt ≥ 0, v0 = 1), on its first 10 periods: 20
+// switches of a nonlinear (time-dependent) F, u strongly regular at each.
+// The old mode's u at each root passes the VI solver's test
+// (AcceptViSolution), so the solver runs once, at the start, instead of
+// 1 + 20 times; the run is the same to the bit (the new mode's Newton,
+// started from either, ends at the same u).
+struct RectifierRun {
+  Trajectory trajectory;
+  long solver_calls = 0;
+};
+
+RectifierRun RunRectifier(bool try_predicted_mode) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = u(0) - x(0);
+  };
+  dvi.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = 0.5 * u(0) + x(0) - std::sin(10 * M_PI * t);
+  };
+  EventDrivenOptions options;
+  options.rtol = 1e-8;
+  options.atol = 1e-10;
+  options.Validate();
+  internal::g_try_predicted_mode = try_predicted_mode;
+  internal::EventDrivenRun run(dvi, false, nullptr, Eigen::VectorXd::Ones(1), 0, 2, options, false);
+  RectifierRun result{run.Run(), run.system().problem().solver_calls()};
+  internal::g_try_predicted_mode = true;
+  return result;
+}
+
+TEST(EventCost, TheRectifiersSwitchesNeedNoViSolver) {
+  const RectifierRun full = RunRectifier(false);
+  const RectifierRun predicted = RunRectifier(true);
+  ASSERT_TRUE(full.trajectory.succeeded()) << full.trajectory.message;
+  ASSERT_TRUE(predicted.trajectory.succeeded()) << predicted.trajectory.message;
+  ASSERT_EQ(predicted.trajectory.events.size(), 20u);
+  EXPECT_EQ(full.solver_calls, 1 + 20);
+  EXPECT_EQ(predicted.solver_calls, 1);
+  ASSERT_EQ(predicted.trajectory.events.size(), full.trajectory.events.size());
+  for (std::size_t k = 0; k < full.trajectory.events.size(); ++k)
+    EXPECT_EQ(predicted.trajectory.events[k].time, full.trajectory.events[k].time);
+  EXPECT_EQ(predicted.trajectory.stats.steps, full.trajectory.stats.steps);
+  EXPECT_EQ(predicted.trajectory.stats.rhs_evals, full.trajectory.stats.rhs_evals);
+  ASSERT_EQ(predicted.trajectory.times, full.trajectory.times);
+  EXPECT_TRUE(predicted.trajectory.states.matrix() == full.trajectory.states.matrix());
+  EXPECT_TRUE(predicted.trajectory.multipliers.matrix() == full.trajectory.multipliers.matrix());
+}
+
 // The clamp of the work-precision study (issue 27's rectifier
 // nondimensional: v' = u − v, 0 ≤ u ⊥ v − sin t ≥ 0 on [0, 10π]) under BDF
 // at rtol 1e-3, issue 31's row at 1.38× the physical-limit oracle's RHS
