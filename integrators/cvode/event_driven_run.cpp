@@ -155,7 +155,7 @@ bool EventDrivenRun::ChooseMode(double t, Eigen::VectorXd& x, const SolveResult&
   const MatrixClassVerdict regular =
       known_regular
           ? MatrixClassVerdict{true, true, ""}
-          : IsStronglyRegular(system_.problem().MultiplierJacobian(t, x, vi.z), vi.index_sets);
+          : system_.problem().StronglyRegular(t, x, vi.z, vi.index_sets);
   const Eigen::VectorXd x_event = x;
   std::string reduced_why;
   if (!regular.holds) {

@@ -5,7 +5,6 @@
 #include <utility>
 #include <vector>
 
-#include "dvi/matrix_classes.hpp"
 #include "dvi/solution_diagnostics.hpp"
 
 namespace dvi::internal {
@@ -64,10 +63,7 @@ bool AcceptViSolution(const ModeProblem& problem, double t, const Eigen::VectorX
   const double residual = BoxNaturalResidual(lower, upper, z, w);
   if (!(residual <= tolerance)) return false;
   IndexSets sets = BoxIndexSets(lower, upper, z, w, kIndexSetFactor * tolerance);
-  const bool regular = problem.HasDenseRows()
-                           ? IsStronglyRegular(problem.dense_rows().M, sets).holds
-                           : IsStronglyRegular(problem.MultiplierJacobian(t, x, z), sets).holds;
-  if (!regular) return false;
+  if (!problem.StronglyRegular(t, x, z, sets).holds) return false;
   result.status = SolveStatus::kSolved;
   result.message.clear();
   result.method = SolverMethod::kNewton;  // one Newton step on the active set's equations

@@ -260,6 +260,26 @@ Eigen::MatrixXd ModeProblem::MultiplierJacobian(double t, const Eigen::VectorXd&
   return Fu;
 }
 
+MatrixClassVerdict ModeProblem::StronglyRegular(double t, const Eigen::VectorXd& x,
+                                                const Eigen::VectorXd& u,
+                                                const IndexSets& sets) const {
+  if (!affine_) return IsStronglyRegular(MultiplierJacobian(t, x, u), sets);
+  for (const Regularity& known : regularity_memo_)
+    if (known.sets.alpha == sets.alpha && known.sets.beta == sets.beta &&
+        known.sets.gamma == sets.gamma)
+      return known.verdict;
+  Regularity computed{sets, HasDenseRows() ? IsStronglyRegular(dense_rows_.M, sets)
+                                            : IsStronglyRegular(MultiplierJacobian(t, x, u), sets)};
+  if (regularity_memo_.size() < kRegularityMemo) {
+    regularity_memo_.push_back(std::move(computed));
+    return regularity_memo_.back().verdict;
+  }
+  Regularity& slot = regularity_memo_[regularity_next_];
+  regularity_next_ = (regularity_next_ + 1) % kRegularityMemo;
+  slot = std::move(computed);
+  return slot.verdict;
+}
+
 Mode ModeProblem::ModeOf(const Eigen::VectorXd& z) const {
   const double tolerance = BoundTolerance();
   Mode mode(m(), MultiplierBound::kFree);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -8,6 +9,7 @@
 #include "dvi/complementarity_problem.hpp"
 #include "dvi/dvi_problem.hpp"
 #include "dvi/lcs.hpp"
+#include "dvi/matrix_classes.hpp"
 #include "dvi/mode.hpp"
 #include "dvi/solve_result.hpp"
 #include "dvi/solver_options.hpp"
@@ -83,6 +85,14 @@ class ModeProblem {
   /// ∂F/∂u at (t, x, u).
   Eigen::MatrixXd MultiplierJacobian(double t, const Eigen::VectorXd& x,
                                      const Eigen::VectorXd& u) const;
+  /// IsStronglyRegular(MultiplierJacobian(t, x, u), sets): whether a VI
+  /// solution u with these index sets is strongly regular ([Seed] Sect.
+  /// 5.3). An LCS's ∂F/∂u is constant, so its verdict depends on the sets
+  /// alone and is kept for the last kRegularityMemo sets asked: an event
+  /// asks for it up to five times, each of the bridge's 16 switches for
+  /// the same few sets (issue 31, cheaper events).
+  MatrixClassVerdict StronglyRegular(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                                     const IndexSets& sets) const;
 
   /// G^k of the differentiation procedure repeated ([Seed] Sect. 5.4): F
   /// (k = 0) with the dependent rows of passes 1…k each replaced by the
@@ -127,6 +137,15 @@ class ModeProblem {
   AffineRows lcs_rows_;
   DenseAffineRows dense_rows_;  // for checks of samples and the F slack
   mutable long solver_calls_ = 0;
+  // StronglyRegular's verdicts of an LCS, by index sets, the oldest
+  // replaced first.
+  static constexpr std::size_t kRegularityMemo = 16;
+  struct Regularity {
+    IndexSets sets;
+    MatrixClassVerdict verdict;
+  };
+  mutable std::vector<Regularity> regularity_memo_;
+  mutable std::size_t regularity_next_ = 0;
   // PassRows' work space of pass k at index k − 1 (a pass's central
   // differences call the passes below it, never its own): a reduced mode
   // evaluates its rows at every Newton iteration of every solve, and the

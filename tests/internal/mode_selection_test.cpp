@@ -13,6 +13,7 @@
 
 #include "dvi/dvi_problem.hpp"
 #include "dvi/lcs.hpp"
+#include "dvi/matrix_classes.hpp"
 #include "dvi/solve.hpp"
 #include "dvi/mode.hpp"
 #include "modes/mode_problem.hpp"
@@ -143,6 +144,39 @@ TEST(ModeSelection, TheLookAheadAgreesWithTheRates) {
   EXPECT_EQ(chosen.selection, Selection::kChosen);
   EXPECT_EQ(ModeLetters(chosen.mode), "f");
   EXPECT_GE(chosen.vi_solves, 2);  // two look-ahead iterates agreeing
+}
+
+// An LCS's strong regularity is kept by index sets (its ∂F/∂u is
+// constant): every partition of 5 components into α, β, γ (243, more than
+// the memo holds), asked twice in two orders, gets IsStronglyRegular's own
+// verdict, reason and all.
+TEST(ModeProblem, AnLcssStrongRegularityByIndexSetsIsIsStronglyRegulars) {
+  Eigen::MatrixXd D(5, 5);
+  D << 2, 1, 0, 0, 1, 1, 0, 1, 0, 0, 0, 1, 1, -1, 0, 0, 0, 1, 0, 2, 1, 0, 0, 2, 1;
+  const Lcs lcs = Lcs::Dense(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 5),
+                             Eigen::MatrixXd::Zero(5, 1), D, Eigen::VectorXd::Zero(1),
+                             Eigen::VectorXd::Zero(5));
+  const Dvi dvi = lcs.ToDvi();
+  const ModeProblem problem(dvi, Eigen::VectorXd::Zero(5),
+                            Eigen::VectorXd::Constant(5, HUGE_VAL), SolverOptions(), true, &lcs);
+  const Eigen::VectorXd x = Eigen::VectorXd::Zero(1), u = Eigen::VectorXd::Zero(5);
+  int holds = 0;
+  for (const bool reverse : {false, true})
+    for (int code = 0; code < 243; ++code) {
+      IndexSets sets;
+      for (int j = 0, rest = reverse ? 242 - code : code; j < 5; ++j, rest /= 3)
+        (rest % 3 == 0 ? sets.alpha : rest % 3 == 1 ? sets.beta : sets.gamma).push_back(j);
+      const MatrixClassVerdict expected = IsStronglyRegular(D, sets);
+      for (int ask = 0; ask < 2; ++ask) {
+        const MatrixClassVerdict verdict = problem.StronglyRegular(0, x, u, sets);
+        EXPECT_EQ(verdict.holds, expected.holds);
+        EXPECT_EQ(verdict.decided, expected.decided);
+        EXPECT_EQ(verdict.reason, expected.reason);
+      }
+      holds += expected.holds;
+    }
+  EXPECT_GT(holds, 0);
+  EXPECT_LT(holds, 2 * 243);
 }
 
 TEST(ModeProblem, ModeOfPutsAComponentWithinTheToleranceOnItsBound) {
