@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "modes/mode_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -278,6 +279,20 @@ MatrixClassVerdict ModeProblem::StronglyRegular(double t, const Eigen::VectorXd&
   regularity_next_ = (regularity_next_ + 1) % kRegularityMemo;
   slot = std::move(computed);
   return slot.verdict;
+}
+
+bool ModeProblem::LcsRowsKnownIndependent(const std::vector<int>& S) const {
+  return std::find(independent_rows_memo_.begin(), independent_rows_memo_.end(), S) !=
+         independent_rows_memo_.end();
+}
+
+void ModeProblem::RememberIndependentLcsRows(const std::vector<int>& S) const {
+  if (independent_rows_memo_.size() < kRegularityMemo) {
+    independent_rows_memo_.push_back(S);
+    return;
+  }
+  independent_rows_memo_[independent_rows_next_] = S;
+  independent_rows_next_ = (independent_rows_next_ + 1) % kRegularityMemo;
 }
 
 Mode ModeProblem::ModeOf(const Eigen::VectorXd& z) const {

@@ -93,6 +93,13 @@ class ModeProblem {
   /// the same few sets (issue 31, cheaper events).
   MatrixClassVerdict StronglyRegular(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                      const IndexSets& sets) const;
+  /// Whether the LCS's rows S are known to be independent (ReduceRows on
+  /// lcs_rows().M finds no dependent row, the differentiation procedure's
+  /// first pass does not apply): the last kRegularityMemo sets remembered
+  /// so are kept. Every switch of a bridge of ideal diodes asks for the
+  /// same few (issue 31). @pre affine().
+  bool LcsRowsKnownIndependent(const std::vector<int>& S) const;
+  void RememberIndependentLcsRows(const std::vector<int>& S) const;
 
   /// G^k of the differentiation procedure repeated ([Seed] Sect. 5.4): F
   /// (k = 0) with the dependent rows of passes 1…k each replaced by the
@@ -146,6 +153,9 @@ class ModeProblem {
   };
   mutable std::vector<Regularity> regularity_memo_;
   mutable std::size_t regularity_next_ = 0;
+  // The LCS's row sets without a dependent row, the oldest replaced first.
+  mutable std::vector<std::vector<int>> independent_rows_memo_;
+  mutable std::size_t independent_rows_next_ = 0;
   // PassRows' work space of pass k at index k − 1 (a pass's central
   // differences call the passes below it, never its own): a reduced mode
   // evaluates its rows at every Newton iteration of every solve, and the

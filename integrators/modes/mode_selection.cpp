@@ -158,10 +158,19 @@ bool SelectReducedLcsMode(const ModeProblem& problem, const Eigen::VectorXd& x,
       return "differentiation procedure (Theorem 5.3, Sect. 5.4), pass " + std::to_string(pass) +
              ": ";
     };
-    if (!DifferentiateDependentRows(problem.flow(), S, current->z, rows, constraints)) {
+    // On the first pass rows are the LCS's own: rows S found independent
+    // there once are so again, and DifferentiateDependentRows would only
+    // find as much (leaving rows and constraints as they are).
+    const auto differentiate = [&] {
+      if (pass == 1 && problem.LcsRowsKnownIndependent(S)) return false;
+      if (DifferentiateDependentRows(problem.flow(), S, current->z, rows, constraints)) return true;
+      if (pass == 1) problem.RememberIndependentLcsRows(S);
+      return false;
+    };
+    if (!differentiate()) {
       // The paper's rows: α alone, u_β held at its bound (β taken as γ).
       S = OffBounds(S, current->z, problem.lower(), problem.upper(), tolerance);
-      if (!DifferentiateDependentRows(problem.flow(), S, current->z, rows, constraints)) {
+      if (!differentiate()) {
         // A plain concatenation: every switch of a bridge of ideal diodes
         // ends here (16 per headline run), where a stream's set-up cost
         // about 5K instructions a switch.
