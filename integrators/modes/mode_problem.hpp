@@ -88,9 +88,9 @@ class ModeProblem {
   /// IsStronglyRegular(MultiplierJacobian(t, x, u), sets): whether a VI
   /// solution u with these index sets is strongly regular ([Seed] Sect.
   /// 5.3). An LCS's ∂F/∂u is constant, so its verdict depends on the sets
-  /// alone and is kept for the last kRegularityMemo sets asked: an event
-  /// asks for it up to five times, each of the bridge's 16 switches for
-  /// the same few sets (issue 31, cheaper events).
+  /// alone and is kept for the last kRegularityMemo sets asked: the event's
+  /// VI, ChooseMode and each look-ahead VI ask, 66 times for the bridge's
+  /// 16 switches, for the same few sets (issue 31, cheaper events).
   MatrixClassVerdict StronglyRegular(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                      const IndexSets& sets) const;
   /// Whether the LCS's rows S are known to be independent (ReduceRows on
