@@ -128,6 +128,9 @@ int ModeRootCallback(realtype t, N_Vector y, realtype* g, void* user_data) {
         data.x += data.root_correction;
     }
     if (!data.system->Solve(t, data.x)) return -1;
+    // CVODE evaluates the root functions at every step's end: the step's
+    // sample and checks solve there again (issue 31).
+    data.system->KeepSolution(t, data.x);
     const int mode_roots = 2 * data.system->m();
     if (data.user_events)
       EvaluateUserRoots(*data.user_events, t, data.x, data.system->u(), g + mode_roots);

@@ -101,6 +101,7 @@ void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   root_rows_known_ = false;
   tangent_known_ = false;
   anchored_ = false;
+  kept_ = false;
   free_directions_.resize(0, 0);
   u_ = u;
   for (int j = 0; j < m(); ++j) {
@@ -155,6 +156,10 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
 
 bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) {
   if (free_.empty()) return true;
+  if (kept_ && t == kept_t_ && x == kept_x_) {
+    ++kept_used_;
+    return ReturnToKept();
+  }
   const int a = static_cast<int>(free_.size());
   if (!rows_split_) {
     SplitRows(t, x);
@@ -264,6 +269,22 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
   }
   if (why) *why = "Newton on the free components of the mode did not converge";
   return false;
+}
+
+void BoxModeSystem::KeepSolution(double t, const Eigen::VectorXd& x) {
+  kept_ = true;
+  kept_t_ = t;
+  kept_x_ = x;
+  kept_u_ = u_;
+}
+
+bool BoxModeSystem::ReturnToKept() {
+  if (!kept_) return false;
+  u_ = kept_u_;
+  anchor_t_ = kept_t_;
+  anchor_x_ = kept_x_;
+  anchored_ = true;
+  return true;
 }
 
 void BoxModeSystem::Accept(double t, const Eigen::VectorXd& x) {

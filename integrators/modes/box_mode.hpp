@@ -77,6 +77,18 @@ class BoxModeSystem {
   /// The multiplier of the last successful Solve.
   const Eigen::VectorXd& u() const { return u_; }
   long newton_iterations() const { return newton_iterations_; }
+  /// Keeps the last successful Solve, at (t, x), as the mode's solution
+  /// there (CVODE's root functions at a step's end): a later Solve at the
+  /// same t and x, equal to the bit (the step's sample there), takes its u
+  /// without Newton, and ReturnToKept makes it Newton's next start again
+  /// after solves elsewhere. Enter forgets it. @pre the last Solve
+  /// succeeded, at (t, x).
+  void KeepSolution(double t, const Eigen::VectorXd& x);
+  /// u() and Newton's next start back to the kept solution; false when
+  /// none is kept.
+  bool ReturnToKept();
+  /// How many Solves the kept solution answered without Newton.
+  long kept_solutions_used() const { return kept_used_; }
   /// How many times a mode's rows were split (its equations formed, G_u
   /// factored, reduced if need be) on entering it.
   long splits() const { return splits_done_; }
@@ -301,6 +313,11 @@ class BoxModeSystem {
   mutable Eigen::VectorXd scratch_F_;
   mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;
+  // KeepSolution's point and u; none after Enter.
+  bool kept_ = false;
+  double kept_t_ = 0;
+  Eigen::VectorXd kept_x_, kept_u_;
+  long kept_used_ = 0;
   long newton_iterations_ = 0;
   long splits_done_ = 0;
 };

@@ -84,6 +84,33 @@ TEST(ModeCallbacks, AUserExceptionIsStoredNotThrownThroughCvode) {
   EXPECT_NE(fixture.data.error, nullptr);
 }
 
+// Issue 31: CVODE evaluates the root functions at every step's end, and
+// the step's sample asks for u at that same point again; the root
+// functions' solve is kept (BoxModeSystem::KeepSolution), so that sample
+// costs no Newton iteration. A point off it by one bit of x, or any point
+// after the mode is entered again, is solved as before.
+TEST(ModeCallbacks, TheRootFunctionsSolutionAnswersASolveAtTheSamePoint) {
+  Fixture fixture(MultiplierBound::kFree, 0);
+  BoxModeSystem& system = fixture.system;
+  fixture.y.data()[0] = 0.25;
+  double g[2];
+  ASSERT_EQ(ModeRootCallback(0.5, fixture.y.get(), g, &fixture.data), 0);
+  const long iterations = system.newton_iterations();
+  ASSERT_GT(iterations, 0);
+  ASSERT_TRUE(system.Solve(0.5, Eigen::VectorXd::Constant(1, 0.25)));
+  EXPECT_EQ(system.newton_iterations(), iterations);
+  EXPECT_EQ(system.kept_solutions_used(), 1);
+  EXPECT_EQ(system.u()(0), -0.25);
+  ASSERT_TRUE(system.Solve(0.5, Eigen::VectorXd::Constant(1, std::nextafter(0.25, 1.0))));
+  EXPECT_GT(system.newton_iterations(), iterations);
+  EXPECT_EQ(system.kept_solutions_used(), 1);
+  system.Enter({MultiplierBound::kFree}, Eigen::VectorXd::Zero(1));
+  const long entered = system.newton_iterations();
+  ASSERT_TRUE(system.Solve(0.5, Eigen::VectorXd::Constant(1, 0.25)));
+  EXPECT_GT(system.newton_iterations(), entered);
+  EXPECT_EQ(system.kept_solutions_used(), 1);
+}
+
 TEST(FormatTime, PrintsAsAnOstreamDoes) {
   EXPECT_EQ(FormatTime(0.1), "0.1");
   EXPECT_EQ(FormatTime(1234567), "1.23457e+06");
