@@ -228,10 +228,15 @@ void EventDrivenRun::RecordStep(double end) {
     x(i) = value;
     rate(i) = slope;
   }
-  if (!system_.Solve(mid, x)) return;
-  defect_f_.resize(x.size());
-  dvi_.f(mid, x, system_.u(), defect_f_);
-  AddDefect(mid, end - begin, x, rate, defect_f_);
+  // Newton from u at the step's ends (the root functions' solves there),
+  // and the next step's solves from its end again.
+  const bool solved = system_.SolveBetweenKept(mid, x);
+  if (solved) {
+    defect_f_.resize(x.size());
+    dvi_.f(mid, x, system_.u(), defect_f_);
+  }
+  system_.ReturnToKept();
+  if (solved) AddDefect(mid, end - begin, x, rate, defect_f_);
 }
 
 EventDrivenRun::Step EventDrivenRun::LastStep() const {

@@ -101,7 +101,7 @@ void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   root_rows_known_ = false;
   tangent_known_ = false;
   anchored_ = false;
-  kept_ = false;
+  kept_ = earlier_kept_ = false;
   free_directions_.resize(0, 0);
   u_ = u;
   for (int j = 0; j < m(); ++j) {
@@ -155,6 +155,18 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
 }
 
 bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) {
+  return SolveFrom(t, x, nullptr, why);
+}
+
+bool BoxModeSystem::SolveBetweenKept(double t, const Eigen::VectorXd& x) {
+  if (!(kept_ && earlier_kept_ && earlier_kept_t_ < t && t < kept_t_)) return Solve(t, x);
+  const double s = (t - earlier_kept_t_) / (kept_t_ - earlier_kept_t_);
+  between_start_ = earlier_kept_u_ + s * (kept_u_ - earlier_kept_u_);
+  return SolveFrom(t, x, &between_start_, nullptr);
+}
+
+bool BoxModeSystem::SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::VectorXd* start,
+                              std::string* why) {
   if (free_.empty()) return true;
   if (kept_ && t == kept_t_ && x == kept_x_) {
     ++kept_used_;
@@ -172,8 +184,8 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
   // G_u moves little between the right-hand side's calls, and its LU is the
   // O(a³) part (half the run at a = 50 free components).
   Eigen::VectorXd& u = newton_u_;
-  u = u_;
-  if (tangent_known_ && anchored_) {
+  u = start ? *start : u_;
+  if (!start && tangent_known_ && anchored_) {
     // Implicit function theorem: u_A moves by −(K dx + k dt) from the last
     // solution. Newton starts O(|dx|²) from the root rather than O(|dx|),
     // to the extent that K, kept from CVODE's last Jacobian, is current.
@@ -272,6 +284,9 @@ bool BoxModeSystem::Solve(double t, const Eigen::VectorXd& x, std::string* why) 
 }
 
 void BoxModeSystem::KeepSolution(double t, const Eigen::VectorXd& x) {
+  earlier_kept_ = kept_;
+  earlier_kept_t_ = kept_t_;
+  earlier_kept_u_.swap(kept_u_);
   kept_ = true;
   kept_t_ = t;
   kept_x_ = x;

@@ -81,13 +81,22 @@ class BoxModeSystem {
   /// there (CVODE's root functions at a step's end): a later Solve at the
   /// same t and x, equal to the bit (the step's sample there), takes its u
   /// without Newton, and ReturnToKept makes it Newton's next start again
-  /// after solves elsewhere. Enter forgets it. @pre the last Solve
-  /// succeeded, at (t, x).
+  /// after solves elsewhere. The solution kept before it stays for
+  /// SolveBetweenKept. Enter forgets both. @pre the last Solve succeeded,
+  /// at (t, x).
   void KeepSolution(double t, const Eigen::VectorXd& x);
-  /// u() and Newton's next start back to the kept solution; false when
-  /// none is kept.
+  /// Solve at a t strictly between the times of the last two kept
+  /// solutions (a step's interior, when they are its ends), Newton started
+  /// from their linear interpolant in t: off u(t) by h²|ü|/8 over a step
+  /// of length h, where the tangent from one end (du/dx of CVODE's last
+  /// Jacobian, which BDF keeps for many steps) is off by its drift as well.
+  /// Solve's start elsewhere.
+  bool SolveBetweenKept(double t, const Eigen::VectorXd& x);
+  /// u() and Newton's next start back to the last kept solution (after
+  /// a solve inside the step that ends there, so that the next step's
+  /// solves start from its end); false when none is kept.
   bool ReturnToKept();
-  /// How many Solves the kept solution answered without Newton.
+  /// How many Solves a kept solution answered without Newton.
   long kept_solutions_used() const { return kept_used_; }
   /// How many times a mode's rows were split (its equations formed, G_u
   /// factored, reduced if need be) on entering it.
@@ -242,6 +251,10 @@ class BoxModeSystem {
   /// Solve for an LCS: u_α from the mode's affine map or its kept
   /// factors, no allocation.
   bool SolveLcsMode(const Eigen::VectorXd& x, std::string* why);
+  /// Solve, Newton started from start when given (else from the last u
+  /// moved along the tangent).
+  bool SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::VectorXd* start,
+                 std::string* why);
   /// Newton's iterate as u(t, x), the anchor of the next start.
   void Accept(double t, const Eigen::VectorXd& x);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);
@@ -313,10 +326,11 @@ class BoxModeSystem {
   mutable Eigen::VectorXd scratch_F_;
   mutable Eigen::MatrixXd scratch_Fx_, scratch_Fu_;
   Eigen::VectorXd u_;
-  // KeepSolution's point and u; none after Enter.
-  bool kept_ = false;
-  double kept_t_ = 0;
-  Eigen::VectorXd kept_x_, kept_u_;
+  // KeepSolution's last point and u, and the u and time of the one kept
+  // before it; none after Enter.
+  bool kept_ = false, earlier_kept_ = false;
+  double kept_t_ = 0, earlier_kept_t_ = 0;
+  Eigen::VectorXd kept_x_, kept_u_, earlier_kept_u_, between_start_;
   long kept_used_ = 0;
   long newton_iterations_ = 0;
   long splits_done_ = 0;

@@ -111,6 +111,35 @@ TEST(ModeCallbacks, TheRootFunctionsSolutionAnswersASolveAtTheSamePoint) {
   EXPECT_EQ(system.kept_solutions_used(), 1);
 }
 
+// A step's midpoint (the certificate's defect sample) is solved from the
+// interpolant of the root functions' u at the step's ends, and the step's
+// end is Newton's next start again after it. Here u = −x is linear along
+// the step: the interpolant is u itself, whose residual is zero at
+// Newton's first evaluation (one iteration), where the last u takes two.
+TEST(ModeCallbacks, AStepsMidpointStartsFromItsEndsAndLeavesTheEndAsTheNextStart) {
+  Fixture fixture(MultiplierBound::kFree, 0);
+  BoxModeSystem& system = fixture.system;
+  double g[2];
+  fixture.y.data()[0] = 0.5;
+  ASSERT_EQ(ModeRootCallback(0, fixture.y.get(), g, &fixture.data), 0);
+  fixture.y.data()[0] = 1;
+  ASSERT_EQ(ModeRootCallback(1, fixture.y.get(), g, &fixture.data), 0);
+  long before = system.newton_iterations();
+  ASSERT_TRUE(system.SolveBetweenKept(0.5, Eigen::VectorXd::Constant(1, 0.75)));
+  EXPECT_EQ(system.newton_iterations() - before, 1);
+  EXPECT_EQ(system.u()(0), -0.75);
+  ASSERT_TRUE(system.ReturnToKept());
+  EXPECT_EQ(system.u()(0), -1);
+  before = system.newton_iterations();
+  ASSERT_TRUE(system.Solve(0.5, Eigen::VectorXd::Constant(1, 0.75)));
+  EXPECT_EQ(system.newton_iterations() - before, 2);
+  EXPECT_EQ(system.u()(0), -0.75);
+  // Outside the kept ends: Solve's own start.
+  before = system.newton_iterations();
+  ASSERT_TRUE(system.SolveBetweenKept(2, Eigen::VectorXd::Constant(1, 2)));
+  EXPECT_EQ(system.newton_iterations() - before, 2);
+}
+
 TEST(FormatTime, PrintsAsAnOstreamDoes) {
   EXPECT_EQ(FormatTime(0.1), "0.1");
   EXPECT_EQ(FormatTime(1234567), "1.23457e+06");
