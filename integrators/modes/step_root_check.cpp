@@ -49,7 +49,8 @@ double StepRootCheck::PieceViolation(const Eigen::MatrixXd& taylor, double t_n, 
   const double t_end = t_n + h * s_end, width = h * (s_end - s_start);
   const int degree = interpolant.degree();
   const int m2 = 2 * system_.m();
-  Eigen::MatrixXd values(m2, degree + 1);
+  Eigen::MatrixXd& values = piece_values_;
+  values.resize(m2, degree + 1);
   values.col(0) = g_start;
   values.col(degree) = g_end;
   for (int i = 1; i < degree; ++i) {
@@ -57,7 +58,8 @@ double StepRootCheck::PieceViolation(const Eigen::MatrixXd& taylor, double t_n, 
     if (!RootsAt(taylor, t_n, q, t, values.col(i).data())) return t;
   }
   // An LCS's root functions have x's degree: its interpolant is exact.
-  Eigen::VectorXd extra(system_.affine() ? 0 : m2);
+  Eigen::VectorXd& extra = piece_extra_;
+  extra.resize(system_.affine() ? 0 : m2);
   const double t_extra = t_end + width * interpolant.extra_node();
   if (extra.size() > 0 && !RootsAt(taylor, t_n, q, t_extra, extra.data())) return t_extra;
   PieceBound bound = interpolant.Bound(values, extra, root_floors_, t_end, width);

@@ -49,8 +49,11 @@ class StepRootCheck {
   BoxModeSystem& system_;
   double rtol_ = 0, atol_ = 0;
   // x at the last node, the root slots' floors, F's slack and whether the
-  // floors include it.
+  // floors include it; a piece's root values at its nodes and its extra
+  // node (PieceViolation's, not needed once it halves: no allocation a step).
   Eigen::VectorXd node_x_;
+  Eigen::MatrixXd piece_values_;
+  Eigen::VectorXd piece_extra_;
   Eigen::VectorXd root_floors_;
   double f_slack_ = 0;
   bool slack_applied_ = false;
