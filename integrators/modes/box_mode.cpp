@@ -30,7 +30,7 @@ constexpr int kMaxNewtonIterations = 50;
 // (fresh factors converge quadratically; 6 is the cheapest on the
 // work-precision problems, between 3 and 10).
 constexpr double kChordContraction = 0.25;
-constexpr double kMaxChordSteps = 6;
+constexpr int kMaxChordSteps = 6;
 // Pivots of a partial-pivoting LU within this ratio of each other pass as
 // nonsingular without estimating the condition number (Regular).
 constexpr double kPivotSpread = 1e-6;
@@ -77,8 +77,12 @@ bool ChordTooSlow(double norm, double previous) {
   const double rate = norm / previous;
   if (!(rate <= kChordContraction)) return true;
   if (norm == 0 || rate == 0) return false;
-  const double steps_left = std::log(kEpsilon / norm) / std::log(rate);
-  return steps_left > kMaxChordSteps;
+  // The steps left, log(ε/norm)/log(rate), above kMaxChordSteps: with
+  // log(rate) < 0, ε/norm < rate^kMaxChordSteps, without the two
+  // logarithms (issue 31: 2 % of the oscillator's instructions).
+  double power = 1;
+  for (int k = 0; k < kMaxChordSteps; ++k) power *= rate;
+  return kEpsilon < norm * power;
 }
 
 }  // namespace
