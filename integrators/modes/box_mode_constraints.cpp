@@ -10,46 +10,44 @@
 namespace dvi::internal {
 
 void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
-                                SparseMatrix* phi_x) const {
+                                Eigen::MatrixXd* phi_x) const {
   if (problem_.affine()) {
     phi = mode_constraints_.c + mode_constraints_.C * x;
-    if (phi_x) *phi_x = mode_constraints_.C;
     return;
   }
   // Φ_k = P_k G^{k−1}, stacked over the passes; the x-derivative of a
   // later pass's Φ by central differences (G^{k−1}'s rows hold derivatives
-  // of F, whose own x-derivatives are not given).
+  // of F, whose own x-derivatives are not given). Into kept work space:
+  // this runs at every projection and every root evaluation of a reduced
+  // mode (issue 31).
   int rows = 0;
   for (const RowReduction& pass : reductions_) rows += static_cast<int>(pass.P.rows());
   phi.resize(rows);
-  Eigen::MatrixXd dense_x(rows, n());
+  if (phi_x) phi_x->resize(rows, n());
   int row = 0;
   for (int k = 0; k < static_cast<int>(reductions_.size()); ++k) {
     const SparseMatrix& P = reductions_[k].P;
     const int d = static_cast<int>(P.rows());
-    Eigen::VectorXd G;
-    Eigen::MatrixXd Gx;
-    problem_.PassRows(reductions_, k, t, x, u_, G, nullptr, phi_x && k == 0 ? &Gx : nullptr);
-    phi.segment(row, d) = P * G;
+    problem_.PassRows(reductions_, k, t, x, u_, scratch_G_, nullptr,
+                      phi_x && k == 0 ? &scratch_Gx_ : nullptr);
+    phi.segment(row, d).noalias() = P * scratch_G_;
     if (phi_x) {
       if (k == 0) {
-        dense_x.middleRows(row, d) = P * Gx;
+        phi_x->middleRows(row, d).noalias() = P * scratch_Gx_;
       } else {
         for (int i = 0; i < n(); ++i)
-          dense_x.block(row, i, d, 1) =
+          phi_x->block(row, i, d, 1).noalias() =
               P * problem_.CentralRate(reductions_, k, t, x, u_, 0, Eigen::VectorXd::Unit(n(), i));
       }
     }
     row += d;
   }
-  if (phi_x) *phi_x = dense_x.sparseView(1, 0);
 }
 
 double BoxModeSystem::ConstraintDrift(double t, const Eigen::VectorXd& x) const {
   if (!reduced()) return 0;
-  Eigen::VectorXd phi;
-  Constraints(t, x, phi, nullptr);
-  return phi.lpNorm<Eigen::Infinity>();
+  Constraints(t, x, scratch_phi_, nullptr);
+  return scratch_phi_.lpNorm<Eigen::Infinity>();
 }
 
 void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd& correction,
@@ -71,14 +69,24 @@ void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd&
     }
     return;
   }
-  Eigen::VectorXd phi;
-  SparseMatrix phi_x;
-  Constraints(t, x, phi, &phi_x);
   // Least-norm: Δx = −Φ_xᵀ (Φ_x Φ_xᵀ)⁻¹ Φ; Φ_x has full row rank when (5.8)
-  // is nonsingular, since (5.8)'s dependent rows are Φ_x f_u.
-  const Eigen::LDLT<Eigen::MatrixXd> gram(Eigen::MatrixXd(phi_x * phi_x.transpose()));
-  correction = -phi_x.transpose() * gram.solve(phi);
-  if (err) *err -= phi_x.transpose() * gram.solve(phi_x * *err);
+  // is nonsingular, since (5.8)'s dependent rows are Φ_x f_u. Φ_x is dense
+  // (a nonlinear F's Jacobians are), its Gram matrix d×d: both, and the
+  // Gram matrix's factors, in work space kept from call to call, so that
+  // CVODE's projection of every step allocates nothing (issue 31: the
+  // sparse Φ_x and Gram matrix formed per call were 16M of the clamp's
+  // 88M instructions at rtol 1e-12).
+  Eigen::MatrixXd& phi_x = scratch_phi_x_;
+  Constraints(t, x, scratch_phi_, &phi_x);
+  scratch_gram_.noalias() = phi_x * phi_x.transpose();
+  projection_gram_.compute(scratch_gram_);
+  scratch_multiplier_ = projection_gram_.solve(scratch_phi_);
+  correction.noalias() -= phi_x.transpose() * scratch_multiplier_;
+  if (err) {
+    scratch_phi_.noalias() = phi_x * *err;
+    scratch_multiplier_ = projection_gram_.solve(scratch_phi_);
+    err->noalias() -= phi_x.transpose() * scratch_multiplier_;
+  }
 }
 
 }  // namespace dvi::internal

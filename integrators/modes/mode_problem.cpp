@@ -104,12 +104,10 @@ void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, d
                              Eigen::VectorXd& G, Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const {
   if (k == 0) {
     EvalF(t, x, u, G);
-    if (Gu || Gx) {
-      Eigen::MatrixXd Fx, Fu;
-      FJacobians(t, x, u, Fx, Fu);
-      if (Gu) *Gu = std::move(Fu);
-      if (Gx) *Gx = std::move(Fx);
-    }
+    // F's Jacobians straight into G_u and G_x, the one not asked for into
+    // kept work space (a reduced mode's projection asks for G_x at every
+    // step).
+    if (Gu || Gx) FJacobians(t, x, u, Gx ? *Gx : unused_jacobian_, Gu ? *Gu : unused_jacobian_);
     return;
   }
   // The rate ∂G/∂t dt + ∂G/∂x dx of the previous rows G = G^{k−1}: F's own

@@ -166,6 +166,7 @@ class ModeProblem {
     Eigen::VectorXd Ft, xdot, product, rate, direction, values;
   };
   mutable std::vector<PassScratch> pass_scratch_;
+  mutable Eigen::MatrixXd unused_jacobian_;  // PassRows' k = 0 Jacobian not asked for
 };
 
 }  // namespace dvi::internal
