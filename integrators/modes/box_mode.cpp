@@ -524,7 +524,7 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   problem_.SmallFJacobians(t, x, u_, fx, fu);
   J = fx;
   root_slopes_known_ = false;
-  const bool slopes = m() > 0 && !problem_.affine() && !reduced();
+  const bool slopes = m() > 0 && !problem_.affine();
   if (free_.empty()) {
     if (slopes) {
       Eigen::MatrixXd Fx, Fu;
@@ -555,8 +555,13 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   tangent_x_ = K;
   tangent_t_.setZero(a);
   tangent_known_ = true;
-  // An unreduced mode's ModeEquations left F's Jacobians in the scratch.
-  if (slopes) UpdateRootSlopes(t, x, scratch_Fx_, scratch_Fu_, &lu, K);
+  // An unreduced mode's ModeEquations left F's Jacobians in the scratch; a
+  // reduced one's, its rows' (issue 31: without slopes, each of its steps
+  // took the interpolated check, StepRootCheck, 2–3 Newton solves a step).
+  if (slopes && reduced())
+    UpdateReducedRootSlopes(t, x, lu);
+  else if (slopes)
+    UpdateRootSlopes(t, x, scratch_Fx_, scratch_Fu_, &lu, K);
   return true;
 }
 

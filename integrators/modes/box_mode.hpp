@@ -157,8 +157,8 @@ class BoxModeSystem {
   /// function is at least its value at an end less |∂g/∂x|·dx (dx_i: how
   /// far x_i moves within the step) and |∂g/∂t| h, those taken
   /// kSlopeMargin times as large for their drift between Jacobians. False
-  /// when the mode has no slopes (a reduced nonlinear mode, no RhsJacobian
-  /// since a nonlinear mode was entered, an LCS mode too large for them),
+  /// when the mode has no slopes (no RhsJacobian since a nonlinear mode was
+  /// entered, a mode with free directions, an LCS mode too large for them),
   /// or when a root function changed between the ends by more than they
   /// allow (stale slopes: one taken where it was stationary).
   bool StepClearOfBounds(const double* g_start, const double* g_end, const Eigen::VectorXd& dx,
@@ -224,6 +224,16 @@ class BoxModeSystem {
   void UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
                         const Eigen::MatrixXd& Fu, const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
                         const Eigen::MatrixXd& K) const;
+  /// The same slopes in a reduced nonlinear mode at (t, x, u_), whose rows'
+  /// x- and t-derivatives are taken by central differences; lu = G_u's
+  /// factors (the matrix (5.8)).
+  void UpdateReducedRootSlopes(double t, const Eigen::VectorXd& x,
+                               const Eigen::FullPivLU<Eigen::MatrixXd>& lu) const;
+  /// root_gradients_ and root_slopes_t_ from F's Jacobians and ∂F/∂t at
+  /// (t, x, u_) and u_A's own: du_A = −K dx − k dt.
+  void SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::MatrixXd& Fu,
+                     const Eigen::VectorXd& Ft, const Eigen::MatrixXd& K,
+                     const Eigen::VectorXd& k) const;
   /// The mode equations G(t, x, u) on the free components and, when given,
   /// G_u (a×a) and G_x (a×n).
   void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,

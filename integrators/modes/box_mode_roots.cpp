@@ -65,8 +65,7 @@ void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const E
                                      const Eigen::MatrixXd& Fu,
                                      const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
                                      const Eigen::MatrixXd& K) const {
-  // du_A = −K dx − k dt with k = G_u⁻¹ F_t,A (G = F_A); a bound row's F_j
-  // moves by (F_x,j − F_u,jA K) dx + (F_t,j − F_u,jA k) dt.
+  // du_A = −K dx − k dt with k = G_u⁻¹ F_t,A (G = F_A).
   Eigen::VectorXd Ft;
   problem_.FTimeDerivative(t, x, u_, Ft);
   const int a = static_cast<int>(free_.size());
@@ -77,6 +76,41 @@ void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const E
     k = lu->solve(Ft_free);
     tangent_t_ = k;
   }
+  SetRootSlopes(Fx, Fu, Ft, K, k);
+}
+
+void BoxModeSystem::UpdateReducedRootSlopes(double t, const Eigen::VectorXd& x,
+                                            const Eigen::FullPivLU<Eigen::MatrixXd>& lu) const {
+  // The mode's rows G = G^p after p passes hold first derivatives of F
+  // (Φ̇ = P (F_t + F_x f)): their own x- and t-derivatives, which the
+  // implicit function theorem needs (du_A = −G_u⁻¹ (G_x dx + G_t dt)),
+  // hold F's second derivatives, which are not given. By central
+  // differences of the rows (ModeProblem::CentralRate, O(ε^{4/5})
+  // relative: slopes need far less), n + 1 of them, at each RhsJacobian.
+  const int a = static_cast<int>(free_.size()), passes = static_cast<int>(reductions_.size());
+  Eigen::MatrixXd Gx(a, n());
+  Eigen::VectorXd Gt(a);
+  const auto free_rows = [&](const Eigen::VectorXd& rate, auto&& column) {
+    for (int i = 0; i < a; ++i) column(i) = rate(free_[i]);
+  };
+  free_rows(problem_.CentralRate(reductions_, passes, t, x, u_, 1, Eigen::VectorXd::Zero(n())), Gt);
+  for (int l = 0; l < n(); ++l)
+    free_rows(problem_.CentralRate(reductions_, passes, t, x, u_, 0, Eigen::VectorXd::Unit(n(), l)),
+              Gx.col(l));
+  // A bound row's root function is ±F_j itself: F's own Jacobians.
+  Eigen::MatrixXd Fx, Fu;
+  Eigen::VectorXd Ft;
+  problem_.FJacobians(t, x, u_, Fx, Fu);
+  problem_.FTimeDerivative(t, x, u_, Ft);
+  SetRootSlopes(Fx, Fu, Ft, lu.solve(Gx), lu.solve(Gt));
+}
+
+void BoxModeSystem::SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::MatrixXd& Fu,
+                                  const Eigen::VectorXd& Ft, const Eigen::MatrixXd& K,
+                                  const Eigen::VectorXd& k) const {
+  // A free u_j moves by −K_j dx − k_j dt; a bound row's F_j by
+  // (F_x,j − F_u,jA K) dx + (F_t,j − F_u,jA k) dt.
+  const int a = static_cast<int>(free_.size());
   root_gradients_.setZero(2 * m(), n());
   root_slopes_t_.setZero(2 * m());
   for (int i = 0; i < a; ++i) {
