@@ -102,6 +102,7 @@ void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   rows_split_ = false;
   newton_lu_current_ = false;
   root_slopes_known_ = false;
+  reduced_slopes_pending_ = false;
   root_rows_known_ = false;
   tangent_known_ = false;
   anchored_ = false;
@@ -524,6 +525,7 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   problem_.SmallFJacobians(t, x, u_, fx, fu);
   J = fx;
   root_slopes_known_ = false;
+  reduced_slopes_pending_ = false;
   const bool slopes = m() > 0 && !problem_.affine();
   if (free_.empty()) {
     if (slopes) {
@@ -558,10 +560,18 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   // An unreduced mode's ModeEquations left F's Jacobians in the scratch; a
   // reduced one's, its rows' (issue 31: without slopes, each of its steps
   // took the interpolated check, StepRootCheck, 2–3 Newton solves a step).
-  if (slopes && reduced())
-    UpdateReducedRootSlopes(t, x, lu);
-  else if (slopes)
+  if (slopes && reduced()) {
+    // Its slopes cost n + 1 differences of the rows: formed where a step
+    // check first asks for them (StepClearOfBounds), at this point, and
+    // not for the Jacobians of a run that never asks (an oracle's).
+    slopes_t_ = t;
+    slopes_x_ = x;
+    slopes_u_ = u_;
+    slopes_lu_ = lu;
+    reduced_slopes_pending_ = true;
+  } else if (slopes) {
     UpdateRootSlopes(t, x, scratch_Fx_, scratch_Fu_, &lu, K);
+  }
   return true;
 }
 

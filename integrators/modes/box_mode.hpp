@@ -224,11 +224,11 @@ class BoxModeSystem {
   void UpdateRootSlopes(double t, const Eigen::VectorXd& x, const Eigen::MatrixXd& Fx,
                         const Eigen::MatrixXd& Fu, const Eigen::FullPivLU<Eigen::MatrixXd>* lu,
                         const Eigen::MatrixXd& K) const;
-  /// The same slopes in a reduced nonlinear mode at (t, x, u_), whose rows'
-  /// x- and t-derivatives are taken by central differences; lu = G_u's
-  /// factors (the matrix (5.8)).
-  void UpdateReducedRootSlopes(double t, const Eigen::VectorXd& x,
-                               const Eigen::FullPivLU<Eigen::MatrixXd>& lu) const;
+  /// The same slopes in a reduced nonlinear mode at the last RhsJacobian's
+  /// (slopes_t_, slopes_x_, slopes_u_), whose rows' x- and t-derivatives
+  /// are taken by central differences; slopes_lu_ = G_u's factors there
+  /// (the matrix (5.8)).
+  void UpdateReducedRootSlopes() const;
   /// root_gradients_ and root_slopes_t_ from F's Jacobians and ∂F/∂t at
   /// (t, x, u_) and u_A's own: du_A = −K dx − k dt.
   void SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::MatrixXd& Fu,
@@ -331,6 +331,12 @@ class BoxModeSystem {
   mutable Eigen::VectorXd root_slopes_t_;
   mutable Eigen::VectorXd scratch_root_moves_;
   mutable bool root_slopes_known_ = false;
+  // A reduced nonlinear mode's last RhsJacobian: its point and G_u's
+  // factors, whose slopes StepClearOfBounds forms when it first asks.
+  mutable double slopes_t_ = 0;
+  mutable Eigen::VectorXd slopes_x_, slopes_u_;
+  mutable Eigen::FullPivLU<Eigen::MatrixXd> slopes_lu_;
+  mutable bool reduced_slopes_pending_ = false;
   // Newton's first-order start on a nonlinear mode: du_A = −(K dx + k dt),
   // K = G_u⁻¹ G_x and k = G_u⁻¹ G_t at the last RhsJacobian (k zero for a
   // reduced mode), from the last solution (anchor_t_, anchor_x_, u_).

@@ -79,30 +79,32 @@ void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const E
   SetRootSlopes(Fx, Fu, Ft, K, k);
 }
 
-void BoxModeSystem::UpdateReducedRootSlopes(double t, const Eigen::VectorXd& x,
-                                            const Eigen::FullPivLU<Eigen::MatrixXd>& lu) const {
+void BoxModeSystem::UpdateReducedRootSlopes() const {
+  reduced_slopes_pending_ = false;
+  const double t = slopes_t_;
+  const Eigen::VectorXd &x = slopes_x_, &u = slopes_u_;
   // The mode's rows G = G^p after p passes hold first derivatives of F
   // (Φ̇ = P (F_t + F_x f)): their own x- and t-derivatives, which the
   // implicit function theorem needs (du_A = −G_u⁻¹ (G_x dx + G_t dt)),
   // hold F's second derivatives, which are not given. By central
   // differences of the rows (ModeProblem::CentralRate, O(ε^{4/5})
-  // relative: slopes need far less), n + 1 of them, at each RhsJacobian.
+  // relative: slopes need far less), n + 1 of them, once per Jacobian.
   const int a = static_cast<int>(free_.size()), passes = static_cast<int>(reductions_.size());
   Eigen::MatrixXd Gx(a, n());
   Eigen::VectorXd Gt(a);
   const auto free_rows = [&](const Eigen::VectorXd& rate, auto&& column) {
     for (int i = 0; i < a; ++i) column(i) = rate(free_[i]);
   };
-  free_rows(problem_.CentralRate(reductions_, passes, t, x, u_, 1, Eigen::VectorXd::Zero(n())), Gt);
+  free_rows(problem_.CentralRate(reductions_, passes, t, x, u, 1, Eigen::VectorXd::Zero(n())), Gt);
   for (int l = 0; l < n(); ++l)
-    free_rows(problem_.CentralRate(reductions_, passes, t, x, u_, 0, Eigen::VectorXd::Unit(n(), l)),
+    free_rows(problem_.CentralRate(reductions_, passes, t, x, u, 0, Eigen::VectorXd::Unit(n(), l)),
               Gx.col(l));
   // A bound row's root function is ±F_j itself: F's own Jacobians.
   Eigen::MatrixXd Fx, Fu;
   Eigen::VectorXd Ft;
-  problem_.FJacobians(t, x, u_, Fx, Fu);
-  problem_.FTimeDerivative(t, x, u_, Ft);
-  SetRootSlopes(Fx, Fu, Ft, lu.solve(Gx), lu.solve(Gt));
+  problem_.FJacobians(t, x, u, Fx, Fu);
+  problem_.FTimeDerivative(t, x, u, Ft);
+  SetRootSlopes(Fx, Fu, Ft, slopes_lu_.solve(Gx), slopes_lu_.solve(Gt));
 }
 
 void BoxModeSystem::SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::MatrixXd& Fu,
@@ -135,6 +137,7 @@ void BoxModeSystem::SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::Matrix
 
 bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end,
                                       const Eigen::VectorXd& dx, double h) const {
+  if (reduced_slopes_pending_) UpdateReducedRootSlopes();
   if (!root_slopes_known_) return false;
   const double floor = -problem_.BoundTolerance();
   // |∂g/∂x|·dx by columns in plain loops: at a few states the set-up of
