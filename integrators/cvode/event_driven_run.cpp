@@ -609,9 +609,11 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
   }
   if (!event) {
     if (!StillHolds()) return Advance::kFailed;
-    if (system_.reduced())
+    if (system_.reduced()) {
+      step_end_ = y;  // into kept storage: a VectorXd from the map allocated each step
       trajectory_.stats.max_constraint_drift =
-          std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, y));
+          std::max(trajectory_.stats.max_constraint_drift, system_.ConstraintDrift(t_, step_end_));
+    }
     // The step's check and the samples' may each see a violation the
     // other misses: the earlier is located first.
     const double in_step = StepViolation();

@@ -22,6 +22,7 @@ double StepRootCheck::FirstViolation(const Eigen::MatrixXd& taylor, double t_n, 
   atol_ = atol;
   system_.RootFloors(0, root_floors_);
   slack_applied_ = false;
+  piece_middles_.resize(kMaxPieceDepth);
   // An LCS mode here (G_u singular at the split: no affine map) has root
   // functions of x's degree, which its interpolant reproduces. A nonlinear
   // one's are resolved by halving pieces rather than by degree: 2 or 3, so
@@ -45,7 +46,6 @@ double StepRootCheck::PieceViolation(const Eigen::MatrixXd& taylor, double t_n, 
                                      const StepInterpolant& interpolant, double s_start,
                                      double s_end, const Eigen::VectorXd& g_start,
                                      const Eigen::VectorXd& g_end, int depth) {
-  constexpr int kMaxPieceDepth = 8;
   const double t_end = t_n + h * s_end, width = h * (s_end - s_start);
   const int degree = interpolant.degree();
   const int m2 = 2 * system_.m();
@@ -84,7 +84,11 @@ double StepRootCheck::PieceViolation(const Eigen::MatrixXd& taylor, double t_n, 
   }
   if (!bound.uncertain || depth == kMaxPieceDepth) return NAN;
   const double s_middle = (s_start + s_end) / 2, t_middle = t_n + h * s_middle;
-  Eigen::VectorXd g_middle(m2);
+  // The middle's values outlive the left half's check (the right half
+  // starts there): one kept vector per depth, all sized in FirstViolation
+  // (a resize here would move those the callers' g_start and g_end are).
+  Eigen::VectorXd& g_middle = piece_middles_[static_cast<std::size_t>(depth)];
+  g_middle.resize(m2);
   if (!RootsAt(taylor, t_n, q, t_middle, g_middle.data())) return t_middle;
   const double left = PieceViolation(taylor, t_n, h, q, interpolant, s_start, s_middle, g_start,
                                      g_middle, depth + 1);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Dense>
 
 #include "modes/box_mode.hpp"
@@ -46,6 +48,9 @@ class StepRootCheck {
                         const StepInterpolant& interpolant, double s_start, double s_end,
                         const Eigen::VectorXd& g_start, const Eigen::VectorXd& g_end, int depth);
 
+  // How often a piece is halved at most (PieceViolation).
+  static constexpr int kMaxPieceDepth = 8;
+
   BoxModeSystem& system_;
   double rtol_ = 0, atol_ = 0;
   // x at the last node, the root slots' floors, F's slack and whether the
@@ -57,6 +62,9 @@ class StepRootCheck {
   Eigen::VectorXd root_floors_;
   double f_slack_ = 0;
   bool slack_applied_ = false;
+  // PieceViolation's root values at the middle of the piece halved at
+  // each depth: kept, so that halving allocates nothing once sized.
+  std::vector<Eigen::VectorXd> piece_middles_;
 };
 
 }  // namespace dvi::internal
