@@ -145,8 +145,9 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
       ForwardDifferences(problem_.dvi().F, m(), t, x, u, scratch_F_, nullptr, scratch_Fu_);
     }
   } else {
+    // The free rows are the passes' S: the rest of G is not read.
     problem_.PassRows(reductions_, static_cast<int>(reductions_.size()), t, x, u, scratch_F_,
-             Gu ? &scratch_Fu_ : nullptr, Gx ? &scratch_Fx_ : nullptr);
+                      Gu ? &scratch_Fu_ : nullptr, Gx ? &scratch_Fx_ : nullptr, true);
   }
   G.resize(a);
   if (Gu) Gu->resize(a, a);

@@ -101,7 +101,8 @@ void ModeProblem::FTimeDerivative(double t, const Eigen::VectorXd& x, const Eige
 
 void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, double t,
                              const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                             Eigen::VectorXd& G, Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const {
+                             Eigen::VectorXd& G, Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx,
+                             bool passes_rows_only) const {
   if (k == 0) {
     EvalF(t, x, u, G);
     // F's Jacobians straight into G_u and G_x, the one not asked for into
@@ -123,7 +124,15 @@ void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, d
   Eigen::MatrixXd& Fx = w.Fx;
   Eigen::VectorXd& Ft = w.Ft;
   if (k == 1) {
-    EvalF(t, x, u, G);
+    // F's own values stay in G only on the rows pass 1 keeps (and are the
+    // base of its differences in u without F's Jacobian): a caller that
+    // reads the passes' rows alone, where pass 1 keeps none of them (every
+    // free row differentiated: the clamp's diode), skips F (issue 31: a
+    // quarter of a Newton residual's evaluations of F and its derivatives).
+    if (passes_rows_only && reductions[0].kept.empty() && dvi_.F_jacobian)
+      G.setConstant(m(), std::numeric_limits<double>::quiet_NaN());
+    else
+      EvalF(t, x, u, G);
     Eigen::MatrixXd& Fu = w.Fu;
     if (dvi_.F_jacobian) {
       FJacobians(t, x, u, Fx, Fu);
@@ -139,7 +148,7 @@ void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, d
     if (Gu) *Gu = Fu;
     if (Gx) *Gx = Fx;
   } else {
-    PassRows(reductions, k - 1, t, x, u, G, Gu, Gx);
+    PassRows(reductions, k - 1, t, x, u, G, Gu, Gx, passes_rows_only);
   }
   const RowReduction& pass = reductions[k - 1];
   Eigen::VectorXd& xdot = w.xdot;

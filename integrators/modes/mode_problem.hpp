@@ -109,10 +109,12 @@ class ModeProblem {
   /// a later pass central differences of G^{k−1} (CentralRate).
   /// Gu = ∂G^k/∂u, its differentiated rows P ∂G^{k−1}/∂x f_u (the rows of
   /// (5.8)); Gx ≈ ∂G^k/∂x, those rows P ∂G^{k−1}/∂x f_x (second derivatives
-  /// dropped: only CVODE's Newton sees it). m rows.
+  /// dropped: only CVODE's Newton sees it). m rows; with passes_rows_only,
+  /// G is read on the rows S the passes split (their kept and
+  /// differentiated rows) alone, and its other rows may be NaN.
   void PassRows(const std::vector<RowReduction>& reductions, int k, double t,
                 const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& G,
-                Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const;
+                Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx, bool passes_rows_only = false) const;
   /// ∂G^k/∂t dt + ∂G^k/∂x dx at (t, x, u) by central differences.
   Eigen::VectorXd CentralRate(const std::vector<RowReduction>& reductions, int k, double t,
                               const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
