@@ -8,6 +8,26 @@
 #include <cmath>
 
 namespace dvi::internal {
+namespace {
+
+// The least-norm correction Δx = −Φ_xᵀ (Φ_x Φ_xᵀ)⁻¹ Φ that puts x back on
+// Φ = 0 (added to correction), gram = Φ_x Φ_xᵀ factored, and an error
+// vector projected onto Φ_x's null space when err is given; Φ_x sparse (an
+// LCS's) or dense, phi and multiplier are overwritten (kept work space).
+template <class Jacobian>
+void LeastNormCorrection(const Jacobian& phi_x, const Eigen::LDLT<Eigen::MatrixXd>& gram,
+                         Eigen::VectorXd& phi, Eigen::VectorXd& multiplier,
+                         Eigen::VectorXd& correction, Eigen::VectorXd* err) {
+  multiplier = gram.solve(phi);
+  correction.noalias() -= phi_x.transpose() * multiplier;
+  if (err) {
+    phi.noalias() = phi_x * *err;
+    multiplier = gram.solve(phi);
+    err->noalias() -= phi_x.transpose() * multiplier;
+  }
+}
+
+}  // namespace
 
 void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
                                 Eigen::MatrixXd* phi_x) const {
@@ -60,13 +80,7 @@ void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd&
     const SparseMatrix& C = mode_constraints_.C;
     scratch_phi_ = mode_constraints_.c;
     scratch_phi_.noalias() += C * x;
-    scratch_multiplier_ = constraint_gram_.solve(scratch_phi_);
-    correction.noalias() -= C.transpose() * scratch_multiplier_;
-    if (err) {
-      scratch_phi_.noalias() = C * *err;
-      scratch_multiplier_ = constraint_gram_.solve(scratch_phi_);
-      err->noalias() -= C.transpose() * scratch_multiplier_;
-    }
+    LeastNormCorrection(C, constraint_gram_, scratch_phi_, scratch_multiplier_, correction, err);
     return;
   }
   // Least-norm: Δx = −Φ_xᵀ (Φ_x Φ_xᵀ)⁻¹ Φ; Φ_x has full row rank when (5.8)
@@ -80,13 +94,7 @@ void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd&
   Constraints(t, x, scratch_phi_, &phi_x);
   scratch_gram_.noalias() = phi_x * phi_x.transpose();
   projection_gram_.compute(scratch_gram_);
-  scratch_multiplier_ = projection_gram_.solve(scratch_phi_);
-  correction.noalias() -= phi_x.transpose() * scratch_multiplier_;
-  if (err) {
-    scratch_phi_.noalias() = phi_x * *err;
-    scratch_multiplier_ = projection_gram_.solve(scratch_phi_);
-    err->noalias() -= phi_x.transpose() * scratch_multiplier_;
-  }
+  LeastNormCorrection(phi_x, projection_gram_, scratch_phi_, scratch_multiplier_, correction, err);
 }
 
 }  // namespace dvi::internal
