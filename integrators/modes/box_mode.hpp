@@ -238,10 +238,11 @@ class BoxModeSystem {
   /// G_u (a×a) and G_x (a×n).
   void ModeEquations(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                      Eigen::VectorXd& G, Eigen::MatrixXd* Gu, Eigen::MatrixXd* Gx) const;
-  /// Φ(t, x) = P F(t, x, u_) and, when given, Φ_x = P F_x (dense; a
-  /// nonlinear F only: an LCS's is mode_constraints_.C, fixed in the mode).
-  void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
-                   Eigen::MatrixXd* phi_x) const;
+  /// Φ(t, x) = P F(t, x, u_).
+  void Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi) const;
+  /// Φ_x = P F_x, dense; a nonlinear F only (an LCS's is
+  /// mode_constraints_.C, fixed in the mode).
+  void ConstraintJacobian(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& phi_x) const;
   /// Sets free_directions_ (a × k, unit columns) to G_u's null space when
   /// G_u (a×a, at (t, x, u_)) is singular and f_u on the free columns
   /// vanishes on it; true then. False leaves it empty (G_u regular, or a
@@ -287,11 +288,12 @@ class BoxModeSystem {
   ReductionMemo reduction_memo_;  // SelectReducedMode's, for SplitRows
   Eigen::LDLT<Eigen::MatrixXd> constraint_gram_;  // of mode_constraints_.C
   mutable Eigen::VectorXd scratch_phi_, scratch_multiplier_;
-  // A nonlinear reduced mode's projection (Project): its rows G and G_x
-  // (Constraints), Φ_x, Φ_x Φ_xᵀ and that matrix's factors, kept so that
-  // a projection allocates nothing once sized.
+  // A nonlinear reduced mode's projection (Project): its rows G and F's
+  // Jacobians (Constraints, ConstraintJacobian), Φ_x, Φ_x Φ_xᵀ and that
+  // matrix's factors, kept so that a projection allocates nothing once
+  // sized.
   mutable Eigen::VectorXd scratch_G_;
-  mutable Eigen::MatrixXd scratch_Gx_, scratch_phi_x_, scratch_gram_;
+  mutable Eigen::MatrixXd scratch_Gx_, scratch_Gu_, scratch_phi_x_, scratch_gram_;
   mutable Eigen::LDLT<Eigen::MatrixXd> projection_gram_;
   Eigen::VectorXd scratch_x_;  // a column of SolveColumns
   int passes_ = 0;

@@ -29,36 +29,46 @@ void LeastNormCorrection(const Jacobian& phi_x, const Eigen::LDLT<Eigen::MatrixX
 
 }  // namespace
 
-void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi,
-                                Eigen::MatrixXd* phi_x) const {
+void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::VectorXd& phi) const {
   if (problem_.affine()) {
     phi = mode_constraints_.c + mode_constraints_.C * x;
     return;
   }
-  // Φ_k = P_k G^{k−1}, stacked over the passes; the x-derivative of a
-  // later pass's Φ by central differences (G^{k−1}'s rows hold derivatives
-  // of F, whose own x-derivatives are not given). Into kept work space:
-  // this runs at every projection and every root evaluation of a reduced
-  // mode (issue 31).
+  // Φ_k = P_k G^{k−1}, stacked over the passes, into kept work space: this
+  // runs at every projection and every root evaluation of a reduced mode
+  // (issue 31).
   int rows = 0;
   for (const RowReduction& pass : reductions_) rows += static_cast<int>(pass.P.rows());
   phi.resize(rows);
-  if (phi_x) phi_x->resize(rows, n());
   int row = 0;
   for (int k = 0; k < static_cast<int>(reductions_.size()); ++k) {
     const SparseMatrix& P = reductions_[k].P;
     const int d = static_cast<int>(P.rows());
-    problem_.PassRows(reductions_, k, t, x, u_, scratch_G_, nullptr,
-                      phi_x && k == 0 ? &scratch_Gx_ : nullptr);
+    problem_.PassRows(reductions_, k, t, x, u_, scratch_G_, nullptr, nullptr);
     phi.segment(row, d).noalias() = P * scratch_G_;
-    if (phi_x) {
-      if (k == 0) {
-        phi_x->middleRows(row, d).noalias() = P * scratch_Gx_;
-      } else {
-        for (int i = 0; i < n(); ++i)
-          phi_x->block(row, i, d, 1).noalias() =
-              P * problem_.CentralRate(reductions_, k, t, x, u_, 0, Eigen::VectorXd::Unit(n(), i));
-      }
+    row += d;
+  }
+}
+
+void BoxModeSystem::ConstraintJacobian(double t, const Eigen::VectorXd& x,
+                                       Eigen::MatrixXd& phi_x) const {
+  // The first pass's Φ_x = P F_x from F's Jacobians; a later pass's by
+  // central differences (G^{k−1}'s rows hold derivatives of F, whose own
+  // x-derivatives are not given).
+  int rows = 0;
+  for (const RowReduction& pass : reductions_) rows += static_cast<int>(pass.P.rows());
+  phi_x.resize(rows, n());
+  int row = 0;
+  for (int k = 0; k < static_cast<int>(reductions_.size()); ++k) {
+    const SparseMatrix& P = reductions_[k].P;
+    const int d = static_cast<int>(P.rows());
+    if (k == 0) {
+      problem_.FJacobians(t, x, u_, scratch_Gx_, scratch_Gu_);
+      phi_x.middleRows(row, d).noalias() = P * scratch_Gx_;
+    } else {
+      for (int i = 0; i < n(); ++i)
+        phi_x.block(row, i, d, 1).noalias() =
+            P * problem_.CentralRate(reductions_, k, t, x, u_, 0, Eigen::VectorXd::Unit(n(), i));
     }
     row += d;
   }
@@ -66,7 +76,7 @@ void BoxModeSystem::Constraints(double t, const Eigen::VectorXd& x, Eigen::Vecto
 
 double BoxModeSystem::ConstraintDrift(double t, const Eigen::VectorXd& x) const {
   if (!reduced()) return 0;
-  Constraints(t, x, scratch_phi_, nullptr);
+  Constraints(t, x, scratch_phi_);
   return scratch_phi_.lpNorm<Eigen::Infinity>();
 }
 
@@ -90,8 +100,13 @@ void BoxModeSystem::Project(double t, const Eigen::VectorXd& x, Eigen::VectorXd&
   // CVODE's projection of every step allocates nothing (issue 31: the
   // sparse Φ_x and Gram matrix formed per call were 16M of the clamp's
   // 88M instructions at rtol 1e-12).
+  Constraints(t, x, scratch_phi_);
+  // On Φ = 0 to the bit the correction is zero (a step's end CVODE has
+  // just projected, where the root functions are evaluated next): Φ_x and
+  // its Gram matrix are not needed.
+  if (!err && scratch_phi_.isZero(0)) return;
   Eigen::MatrixXd& phi_x = scratch_phi_x_;
-  Constraints(t, x, scratch_phi_, &phi_x);
+  ConstraintJacobian(t, x, phi_x);
   scratch_gram_.noalias() = phi_x * phi_x.transpose();
   projection_gram_.compute(scratch_gram_);
   LeastNormCorrection(phi_x, projection_gram_, scratch_phi_, scratch_multiplier_, correction, err);
