@@ -272,34 +272,24 @@ MatrixClassVerdict ModeProblem::StronglyRegular(double t, const Eigen::VectorXd&
                                                 const Eigen::VectorXd& u,
                                                 const IndexSets& sets) const {
   if (!affine_) return IsStronglyRegular(MultiplierJacobian(t, x, u), sets);
-  for (const Regularity& known : regularity_memo_)
-    if (known.sets.alpha == sets.alpha && known.sets.beta == sets.beta &&
-        known.sets.gamma == sets.gamma)
-      return known.verdict;
-  Regularity computed{sets, HasDenseRows() ? IsStronglyRegular(dense_rows_.M, sets)
-                                            : IsStronglyRegular(MultiplierJacobian(t, x, u), sets)};
-  if (regularity_memo_.size() < kRegularityMemo) {
-    regularity_memo_.push_back(std::move(computed));
-    return regularity_memo_.back().verdict;
-  }
-  Regularity& slot = regularity_memo_[regularity_next_];
-  regularity_next_ = (regularity_next_ + 1) % kRegularityMemo;
-  slot = std::move(computed);
-  return slot.verdict;
+  const Regularity* known = regularity_memo_.Find([&](const Regularity& entry) {
+    return entry.sets.alpha == sets.alpha && entry.sets.beta == sets.beta &&
+           entry.sets.gamma == sets.gamma;
+  });
+  if (known) return known->verdict;
+  return regularity_memo_
+      .Remember({sets, HasDenseRows() ? IsStronglyRegular(dense_rows_.M, sets)
+                                      : IsStronglyRegular(MultiplierJacobian(t, x, u), sets)})
+      .verdict;
 }
 
 bool ModeProblem::LcsRowsKnownIndependent(const std::vector<int>& S) const {
-  return std::find(independent_rows_memo_.begin(), independent_rows_memo_.end(), S) !=
-         independent_rows_memo_.end();
+  return independent_rows_memo_.Find([&](const std::vector<int>& rows) { return rows == S; }) !=
+         nullptr;
 }
 
 void ModeProblem::RememberIndependentLcsRows(const std::vector<int>& S) const {
-  if (independent_rows_memo_.size() < kRegularityMemo) {
-    independent_rows_memo_.push_back(S);
-    return;
-  }
-  independent_rows_memo_[independent_rows_next_] = S;
-  independent_rows_next_ = (independent_rows_next_ + 1) % kRegularityMemo;
+  independent_rows_memo_.Remember(S);
 }
 
 Mode ModeProblem::ModeOf(const Eigen::VectorXd& z) const {

@@ -14,6 +14,7 @@
 #include "dvi/solve_result.hpp"
 #include "dvi/solver_options.hpp"
 #include "modes/mode_reduction.hpp"
+#include "modes/recent_memo.hpp"
 
 namespace dvi::internal {
 
@@ -146,18 +147,15 @@ class ModeProblem {
   AffineRows lcs_rows_;
   DenseAffineRows dense_rows_;  // for checks of samples and the F slack
   mutable long solver_calls_ = 0;
-  // StronglyRegular's verdicts of an LCS, by index sets, the oldest
-  // replaced first.
+  // StronglyRegular's verdicts of an LCS by index sets, and the LCS's row
+  // sets without a dependent row: the last kRegularityMemo of each.
   static constexpr std::size_t kRegularityMemo = 16;
   struct Regularity {
     IndexSets sets;
     MatrixClassVerdict verdict;
   };
-  mutable std::vector<Regularity> regularity_memo_;
-  mutable std::size_t regularity_next_ = 0;
-  // The LCS's row sets without a dependent row, the oldest replaced first.
-  mutable std::vector<std::vector<int>> independent_rows_memo_;
-  mutable std::size_t independent_rows_next_ = 0;
+  mutable RecentMemo<Regularity> regularity_memo_{kRegularityMemo};
+  mutable RecentMemo<std::vector<int>> independent_rows_memo_{kRegularityMemo};
   // PassRows' work space of pass k at index k − 1 (a pass's central
   // differences call the passes below it, never its own): a reduced mode
   // evaluates its rows at every Newton iteration of every solve, and the
