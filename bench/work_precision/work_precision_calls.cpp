@@ -4,9 +4,11 @@
 // (README, "Where the event run's time goes"): a problem's event run as the
 // study times it (dense output kept, sampled at every step, no output times),
 // or an oracle as work_precision times it (the study's grid and switch
-// points as output times, the schedule from the event run at rtol 1e-13):
+// points as output times, the schedule from the event run at rtol 1e-13);
+// with `horizon`, either run to the horizon with no output on the way
+// (work_precision's like-for-like timing, HorizonSeconds):
 //   valgrind --tool=callgrind --toggle-collect='*MeasuredRun*' work_precision_calls
-//     PROBLEM RTOL [event | oracle-limit | oracle] [bdf | adams] [RUNS]
+//     PROBLEM RTOL [event | oracle-limit | oracle] [bdf | adams] [RUNS] [horizon]
 // RTOL with atol = RTOL · the scene's atol/rtol; the family defaults to the
 // scene's; RUNS (default 1) measured runs after the set-up. Prints the
 // run's steps and RHS evaluations (the work_precision.csv row's).
@@ -68,7 +70,7 @@ struct Result {
 int Usage() {
   std::fprintf(stderr,
                "usage: work_precision_calls PROBLEM RTOL [event | oracle-limit | oracle] "
-               "[bdf | adams] [RUNS >= 1]\n");
+               "[bdf | adams] [RUNS >= 1] [horizon]\n");
   return 2;
 }
 
@@ -81,7 +83,8 @@ int main(int argc, char** argv) {
   const std::string method = argc > 3 ? argv[3] : "event";
   const std::string family = argc > 4 ? argv[4] : "";
   const int runs = argc > 5 ? std::atoi(argv[5]) : 1;
-  if (!(rtol > 0) || runs < 1 ||
+  const bool to_horizon = argc > 6 && std::string(argv[6]) == "horizon";
+  if (!(rtol > 0) || runs < 1 || (argc > 6 && !to_horizon) ||
       (method != "event" && method != "oracle-limit" && method != "oracle") ||
       (!family.empty() && family != "bdf" && family != "adams"))
     return Usage();
@@ -119,9 +122,10 @@ int main(int argc, char** argv) {
     scene.event.rtol = rtol;
     scene.event.atol = rtol * atol_per_rtol;
     // The study's event run (dvisim/study_runs.cpp, SceneOfRun).
-    scene.event.dense_output = DenseOutputPolicy::kAlways;
-    scene.output.samples = 0;
+    scene.event.dense_output = to_horizon ? DenseOutputPolicy::kAuto : DenseOutputPolicy::kAlways;
+    scene.output.samples = to_horizon ? 2 : 0;
     scene.output.times.clear();
+    if (to_horizon) problem.output_times = {problem.t0, problem.t_end};
     Result result;
     for (int k = 0; k < runs; ++k) result = MeasuredRun(scene, method, problem, schedule);
     if (!result.failure.empty()) {
