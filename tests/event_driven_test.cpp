@@ -258,6 +258,45 @@ TEST(EventDriven, TheStepEndsSampleTakesTheRootFunctionsU) {
   EXPECT_LE(end_error, 1e-9);
 }
 
+// A step is passed without the interpolated check's Newton solves where
+// the root functions stay clear of their bounds by a Lipschitz bound over
+// the whole step: with L h how far g can move, g ≥ (g_start + g_end − L h)/2
+// (the crossing of the two lines falling from the ends), where the bound
+// by the higher end alone, max(g_start, g_end) − L h, failed wherever g
+// moved by a third of its size in the step. On the saturated oscillator at
+// Adams rtol 1e-3 (long steps, 15 kinks) the interpolated check ran on 73
+// of 95 steps before, 41 after: Newton iterations a step 26.8 → 23.9, the
+// same event times and x(10) (2.8e-3 and 1.2e-2 from rtol 1e-11's).
+TEST(EventDriven, LongStepsClearOfTheirBoundsNeedNoInterpolatedCheck) {
+  EventDrivenOptions options;
+  options.method = OdeMethod::kAdams;
+  options.rtol = 1e-3;
+  options.atol = 1e-5;
+  const Trajectory run =
+      IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
+  ASSERT_TRUE(run.succeeded()) << run.message;
+  EXPECT_EQ(run.events.size(), 15u);
+  const double per_step =
+      static_cast<double>(run.stats.solver_iterations) / static_cast<double>(run.stats.steps);
+  RecordProperty("iterations_per_step", Scientific(per_step));
+  RecordProperty("steps", std::to_string(run.stats.steps));
+  EXPECT_LE(per_step, 25.0);
+  options.rtol = 1e-11;
+  options.atol = 1e-13;
+  const Trajectory reference =
+      IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
+  ASSERT_TRUE(reference.succeeded()) << reference.message;
+  ASSERT_EQ(reference.events.size(), 15u);
+  double time_error = 0;
+  for (std::size_t k = 0; k < 15; ++k)
+    time_error = std::max(time_error, std::abs(run.events[k].time - reference.events[k].time));
+  const double end_error = (run.states.back() - reference.states.back()).lpNorm<Eigen::Infinity>();
+  RecordProperty("time_error", Scientific(time_error));
+  RecordProperty("end_error", Scientific(end_error));
+  EXPECT_LE(time_error, 1e-2);
+  EXPECT_LE(end_error, 3e-2);
+}
+
 // Newton in a nonlinear mode starts from the last u moved along the
 // implicit function theorem's tangent (du/dx from the mode's Jacobian) and
 // stops once its contraction puts u at round-off: on the ball (a KKT mode

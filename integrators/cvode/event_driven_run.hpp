@@ -249,10 +249,10 @@ class EventDrivenRun {
   std::optional<ModeMultipliers> multipliers_;
   // StepClear and StepViolation: the last step's end kept as the next's
   // start (its root values, x and x' there), whether this step starts
-  // there, how far x moves within it, x at its end; the whole-step check of
+  // there, how fast x moves within it, x at its end; the whole-step check of
   // a mode whose roots are no polynomials.
   StepEnds step_ends_;
-  Eigen::VectorXd step_moves_;
+  Eigen::VectorXd step_speeds_;
   Eigen::MatrixXd step_rate_;  // StepClear's x' at the step's end, column 1
   bool start_known_ = false;
   Eigen::VectorXd node_x_;

@@ -100,12 +100,12 @@ bool EventDrivenRun::StepClear(double t_n, double h) {
   const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(rate_data, x0_.size());
   bool clear = false;
   if (start_known_) {
-    // How far each x_i moves from x_n within the step (StepEnds::Moves),
-    // kMoveMargin times as far for the step's own polynomial.
-    constexpr double kMoveMargin = 1.5;
-    step_ends_.Moves(x_n, rate, h, kMoveMargin, step_moves_);
+    // How fast each x_i moves within the step (StepEnds::Rates),
+    // kRateMargin times as fast for the step's own polynomial.
+    constexpr double kRateMargin = 1.5;
+    step_ends_.Rates(x_n, rate, h, kRateMargin, step_speeds_);
     clear = system_.StepClearOfBounds(step_ends_.start_roots().data(), end_roots.data(),
-                                      step_moves_, h);
+                                      step_speeds_, h);
   }
   step_ends_.End(t_n, x_n, rate);
   return clear;

@@ -22,6 +22,12 @@ void StepEnds::Moves(const Eigen::Ref<const Eigen::VectorXd>& x_n,
   HermiteMoves(end_x_, end_rate_, x_n, rate_n, h, margin, moves);
 }
 
+void StepEnds::Rates(const Eigen::Ref<const Eigen::VectorXd>& x_n,
+                     const Eigen::Ref<const Eigen::VectorXd>& rate_n, double h, double margin,
+                     Eigen::VectorXd& rates) const {
+  HermiteRates(end_x_, end_rate_, x_n, rate_n, h, margin, rates);
+}
+
 void StepEnds::End(double t_n, const Eigen::Ref<const Eigen::VectorXd>& x,
                    const Eigen::Ref<const Eigen::VectorXd>& rate) {
   end_x_ = x;

@@ -33,6 +33,11 @@ class StepEnds {
   void Moves(const Eigen::Ref<const Eigen::VectorXd>& x_n,
              const Eigen::Ref<const Eigen::VectorXd>& rate_n, double h, double margin,
              Eigen::VectorXd& moves) const;
+  /// Bounds |x'(t)| over the step by the same interpolant's derivative,
+  /// margin times as large (HermiteRates). @pre Begin returned true.
+  void Rates(const Eigen::Ref<const Eigen::VectorXd>& x_n,
+             const Eigen::Ref<const Eigen::VectorXd>& rate_n, double h, double margin,
+             Eigen::VectorXd& rates) const;
   /// Keeps the step's end at t_n, with x and x' there, for the next step.
   void End(double t_n, const Eigen::Ref<const Eigen::VectorXd>& x,
            const Eigen::Ref<const Eigen::VectorXd>& rate);

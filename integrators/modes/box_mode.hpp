@@ -153,16 +153,16 @@ class BoxModeSystem {
   void RootFloors(double f_slack, Eigen::VectorXd& floors) const;
   /// Whether no root function can fall to Holds' tolerance within a step
   /// whose ends have the root values g_start and g_end (Roots' slots), by
-  /// the slopes of the last RhsJacobian (an LCS mode's, fixed): a root
-  /// function is at least its value at an end less |∂g/∂x|·dx (dx_i: how
-  /// far x_i moves within the step) and |∂g/∂t| h, those taken
-  /// kSlopeMargin times as large for their drift between Jacobians. False
-  /// when the mode has no slopes (no RhsJacobian since a nonlinear mode was
-  /// entered, a mode with free directions, an LCS mode too large for them),
-  /// or when a root function changed between the ends by more than they
-  /// allow (stale slopes: one taken where it was stationary).
-  bool StepClearOfBounds(const double* g_start, const double* g_end, const Eigen::VectorXd& dx,
-                         double h) const;
+  /// the slopes of the last RhsJacobian (an LCS mode's, fixed): with L =
+  /// |∂g/∂x|·speeds + |∂g/∂t| (speeds_i: a bound on |x_i'| within the
+  /// step), taken kSlopeMargin times as large for the slopes' drift between
+  /// Jacobians, a root function is at least (g_start + g_end − L h)/2 over
+  /// the step. False when the mode has no slopes (no RhsJacobian since a
+  /// nonlinear mode was entered, a mode with free directions, an LCS mode
+  /// too large for them), or when a root function changed between the ends
+  /// by more than L h (stale slopes: one taken where it was stationary).
+  bool StepClearOfBounds(const double* g_start, const double* g_end,
+                         const Eigen::VectorXd& speeds, double h) const;
   bool affine() const { return problem_.affine(); }
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
@@ -331,7 +331,7 @@ class BoxModeSystem {
   // last RhsJacobian of a nonlinear, unreduced mode; an LCS mode's, fixed.
   mutable Eigen::MatrixXd root_gradients_;  // |∂g/∂x| entrywise, 2m × n
   mutable Eigen::VectorXd root_slopes_t_;
-  mutable Eigen::VectorXd scratch_root_moves_;
+  mutable Eigen::VectorXd scratch_root_rates_;
   mutable bool root_slopes_known_ = false;
   // A reduced nonlinear mode's last RhsJacobian: its point and G_u's
   // factors, whose slopes StepClearOfBounds forms when it first asks.

@@ -136,23 +136,28 @@ void BoxModeSystem::SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::Matrix
 }
 
 bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end,
-                                      const Eigen::VectorXd& dx, double h) const {
+                                      const Eigen::VectorXd& speeds, double h) const {
   if (reduced_slopes_pending_) UpdateReducedRootSlopes();
   if (!root_slopes_known_) return false;
   const double floor = -problem_.BoundTolerance();
-  // |∂g/∂x|·dx by columns in plain loops: at a few states the set-up of
+  // |∂g/∂x|·|x'| by columns in plain loops: at a few states the set-up of
   // Eigen's matrix-vector product costs more than its sums (issue 31: this
   // runs at every step; 230 instructions a step on the rectifier, n = 1).
-  Eigen::VectorXd& moves = scratch_root_moves_;
-  moves.setZero(2 * m());
+  Eigen::VectorXd& rates = scratch_root_rates_;
+  rates.setZero(2 * m());
   for (int i = 0; i < n(); ++i) {
     const double* column = root_gradients_.col(i).data();
-    for (int slot = 0; slot < 2 * m(); ++slot) moves(slot) += column[slot] * dx(i);
+    for (int slot = 0; slot < 2 * m(); ++slot) rates(slot) += column[slot] * speeds(i);
   }
   for (int slot = 0; slot < 2 * m(); ++slot) {
-    const double move = kSlopeMargin * (moves(slot) + root_slopes_t_(slot) * h);
-    if (!(std::max(g_start[slot], g_end[slot]) - move > floor) ||
-        !(std::abs(g_end[slot] - g_start[slot]) <= move))
+    // L h, L a bound on |g'| over the step: g falls from either end at rate
+    // L at most, so it stays above the lines g_start − L (t − t_start) and
+    // g_end − L (t_end − t), whose crossing, (g_start + g_end − L h)/2, is
+    // its least value (the Lipschitz bound). A change between the ends
+    // larger than L h says the slopes are stale.
+    const double change = kSlopeMargin * (rates(slot) + root_slopes_t_(slot)) * h;
+    if (!((g_start[slot] + g_end[slot] - change) / 2 > floor) ||
+        !(std::abs(g_end[slot] - g_start[slot]) <= change))
       return false;
   }
   return true;

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "modes/step_interpolant.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "modes/polynomial_floor.hpp"
 
@@ -53,6 +55,19 @@ void HermiteMoves(const Eigen::VectorXd& y_start, const Eigen::VectorXd& rate_st
                        .cwiseAbs()
                        .cwiseMax((y_start + (h / 3) * rate_start - y_end).cwiseAbs())
                        .cwiseMax((h / 3) * rate_end.cwiseAbs());
+}
+
+void HermiteRates(const Eigen::VectorXd& y_start, const Eigen::VectorXd& rate_start,
+                  const Eigen::Ref<const Eigen::VectorXd>& y_end,
+                  const Eigen::Ref<const Eigen::VectorXd>& rate_end, double h, double margin,
+                  Eigen::VectorXd& rates) {
+  // A component at a time: at a few states Eigen's set-up per expression
+  // costs more than the sums (this runs at every step).
+  rates.resize(y_end.size());
+  for (Eigen::Index i = 0; i < y_end.size(); ++i) {
+    const double middle = 3 * (y_end(i) - y_start(i)) / h - rate_start(i) - rate_end(i);
+    rates(i) = margin * std::max({std::abs(rate_start(i)), std::abs(middle), std::abs(rate_end(i))});
+  }
 }
 
 PieceBound StepInterpolant::Bound(const Eigen::MatrixXd& values, const Eigen::VectorXd& extra,

@@ -26,6 +26,14 @@ void HermiteMoves(const Eigen::VectorXd& y_start, const Eigen::VectorXd& rate_st
                   const Eigen::Ref<const Eigen::VectorXd>& y_end,
                   const Eigen::Ref<const Eigen::VectorXd>& rate_end, double h, double margin,
                   Eigen::VectorXd& moves);
+/// rates_i: a bound on |y_i'| within the same step, times margin: the
+/// Bernstein hull of the cubic Hermite interpolant's derivative, the
+/// quadratic with coefficients y'_start, 3(y_end − y_start)/h − y'_start −
+/// y'_end, y'_end.
+void HermiteRates(const Eigen::VectorXd& y_start, const Eigen::VectorXd& rate_start,
+                  const Eigen::Ref<const Eigen::VectorXd>& y_end,
+                  const Eigen::Ref<const Eigen::VectorXd>& rate_end, double h, double margin,
+                  Eigen::VectorXd& rates);
 
 /// What bounding interpolated functions over a piece of a step found.
 struct PieceBound {

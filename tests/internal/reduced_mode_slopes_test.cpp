@@ -44,11 +44,13 @@ Dvi CubicClamp() {
 }
 
 // StepClearOfBounds with both ends' root values at g (u's lower bound; the
-// infinite upper one's slot far off): clear while g exceeds kSlopeMargin = 2
-// times |∂u/∂x| dx + |∂u/∂t| h.
-bool Clear(const BoxModeSystem& system, double g, double dx, double h) {
+// infinite upper one's slot far off) over a step of length h in which x
+// moves at most at `speed`: clear while g − L h/2 > 0, with L h =
+// kSlopeMargin (= 2) times (|∂u/∂x| speed + |∂u/∂t|) h, that is while
+// (|∂u/∂x| speed + |∂u/∂t|) h < g.
+bool Clear(const BoxModeSystem& system, double g, double speed, double h) {
   const double roots[2] = {g, 1e6};
-  return system.StepClearOfBounds(roots, roots, Eigen::VectorXd::Constant(1, dx), h);
+  return system.StepClearOfBounds(roots, roots, Eigen::VectorXd::Constant(1, speed), h);
 }
 
 TEST(ReducedModeSlopes, ClearAStepByTheImplicitFunctionTheoremsExactSlopes) {
@@ -64,14 +66,23 @@ TEST(ReducedModeSlopes, ClearAStepByTheImplicitFunctionTheoremsExactSlopes) {
   EXPECT_NEAR(system.u()(0), u, 1e-14);
   Eigen::MatrixXd J;
   ASSERT_TRUE(system.RhsJacobian(t, x, J));
-  // The slopes enter a factor 2 from the edge; 1 % either side of it
-  // is well beyond their differences' error (O(ε^{4/5}) relative).
+  // The slopes set the edges; 1 % either side of them is well beyond
+  // their differences' error (O(ε^{4/5}) relative).
   const double u_x = 1 - 2 * std::cos(t) / 3, u_t = -std::sin(t) / 3;
-  const double dx_edge = u / (2 * std::abs(u_x)), h_edge = u / (2 * std::abs(u_t));
-  EXPECT_TRUE(Clear(system, u, 0.99 * dx_edge, 0));
-  EXPECT_FALSE(Clear(system, u, 1.01 * dx_edge, 0));
+  const double h = 1e-3, speed_edge = (u - std::abs(u_t) * h) / (std::abs(u_x) * h);
+  const double h_edge = u / std::abs(u_t);
+  EXPECT_TRUE(Clear(system, u, 0.99 * speed_edge, h));
+  EXPECT_FALSE(Clear(system, u, 1.01 * speed_edge, h));
   EXPECT_TRUE(Clear(system, u, 0, 0.99 * h_edge));
   EXPECT_FALSE(Clear(system, u, 0, 1.01 * h_edge));
+  // Ends at 0.2 and 0.6 over a step in which g can move by L h = 2 |∂u/∂t| h:
+  // g stays above the two lines falling from the ends at that rate, whose
+  // crossing is (0.2 + 0.6 − L h)/2, positive while L h < 0.8 (h < 0.4/|u_t|);
+  // the higher end less L h alone was positive only for h < 0.3/|u_t|.
+  const double low_high[2] = {0.2, 1e6}, high_end[2] = {0.6, 1e6};
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(1);
+  EXPECT_TRUE(system.StepClearOfBounds(low_high, high_end, still, 0.35 / std::abs(u_t)));
+  EXPECT_FALSE(system.StepClearOfBounds(low_high, high_end, still, 0.41 / std::abs(u_t)));
   // A root function that moved between the ends by more than its slopes
   // allow is not cleared (they are stale).
   const double start[2] = {u, 1e6}, end[2] = {u - 0.5, 1e6};
