@@ -57,23 +57,26 @@ RowCertifier::RowCertifier(const ConvexSet& K, const SolverOptions& solver)
 RowCertifier::RowCertifier(const Dvi& dvi, const SolverOptions& solver)
     : RowCertifier(dvi.K, solver) {
   F_ = dvi.F;
-  sensitivity_ = [dvi, Fx = Eigen::MatrixXd(), Fu = Eigen::MatrixXd(),
-                  shifted = Eigen::VectorXd(), F_shifted = Eigen::VectorXd()](
+  // F and its Jacobian copied, not the whole Dvi (f, K, the breakpoints:
+  // two copies of it were 1 % of a run's instructions on decay at 1e-3).
+  sensitivity_ = [F = dvi.F, F_jacobian = dvi.F_jacobian, m = dvi.m, n = dvi.n,
+                  Fx = Eigen::MatrixXd(), Fu = Eigen::MatrixXd(), shifted = Eigen::VectorXd(),
+                  F_shifted = Eigen::VectorXd()](
                      double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                     const Eigen::VectorXd& F, const Eigen::VectorXd& r,
+                     const Eigen::VectorXd& F_value, const Eigen::VectorXd& r,
                      Eigen::VectorXd& out) mutable {
-    Fx.resize(dvi.m, dvi.n);
-    if (dvi.F_jacobian) {
-      Fu.resize(dvi.m, dvi.m);
-      dvi.F_jacobian(t, x, u, Fx, Fu);
+    Fx.resize(m, n);
+    if (F_jacobian) {
+      Fu.resize(m, m);
+      F_jacobian(t, x, u, Fx, Fu);
     } else {
       shifted = x;
-      F_shifted.resize(dvi.m);
-      for (int i = 0; i < dvi.n; ++i) {
+      F_shifted.resize(m);
+      for (int i = 0; i < n; ++i) {
         const double step = std::sqrt(kEpsilon) * std::max(1.0, std::abs(x(i)));
         shifted(i) = x(i) + step;
-        dvi.F(t, shifted, u, F_shifted);
-        Fx.col(i) = (F_shifted - F) / step;
+        F(t, shifted, u, F_shifted);
+        Fx.col(i) = (F_shifted - F_value) / step;
         shifted(i) = x(i);
       }
     }

@@ -2,9 +2,9 @@
 #include "dvi/integration_options.hpp"
 
 #include <cmath>
-#include <sstream>
 
 #include "check.hpp"
+#include "number_text.hpp"
 #include "output_times_check.hpp"
 
 namespace dvi {
@@ -45,16 +45,16 @@ double IntegrationOptions::LargestAtol() const {
   return atol_per_state.size() > 0 ? atol_per_state.maxCoeff() : atol;
 }
 
+// Without a stream (internal::AppendNumber, the same digits): the
+// certificate's basis names atol on every run.
 std::string IntegrationOptions::AtolText() const {
-  std::ostringstream text;
-  if (atol_per_state.size() == 0) {
-    text << atol;
-    return text.str();
+  if (atol_per_state.size() == 0) return internal::NumberText(atol);
+  std::string text = "[";
+  for (Eigen::Index i = 0; i < atol_per_state.size(); ++i) {
+    if (i > 0) text += ", ";
+    internal::AppendNumber(text, atol_per_state(i));
   }
-  text << "[";
-  for (Eigen::Index i = 0; i < atol_per_state.size(); ++i) text << (i ? ", " : "") << atol_per_state(i);
-  text << "]";
-  return text.str();
+  return text + "]";
 }
 
 std::string_view ToString(LinearSolver solver) {

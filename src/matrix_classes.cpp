@@ -199,6 +199,10 @@ MatrixClassVerdict CheckPMatrix(const Eigen::MatrixXd& M, int exact_limit,
     }
   }
 
+  // One row: its only minor, M_00, passed above (the enumeration's whole
+  // test, without its set-up: the Schur complement of an event's one
+  // degenerate component is 1×1, asked at every event of the rectifier).
+  if (m == 1 && exact_limit >= 1) return Verdict(true, true, "all 1 principal minors are positive");
   if (m <= exact_limit) {
     MinorEnumerator enumerator(M, threshold);
     if (enumerator.AllPositive()) {

@@ -310,10 +310,9 @@ bool EventDrivenRun::PredictNextMode() {
   return crossed;
 }
 
-bool EventDrivenRun::HandleEvent(double t, Eigen::VectorXd& x) {
+bool EventDrivenRun::HandleEvent(double t, const Mode& old_mode, const Eigen::VectorXd& x_root,
+                                 Eigen::VectorXd& x) {
   IntegrationStats& stats = trajectory_.stats;
-  const Mode old_mode = system_.mode();
-  const Eigen::VectorXd x_root = x;
   // u of the old mode at the root only warm-starts the VI: no check needed.
   system_.Solve(t, x);
   // The root of a reduced mode lies on its constraints Φ = 0 up to the
@@ -632,13 +631,17 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
     if (!Observe()) return Advance::kUserStop;
     AddCvodeStats();
     step_ends_.Forget();  // the next step starts in another mode
-    Eigen::VectorXd x = y;
+    // Into kept storage: an event's copies of x, u and the mode were six
+    // allocations an event.
+    Eigen::VectorXd& x = event_x_;
+    x = y;
     if (!event) return HandleUserEvent(user_event, x);
-    const Eigen::VectorXd x_left = x, u_left = system_.u();
-    const Mode mode_left = system_.mode();
+    const Eigen::VectorXd& x_left = (x_left_ = x);
+    const Eigen::VectorXd& u_left = (u_left_ = system_.u());
+    const Mode& mode_left = (mode_left_ = system_.mode());
     const bool left_reduced = system_.reduced();
     if (!(flag == CV_ROOT_RETURN && g_try_predicted_mode && PredictNextMode())) next_mode_.clear();
-    const bool handled = HandleEvent(t_, x);
+    const bool handled = HandleEvent(t_, mode_left, x_left, x);
     next_mode_.clear();
     if (!handled) {
       // The stop's row: u_left is the last RHS evaluation's, at one of

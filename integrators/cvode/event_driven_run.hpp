@@ -118,7 +118,10 @@ class EventDrivenRun {
   /// asked again.
   bool ChooseMode(double t, Eigen::VectorXd& x, const SolveResult& vi, Mode& mode,
                   bool known_regular = false);
-  bool HandleEvent(double t, Eigen::VectorXd& x);
+  /// The event at the root (t, x_root) of mode old_mode, the current one:
+  /// x moves to the state the next mode starts from.
+  bool HandleEvent(double t, const Mode& old_mode, const Eigen::VectorXd& x_root,
+                   Eigen::VectorXd& x);
   /// next_mode_ from the roots CVODE found at its root return; false when
   /// it does not say which.
   bool PredictNextMode();
@@ -240,6 +243,10 @@ class EventDrivenRun {
   double taylor_time_ = NAN;  // the t_n taylor_ was read at, NaN after a new step
   Eigen::VectorXd step_end_;  // x at the step's end, for StepViolation
   Eigen::VectorXd sample_x_;  // x at the step's end, for its sample (no allocation a step)
+  // StepOnce's at an event: x, and x, u and the mode left there (no
+  // allocation an event).
+  Eigen::VectorXd event_x_, x_left_, u_left_;
+  Mode mode_left_;
   // The certificate's scratch: x, u, x' and f where a defect is measured,
   // the step's scaled Taylor coefficients.
   Eigen::VectorXd defect_x_, defect_u_, defect_rate_, defect_f_, defect_rounding_, defect_size_;

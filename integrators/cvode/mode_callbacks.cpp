@@ -2,23 +2,18 @@
 #include "cvode/mode_callbacks.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "events/user_roots.hpp"
+#include "number_text.hpp"
 #include "sundials/callbacks.hpp"
 
 namespace dvi::internal {
 
-std::string FormatTime(double value) {
-  char buffer[32];
-  char* end =
-      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 6).ptr;
-  return std::string(buffer, end);
-}
+std::string FormatTime(double value) { return NumberText(value); }
 
 namespace {
 

@@ -62,8 +62,8 @@ struct ModeCallbackData {
   long jacobian_evals = 0;
 };
 
-/// t as an ostream prints it ("%g"), by std::to_chars (a third of
-/// snprintf's time): the start's reason is formed on every run.
+/// t as an ostream prints it ("%g"), by NumberText: the start's reason is
+/// formed on every run.
 std::string FormatTime(double value);
 
 /// CVODE's CVRhsFn: 0 success, > 0 recoverable (a smaller step may help:
