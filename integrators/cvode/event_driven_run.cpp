@@ -671,7 +671,7 @@ EventDrivenRun::Advance EventDrivenRun::StepOnce() {
     if (!at_stop && g_keep_smooth_history && !left_reduced && !system_.reduced() &&
         x == x_left &&
         SwitchMismatch(cvode, t_, system_, mode_left, u_left, history_x_.get(), dky_.get(),
-                       data_.rhs_evals) <= kHistoryKeptMismatch) {
+                       switch_scratch_, data_.rhs_evals) <= kHistoryKeptMismatch) {
       if (!EnterSparseJacobian()) return Advance::kFailed;
       mode_start_ = t_;
       segment_open_ = true;

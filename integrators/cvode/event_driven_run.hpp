@@ -16,6 +16,7 @@
 #include "cvode/cvode_memory.hpp"
 #include "cvode/mode_callbacks.hpp"
 #include "cvode/nordsieck_array.hpp"
+#include "cvode/smooth_switch.hpp"
 #include "dvi/dvi.hpp"
 #include "dvi/event_driven.hpp"
 #include "dvi/lcs.hpp"
@@ -232,6 +233,7 @@ class EventDrivenRun {
   const Eigen::VectorXd atol_per_state_ = options_.AbsoluteTolerances(x0_.size());
   // SwitchMismatch's scratch (smooth_switch.hpp), with dky_.
   SerialVector history_x_{x0_.size(), context_.get()};
+  SwitchScratch switch_scratch_;
   // Which of a step's output times are sampled: kept so that sampling does
   // not allocate.
   std::vector<char> step_kept_;

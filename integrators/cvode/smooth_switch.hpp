@@ -45,13 +45,21 @@ namespace dvi::internal {
 ///  - else the two modes at t_n − h (2 solves).
 /// The system is left in the new mode, solved (at t_n − h or t_n).
 ///
+/// SwitchMismatch's vectors, kept by its caller from one switch to the
+/// next: they were seven allocations a switch.
+struct SwitchScratch {
+  Eigen::VectorXd weights, h_f_new, h_f_old, difference, u_new, x_end, x_start;
+  Mode new_mode;
+};
+
 /// @pre system is in the new mode, solved at (t_event, x(t_event)), not
-/// reduced; old_mode, u_old the mode and u it left; x, rate scratch
-/// N_Vectors of CVODE's length. Every Newton solve of u is counted in
-/// rhs_evals. +inf where CVODE has no step yet or a mode's equations have
-/// no solution on a point (it does not extend there).
+/// reduced; old_mode, u_old the mode and u it left (not in scratch); x,
+/// rate scratch N_Vectors of CVODE's length. Every Newton solve of u is
+/// counted in rhs_evals. +inf where CVODE has no step yet or a mode's
+/// equations have no solution on a point (it does not extend there).
 double SwitchMismatch(void* cvode, double t_event, BoxModeSystem& system, const Mode& old_mode,
-                      const Eigen::VectorXd& u_old, N_Vector x, N_Vector rate, long& rhs_evals);
+                      const Eigen::VectorXd& u_old, N_Vector x, N_Vector rate,
+                      SwitchScratch& scratch, long& rhs_evals);
 
 /// The mismatch up to which CVODE's history carries on in the new mode:
 /// the bound of CVODE's own local error test (‖error‖_WRMS ≤ 1).
