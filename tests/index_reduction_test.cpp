@@ -7,6 +7,7 @@
 // backend_suite_test.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -140,6 +141,23 @@ TEST(IndexReduction, NonlinearRootFunctionGrazedWithinOneStepIsFound) {
   }
 }
 
+// x' = u, 0 ≤ u ⊥ x + source(t) + 0.999 + u ≥ 0: while u = 0, x' = 0, and
+// the steps need not resolve F's time dependence.
+Dvi TimeDrivenContact(std::function<double(double)> source) {
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = u;
+  };
+  dvi.F = [source = std::move(source)](double t, const Eigen::VectorXd& x,
+                                       const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out = Eigen::VectorXd::Constant(1, x(0) + source(t) + 0.999 + u(0));
+  };
+  dvi.K = ConvexSet::Orthant(1);
+  return dvi;
+}
+
 // A graze driven by F's own time dependence, which the steps of x need not
 // resolve: x' = u, 0 ≤ u ⊥ x + cos t + 0.999 + u ≥ 0, x0 = 0. While u = 0,
 // x' = 0 and CVODE crosses [0, 10] in three steps, but F dips below 0
@@ -148,16 +166,7 @@ TEST(IndexReduction, NonlinearRootFunctionGrazedWithinOneStepIsFound) {
 // interpolants are halved until they resolve F; before, every grid but a
 // dense one reported success with x(10) = 0 (found by probing).
 TEST(IndexReduction, TimeDrivenGrazeWithinOneStepIsFound) {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.f = [](double, const Eigen::VectorXd&, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = u;
-  };
-  dvi.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out = Eigen::VectorXd::Constant(1, x(0) + std::cos(t) + 0.999 + u(0));
-  };
-  dvi.K = ConvexSet::Orthant(1);
+  const Dvi dvi = TimeDrivenContact([](double t) { return std::cos(t); });
   const auto run = [&](std::vector<double> grid) {
     EventDrivenOptions options = Tight();
     options.output_times = std::move(grid);
@@ -174,6 +183,51 @@ TEST(IndexReduction, TimeDrivenGrazeWithinOneStepIsFound) {
     for (std::size_t k = 1; k < 4; ++k)
       EXPECT_NEAR(trajectory.events[k].time, reference.events[k].time, 1e-8) << k;
     EXPECT_GT(trajectory.states.back()(0), 1e-4);
+    EXPECT_NEAR(trajectory.states.back()(0), reference.states.back()(0), 1e-9) << grid.size();
+  }
+}
+
+// The same graze with F's time dependence aligned to CVODE's steps, so
+// that no slope taken at a step's end sees it: x' = u,
+// 0 ≤ u ⊥ x + 0.999 + cos(2π (t − a)/H) + u ≥ 0, x0 = 0, steps capped at
+// h_max = H, F = x + 1.999 + u before a. While u = 0, x' = 0 and the
+// steps grow to H, the first of that length starting at a (the same steps
+// for any F until it switches: found by a run whose F never does); from
+// there each step spans one period of the cosine, whose t-slope is 0 at
+// both its ends and at every Jacobian CVODE forms there, while F dips
+// below 0 at its middle over a window 0.09·H/(2π) wide. Contact begins
+// where cos = −0.999. Before, the slopes of the Jacobian passed those
+// steps: the first dip was missed (2 events of 4 on either grid).
+TEST(IndexReduction, TimeDrivenGrazeBetweenStepEndsOfEqualSlopesIsFound) {
+  constexpr double H = 4;
+  Dvi dvi = TimeDrivenContact([](double) { return 1; });
+  const auto run = [&](std::vector<double> grid) {
+    EventDrivenOptions options = Tight();
+    options.h_max = H;
+    options.output_times = std::move(grid);
+    return IntegrateEventDriven(dvi, Eigen::VectorXd::Zero(1), 0, 10, options);
+  };
+  const Trajectory steps = run({});
+  ASSERT_TRUE(steps.succeeded()) << steps.message;
+  ASSERT_TRUE(steps.events.empty());
+  double a = NAN;
+  for (std::size_t k = 1; k < steps.times.size() && std::isnan(a); ++k)
+    if (std::abs(steps.times[k] - steps.times[k - 1] - H) < 1e-12) a = steps.times[k - 1];
+  ASSERT_LT(a + H, 10);
+  dvi = TimeDrivenContact([a](double t) { return t < a ? 1 : std::cos(2 * M_PI * (t - a) / H); });
+  const double contact = a + H / (2 * M_PI) * (M_PI - std::acos(0.999));
+  // Both dips (at a + H/2 and a + 3H/2), seen by a grid finer than them.
+  const Trajectory reference = run(testing::Linspace(0, 10, 10001));
+  ASSERT_TRUE(reference.succeeded()) << reference.message;
+  ASSERT_EQ(reference.events.size(), 4u);
+  for (const auto& grid : std::vector<std::vector<double>>{{0, 10}, {}}) {
+    const Trajectory trajectory = run(grid);
+    ASSERT_TRUE(trajectory.succeeded()) << trajectory.message;
+    ASSERT_EQ(trajectory.events.size(), 4u) << grid.size() << " output times";
+    EXPECT_NEAR(trajectory.events.front().time, contact, 1e-8);
+    for (std::size_t k = 1; k < 4; ++k)
+      EXPECT_NEAR(trajectory.events[k].time, reference.events[k].time, 1e-8) << k;
+    EXPECT_GT(trajectory.states.back()(0), 1e-5);
     EXPECT_NEAR(trajectory.states.back()(0), reference.states.back()(0), 1e-9) << grid.size();
   }
 }

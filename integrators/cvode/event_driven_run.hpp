@@ -105,6 +105,10 @@ class EventDrivenRun {
   const Trajectory& samples() const { return trajectory_; }
   /// How many steps LocateMissedRoot has scanned for a root CVODE missed.
   long missed_root_scans() const { return missed_root_scans_; }
+  /// How many steps the root functions' slopes did not clear, checked by
+  /// interpolation instead (StepRootCheck: a nonlinear mode's 2–3 Newton
+  /// solves a step).
+  long interpolated_step_checks() const { return interpolated_step_checks_; }
   /// How many of CVODE's root returns left the mode as it was (a root
   /// function that only touched zero, or one evaluated off the solution).
   long root_returns_without_switch() const { return root_returns_without_switch_; }
@@ -213,6 +217,7 @@ class EventDrivenRun {
   std::chrono::steady_clock::time_point start_clock_;
   double mode_start_ = 0;  // where the current mode was entered
   long missed_root_scans_ = 0;
+  long interpolated_step_checks_ = 0;
   long root_returns_without_switch_ = 0;
 
   // The observer and the user's root functions (options_.observation).

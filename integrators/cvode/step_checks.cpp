@@ -43,6 +43,7 @@ double EventDrivenRun::StepViolation() {
       start_roots.resize(2 * dvi_.m);
       if (!root_check_.RootsAt(taylor_, t_n, q, t_n - h, start_roots.data())) return t_n - h;
     }
+    ++interpolated_step_checks_;
     return root_check_.FirstViolation(taylor_, t_n, h, q, start_roots, end_roots, options_.rtol,
                                       options_.LargestAtol());
   }
@@ -98,14 +99,27 @@ bool EventDrivenRun::StepClear(double t_n, double h) {
     return false;
   }
   const Eigen::Map<const Eigen::VectorXd> x_n(y_.data(), x0_.size()), rate(rate_data, x0_.size());
+  // F's rates in t at the end, where the mode takes them: slopes in t
+  // fresh at both ends (the Jacobian's go stale where a source swings).
+  // Not finite (F undefined just before t_n): none, and no clearing by them.
+  bool rates = system_.TakesTimeRates();
+  if (rates) {
+    node_x_ = x_n;
+    system_.TimeRates(t_n, node_x_, step_ends_.end_rates());
+    rates = step_ends_.end_rates().allFinite();
+    if (rates) step_ends_.KeepEndRates();
+  }
   bool clear = false;
   if (start_known_) {
     // How fast each x_i moves within the step (StepEnds::Rates),
     // kRateMargin times as fast for the step's own polynomial.
     constexpr double kRateMargin = 1.5;
     step_ends_.Rates(x_n, rate, h, kRateMargin, step_speeds_);
+    const Eigen::MatrixXd* rates_start = rates ? step_ends_.start_rates() : nullptr;
+    const BoxModeSystem::StepEndRates step_rates{rates_start, &step_ends_.end_rates(),
+                                                 step_ends_.start_rate().data(), rate.data()};
     clear = system_.StepClearOfBounds(step_ends_.start_roots().data(), end_roots.data(),
-                                      step_speeds_, h);
+                                      step_speeds_, h, rates_start ? &step_rates : nullptr);
   }
   step_ends_.End(t_n, x_n, rate);
   return clear;

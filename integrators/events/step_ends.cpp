@@ -12,6 +12,9 @@ bool StepEnds::Begin(double t_n, double h) {
   const bool start_known =
       std::abs(end_time_ - (t_n - h)) <= 4 * std::numeric_limits<double>::epsilon() * (std::abs(t_n) + h);
   start_roots_.swap(end_roots_);
+  start_rates_.swap(end_rates_);
+  start_rates_known_ = start_known && end_rates_known_;
+  end_rates_known_ = false;
   end_time_ = NAN;
   return start_known;
 }

@@ -43,10 +43,20 @@ class StepEnds {
            const Eigen::Ref<const Eigen::VectorXd>& rate);
   /// No end is kept: the next step starts in another mode.
   void Forget() { end_time_ = NAN; }
+  /// F's rates in t at the new end (BoxModeSystem::TimeRates) to fill,
+  /// kept with it once filled (KeepEndRates); the start's, kept from the
+  /// last step's end, or null when it had none.
+  Eigen::MatrixXd& end_rates() { return end_rates_; }
+  /// x' at the kept start, between Begin (true) and End.
+  const Eigen::VectorXd& start_rate() const { return end_rate_; }
+  void KeepEndRates() { end_rates_known_ = true; }
+  const Eigen::MatrixXd* start_rates() const { return start_rates_known_ ? &start_rates_ : nullptr; }
 
  private:
   double end_time_ = NAN;
   Eigen::VectorXd start_roots_, end_roots_, end_x_, end_rate_;
+  Eigen::MatrixXd start_rates_, end_rates_;
+  bool start_rates_known_ = false, end_rates_known_ = false;
 };
 
 }  // namespace dvi::internal

@@ -102,6 +102,8 @@ void BoxModeSystem::Enter(const Mode& mode, const Eigen::VectorXd& u) {
   rows_split_ = false;
   newton_lu_current_ = false;
   root_slopes_known_ = false;
+  root_time_rates_known_ = false;
+  time_rates_pending_ = false;
   reduced_slopes_pending_ = false;
   root_rows_known_ = false;
   tangent_known_ = false;
@@ -526,6 +528,8 @@ bool BoxModeSystem::RhsJacobian(double t, const Eigen::VectorXd& x, Eigen::Matri
   problem_.SmallFJacobians(t, x, u_, fx, fu);
   J = fx;
   root_slopes_known_ = false;
+  root_time_rates_known_ = false;
+  time_rates_pending_ = false;
   reduced_slopes_pending_ = false;
   const bool slopes = m() > 0 && !problem_.affine();
   if (free_.empty()) {

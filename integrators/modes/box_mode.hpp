@@ -151,6 +151,14 @@ class BoxModeSystem {
   /// u's bounds, −tolerance − f_slack for a bound row's F, −∞ for an unused
   /// slot.
   void RootFloors(double f_slack, Eigen::VectorXd& floors) const;
+  /// What StepClearOfBounds takes at a step's ends in a nonlinear,
+  /// unreduced mode.
+  struct StepEndRates {
+    const Eigen::MatrixXd* F_start;  ///< TimeRates at the step's start
+    const Eigen::MatrixXd* F_end;    ///< and at its end
+    const double* xdot_start;        ///< x' at the start (n)
+    const double* xdot_end;          ///< and at the end
+  };
   /// Whether no root function can fall to Holds' tolerance within a step
   /// whose ends have the root values g_start and g_end (Roots' slots), by
   /// the slopes of the last RhsJacobian (an LCS mode's, fixed): with L =
@@ -161,8 +169,28 @@ class BoxModeSystem {
   /// nonlinear mode was entered, a mode with free directions, an LCS mode
   /// too large for them), or when a root function changed between the ends
   /// by more than L h (stale slopes: one taken where it was stationary).
+  ///
+  /// A nonlinear, unreduced mode, given ends (F's rates in t at the step's
+  /// ends, TimeRates, and x' there), takes its slopes in t fresh at both
+  /// ends as well, bounds how far they grow inside the step, and next to a
+  /// root bounds g by its own rates at the ends (the definition says how):
+  /// the Jacobian's slope in t, formed up to 20 steps back, is stale where
+  /// F_t swings (issue 31: a sine source's F_t = −10π cos 10πt left 4698 of
+  /// the rectifier's 22812 steps at rtol 1e-12 to the interpolated check).
   bool StepClearOfBounds(const double* g_start, const double* g_end,
-                         const Eigen::VectorXd& speeds, double h) const;
+                         const Eigen::VectorXd& speeds, double h,
+                         const StepEndRates* ends = nullptr) const;
+  /// Whether StepClearOfBounds takes F's rates in t at the step's ends: a
+  /// nonlinear, unreduced mode with slopes from its last RhsJacobian.
+  bool TakesTimeRates() const {
+    if (time_rates_pending_) FormTimeRates();
+    return root_time_rates_known_ && root_slopes_known_;
+  }
+  /// F's rates in t at (t, x, u()) for StepClearOfBounds, m × 2: ∂F/∂t and
+  /// ∂²F/∂t² (ModeProblem::FTimeRates).
+  void TimeRates(double t, const Eigen::VectorXd& x, Eigen::MatrixXd& rates) const {
+    problem_.FTimeRates(t, x, u_, rates);
+  }
   bool affine() const { return problem_.affine(); }
   /// f(t, x, u(t, x)); @pre Solve(t, x) succeeded.
   void Rhs(double t, const Eigen::VectorXd& x, Eigen::VectorXd& xdot) const;
@@ -229,6 +257,10 @@ class BoxModeSystem {
   /// are taken by central differences; slopes_lu_ = G_u's factors there
   /// (the matrix (5.8)).
   void UpdateReducedRootSlopes() const;
+  /// root_time_rates_ and root_state_rates_ from the last RhsJacobian's F
+  /// Jacobians, K and G_u's factors (rates_Fx_, rates_Fu_, rates_K_,
+  /// slopes_lu_), kept by UpdateRootSlopes.
+  void FormTimeRates() const;
   /// root_gradients_ and root_slopes_t_ from F's Jacobians and ∂F/∂t at
   /// (t, x, u_) and u_A's own: du_A = −K dx − k dt.
   void SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::MatrixXd& Fu,
@@ -333,8 +365,18 @@ class BoxModeSystem {
   mutable Eigen::VectorXd root_slopes_t_;
   mutable Eigen::VectorXd scratch_root_rates_;
   mutable bool root_slopes_known_ = false;
+  // ∂g/∂t = root_time_rates_ ∂F/∂t (2m × m, signed) at the last
+  // RhsJacobian of a nonlinear, unreduced mode: StepClearOfBounds applies it
+  // to F's rates in t taken fresh at a step's ends (TimeRates).
+  mutable Eigen::MatrixXd root_time_rates_;
+  mutable Eigen::MatrixXd root_state_rates_;  // ∂g/∂x signed, 2m × n
+  mutable Eigen::MatrixXd scratch_Gu_inverse_;
+  mutable Eigen::MatrixXd rates_Fx_, rates_Fu_, rates_K_;
+  mutable bool time_rates_pending_ = false;
+  mutable bool root_time_rates_known_ = false;
   // A reduced nonlinear mode's last RhsJacobian: its point and G_u's
-  // factors, whose slopes StepClearOfBounds forms when it first asks.
+  // factors, whose slopes StepClearOfBounds forms when it first asks (an
+  // unreduced one's G_u factors, for its rates: FormTimeRates).
   mutable double slopes_t_ = 0;
   mutable Eigen::VectorXd slopes_x_, slopes_u_;
   mutable Eigen::FullPivLU<Eigen::MatrixXd> slopes_lu_;

@@ -35,6 +35,8 @@ void BoxModeSystem::AffineRootSlopes() {
   // exactly, each one).
   constexpr long kMaxSlopeEntries = 1 << 20;
   root_slopes_known_ = false;
+  root_time_rates_known_ = false;
+  time_rates_pending_ = false;
   // A small LCS checks every step exactly (StepViolation): no slopes.
   if (problem_.HasDenseRows()) return;
   const int a = static_cast<int>(free_.size());
@@ -77,6 +79,52 @@ void BoxModeSystem::UpdateRootSlopes(double t, const Eigen::VectorXd& x, const E
     tangent_t_ = k;
   }
   SetRootSlopes(Fx, Fu, Ft, K, k);
+  // The rates StepClearOfBounds takes from these (FormTimeRates): formed
+  // where a step check first asks, not for the Jacobians of a run that
+  // never does (an oracle's: 0.76K instructions a Jacobian).
+  rates_Fx_ = Fx;
+  rates_Fu_ = Fu;
+  rates_K_ = K;
+  if (a > 0) slopes_lu_ = *lu;
+  time_rates_pending_ = true;
+}
+
+void BoxModeSystem::FormTimeRates() const {
+  time_rates_pending_ = false;
+  const Eigen::MatrixXd &Fx = rates_Fx_, &Fu = rates_Fu_, &K = rates_K_;
+  const int a = static_cast<int>(free_.size());
+  // The same derivatives signed, ġ = root_state_rates_ x' +
+  // root_time_rates_ F_t, for slopes at any point (StepClearOfBounds): a
+  // free u_j's lower slot u_j − l_j has −K_i and −G_u⁻¹ F_t,A, its upper
+  // one the opposite; a bound row's ±F_j ±(F_x,j − F_u,jA K) and
+  // ±(F_t,j − F_u,jA G_u⁻¹ F_t,A); a slot held at 1 (an infinite bound, a
+  // fixed u_j) none.
+  root_time_rates_.setZero(2 * m(), m());
+  root_state_rates_.setZero(2 * m(), n());
+  Eigen::MatrixXd& Gu_inverse = scratch_Gu_inverse_;  // kept: no allocation a Jacobian
+  if (a > 0) Gu_inverse = slopes_lu_.inverse();
+  for (int i = 0; i < a; ++i) {
+    const int j = free_[i];
+    for (int side = 0; side < 2; ++side) {
+      const double bound = side == 0 ? problem_.lower()(j) : problem_.upper()(j);
+      if (!std::isfinite(bound)) continue;
+      const double sign = side == 0 ? -1 : 1;
+      root_state_rates_.row(2 * j + side) = sign * K.row(i);
+      for (int l = 0; l < a; ++l) root_time_rates_(2 * j + side, free_[l]) = sign * Gu_inverse(i, l);
+    }
+  }
+  for (int j = 0; j < m(); ++j) {
+    if (mode_[j] == MultiplierBound::kFree || problem_.lower()(j) == problem_.upper()(j)) continue;
+    const double sign = mode_[j] == MultiplierBound::kLower ? 1 : -1;
+    root_state_rates_.row(2 * j) = sign * Fx.row(j);
+    root_time_rates_(2 * j, j) = sign;
+    for (int i = 0; i < a; ++i) {
+      root_state_rates_.row(2 * j) -= sign * Fu(j, free_[i]) * K.row(i);
+      for (int l = 0; l < a; ++l)
+        root_time_rates_(2 * j, free_[l]) -= sign * Fu(j, free_[i]) * Gu_inverse(i, l);
+    }
+  }
+  root_time_rates_known_ = root_time_rates_.allFinite() && root_state_rates_.allFinite();
 }
 
 void BoxModeSystem::UpdateReducedRootSlopes() const {
@@ -136,7 +184,8 @@ void BoxModeSystem::SetRootSlopes(const Eigen::MatrixXd& Fx, const Eigen::Matrix
 }
 
 bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end,
-                                      const Eigen::VectorXd& speeds, double h) const {
+                                      const Eigen::VectorXd& speeds, double h,
+                                      const StepEndRates* ends) const {
   if (reduced_slopes_pending_) UpdateReducedRootSlopes();
   if (!root_slopes_known_) return false;
   const double floor = -problem_.BoundTolerance();
@@ -149,15 +198,78 @@ bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end
     const double* column = root_gradients_.col(i).data();
     for (int slot = 0; slot < 2 * m(); ++slot) rates(slot) += column[slot] * speeds(i);
   }
+  if (!(ends && TakesTimeRates())) {
+    for (int slot = 0; slot < 2 * m(); ++slot) {
+      // L h, L a bound on |g'| over the step: g falls from either end at
+      // rate L at most, so it stays above the lines g_start − L (t −
+      // t_start) and g_end − L (t_end − t), whose crossing, (g_start + g_end
+      // − L h)/2, is its least value (the Lipschitz bound). A change between
+      // the ends larger than L h says the slopes are stale.
+      const double change = kSlopeMargin * (rates(slot) + root_slopes_t_(slot)) * h;
+      if (!((g_start[slot] + g_end[slot] - change) / 2 > floor) ||
+          !(std::abs(g_end[slot] - g_start[slot]) <= change))
+        return false;
+    }
+    return true;
+  }
+  // With F's rates in t at the ends: g's slope in t is at most s, the
+  // largest of the Jacobian's and those at both ends, and turns at most at
+  // c, the largest of its curvatures in t at both ends and of the slopes'
+  // mean change over the step: g's t-driven change within the step is then
+  // at most s h + c h²/2, in the Lipschitz bound's L h. Without c a source
+  // whose period the steps fit would pass: its slope is the same at each
+  // step's end, 0 at a peak (a step spanning the dip between two), where
+  // its curvature is largest. Curvatures at the ends, not the Jacobian's:
+  // a source may start after it.
+  //
+  // Next to a root the Lipschitz bound falls short (it clears only a step
+  // at least h/2 from it): there g's own slopes at both ends, ġ = ∂g/∂x x'
+  // + ∂g/∂t, bound its curvature instead, M = kSlopeMargin times the
+  // largest of its t-curvatures at the ends and of ġ's mean change over
+  // the step. The x-gradients are the Jacobian's: ġ is taken uncertain by
+  // δ = kGradientDrift of itself, and the step must agree with them (its
+  // mean slope within M h + δ of ġ at either end, the mean value theorem)
+  // or it does not pass this way. Then g lies above its chord less M h²/8,
+  // and above g_start + (ġ_start − δ)τ − M τ²/2 (τ from the start;
+  // concave, so lowest at an end), and likewise from the end: nowhere below
+  // the best of the three bounds' least values.
+  constexpr double kGradientDrift = 0.1;
+  const double* Ft_start = ends->F_start->col(0).data();
+  const double* Ft_end = ends->F_end->col(0).data();
+  const double* Ftt_start = ends->F_start->col(1).data();
+  const double* Ftt_end = ends->F_end->col(1).data();
   for (int slot = 0; slot < 2 * m(); ++slot) {
-    // L h, L a bound on |g'| over the step: g falls from either end at rate
-    // L at most, so it stays above the lines g_start − L (t − t_start) and
-    // g_end − L (t_end − t), whose crossing, (g_start + g_end − L h)/2, is
-    // its least value (the Lipschitz bound). A change between the ends
-    // larger than L h says the slopes are stale.
-    const double change = kSlopeMargin * (rates(slot) + root_slopes_t_(slot)) * h;
-    if (!((g_start[slot] + g_end[slot] - change) / 2 > floor) ||
-        !(std::abs(g_end[slot] - g_start[slot]) <= change))
+    double rate_start = 0, rate_end = 0, turn_start = 0, turn_end = 0;
+    for (int l = 0; l < m(); ++l) {
+      const double map = root_time_rates_(slot, l);
+      rate_start += map * Ft_start[l];
+      rate_end += map * Ft_end[l];
+      turn_start += map * Ftt_start[l];
+      turn_end += map * Ftt_end[l];
+    }
+    const double slope = std::max({root_slopes_t_(slot), std::abs(rate_start), std::abs(rate_end)});
+    const double curvature =
+        std::max({std::abs(turn_start), std::abs(turn_end), std::abs(rate_end - rate_start) / h});
+    const double change =
+        kSlopeMargin * ((rates(slot) + slope) * h + curvature * h * h / 2);
+    if ((g_start[slot] + g_end[slot] - change) / 2 > floor &&
+        std::abs(g_end[slot] - g_start[slot]) <= change)
+      continue;
+    double gdot_start = rate_start, gdot_end = rate_end;
+    for (int i = 0; i < n(); ++i) {
+      gdot_start += root_state_rates_(slot, i) * ends->xdot_start[i];
+      gdot_end += root_state_rates_(slot, i) * ends->xdot_end[i];
+    }
+    const double drift = kGradientDrift * std::max(std::abs(gdot_start), std::abs(gdot_end));
+    const double M = kSlopeMargin * std::max({std::abs(turn_start), std::abs(turn_end),
+                                              (std::abs(gdot_end - gdot_start) + 2 * drift) / h});
+    const double chord = (g_end[slot] - g_start[slot]) / h;
+    const double lowest = std::max(
+        {std::min(g_start[slot], g_end[slot]) - M * h * h / 8,
+         std::min(g_start[slot], g_start[slot] + (gdot_start - drift) * h - M * h * h / 2),
+         std::min(g_end[slot], g_end[slot] - (gdot_end + drift) * h - M * h * h / 2)});
+    if (!(std::abs(chord - gdot_start) <= M * h + drift &&
+          std::abs(chord - gdot_end) <= M * h + drift && lowest > floor))
       return false;
   }
   return true;

@@ -14,6 +14,9 @@ namespace dvi::internal {
 namespace {
 
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+// FTimeRates' relative spacings, formed once (it runs at every step).
+const double kCbrtEpsilon = std::cbrt(kEpsilon);
+const double kFourthRootEpsilon = std::pow(kEpsilon, 0.25);
 
 // Products of this many entries or fewer are faster dense than sparse.
 constexpr Eigen::Index kDenseRowsEntries = 4096;
@@ -97,6 +100,32 @@ void ModeProblem::FTimeDerivative(double t, const Eigen::VectorXd& x, const Eige
   dvi_.F(t - step, x, u, behind);
   dvi_.F(t + step, x, u, Ft);
   Ft = (Ft - behind) / (2 * step);
+}
+
+void ModeProblem::FTimeRates(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                             Eigen::MatrixXd& rates) const {
+  rates.resize(m(), 2);
+  Eigen::VectorXd* values = scratch_rate_;
+  for (int k = 0; k < 3; ++k) values[k].resize(m());  // a user's F may write out(j)
+  if (dvi_.F_time_derivative) {
+    // A spacing of ε^{1/3}·max(1, |t|): near-optimal for a difference of an
+    // exact F_t, and no fraction of a step (a source whose period divided
+    // it would look constant).
+    const double step = kCbrtEpsilon * std::max(1.0, std::abs(t));
+    dvi_.F_time_derivative(t, x, u, values[0]);
+    dvi_.F_time_derivative(t - step, x, u, values[1]);
+    rates.col(0) = values[0];
+    rates.col(1) = (values[0] - values[1]) / step;
+    return;
+  }
+  // F at t and t ± ε^{1/4}·max(1, |t|): F_t to O(ε^{1/2}), F_tt to
+  // O(ε^{1/2}) relative, which slopes taken twice as large do not notice.
+  const double step = kFourthRootEpsilon * std::max(1.0, std::abs(t));
+  dvi_.F(t - step, x, u, values[0]);
+  dvi_.F(t, x, u, values[1]);
+  dvi_.F(t + step, x, u, values[2]);
+  rates.col(0) = (values[2] - values[0]) / (2 * step);
+  rates.col(1) = (values[2] - 2 * values[1] + values[0]) / (step * step);
 }
 
 void ModeProblem::PassRows(const std::vector<RowReduction>& reductions, int k, double t,

@@ -83,6 +83,11 @@ class ModeProblem {
   /// ∂F/∂t: the given function, else central differences.
   void FTimeDerivative(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                        Eigen::VectorXd& Ft) const;
+  /// ∂F/∂t and ∂²F/∂t² into rates (m × 2), for slopes rather than Newton:
+  /// the given ∂F/∂t and its backward difference, else second-order central
+  /// differences of F (three evaluations, no allocation once sized).
+  void FTimeRates(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                  Eigen::MatrixXd& rates) const;
   /// ∂F/∂u at (t, x, u).
   Eigen::MatrixXd MultiplierJacobian(double t, const Eigen::VectorXd& x,
                                      const Eigen::VectorXd& u) const;
@@ -167,6 +172,7 @@ class ModeProblem {
   };
   mutable std::vector<PassScratch> pass_scratch_;
   mutable Eigen::MatrixXd unused_jacobian_;  // PassRows' k = 0 Jacobian not asked for
+  mutable Eigen::VectorXd scratch_rate_[3];  // FTimeRates' evaluations
 };
 
 }  // namespace dvi::internal
