@@ -60,7 +60,11 @@ void SolveSmall(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu, const Eigen::Vec
     x = lu.solve(b);
     return;
   }
-  x = lu.permutationP() * b;
+  // P b by P's indices: Eigen's permutation product costs more than the
+  // substitutions at a = 1.
+  const auto& permutation = lu.permutationP().indices();
+  x.resize(a);
+  for (Eigen::Index i = 0; i < a; ++i) x(permutation(i)) = b(i);
   for (Eigen::Index i = 1; i < a; ++i)  // L, unit diagonal
     for (Eigen::Index k = 0; k < i; ++k) x(i) -= LU(i, k) * x(k);
   for (Eigen::Index i = a - 1; i >= 0; --i) {  // U
@@ -312,7 +316,9 @@ bool BoxModeSystem::SolveAffineInU(double t, const Eigen::VectorXd& x, std::stri
     return false;
   }
   for (int i = 0; i < static_cast<int>(free_.size()); ++i) newton_u_(free_[i]) -= step_(i);
-  Accept(t, x);
+  // u_ takes the iterate by a swap (SolveFrom copies u_ into newton_u_
+  // before its next Newton); no anchor, which only the tangent start reads.
+  u_.swap(newton_u_);
   return true;
 }
 
