@@ -5,6 +5,7 @@
 // name; an LCS with sources carries the promise.
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -142,6 +143,32 @@ Dvi WithExtraTerm(double (*extra)(double t, double x, double u)) {
   };
   dvi.F_jacobian = nullptr;
   return dvi;
+}
+
+TEST(AffineInU, ANonFiniteResidualIsRefusedAndAReducedModeKeepsItsNewton) {
+  const auto calls = std::make_shared<long>(0);
+  const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, 0.1);
+  Eigen::VectorXd xdot(1);
+  std::optional<IndexOneRhs> rhs;
+  const auto first_solve = [&](const Dvi& dvi, double t) {
+    rhs.emplace(dvi);
+    rhs->FreezeMode(true);
+    rhs->EnterMode(Mode{MultiplierBound::kFree}, Eigen::VectorXd::Constant(1, 0.5));
+    return rhs->Evaluate(t, x, xdot) ? std::string("solved") : rhs->message();
+  };
+  // a(t, x) = sqrt(t − 1): NaN before t = 1, affine in u everywhere.
+  Dvi nan_source = Rectifier(true, calls);
+  nan_source.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                    Eigen::VectorXd& out) { out(0) = 0.5 * u(0) + x(0) - std::sqrt(t - 1); };
+  EXPECT_NE(first_solve(nan_source, 0.5).find("non-finite"), std::string::npos);
+  EXPECT_EQ(first_solve(nan_source, 1.5), "solved");
+  // M = 0 (an ideal diode with nothing resistive): index two, the mode
+  // reduced (Theorem 5.2), its row d/dt (v − sin ωt) = −v + u − ω cos ωt
+  // (affine in u here as f is, not in general) solved by the general
+  // Newton: u = v + ω cos ωt.
+  const double t = 0.26;
+  ASSERT_EQ(first_solve(Rectifier(true, calls, 0.0), t), "solved");
+  EXPECT_NEAR(rhs->multiplier()(0), x(0) + kOmega * std::cos(kOmega * t), 1e-12);
 }
 
 TEST(AffineInU, AFalsePromiseIsRefusedNamingTheField) {

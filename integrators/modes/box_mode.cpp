@@ -60,6 +60,11 @@ void SolveSmall(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu, const Eigen::Vec
     x = lu.solve(b);
     return;
   }
+  if (a == 1) {  // one free component (a diode conducting): the same division
+    x.resize(1);
+    x(0) = b(0) / LU(0, 0);
+    return;
+  }
   // P b by P's indices: Eigen's permutation product costs more than the
   // substitutions at a = 1.
   const auto& permutation = lu.permutationP().indices();
@@ -305,16 +310,18 @@ bool BoxModeSystem::SolveAffineInU(double t, const Eigen::VectorXd& x, std::stri
   ++newton_iterations_;
   const bool fresh = !newton_lu_current_;
   ModeEquations(t, x, newton_u_, residual_, fresh ? &newton_Gu_ : nullptr, nullptr);
-  if (!residual_.allFinite()) {
-    if (why) *why = "the mode's equations give a non-finite residual";
+  const auto non_finite = [why] {
+    if (why) *why = "the mode's equations give a non-finite residual or u";
     return false;
+  };
+  if (fresh) {  // G_u's factors, once in the mode, from a finite residual
+    if (!residual_.allFinite()) return non_finite();
+    if (!FactorNewtonMatrix(why)) return false;
   }
-  if (fresh && !FactorNewtonMatrix(why)) return false;
   SolveSmall(newton_lu_, residual_, step_);
-  if (!step_.allFinite()) {
-    if (why) *why = "the mode's equations give a non-finite u";
-    return false;
-  }
+  // A non-finite residual gives a non-finite step through the regular,
+  // finite factors: one test for both.
+  if (!step_.allFinite()) return non_finite();
   for (int i = 0; i < static_cast<int>(free_.size()); ++i) newton_u_(free_[i]) -= step_(i);
   // u_ takes the iterate by a swap (SolveFrom copies u_ into newton_u_
   // before its next Newton); no anchor, which only the tangent start reads.
