@@ -145,6 +145,10 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
   // A residual needs F alone, G_u and G_x its Jacobians; a reduced mode's
   // rows come from its passes. The scratch keeps Newton in an unreduced mode
   // from allocating per iteration.
+  if (reductions_.empty() && !Gu && !Gx && a == m()) {
+    problem_.EvalF(t, x, u, G);  // every row free: G is F, no copy
+    return;
+  }
   if (reductions_.empty()) {
     problem_.EvalF(t, x, u, scratch_F_);
     if (Gx || (Gu && problem_.dvi().F_jacobian)) {
