@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "affine_check.hpp"
 #include "check.hpp"
 #include "source_breakpoints.hpp"
 #include "jacobian_check.hpp"
@@ -96,6 +97,7 @@ void Dvi::CheckShapes(double t, const Eigen::VectorXd& x) const {
   check_vector(F, "F", m);
   if (F_jacobian) check_jacobian(F_jacobian, F, "F_jacobian", "F", m);
   if (F_time_derivative) check_vector(F_time_derivative, "F_time_derivative", m);
+  if (F_affine_in_u) internal::CheckAffineInU(F, m, t, x, u, "Dvi.F_affine_in_u");
 }
 
 void SeparableDvi::Validate() const {

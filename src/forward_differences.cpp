@@ -9,7 +9,7 @@ namespace dvi::internal {
 
 void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Eigen::VectorXd& x,
                         const Eigen::VectorXd& u, const Eigen::VectorXd& base,
-                        Eigen::MatrixXd* Jx, Eigen::MatrixXd& Ju) {
+                        Eigen::MatrixXd* Jx, Eigen::MatrixXd& Ju, bool affine_in_u) {
   const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
   Eigen::VectorXd shifted(rows);
   if (Jx) {
@@ -24,7 +24,7 @@ void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Ei
   }
   Eigen::VectorXd us = u;
   for (int k = 0; k < u.size(); ++k) {
-    const double step = root_eps * std::max(1.0, std::abs(u(k)));
+    const double step = (affine_in_u ? 1.0 : root_eps) * std::max(1.0, std::abs(u(k)));
     us(k) = u(k) + step;
     g(t, x, us, shifted);
     Ju.col(k) = (shifted - base) / step;

@@ -9,10 +9,12 @@ namespace dvi::internal {
 
 /// Forward differences of g(t, x, u) in u and, when Jx is given, in x (rows
 /// = g's dimension), from base = g(t, x, u), with the usual √ε relative
-/// increment √ε·max(1, |x_k|).
+/// increment √ε·max(1, |x_k|). With affine_in_u (g affine in u, Dvi::
+/// F_affine_in_u), the increment in u is max(1, |u_k|): no truncation
+/// error, and round-off ε·|g| instead of √ε·|g|.
 void ForwardDifferences(const TimeStateFunction& g, int rows, double t, const Eigen::VectorXd& x,
                         const Eigen::VectorXd& u, const Eigen::VectorXd& base,
-                        Eigen::MatrixXd* Jx, Eigen::MatrixXd& Ju);
+                        Eigen::MatrixXd* Jx, Eigen::MatrixXd& Ju, bool affine_in_u = false);
 
 /// Central differences of g(t, x, u) in x (rows = g's dimension), with the
 /// increment ε^{1/3}·max(1, |x_k|) that balances their O(h²) truncation

@@ -153,6 +153,7 @@ Dvi Lcs::ToDvi() const {
   dvi.f_jacobian = JacobianOf(flow);
   dvi.F = ValueOf(vi);
   dvi.F_jacobian = JacobianOf(vi);
+  dvi.F_affine_in_u = true;  // q(t) + C x + D u
   if (!q_source) {
     // Autonomous F: the differentiation procedure (Theorem 5.3) needs no
     // differences in t.

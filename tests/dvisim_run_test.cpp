@@ -187,6 +187,33 @@ TEST(SceneFile, DviExpressionsBecomeFunctionsWithExactJacobians) {
   EXPECT_EQ(std::get<Dvi>(box.problem).K.kind(), ConvexSet::Kind::kOrthant);
 }
 
+TEST(SceneFile, DviPromisesFAffineInUWhereItsExpressionsProveIt) {
+  // F's rows, each quoted, into a scene with two multipliers when given two.
+  const auto promised = [](const std::vector<std::string>& F) {
+    std::string rows, f = "-x1 + u1";
+    for (const std::string& row : F) rows += (rows.empty() ? "\"" : ", \"") + row + "\"";
+    if (F.size() == 2) f += " - u2";
+    const Scene scene = ParseScene(R"({"problem": {"type": "box-dvi", "f": [")" + f +
+                                   R"("], "F": [)" + rows +
+                                   R"(], "params": {"R": 2}}, "x0": [1], "horizon": 1})");
+    return std::get<Dvi>(scene.problem).F_affine_in_u;
+  };
+  // bench/work_precision's rectifier: a source in t, the state, u times a
+  // number (or a parameter, or distributed over a sum).
+  EXPECT_TRUE(promised({"0.5*u1 + x1 - sin(10*pi*t)"}));
+  EXPECT_TRUE(promised({"R*(u1 + x1) - exp(x1)*t"}));
+  EXPECT_TRUE(promised({"(u1 + x1)/2 + x1^2"}));
+  EXPECT_FALSE(promised({"u1^2 + x1"}));
+  EXPECT_FALSE(promised({"x1*u1 - 1"}));
+  EXPECT_FALSE(promised({"sin(t)*u1"}));
+  EXPECT_FALSE(promised({"u1/x1"}));
+  EXPECT_FALSE(promised({"floor(u1) + u1"}));  // d floor = 0, yet not affine
+  EXPECT_FALSE(promised({"abs(u1)"}));
+  // Two multipliers: every row affine, or not.
+  EXPECT_TRUE(promised({"u1 - u2 + x1", "2*u2 + cos(t)"}));
+  EXPECT_FALSE(promised({"u1 - u2 + x1", "u1*u2"}));
+}
+
 TEST(SceneFile, ErrorsNameTheField) {
   const std::string lcs =
       R"("problem": {"type": "lcs", "A": [[0]], "B": [[1]], "C": [[1]], "D": [[1]]})";

@@ -48,6 +48,23 @@ struct Dvi {
   /// 5.2/5.3 needs it for time-dependent F; central differences otherwise
   /// (exact, zero, for an autonomous F).
   TimeStateFunction F_time_derivative;
+  /// Optional promise that F is affine in u with a constant slope:
+  /// F(t, x, u) = a(t, x) + M u for one m×m matrix M that depends on
+  /// neither t, x nor u (a(t, x) may be anything). An LCS with sources,
+  /// q(t) + C x + D u, is one (Lcs::ToDvi sets it), so is every circuit of
+  /// ideal diodes and otherwise linear elements driven by time-dependent
+  /// sources; dvisim sets it where it proves F so symbolically. Inside a
+  /// mode that is not reduced by differentiation (Theorems 5.2/5.3), the
+  /// mode's equations F_A = 0 are then affine in u_A with a constant matrix,
+  /// and one Newton step from any start solves them up to round-off: the
+  /// integrators take u after that step instead of evaluating F again to
+  /// see the residual (about half the evaluations of F of an event-driven
+  /// run). Without F_jacobian, ∂F/∂u is then taken by differences with a
+  /// step of max(1, |u_j|), exact for such an F. CheckShapes checks the
+  /// promise at its point (F's second difference along u and the change of
+  /// its slope in u with (t, x), to round-off): a false one is an
+  /// InvalidInputError naming this field, never a silently wrong u.
+  bool F_affine_in_u = false;
   ConvexSet K = ConvexSet::Orthant(0);
   /// Times (finite, strictly ascending) where f or F may be discontinuous in
   /// t (a square wave, a ramp's reset): every integrator stops exactly there
@@ -67,8 +84,9 @@ struct Dvi {
   /// output has the wrong size (a resized out, or a Jacobian of the wrong
   /// shape), which would otherwise corrupt memory later, or a Jacobian whose
   /// row disagrees with the differences by more than 1e-3 relative (a wrong
-  /// entry would make a reduced mode leave its constraint). Nothing is
-  /// checked when x.size() != n: the integrators name x0 themselves.
+  /// entry would make a reduced mode leave its constraint), or F not affine
+  /// in u there when F_affine_in_u promises it. Nothing is checked when
+  /// x.size() != n: the integrators name x0 themselves.
   void CheckShapes(double t, const Eigen::VectorXd& x) const;
 };
 

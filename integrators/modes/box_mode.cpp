@@ -60,7 +60,16 @@ void SolveSmall(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu, const Eigen::Vec
     x = lu.solve(b);
     return;
   }
-  x = lu.permutationP() * b;
+  if (a == 1) {  // one free component (a diode conducting): the same division
+    x.resize(1);
+    x(0) = b(0) / LU(0, 0);
+    return;
+  }
+  // P b by P's indices: Eigen's permutation product costs more than the
+  // substitutions at a = 1.
+  const auto& permutation = lu.permutationP().indices();
+  x.resize(a);
+  for (Eigen::Index i = 0; i < a; ++i) x(permutation(i)) = b(i);
   for (Eigen::Index i = 1; i < a; ++i)  // L, unit diagonal
     for (Eigen::Index k = 0; k < i; ++k) x(i) -= LU(i, k) * x(k);
   for (Eigen::Index i = a - 1; i >= 0; --i) {  // U
@@ -138,13 +147,18 @@ void BoxModeSystem::ModeEquations(double t, const Eigen::VectorXd& x, const Eige
   // A residual needs F alone, G_u and G_x its Jacobians; a reduced mode's
   // rows come from its passes. The scratch keeps Newton in an unreduced mode
   // from allocating per iteration.
+  if (reductions_.empty() && !Gu && !Gx && a == m()) {
+    problem_.EvalF(t, x, u, G);  // every row free: G is F, no copy
+    return;
+  }
   if (reductions_.empty()) {
     problem_.EvalF(t, x, u, scratch_F_);
     if (Gx || (Gu && problem_.dvi().F_jacobian)) {
       problem_.FJacobians(t, x, u, scratch_Fx_, scratch_Fu_);
     } else if (Gu) {  // Newton's G_u alone: differences in u only, from F here
       scratch_Fu_.resize(m(), m());
-      ForwardDifferences(problem_.dvi().F, m(), t, x, u, scratch_F_, nullptr, scratch_Fu_);
+      ForwardDifferences(problem_.dvi().F, m(), t, x, u, scratch_F_, nullptr, scratch_Fu_,
+                         problem_.dvi().F_affine_in_u);
     }
   } else {
     // The free rows are the passes' S: the rest of G is not read.
@@ -193,6 +207,7 @@ bool BoxModeSystem::SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::V
   // O(a³) part (half the run at a = 50 free components).
   Eigen::VectorXd& u = newton_u_;
   u = start ? *start : u_;
+  if (OneNewtonStep()) return SolveAffineInU(t, x, why);
   if (!start && tangent_known_ && anchored_) {
     // Implicit function theorem: u_A moves by −(K dx + k dt) from the last
     // solution. Newton starts O(|dx|²) from the root rather than O(|dx|),
@@ -203,23 +218,6 @@ bool BoxModeSystem::SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::V
     for (int i = 0; i < a; ++i) u(free_[i]) -= step_(i);
   }
   bool fresh = !newton_lu_current_;
-  // G_u's LU at the current iterate; false, naming it, where G_u is singular.
-  const auto factor = [&] {
-    newton_lu_.compute(newton_Gu_);
-    newton_lu_current_ = Regular(newton_lu_);
-    if (!newton_lu_current_ && why) {
-      std::ostringstream message;
-      if (reduced())
-        message << "the matrix (5.8) of the reduced mode is singular after "
-                << reductions_.size() << " pass(es) of the differentiation procedure "
-                << "(Theorem 5.2, Sect. 5.4; a nonlinear F is differentiated at most "
-                << kMaxNonlinearPasses << " times)";
-      else
-        message << "∂F/∂u on the free components is singular";
-      *why = message.str();
-    }
-    return newton_lu_current_;
-  };
   double previous_norm = std::numeric_limits<double>::infinity();
   double previous_step_norm = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
@@ -236,7 +234,7 @@ bool BoxModeSystem::SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::V
       // is not determined by the mode (the implicit function theorem fails)
       // and the flow's Jacobian through G_u⁻¹ is garbage (a twisting
       // controller's a s1 + b s2 = 0 with both relays free).
-      if (fresh && iteration == 0 && !factor()) return false;
+      if (fresh && iteration == 0 && !FactorNewtonMatrix(why)) return false;
       Accept(t, x);
       return true;
     }
@@ -255,7 +253,7 @@ bool BoxModeSystem::SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::V
     } else {
       previous_norm = norm;
     }
-    if (fresh && !factor()) return false;
+    if (fresh && !FactorNewtonMatrix(why)) return false;
     SolveSmall(newton_lu_, residual_, step_);
     double u_norm = 0;
     for (int i = 0; i < a; ++i) {
@@ -289,6 +287,52 @@ bool BoxModeSystem::SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::V
   }
   if (why) *why = "Newton on the free components of the mode did not converge";
   return false;
+}
+
+bool BoxModeSystem::FactorNewtonMatrix(std::string* why) {
+  newton_lu_.compute(newton_Gu_);
+  newton_lu_current_ = Regular(newton_lu_);
+  if (!newton_lu_current_ && why) {
+    std::ostringstream message;
+    if (reduced())
+      message << "the matrix (5.8) of the reduced mode is singular after " << reductions_.size()
+              << " pass(es) of the differentiation procedure "
+              << "(Theorem 5.2, Sect. 5.4; a nonlinear F is differentiated at most "
+              << kMaxNonlinearPasses << " times)";
+    else
+      message << "∂F/∂u on the free components is singular";
+    *why = message.str();
+  }
+  return newton_lu_current_;
+}
+
+bool BoxModeSystem::SolveAffineInU(double t, const Eigen::VectorXd& x, std::string* why) {
+  // G(u) = a_A(t, x) + M_AA u_A + M_AB u_B with M constant: the Newton step
+  // u_A −= M_AA⁻¹ G(u) from any start lands on G = 0 up to round-off, with
+  // the factors of any point of the mode (they are M_AA's). Evaluating G
+  // again would only show that round-off, so u is taken after the step; the
+  // start (last u, or the caller's) does not matter, and the tangent that
+  // moves a nonlinear mode's start is not formed.
+  ++newton_iterations_;
+  const bool fresh = !newton_lu_current_;
+  ModeEquations(t, x, newton_u_, residual_, fresh ? &newton_Gu_ : nullptr, nullptr);
+  const auto non_finite = [why] {
+    if (why) *why = "the mode's equations give a non-finite residual or u";
+    return false;
+  };
+  if (fresh) {  // G_u's factors, once in the mode, from a finite residual
+    if (!residual_.allFinite()) return non_finite();
+    if (!FactorNewtonMatrix(why)) return false;
+  }
+  SolveSmall(newton_lu_, residual_, step_);
+  // A non-finite residual gives a non-finite step through the regular,
+  // finite factors: one test for both.
+  if (!step_.allFinite()) return non_finite();
+  for (int i = 0; i < static_cast<int>(free_.size()); ++i) newton_u_(free_[i]) -= step_(i);
+  // u_ takes the iterate by a swap (SolveFrom copies u_ into newton_u_
+  // before its next Newton); no anchor, which only the tangent start reads.
+  u_.swap(newton_u_);
+  return true;
 }
 
 void BoxModeSystem::KeepSolution(double t, const Eigen::VectorXd& x) {

@@ -299,6 +299,15 @@ class BoxModeSystem {
   /// moved along the tangent).
   bool SolveFrom(double t, const Eigen::VectorXd& x, const Eigen::VectorXd* start,
                  std::string* why);
+  /// Whether Newton takes one step only (Dvi::F_affine_in_u): F affine in
+  /// u with a constant slope, in a mode not reduced by differentiation
+  /// (whose rows G^p are derivatives along the flow, not affine in u).
+  bool OneNewtonStep() const { return problem_.dvi().F_affine_in_u && !reduced(); }
+  /// SolveFrom's Newton for OneNewtonStep, from newton_u_.
+  bool SolveAffineInU(double t, const Eigen::VectorXd& x, std::string* why);
+  /// newton_lu_ = G_u's factors from newton_Gu_; false, naming it in why,
+  /// where G_u is singular.
+  bool FactorNewtonMatrix(std::string* why);
   /// Newton's iterate as u(t, x), the anchor of the next start.
   void Accept(double t, const Eigen::VectorXd& x);
   void SolveLcsModeByLu(const Eigen::VectorXd& x);

@@ -444,9 +444,42 @@ ExpressionFunction::ExpressionFunction(const std::vector<std::string>& texts,
     for (int j = 0; j < m_; ++j) derivatives.push_back(derivative(k, variables.u(j)));
   for (std::size_t k = 0; k < expressions_.size(); ++k)
     time_derivatives.push_back(derivative(k, GiNaC::ex_to<GiNaC::symbol>(t_)));
+  affine_in_u_ = AffineInU(derivatives, variables);
   jacobian_ = std::make_shared<const ExpressionTape>(derivatives, variables, path + "'");
   time_derivative_ =
       std::make_shared<const ExpressionTape>(time_derivatives, variables, path + " (d/dt)");
+}
+
+bool ExpressionFunction::AffineInU(const std::vector<GiNaC::ex>& derivatives,
+                                   const ExpressionVariables& variables) const {
+  // g_k = a_k(t, x) + Σ_j M_kj u_j with M constant: every ∂g_k/∂u_j free of
+  // t, x and u (parameters and numbers are constants), and g_k less
+  // Σ_j (∂g_k/∂u_j) u_j, expanded, free of u, which a function whose
+  // derivative is taken as 0 (floor(u1), sign(u1)) is not.
+  const auto uses = [&](const GiNaC::ex& e, bool state_and_time) {
+    for (int j = 0; j < m_; ++j)
+      if (e.has(variables.u(j))) return true;
+    if (!state_and_time) return false;
+    for (int i = 0; i < n_; ++i)
+      if (e.has(variables.x(i))) return true;
+    return e.has(t_);
+  };
+  const std::size_t u_block = expressions_.size() * static_cast<std::size_t>(n_);
+  for (std::size_t k = 0; k < expressions_.size(); ++k) {
+    GiNaC::ex rest = expressions_[k];
+    for (int j = 0; j < m_; ++j) {
+      const GiNaC::ex& slope = derivatives[u_block + k * static_cast<std::size_t>(m_) +
+                                          static_cast<std::size_t>(j)];
+      if (uses(slope, true)) return false;
+      rest -= slope * variables.u(j);
+    }
+    try {
+      if (uses(rest.expand(), false)) return false;
+    } catch (const std::exception&) {
+      return false;  // GiNaC cannot expand it: not proved
+    }
+  }
+  return true;
 }
 
 TimeStateFunction ExpressionFunction::Function() const {

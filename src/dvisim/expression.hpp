@@ -110,6 +110,10 @@ class ExpressionFunction {
   /// ∂g/∂t, differentiated symbolically: the F̃ of Theorems 5.2/5.3 needs it
   /// for a time-dependent F.
   TimeStateFunction TimeDerivative() const;
+  /// Whether g(t, x, u) = a(t, x) + M u with M constant, proved
+  /// symbolically (Dvi::F_affine_in_u): false where it is not, or where
+  /// the proof needs more than expanding g (sin(u1)^2 + cos(u1)^2 + u1).
+  bool affine_in_u() const { return affine_in_u_; }
   /// For g(t, x) (the expressions must not use u): value and ∂g/∂x.
   TimeFunction StateFunction() const;
   TimeMatrixFunction StateJacobian() const;
@@ -118,10 +122,16 @@ class ExpressionFunction {
   TimeMatrixFunction MatrixValue(int rows, int cols) const;
 
  private:
+  /// affine_in_u() from the expressions and their derivatives (∂g/∂x
+  /// row-major, then ∂g/∂u row-major).
+  bool AffineInU(const std::vector<GiNaC::ex>& derivatives,
+                 const ExpressionVariables& variables) const;
+
   std::vector<GiNaC::ex> expressions_;
   GiNaC::ex t_;
   int n_;
   int m_;
+  bool affine_in_u_ = false;
   std::shared_ptr<const ExpressionTape> value_;
   std::shared_ptr<const ExpressionTape> jacobian_;  ///< ∂g/∂x row-major, then ∂g/∂u row-major.
   std::shared_ptr<const ExpressionTape> time_derivative_;

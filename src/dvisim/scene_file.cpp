@@ -128,6 +128,7 @@ void ReadDvi(const json& problem, const std::string& path, Scene& scene, bool bo
   dvi.F = F.Function();
   dvi.F_jacobian = F.Jacobian();
   dvi.F_time_derivative = F.TimeDerivative();
+  dvi.F_affine_in_u = F.affine_in_u();
   dvi.K = ReadOptionalSet(problem, path, m);
   if (box && !dvi.K.IsBox())
     Fail(Field(path, "set"), "type box-dvi needs a box, got " + dvi.K.Describe());
