@@ -15,40 +15,22 @@
 #include "dvi/event_driven.hpp"
 #include "dvi/lcs.hpp"
 #include "support/expect_throw.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi {
 namespace {
 
 constexpr double kOmega = 10 * M_PI;
 
-// The half-wave rectifier of bench/work_precision/scenes/rectifier.json:
-// v' = −v + u, 0 ≤ u ⊥ slope·u + v − sin(10πt) ≥ 0 (slope 1/2 there), with
-// F's exact Jacobians; *calls counts the evaluations of F.
+// SineRectifier (bench/work_precision's rectifier, exact Jacobians) with
+// the promise or without, *calls counting the evaluations of F.
 Dvi Rectifier(bool affine_in_u, const std::shared_ptr<long>& calls, double slope = 0.5) {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = -x(0) + u(0);
-  };
-  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
-                      Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = -1;
-    Ju(0, 0) = 1;
-  };
-  dvi.F = [calls, slope](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-                         Eigen::VectorXd& out) {
+  Dvi dvi = testing::SineRectifier(true, slope);
+  dvi.F = [F = dvi.F, calls](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                             Eigen::VectorXd& out) {
     ++*calls;
-    out(0) = slope * u(0) + x(0) - std::sin(kOmega * t);
+    F(t, x, u, out);
   };
-  dvi.F_jacobian = [slope](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                           Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 1;
-    Ju(0, 0) = slope;
-  };
-  dvi.F_time_derivative = [](double t, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                             Eigen::VectorXd& out) { out(0) = -kOmega * std::cos(kOmega * t); };
-  dvi.K = ConvexSet::Orthant(1);
   dvi.F_affine_in_u = affine_in_u;
   return dvi;
 }

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <new>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -36,35 +37,6 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace dvi {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-// work_precision's rectifier (bench/work_precision/scenes/rectifier.json)
-// in C++: v' = −v + u, 0 ≤ u ⊥ u/2 + v − sin 10πt ≥ 0, v0 = 1; the diode
-// switches twice a period (every 0.2).
-Dvi Rectifier() {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = -x(0) + u(0);
-  };
-  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
-                      Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = -1;
-    Ju(0, 0) = 1;
-  };
-  dvi.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = 0.5 * u(0) + x(0) - std::sin(10 * kPi * t);
-  };
-  dvi.F_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
-                      Eigen::MatrixXd& Ju) {
-    Jx(0, 0) = 1;
-    Ju(0, 0) = 0.5;
-  };
-  dvi.K = ConvexSet::Orthant(1);
-  return dvi;
-}
 
 struct Counted {
   Trajectory run;
@@ -98,7 +70,7 @@ class EventDrivenAllocations : public ::testing::TestWithParam<OdeMethod> {};
 constexpr double kMaxAllocationsPerEvent = 19;
 
 TEST_P(EventDrivenAllocations, RectifierPaysFewAllocationsPerEvent) {
-  const Dvi rectifier = Rectifier();
+  const Dvi rectifier = testing::SineRectifier(true);
   const Counted ten = CountedRun(rectifier, 1.0, 2.0, GetParam());
   const Counted twenty = CountedRun(rectifier, 1.0, 4.0, GetParam());
   ASSERT_TRUE(ten.run.succeeded()) << ten.run.message;
@@ -108,6 +80,7 @@ TEST_P(EventDrivenAllocations, RectifierPaysFewAllocationsPerEvent) {
   ASSERT_EQ(twenty.run.events.size(), 40u);
   const double per_event = static_cast<double>(twenty.allocations - ten.allocations) /
                            static_cast<double>(twenty.run.events.size() - ten.run.events.size());
+  RecordProperty("allocations_per_event", std::to_string(per_event));
   EXPECT_LE(per_event, kMaxAllocationsPerEvent)
       << ten.allocations << " allocations over 10 periods, " << twenty.allocations << " over 20";
 }
@@ -122,6 +95,7 @@ TEST_P(EventDrivenAllocations, ShortRunPaysFewAllocations) {
   const Counted decay = CountedRun(testing::SaturatedDecay(), 3.0, 5.0, GetParam());
   ASSERT_TRUE(decay.run.succeeded()) << decay.run.message;
   ASSERT_EQ(decay.run.events.size(), 1u);
+  RecordProperty("allocations", std::to_string(decay.allocations));
   EXPECT_LE(decay.allocations, kMaxAllocationsPerRun) << decay.run.stats.steps << " steps";
 }
 

@@ -13,6 +13,7 @@
 #include "dvi/event_driven.hpp"
 #include "support/convergence.hpp"
 #include "support/rectifier.hpp"
+#include "support/reference_dvis.hpp"
 
 namespace dvi {
 namespace {
@@ -122,22 +123,8 @@ struct RectifierRun {
   long solver_calls = 0;
 };
 
-Dvi StudyRectifier() {
-  Dvi dvi;
-  dvi.n = 1;
-  dvi.m = 1;
-  dvi.K = ConvexSet::Orthant(1);
-  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = u(0) - x(0);
-  };
-  dvi.F = [](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
-    out(0) = 0.5 * u(0) + x(0) - std::sin(10 * M_PI * t);
-  };
-  return dvi;
-}
-
 RectifierRun RunRectifier(bool try_predicted_mode) {
-  const Dvi dvi = StudyRectifier();
+  const Dvi dvi = testing::SineRectifier(false);
   EventDrivenOptions options;
   options.rtol = 1e-8;
   options.atol = 1e-10;
@@ -178,7 +165,7 @@ TEST(EventCost, TheRectifiersSwitchesNeedNoViSolver) {
 // rates next to a root: 21 and 21, the first step after each of the 20
 // switches (it has no kept start) and one more.
 long InterpolatedRectifierSteps(double rtol, Trajectory& trajectory) {
-  const Dvi dvi = StudyRectifier();
+  const Dvi dvi = testing::SineRectifier(false);
   EventDrivenOptions options;
   options.rtol = rtol;
   options.atol = rtol / 100;

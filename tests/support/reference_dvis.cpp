@@ -123,6 +123,33 @@ Eigen::VectorXd BallSpiralExact(double t) {
   return Eigen::Vector2d(r * std::cos(t), r * std::sin(t));
 }
 
+Dvi SineRectifier(bool jacobians, double slope) {
+  constexpr double kOmega = 10 * M_PI;
+  Dvi dvi;
+  dvi.n = 1;
+  dvi.m = 1;
+  dvi.K = ConvexSet::Orthant(1);
+  dvi.f = [](double, const Eigen::VectorXd& x, const Eigen::VectorXd& u, Eigen::VectorXd& out) {
+    out(0) = u(0) - x(0);
+  };
+  dvi.F = [slope](double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                  Eigen::VectorXd& out) { out(0) = slope * u(0) + x(0) - std::sin(kOmega * t); };
+  if (!jacobians) return dvi;
+  dvi.f_jacobian = [](double, const Eigen::VectorXd&, const Eigen::VectorXd&, Eigen::MatrixXd& Jx,
+                      Eigen::MatrixXd& Ju) {
+    Jx(0, 0) = -1;
+    Ju(0, 0) = 1;
+  };
+  dvi.F_jacobian = [slope](double, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                           Eigen::MatrixXd& Jx, Eigen::MatrixXd& Ju) {
+    Jx(0, 0) = 1;
+    Ju(0, 0) = slope;
+  };
+  dvi.F_time_derivative = [](double t, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                             Eigen::VectorXd& out) { out(0) = -kOmega * std::cos(kOmega * t); };
+  return dvi;
+}
+
 Dvi SaturatedOscillator() {
   Dvi dvi;
   dvi.n = 3;

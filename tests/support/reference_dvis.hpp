@@ -74,6 +74,14 @@ Eigen::VectorXd BallSpiralExact(double t);
 /// form: tests compare against a tight run.
 Dvi SaturatedOscillator();
 
+/// bench/work_precision's rectifier (scenes/rectifier.json) in C++: a sine
+/// source charges a capacitor through an ideal diode in series with a
+/// resistor,
+///   v' = −v + u,   0 ≤ u ⊥ slope·u + v − sin(10πt) ≥ 0   (slope ½ there),
+/// switching twice a period (every 0.2) from v0 = 1. With jacobians, f's
+/// and F's Jacobians and ∂F/∂t exact; without, the difference paths.
+Dvi SineRectifier(bool jacobians, double slope = 0.5);
+
 /// A unit mass under gravity on the ground, as a general Dvi (functors, no
 /// LCS matrices):
 ///   x1' = x2,  x2' = −1 + u,   0 ≤ u ⊥ x1 ≥ 0.
