@@ -222,6 +222,26 @@ TEST(EventDriven, NonlinearBoxDviErrorIsProportionalToTolerance) {
   RecordProperty("events", std::to_string(reference.events.size()));
 }
 
+// The saturated oscillator from (2.5, 0, 1) over [0, 10] (15 kinks) under
+// options, and its Newton iterations per accepted step (recorded).
+struct OscillatorRun {
+  Trajectory trajectory;
+  double iterations_per_step = 0;
+};
+
+OscillatorRun RunSaturatedOscillator(const EventDrivenOptions& options) {
+  OscillatorRun result;
+  result.trajectory =
+      IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
+  const IntegrationStats& stats = result.trajectory.stats;
+  result.iterations_per_step =
+      static_cast<double>(stats.solver_iterations) / static_cast<double>(stats.steps);
+  ::testing::Test::RecordProperty("iterations_per_step", Scientific(result.iterations_per_step));
+  ::testing::Test::RecordProperty("steps", std::to_string(stats.steps));
+  ::testing::Test::RecordProperty("rhs_evals", std::to_string(stats.rhs_evals));
+  return result;
+}
+
 // Issue 31: per accepted step the run needs u at the step's end twice —
 // CVODE's root functions there and the step's sample — and once at its
 // middle (the certificate's defect), besides the right-hand sides. The
@@ -238,22 +258,17 @@ TEST(EventDriven, TheStepEndsSampleTakesTheRootFunctionsU) {
   options.method = OdeMethod::kBdf;
   options.rtol = 1e-12;
   options.atol = 1e-14;
-  const Trajectory run =
-      IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
-  ASSERT_TRUE(run.succeeded()) << run.message;
-  EXPECT_EQ(run.events.size(), 15u);
-  const double per_step =
-      static_cast<double>(run.stats.solver_iterations) / static_cast<double>(run.stats.steps);
-  RecordProperty("iterations_per_step", Scientific(per_step));
-  RecordProperty("steps", std::to_string(run.stats.steps));
-  RecordProperty("rhs_evals", std::to_string(run.stats.rhs_evals));
-  EXPECT_LE(per_step, 11.5);
+  const OscillatorRun run = RunSaturatedOscillator(options);
+  ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
+  EXPECT_EQ(run.trajectory.events.size(), 15u);
+  EXPECT_LE(run.iterations_per_step, 11.5);
   options.rtol = 1e-13;
   options.atol = 1e-15;
   const Trajectory reference =
       IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
   ASSERT_TRUE(reference.succeeded()) << reference.message;
-  const double end_error = (run.states.back() - reference.states.back()).lpNorm<Eigen::Infinity>();
+  const double end_error =
+      (run.trajectory.states.back() - reference.states.back()).lpNorm<Eigen::Infinity>();
   RecordProperty("end_error", Scientific(end_error));
   EXPECT_LE(end_error, 1e-9);
 }
@@ -272,15 +287,10 @@ TEST(EventDriven, LongStepsClearOfTheirBoundsNeedNoInterpolatedCheck) {
   options.method = OdeMethod::kAdams;
   options.rtol = 1e-3;
   options.atol = 1e-5;
-  const Trajectory run =
-      IntegrateEventDriven(SaturatedOscillator(), Eigen::Vector3d(2.5, 0, 1), 0, 10, options);
-  ASSERT_TRUE(run.succeeded()) << run.message;
-  EXPECT_EQ(run.events.size(), 15u);
-  const double per_step =
-      static_cast<double>(run.stats.solver_iterations) / static_cast<double>(run.stats.steps);
-  RecordProperty("iterations_per_step", Scientific(per_step));
-  RecordProperty("steps", std::to_string(run.stats.steps));
-  EXPECT_LE(per_step, 25.0);
+  const OscillatorRun run = RunSaturatedOscillator(options);
+  ASSERT_TRUE(run.trajectory.succeeded()) << run.trajectory.message;
+  ASSERT_EQ(run.trajectory.events.size(), 15u);
+  EXPECT_LE(run.iterations_per_step, 25.0);
   options.rtol = 1e-11;
   options.atol = 1e-13;
   const Trajectory reference =
@@ -289,8 +299,10 @@ TEST(EventDriven, LongStepsClearOfTheirBoundsNeedNoInterpolatedCheck) {
   ASSERT_EQ(reference.events.size(), 15u);
   double time_error = 0;
   for (std::size_t k = 0; k < 15; ++k)
-    time_error = std::max(time_error, std::abs(run.events[k].time - reference.events[k].time));
-  const double end_error = (run.states.back() - reference.states.back()).lpNorm<Eigen::Infinity>();
+    time_error = std::max(time_error,
+                          std::abs(run.trajectory.events[k].time - reference.events[k].time));
+  const double end_error =
+      (run.trajectory.states.back() - reference.states.back()).lpNorm<Eigen::Infinity>();
   RecordProperty("time_error", Scientific(time_error));
   RecordProperty("end_error", Scientific(end_error));
   EXPECT_LE(time_error, 1e-2);
