@@ -198,21 +198,15 @@ bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end
     const double* column = root_gradients_.col(i).data();
     for (int slot = 0; slot < 2 * m(); ++slot) rates(slot) += column[slot] * speeds(i);
   }
-  if (!(ends && TakesTimeRates())) {
-    for (int slot = 0; slot < 2 * m(); ++slot) {
-      // L h, L a bound on |g'| over the step: g falls from either end at
-      // rate L at most, so it stays above the lines g_start − L (t −
-      // t_start) and g_end − L (t_end − t), whose crossing, (g_start + g_end
-      // − L h)/2, is its least value (the Lipschitz bound). A change between
-      // the ends larger than L h says the slopes are stale.
-      const double change = kSlopeMargin * (rates(slot) + root_slopes_t_(slot)) * h;
-      if (!((g_start[slot] + g_end[slot] - change) / 2 > floor) ||
-          !(std::abs(g_end[slot] - g_start[slot]) <= change))
-        return false;
-    }
-    return true;
-  }
-  // With F's rates in t at the ends: g's slope in t is at most s, the
+  // L h, L a bound on |g'| over the step: g falls from either end at rate
+  // L at most, so it stays above the lines g_start − L (t − t_start) and
+  // g_end − L (t_end − t), whose crossing, (g_start + g_end − L h)/2, is its
+  // least value (the Lipschitz bound). A change between the ends larger
+  // than L h says the slopes are stale. Without F's rates in t at the ends
+  // (an LCS or reduced mode, or a step end where F_t is not finite), g's
+  // slope in t is the Jacobian's.
+  //
+  // With them: g's slope in t is at most s, the
   // largest of the Jacobian's and those at both ends, and turns at most at
   // c, the largest of its curvatures in t at both ends and of the slopes'
   // mean change over the step: g's t-driven change within the step is then
@@ -234,27 +228,27 @@ bool BoxModeSystem::StepClearOfBounds(const double* g_start, const double* g_end
   // concave, so lowest at an end), and likewise from the end: nowhere below
   // the best of the three bounds' least values.
   constexpr double kGradientDrift = 0.1;
-  const double* Ft_start = ends->F_start->col(0).data();
-  const double* Ft_end = ends->F_end->col(0).data();
-  const double* Ftt_start = ends->F_start->col(1).data();
-  const double* Ftt_end = ends->F_end->col(1).data();
+  const bool fresh = ends && TakesTimeRates();
   for (int slot = 0; slot < 2 * m(); ++slot) {
+    double slope = root_slopes_t_(slot), curvature = 0;
     double rate_start = 0, rate_end = 0, turn_start = 0, turn_end = 0;
-    for (int l = 0; l < m(); ++l) {
-      const double map = root_time_rates_(slot, l);
-      rate_start += map * Ft_start[l];
-      rate_end += map * Ft_end[l];
-      turn_start += map * Ftt_start[l];
-      turn_end += map * Ftt_end[l];
+    if (fresh) {
+      for (int l = 0; l < m(); ++l) {
+        const double map = root_time_rates_(slot, l);
+        rate_start += map * (*ends->F_start)(l, 0);
+        rate_end += map * (*ends->F_end)(l, 0);
+        turn_start += map * (*ends->F_start)(l, 1);
+        turn_end += map * (*ends->F_end)(l, 1);
+      }
+      slope = std::max({slope, std::abs(rate_start), std::abs(rate_end)});
+      curvature =
+          std::max({std::abs(turn_start), std::abs(turn_end), std::abs(rate_end - rate_start) / h});
     }
-    const double slope = std::max({root_slopes_t_(slot), std::abs(rate_start), std::abs(rate_end)});
-    const double curvature =
-        std::max({std::abs(turn_start), std::abs(turn_end), std::abs(rate_end - rate_start) / h});
-    const double change =
-        kSlopeMargin * ((rates(slot) + slope) * h + curvature * h * h / 2);
+    const double change = kSlopeMargin * ((rates(slot) + slope) * h + curvature * h * h / 2);
     if ((g_start[slot] + g_end[slot] - change) / 2 > floor &&
         std::abs(g_end[slot] - g_start[slot]) <= change)
       continue;
+    if (!fresh) return false;
     double gdot_start = rate_start, gdot_end = rate_end;
     for (int i = 0; i < n(); ++i) {
       gdot_start += root_state_rates_(slot, i) * ends->xdot_start[i];
